@@ -1,0 +1,159 @@
+// vox info FILE: what a file holds, for people (default) or scripts (--json).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "formats/file_util.h"
+#include "formats/scene_vdb.h"
+#include "libvox/error.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+
+namespace voxcli {
+
+namespace {
+
+struct InfoOptions {
+  std::string file;
+  bool json = false;
+};
+
+nlohmann::json rgb(vox::Rgb8 c) { return {c.r, c.g, c.b}; }
+
+nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
+  const vox::SceneHeader& h = scene.header();
+  const vox::SceneStats s = scene.stats();
+  nlohmann::json j;
+  j["file"] = path;
+  j["kind"] = "scene";
+  j["file_bytes"] = vox::fileSizeOrMinusOne(path);
+  j["dims"] = {h.dims.x, h.dims.y, h.dims.z};
+  j["voxel_size"] = h.voxelSize;
+  j["origin"] = h.origin;
+  j["world_bounds"] = {
+      {"min", h.origin},
+      {"max", {h.origin[0] + h.dims.x * h.voxelSize, h.origin[1] + h.dims.y * h.voxelSize,
+               h.origin[2] + h.dims.z * h.voxelSize}}};
+  j["mip_level"] = h.mipLevel;
+  if (h.blockWorld)
+    j["block_world"] = {{"world_scale", h.blockWorld->worldScale}, {"grid_size", h.blockWorld->gridSize}};
+  j["occupied"] = s.occupied;
+  j["surface"] = s.surface;
+  j["interior"] = s.occupied - s.surface;
+  j["colored"] = s.colored;
+  j["has_color"] = scene.hasColor();
+  if (s.bounds.empty())
+    j["bounds"] = nullptr;
+  else
+    j["bounds"] = {{"min", {s.bounds.min.u, s.bounds.min.v, s.bounds.min.w}},
+                   {"max", {s.bounds.max.u, s.bounds.max.v, s.bounds.max.w}}};
+  nlohmann::json classes = nlohmann::json::array();
+  for (const vox::ClassInfo& c : h.classes.classes()) {
+    nlohmann::json cj = {{"id", c.id}, {"name", c.name}, {"color", rgb(c.color)},
+                         {"voxels", 0},  {"mode_voxels", 0}, {"votes", 0}};
+    if (c.faces) cj["faces"] = {{"top", rgb(c.faces->top)}, {"bottom", rgb(c.faces->bottom)}, {"side", rgb(c.faces->side)}};
+    for (const auto& p : s.perClass)
+      if (p.classId == c.id) {
+        cj["voxels"] = p.voxelsWithVotes;
+        cj["mode_voxels"] = p.modeVoxels;
+        cj["votes"] = p.votes;
+      }
+    classes.push_back(cj);
+  }
+  j["classes"] = classes;
+  j["memory_bytes"] = s.memoryBytes;
+  nlohmann::json sources = nlohmann::json::array();
+  for (const vox::SceneSource& src : h.sources)
+    sources.push_back({{"path", src.path}, {"kind", src.kind}, {"sha256", src.sha256}, {"bytes", src.bytes}});
+  j["sources"] = sources;
+  return j;
+}
+
+std::string humanBytes(uint64_t b) {
+  char buf[64];
+  if (b < 10 * 1024) std::snprintf(buf, sizeof buf, "%llu B", (unsigned long long)b);
+  else if (b < 10ull * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
+  else std::snprintf(buf, sizeof buf, "%.1f MiB", b / 1048576.0);
+  return buf;
+}
+
+void printScene(const nlohmann::json& j) {
+  std::ostringstream o;
+  auto v3 = [](const nlohmann::json& a) {
+    std::ostringstream s;
+    s << "(" << a[0].dump() << ", " << a[1].dump() << ", " << a[2].dump() << ")";
+    return s.str();
+  };
+  const uint64_t domain = j["dims"][0].get<uint64_t>() * j["dims"][1].get<uint64_t>() * j["dims"][2].get<uint64_t>();
+  const uint64_t occupied = j["occupied"];
+  o << j["file"].get<std::string>() << ": voxbake scene\n";
+  o << "  dims          " << j["dims"][0] << " x " << j["dims"][1] << " x " << j["dims"][2] << " (" << domain
+    << " voxels)\n";
+  o << "  voxel size    " << j["voxel_size"].get<double>() << " world units\n";
+  o << "  world bounds  " << v3(j["world_bounds"]["min"]) << " .. " << v3(j["world_bounds"]["max"]) << "\n";
+  if (j.contains("block_world"))
+    o << "  block world   worldScale " << j["block_world"]["world_scale"].get<double>() << ", grid "
+      << j["block_world"]["grid_size"][0] << "," << j["block_world"]["grid_size"][1] << ","
+      << j["block_world"]["grid_size"][2] << " (seed 002 placement)\n";
+  if (j["mip_level"].get<int>() != 0) o << "  mip level     " << j["mip_level"] << "\n";
+  char pct[32];
+  std::snprintf(pct, sizeof pct, "%.3f%%", domain ? 100.0 * double(occupied) / double(domain) : 0.0);
+  o << "  occupied      " << occupied << " (" << pct << " of the domain): " << j["surface"] << " surface, "
+    << j["interior"] << " interior" << (j["has_color"].get<bool>() ? ", " + j["colored"].dump() + " coloured" : "")
+    << "\n";
+  if (j["bounds"].is_null())
+    o << "  bounds        (empty scene)\n";
+  else
+    o << "  bounds        " << v3(j["bounds"]["min"]) << " .. " << v3(j["bounds"]["max"]) << " (index, inclusive)\n";
+  o << "  classes       " << j["classes"].size() << "\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "    %3s  %-14s %-9s %12s %12s %14s\n", "id", "name", "colour", "voxels",
+                "mode voxels", "votes");
+  o << line;
+  for (const auto& c : j["classes"]) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c["color"][0].get<int>(), c["color"][1].get<int>(),
+                  c["color"][2].get<int>());
+    std::snprintf(line, sizeof line, "    %3d  %-14s %-9s %12llu %12llu %14llu\n", c["id"].get<int>(),
+                  c["name"].get<std::string>().c_str(), hex, (unsigned long long)c["voxels"].get<uint64_t>(),
+                  (unsigned long long)c["mode_voxels"].get<uint64_t>(), (unsigned long long)c["votes"].get<uint64_t>());
+    o << line;
+  }
+  o << "  memory        " << humanBytes(j["memory_bytes"]) << " in OpenVDB trees; file "
+    << humanBytes(j["file_bytes"].get<int64_t>() < 0 ? 0 : j["file_bytes"].get<uint64_t>()) << "\n";
+  for (const auto& s : j["sources"]) {
+    o << "  source        " << s["path"].get<std::string>() << " (" << s["kind"].get<std::string>();
+    if (!s["sha256"].get<std::string>().empty()) o << ", sha256 " << s["sha256"].get<std::string>().substr(0, 16) << "…";
+    o << ")\n";
+  }
+  std::cout << o.str();
+}
+
+int runInfo(const InfoOptions& o) {
+  if (vox::fileSizeOrMinusOne(o.file) < 0 && !std::filesystem::exists(o.file))
+    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
+  if (!vox::looksLikeVdb(o.file))
+    throw vox::Error(vox::ErrorKind::BadInput,
+                     o.file + ": not a file vox knows (expected a scene .vdb); vox info reads scenes");
+  const vox::Scene scene = vox::readSceneVdb(o.file);
+  const nlohmann::json j = sceneJson(o.file, scene);
+  if (o.json)
+    std::cout << j.dump(2) << "\n";
+  else
+    printScene(j);
+  return kExitOk;
+}
+
+}  // namespace
+
+Command registerInfo(CLI::App& root) {
+  auto opts = std::make_shared<InfoOptions>();
+  CLI::App* cmd = root.add_subcommand("info", "Describe a scene (.vdb)");
+  cmd->add_option("file", opts->file, "File to describe")->required();
+  cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
+  return {cmd, [opts] { return runInfo(*opts); }};
+}
+
+}  // namespace voxcli

@@ -1,0 +1,24 @@
+// Registration of subcommands with the CLI11 app (tools/app.cpp). Each
+// tools/cmd_*.cpp defines one register function: it adds its subcommand with
+// its options and returns the function that runs it after parsing.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace voxcli {
+
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;  // returns an exit code; may throw vox::Error
+};
+
+Command registerVoxelize(CLI::App& root);
+Command registerInfo(CLI::App& root);
+
+}  // namespace voxcli
