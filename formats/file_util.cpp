@@ -20,9 +20,10 @@ AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath))
   static std::atomic<unsigned> counter{0};
   const fs::path p(final_);
   // Same directory, so the rename is atomic; a dot-name keeps it out of globs.
-  temp_ = (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(getpid()) + "." +
-                              std::to_string(counter++)))
-              .string();
+  std::string name(1, '.');
+  name.append(p.filename().string()).append(".tmp").append(std::to_string(getpid()));
+  name.append(".").append(std::to_string(counter++));
+  temp_ = (p.parent_path() / name).string();
 }
 
 AtomicOutput::AtomicOutput(AtomicOutput&& o) noexcept

@@ -1,5 +1,7 @@
 #include "formats/scene_vdb.h"
 
+#include "formats/vdb_structure.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -141,6 +143,7 @@ Scene readSceneVdb(const std::string& path) {
     if (!probe) bad(path, "cannot open the file (missing or unreadable)");
   }
   if (!looksLikeVdb(path)) bad(path, "not an OpenVDB file (wrong magic number)");
+  checkVdbStructure(path);  // refuses truncated files before OpenVDB trusts their lengths
 
   openvdb::MetaMap::Ptr meta;
   openvdb::GridPtrVecPtr grids;
@@ -151,7 +154,10 @@ Scene readSceneVdb(const std::string& path) {
     grids = file.getGrids();
     file.close();
   } catch (const std::exception& e) {
-    bad(path, std::string("cannot read the OpenVDB file (truncated or corrupt?): ") + e.what());
+    // OpenVDB may quote garbage from a corrupt file: keep the message short and printable.
+    std::string why;
+    for (char c : std::string(e.what()).substr(0, 160)) why += (c >= 32 && c < 127) ? c : '?';
+    bad(path, "cannot read the OpenVDB file (corrupt?): " + why);
   }
 
   SceneHeader h;

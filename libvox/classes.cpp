@@ -11,7 +11,11 @@ std::string toString(const Dims& d) {
   return std::to_string(d.x) + " x " + std::to_string(d.y) + " x " + std::to_string(d.z);
 }
 std::string toString(const Coord3& c) {
-  return "(" + std::to_string(c.u) + ", " + std::to_string(c.v) + ", " + std::to_string(c.w) + ")";
+  // Built by appending: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
+  std::string s(1, '(');
+  s.append(std::to_string(c.u)).append(", ").append(std::to_string(c.v)).append(", ");
+  s.append(std::to_string(c.w)).append(")");
+  return s;
 }
 
 void ClassTable::add(ClassInfo info, const std::string& context) {

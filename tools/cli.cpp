@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <mutex>
 #include <thread>
@@ -88,6 +89,16 @@ void Run::input(const std::string& path) {
 }
 
 std::string Run::output(const std::string& finalPath) {
+  // Fail before the work, with the name the user gave, if the output cannot be created.
+  const std::filesystem::path p(finalPath);
+  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' does not exist");
+  if (access(dir.c_str(), W_OK) != 0)
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' is not writable");
+  if (std::filesystem::is_directory(p, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: it is a directory");
   outputs_.emplace_back(finalPath);
   return outputs_.back().tempPath();
 }

@@ -36,6 +36,7 @@ int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) 
                      "this version combines no inputs yet: give exactly one of demo:hamlet or a map.json");
   const std::string& input = o.inputs[0];
   Run run("voxelize", o.common, argv);
+  const std::string outputTemp = run.output(o.output);  // checks the destination before the work
   std::optional<vox::Scene> scene;
   if (input.rfind("demo:", 0) == 0) {
     if (input != "demo:hamlet")
@@ -61,7 +62,7 @@ int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) 
                              "maps (*.json); mesh and .vdb inputs are not implemented yet");
   }
   run.phase("write");
-  vox::writeSceneVdb(*scene, run.output(o.output));
+  vox::writeSceneVdb(*scene, outputTemp);
   const vox::SceneStats stats = scene->stats();
   const vox::Dims d = scene->header().dims;
   run.counts()["dims"] = {d.x, d.y, d.z};

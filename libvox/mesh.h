@@ -1,0 +1,60 @@
+// A triangle mesh as the voxelizer consumes it: every input format (glTF, OBJ,
+// PLY, STL) is flattened into one of these by formats/, with node transforms
+// already applied, so libvox never sees file formats.
+//
+// Units: positions are in the source's world units (after node transforms).
+// Colours are linear-light (sRGB-encoded inputs are decoded by the readers).
+// Ownership: plain values; a Mesh owns its texture pixels.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vox {
+
+/// A decoded RGBA8 texture (sRGB-encoded texels as stored in the file) with its
+/// sampler state (glTF semantics).
+struct MeshTexture {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width * height * 4, row 0 = top of the image (v = 0 in glTF)
+  enum class Wrap { Repeat, ClampToEdge, MirroredRepeat } wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+  bool nearest = false;       // magFilter NEAREST; otherwise bilinear
+  std::string source;         // file name or "data URI"/"bufferView N", for messages
+};
+
+struct MeshMaterial {
+  std::string name;                            // material name ("" if unnamed)
+  std::array<float, 4> baseColorFactor{1, 1, 1, 1};  // linear RGBA
+  int texture = -1;                            // index into Mesh::textures, or -1
+  int texCoordSet = 0;                         // which UV set the texture uses (0 or 1)
+};
+
+/// A named group of triangles (glTF node/mesh, OBJ object/group), for class
+/// mapping by name (`--classes` globs match material, mesh or node names).
+struct MeshPart {
+  std::string nodeName;  // glTF node name path ("root/house/door") or OBJ "o"/"g" name
+  std::string meshName;  // glTF mesh name, or the file name for single-mesh formats
+};
+
+struct Mesh {
+  std::vector<std::array<double, 3>> positions;
+  std::vector<std::array<uint32_t, 3>> triangles;  // indices into positions (and per-vertex arrays)
+  std::vector<uint32_t> triangleMaterial;          // per triangle, index into materials
+  std::vector<uint32_t> trianglePart;              // per triangle, index into parts
+  std::vector<std::array<float, 2>> uv0, uv1;      // per vertex, empty if absent
+  std::vector<std::array<float, 4>> colors;        // per vertex linear RGBA (COLOR_0, PLY), empty if absent
+  std::vector<MeshMaterial> materials;             // at least one when triangles exist
+  std::vector<MeshTexture> textures;
+  std::vector<MeshPart> parts;                     // at least one when triangles exist
+  std::vector<std::string> filesRead;              // every file read (buffers, textures), for --depfile
+
+  size_t triangleCount() const { return triangles.size(); }
+  bool hasColor() const;  // true when any material has a texture, a non-white factor, or vertex colours
+  /// Appends `other` (indices, materials, textures and parts are re-based).
+  void append(const Mesh& other);
+};
+
+}  // namespace vox

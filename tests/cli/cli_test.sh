@@ -1,0 +1,183 @@
+#!/usr/bin/env bash
+# End-to-end tests of the `vox` binary. Usage: cli_test.sh GROUP VOX_BINARY DATA_DIR
+# Each group is one CTest test. Expectations are written out by hand next to
+# each command; JSON is checked with python3.
+set -u
+group=$1 vox=$2 data=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+
+# expect_exit CODE CMD...: runs CMD, checks its exit code, keeps stdout/stderr.
+expect_exit() {
+  local want=$1; shift
+  "$@" >out.txt 2>err.txt
+  local got=$?
+  [ "$got" = "$want" ] || fail "exit $got, expected $want: $* (stderr: $(head -c 400 err.txt))"
+}
+expect_stderr() { grep -qF -- "$1" err.txt || fail "stderr lacks '$1': $(head -c 400 err.txt)"; }
+expect_stdout() { grep -qF -- "$1" out.txt || fail "stdout lacks '$1': $(head -c 400 out.txt)"; }
+# no_outputs: nothing but the test's own files in the work dir (no partial or temp files).
+no_outputs() {
+  local extra
+  extra=$(ls -A | grep -v -E '^(out.txt|err.txt|.*\.json|keep.*)$' || true)
+  [ -z "$extra" ] || fail "files left behind after a failed run: $extra"
+}
+jcheck() { python3 -c "import json,sys; d=json.load(open('$1')); $2" || fail "json check failed on $1: $2"; }
+
+case $group in
+version)
+  expect_exit 0 "$vox" --version
+  expect_stdout "vox 0.1.0 (scene format 1)"
+  expect_exit 0 "$vox" -V
+  expect_exit 0 "$vox" --help
+  expect_stdout "voxelize"
+  expect_stdout "Exit codes"
+  expect_exit 0 "$vox" voxelize --help
+  expect_stdout "demo:hamlet"
+  ;;
+usage)
+  expect_exit 2 "$vox"
+  expect_exit 2 "$vox" no-such-command
+  expect_exit 2 "$vox" voxelize demo:hamlet            # no -o
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 0
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res abc
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.png
+  expect_stderr "*.vdb"
+  expect_exit 2 "$vox" voxelize demo:castle -o x.vdb
+  expect_stderr "demo:hamlet"
+  expect_exit 2 "$vox" voxelize "$data/map_small.json" -o x.vdb --grid-size 1,2
+  expect_stderr "--grid-size"
+  expect_exit 2 "$vox" voxelize "$data/map_small.json" -o x.vdb --res 64
+  expect_exit 2 "$vox" info
+  expect_exit 2 "$vox" info a b
+  no_outputs
+  ;;
+voxelize_map)
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb
+  [ -s small.vdb ] || fail "small.vdb not written"
+  expect_exit 0 "$vox" info --json small.vdb
+  cp out.txt info.json
+  # Hand-computed: 5 solid blocks (Air ignored); dims = max position + 1 = 4,3,2;
+  # worldScale 2, grid 64,48,64 -> origin (-64, 0, -64); all blocks have an empty neighbour.
+  jcheck info.json "assert d['dims']==[4,3,2]; assert d['voxel_size']==2.0; assert d['origin']==[-64.0,0.0,-64.0]"
+  jcheck info.json "assert d['occupied']==5 and d['surface']==5 and d['interior']==0 and d['colored']==0"
+  jcheck info.json "assert d['bounds']=={'min':[0,0,0],'max':[3,2,1]}"
+  jcheck info.json "c={x['name']:x for x in d['classes']}; assert c['Stone']['id']==3 and c['Stone']['voxels']==2 and c['Stone']['votes']==2; assert c['Grass']['voxels']==1 and c['Water']['voxels']==1 and c['Plank']['voxels']==1 and c['Sand']['voxels']==0"
+  jcheck info.json "assert d['block_world']=={'world_scale':2.0,'grid_size':[64,48,64]}"
+  jcheck info.json "s=d['sources'][0]; assert s['kind']=='blockmap' and len(s['sha256'])==64 and s['bytes']>0"
+  jcheck info.json "assert d['world_bounds']['max']==[-56.0,6.0,-60.0]"
+  # --grid-size moves the origin.
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o g.vdb --grid-size 10,10,20
+  expect_exit 0 "$vox" info --json g.vdb
+  cp out.txt g.json
+  jcheck g.json "assert d['origin']==[-10.0,0.0,-20.0]"
+  expect_exit 3 "$vox" voxelize "$data/map_small.json" -o g.vdb --grid-size 3,3,3
+  expect_stderr "block 4"
+  expect_stderr "outside the world grid 3,3,3"
+  ;;
+voxelize_demo)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o a.vdb --threads 1
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o b.vdb --threads 2
+  expect_exit 0 "$vox" info --json a.vdb
+  cp out.txt a.json
+  expect_exit 0 "$vox" info --json b.vdb
+  sed 's/"b.vdb"/"a.vdb"/' out.txt > b.json
+  python3 - <<'PY' || fail "demo info differs between --threads 1 and 2"
+import json
+a, b = json.load(open('a.json')), json.load(open('b.json'))
+for d in (a, b): d.pop('file_bytes')
+assert a == b, (a, b)
+assert a['dims'] == [64, 64, 64] and a['occupied'] > 10000
+assert len([c for c in a['classes'] if c['voxels'] > 0]) == 7
+PY
+  expect_exit 0 "$vox" info a.vdb
+  expect_stdout "voxbake scene"
+  expect_stdout "Water"
+  ;;
+bad_input)
+  # Missing input, not JSON, missing fields, duplicate: exit 3, one line, nothing written.
+  expect_exit 3 "$vox" voxelize nothere.json -o x.vdb
+  expect_stderr "nothere.json"
+  echo '{"worldScale": 1, "blocks": [' > keep_bad.json
+  expect_exit 3 "$vox" voxelize keep_bad.json -o x.vdb
+  expect_stderr "keep_bad.json: not valid JSON"
+  [ "$(wc -l < err.txt)" = 1 ] || fail "expected one line on stderr, got: $(cat err.txt)"
+  echo '{"blocks": []}' > keep_nofield.json
+  expect_exit 3 "$vox" voxelize keep_nofield.json -o x.vdb
+  expect_stderr "missing 'worldScale'"
+  echo '{"worldScale":1,"blocks":[{"position":[0,0,0],"blockType":"Dirt"},{"position":[0,0,0],"blockType":"Sand"}]}' > keep_dup.json
+  expect_exit 3 "$vox" voxelize keep_dup.json -o x.vdb
+  expect_stderr "block 1: position [0, 0, 0] is already used by block 0"
+  expect_exit 3 "$vox" voxelize mesh.obj -o x.vdb
+  no_outputs
+  # A failed run does not replace an existing output either.
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o keep_prev.vdb
+  before=$(sha256sum keep_prev.vdb)
+  expect_exit 3 "$vox" voxelize keep_dup.json -o keep_prev.vdb
+  [ "$(sha256sum keep_prev.vdb)" = "$before" ] || fail "failed run modified an existing output"
+  # Unwritable output directory: I/O error, exit 4.
+  expect_exit 4 "$vox" voxelize "$data/map_small.json" -o /nonexistent-dir/x.vdb
+  expect_stderr "/nonexistent-dir/x.vdb"
+  # Bad .vdb inputs for info: missing, not a vdb, truncated, not a voxbake scene.
+  expect_exit 3 "$vox" info missing.vdb
+  expect_stderr "missing.vdb"
+  echo "plain text" > keep_text.vdb
+  expect_exit 3 "$vox" info keep_text.vdb
+  head -c 1000 keep_prev.vdb > keep_cut.vdb
+  expect_exit 3 "$vox" info keep_cut.vdb
+  expect_stderr "truncated"
+  [ "$(wc -l < err.txt)" = 1 ] || fail "expected one line on stderr, got: $(cat err.txt)"
+  chmod 000 keep_prev.vdb
+  if [ "$(id -u)" != 0 ]; then
+    expect_exit 3 "$vox" info keep_prev.vdb
+    expect_stderr "unreadable"
+  fi
+  chmod 644 keep_prev.vdb
+  expect_exit 3 "$vox" info .
+  ;;
+info)
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o s.vdb
+  expect_exit 0 "$vox" info s.vdb
+  expect_stdout "dims          4 x 3 x 2 (24 voxels)"
+  expect_stdout "occupied      5 (20.833% of the domain): 5 surface, 0 interior"
+  expect_stdout "block world   worldScale 2, grid 64,48,64"
+  [ ! -s err.txt ] || fail "info printed on stderr: $(cat err.txt)"
+  if command -v vdb_print >/dev/null; then
+    vdb_print s.vdb > vp.txt 2>&1 || fail "vdb_print cannot read a scene"
+    grep -q "occupancy" vp.txt || fail "vdb_print does not list the occupancy grid"
+    grep -q "votes.3" vp.txt || fail "vdb_print does not list votes.3"
+  else
+    echo "SKIP: vdb_print not installed (package libopenvdb-tools)"
+  fi
+  ;;
+depfile_report)
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o "out dir.vdb" --depfile d.d --report r.json
+  printf '%s' "out\\ dir.vdb: \\" > want.d
+  printf '\n  %s\n' "$data/map_small.json" >> want.d
+  diff -u want.d d.d || fail "depfile content"
+  jcheck r.json "assert d['command']=='voxelize' and d['exit_code']==0 and d['threads']>=1"
+  jcheck r.json "assert [p['name'] for p in d['phases']]==['parse','write'] and all(p['seconds']>=0 for p in d['phases'])"
+  jcheck r.json "assert d['counts']['occupied_voxels']==5 and d['counts']['dims']==[4,3,2]"
+  jcheck r.json "assert d['outputs']==['out dir.vdb'] and d['inputs']==['$data/map_small.json']"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --depfile h.d --threads 2 --report h.json
+  grep -q "^h.vdb:" h.d || fail "demo depfile: $(cat h.d)"
+  jcheck h.json "assert d['threads']==2 and d['phases'][0]['name']=='generate'"
+  # A failed run writes neither report nor depfile.
+  rm -f r.json d.d
+  expect_exit 3 "$vox" voxelize missing.json -o y.vdb --depfile d.d --report r.json
+  [ ! -e d.d ] && [ ! -e r.json ] && [ ! -e y.vdb ] || fail "failed run left depfile/report/output"
+  # --quiet silences the note; --progress with a non-terminal still works.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --quiet
+  [ ! -s err.txt ] || fail "--quiet printed: $(cat err.txt)"
+  ;;
+*) echo "unknown group $group" >&2; exit 2 ;;
+esac
+
+if [ "$failures" -gt 0 ]; then
+  echo "$group: $failures failure(s)" >&2
+  exit 1
+fi
+echo "$group: ok"
