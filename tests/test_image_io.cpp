@@ -1,0 +1,99 @@
+// PNG and EXR round trips for every sample type the tool writes, text metadata,
+// determinism, and refusal of corrupt files.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <Imath/half.h>
+
+#include "formats/file_util.h"
+#include "formats/image.h"
+#include "test_util.h"
+
+using namespace vox;
+
+namespace {
+Image pattern(uint32_t w, uint32_t h, uint32_t c, SampleType t) {
+  Image img(w, h, c, t);
+  uint32_t seed = 12345;
+  for (uint8_t& b : img.pixels) {
+    seed = seed * 1664525u + 1013904223u;
+    b = uint8_t(seed >> 24);
+  }
+  if (t == SampleType::F16 || t == SampleType::F32) {
+    // Exact small integers and their neighbours, as atlases hold.
+    for (size_t i = 0; i < size_t(w) * h * c; ++i) {
+      const float v = float(i % 2049);
+      if (t == SampleType::F16) {
+        const uint16_t bits = Imath::half(v).bits();
+        std::memcpy(img.pixels.data() + 2 * i, &bits, 2);
+      } else {
+        std::memcpy(img.pixels.data() + 4 * i, &v, 4);
+      }
+    }
+  }
+  img.text = {{"vox:layout", "{\"dims\":[3,5,7]}"}, {"Software", "vox test"}};
+  return img;
+}
+}  // namespace
+
+TEST(ImageIo, PngRoundTripsEveryShape) {
+  voxtest::TempDir dir;
+  for (SampleType t : {SampleType::U8, SampleType::U16})
+    for (uint32_t c = 1; c <= 4; ++c) {
+      const Image img = pattern(37, 11, c, t);
+      const std::string path = dir.file("p" + std::to_string(c) + sampleTypeName(t) + ".png");
+      writePng(img, path);
+      EXPECT_TRUE(isPngFile(path));
+      const Image back = readPng(path);
+      EXPECT_EQ(back.width, 37u);
+      EXPECT_EQ(back.height, 11u);
+      EXPECT_EQ(back.channels, c);
+      EXPECT_EQ(back.type, t);
+      EXPECT_TRUE(back.pixels == img.pixels) << "channels " << c << " " << sampleTypeName(t);
+      EXPECT_EQ(back.textValue("vox:layout"), "{\"dims\":[3,5,7]}");
+    }
+}
+
+TEST(ImageIo, PngIsByteIdenticalForIdenticalInput) {
+  voxtest::TempDir dir;
+  const Image img = pattern(300, 200, 4, SampleType::U8);
+  writePng(img, dir.file("a.png"));
+  writePng(img, dir.file("b.png"));
+  EXPECT_EQ(readFileBytes(dir.file("a.png")), readFileBytes(dir.file("b.png")));
+}
+
+TEST(ImageIo, ExrRoundTripsUintHalfFloat) {
+  voxtest::TempDir dir;
+  for (SampleType t : {SampleType::U32, SampleType::F16, SampleType::F32})
+    for (uint32_t c : {1u, 4u}) {
+      const Image img = pattern(19, 23, c, t);
+      const std::string path = dir.file(std::string("e") + sampleTypeName(t) + std::to_string(c) + ".exr");
+      writeExr(img, path);
+      EXPECT_TRUE(isExrFile(path));
+      const Image back = readExr(path);
+      EXPECT_EQ(back.type, t);
+      EXPECT_EQ(back.channels, c);
+      EXPECT_TRUE(back.pixels == img.pixels) << sampleTypeName(t);
+      EXPECT_EQ(back.textValue("vox:layout"), "{\"dims\":[3,5,7]}");
+    }
+}
+
+TEST(ImageIo, CorruptFilesAreBadInput) {
+  voxtest::TempDir dir;
+  writePng(pattern(64, 64, 4, SampleType::U8), dir.file("good.png"));
+  const std::string bytes = readFileBytes(dir.file("good.png"));
+  for (size_t n : {size_t(0), size_t(8), size_t(30), bytes.size() / 2, bytes.size() - 1}) {
+    voxtest::writeText(dir.file("cut.png"), bytes.substr(0, n));
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { readPng(dir.file("cut.png")); }, ErrorKind::BadInput, {"cut.png"}))
+        << n;
+  }
+  writeExr(pattern(64, 64, 4, SampleType::F32), dir.file("good.exr"));
+  const std::string exr = readFileBytes(dir.file("good.exr"));
+  for (size_t n : {size_t(3), size_t(100), exr.size() / 2}) {
+    voxtest::writeText(dir.file("cut.exr"), exr.substr(0, n));
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { readExr(dir.file("cut.exr")); }, ErrorKind::BadInput, {"cut.exr"}))
+        << n;
+  }
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readPng(dir.file("none.png")); }, ErrorKind::BadInput, {"none.png"}));
+}
