@@ -36,6 +36,7 @@ extern "C" __attribute__((visibility("default"))) int vox_cli_main(int argc, cha
   std::vector<voxcli::Command> commands;
   commands.push_back(voxcli::registerVoxelize(app));
   commands.push_back(voxcli::registerInfo(app));
+  commands.push_back(voxcli::registerDiff(app));
 
   try {
     app.parse(argc, argv);

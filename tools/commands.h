@@ -20,5 +20,6 @@ struct Command {
 
 Command registerVoxelize(CLI::App& root);
 Command registerInfo(CLI::App& root);
+Command registerDiff(CLI::App& root);
 
 }  // namespace voxcli

@@ -173,6 +173,23 @@ depfile_report)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --quiet
   [ ! -s err.txt ] || fail "--quiet printed: $(cat err.txt)"
   ;;
+diff)
+  # Determinism voxel for voxel through the CLI: the same scene for --threads 1 and 2, twice.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 48 -o t1.vdb --threads 1
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 48 -o t2.vdb --threads 2
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 48 -o t2b.vdb --threads 2
+  expect_exit 0 "$vox" diff t1.vdb t2.vdb
+  expect_stdout "same"
+  expect_exit 0 "$vox" diff t2.vdb t2b.vdb --json
+  cp out.txt same.json
+  jcheck same.json "assert d['same'] and d['voxels_differing']==0 and d['voxels_compared']>1000"
+  # Different scenes: exit 1 and the first difference.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 47 -o other.vdb
+  expect_exit 1 "$vox" diff t1.vdb other.vdb
+  expect_stdout "DIFFERENT"
+  expect_stdout "first difference at voxel"
+  expect_exit 3 "$vox" diff t1.vdb missing.vdb
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 
