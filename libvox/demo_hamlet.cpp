@@ -1,6 +1,8 @@
 #include "libvox/demo_hamlet.h"
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -114,10 +116,10 @@ struct Sampler {
   }
 };
 
-void fillSlab(const Sampler& s, int32_t w0, int32_t w1, SceneBuilder& out) {
+void fillSlab(const Sampler& s, int32_t w0, int32_t w1, SceneBuilder& out, const std::function<void()>& sliceDone) {
   // Nothing in the design reaches above y = 72, so rows above are skipped.
   const int32_t vMax = std::min<int32_t>(int32_t(s.res), int32_t(std::ceil(72.0 / s.scale)) + 1);
-  for (int32_t w = w0; w < w1; ++w)
+  for (int32_t w = w0; w < w1; ++w) {
     for (int32_t v = 0; v < vMax; ++v)
       for (int32_t u = 0; u < int32_t(s.res); ++u) {
         const Cls c = s.at(u, v, w);
@@ -151,6 +153,8 @@ void fillSlab(const Sampler& s, int32_t w0, int32_t w1, SceneBuilder& out) {
         // A few stray votes for snow.
         if (((h >> 24) & 31) == 0 && c != kSnow) out.addVotes(at, kSnow, 1 + ((h >> 29) & 3), surface);
       }
+    if (sliceDone) sliceDone();
+  }
 }
 
 }  // namespace
@@ -170,9 +174,12 @@ Scene buildHamlet(const HamletOptions& options) {
   const unsigned threads = std::max(1u, std::min<unsigned>(options.threads, r));
   std::vector<SceneBuilder> parts;
   for (unsigned t = 0; t < threads; ++t) parts.emplace_back(header);
+  std::atomic<uint32_t> slicesDone{0};
+  std::function<void()> sliceDone;
+  if (options.progress) sliceDone = [&] { options.progress(double(++slicesDone) / r); };
   auto slab = [&](unsigned t) {
     const int32_t w0 = int32_t(uint64_t(r) * t / threads), w1 = int32_t(uint64_t(r) * (t + 1) / threads);
-    fillSlab(sampler, w0, w1, parts[t]);
+    fillSlab(sampler, w0, w1, parts[t], sliceDone);
   };
   if (threads == 1) {
     slab(0);

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 
+#include "libvox/progress.h"
 #include "libvox/scene.h"
 
 namespace vox {
@@ -20,6 +21,7 @@ namespace vox {
 struct HamletOptions {
   uint32_t resolution = 256;  // voxels per axis; the scene is resolution^3, >= 1
   unsigned threads = 1;       // 1 = serial; the result does not depend on it
+  ProgressFn progress;        // optional, called with the fraction of slices done
 };
 
 /// Builds the hamlet. World placement: voxel size 1 / resolution * 25.6, so the

@@ -45,7 +45,10 @@ int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) 
     vox::HamletOptions h;
     h.resolution = o.resolution ? o.resolution : 256;
     h.threads = run.threads();
+    auto bar = run.progress("hamlet");
+    h.progress = [&bar](double f) { bar->update(f); };
     scene = vox::buildHamlet(h);
+    bar->done();
   } else if (endsWith(input, ".json")) {
     if (o.resolution)
       throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");

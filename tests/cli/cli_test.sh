@@ -172,6 +172,14 @@ depfile_report)
   # --quiet silences the note; --progress with a non-terminal still works.
   expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --quiet
   [ ! -s err.txt ] || fail "--quiet printed: $(cat err.txt)"
+  # Progress bars: none when stderr is not a terminal, unless --progress; never with --quiet.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb
+  ! grep -q "%" err.txt || fail "progress bar drawn on a non-terminal: $(cat err.txt)"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --progress
+  grep -q "100%" err.txt || fail "--progress drew no bar: $(cat err.txt)"
+  [ ! -s out.txt ] || fail "progress went to stdout"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --progress --quiet
+  [ ! -s err.txt ] || fail "--quiet --progress printed: $(cat err.txt)"
   ;;
 diff)
   # Determinism voxel for voxel through the CLI: the same scene for --threads 1 and 2, twice.
