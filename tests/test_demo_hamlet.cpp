@@ -11,23 +11,32 @@
 
 using namespace vox;
 
+namespace {
+HamletOptions hamlet(uint32_t resolution, unsigned threads) {
+  HamletOptions o;
+  o.resolution = resolution;
+  o.threads = threads;
+  return o;
+}
+}  // namespace
+
 TEST(DemoHamlet, SameSceneAtAnyThreadCountAndThroughVdb) {
   voxtest::TempDir dir;
-  const Scene one = buildHamlet({.resolution = 96, .threads = 1});
+  const Scene one = buildHamlet(hamlet(96, 1));
   for (unsigned threads : {2u, 2u, 3u, 7u}) {
-    const Scene other = buildHamlet({.resolution = 96, .threads = threads});
+    const Scene other = buildHamlet(hamlet(96, threads));
     const SceneDifference d = compareScenes(one, other);
     EXPECT_TRUE(d.same()) << "threads " << threads << ": " << d.headerNote << " " << d.firstNote;
   }
   writeSceneVdb(one, dir.file("a.vdb"));
-  writeSceneVdb(buildHamlet({.resolution = 96, .threads = 2}), dir.file("b.vdb"));
+  writeSceneVdb(buildHamlet(hamlet(96, 2)), dir.file("b.vdb"));
   const SceneDifference d = compareScenes(readSceneVdb(dir.file("a.vdb")), readSceneVdb(dir.file("b.vdb")));
   EXPECT_TRUE(d.same()) << d.headerNote << " " << d.firstNote;
   EXPECT_EQ(d.voxelsCompared, one.occupiedCount());
 }
 
 TEST(DemoHamlet, HasVariedVotesTiesAndEveryMaterial) {
-  const Scene s = buildHamlet({.resolution = 128, .threads = 2});
+  const Scene s = buildHamlet(hamlet(128, 2));
   std::set<uint64_t> totals;
   std::set<uint32_t> topShares;
   uint64_t multi = 0, ties = 0, interior = 0;
@@ -56,9 +65,9 @@ TEST(DemoHamlet, HasVariedVotesTiesAndEveryMaterial) {
 }
 
 TEST(DemoHamlet, ResolutionOneAndLimits) {
-  const Scene tiny = buildHamlet({.resolution = 1, .threads = 4});
+  const Scene tiny = buildHamlet(hamlet(1, 4));
   EXPECT_EQ(tiny.header().dims, (Dims{1, 1, 1}));
   EXPECT_LE(tiny.occupiedCount(), 1u);
-  EXPECT_THROW(buildHamlet({.resolution = 0, .threads = 1}), Error);
-  EXPECT_THROW(buildHamlet({.resolution = 5000, .threads = 1}), Error);
+  EXPECT_THROW(buildHamlet(hamlet(0, 1)), Error);
+  EXPECT_THROW(buildHamlet(hamlet(5000, 1)), Error);
 }
