@@ -1,0 +1,532 @@
+#include "libvox/voxelize.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <unordered_map>
+
+#include "libvox/error.h"
+
+namespace vox {
+
+namespace {
+
+using i64 = int64_t;
+using i128 = __int128;
+using Vec3i = std::array<i64, 3>;
+
+constexpr i64 kS = i64(1) << kSubvoxelBits;  // lattice steps per voxel
+constexpr double kMaxGrid = double(1 << 20);   // refuse vertices farther than this (voxels)
+
+i128 abs128(i128 x) { return x < 0 ? -x : x; }
+
+// ---------------------------------------------------------------- exact SAT
+
+// Coordinates doubled and relative to the box centre, so the box is [-kS, kS]^3.
+bool satDoubled(const Vec3i p[3]) {
+  const i64 h = kS;
+  for (int i = 0; i < 3; ++i) {
+    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
+    if (mn > h || mx < -h) return false;
+  }
+  const i128 e[3][3] = {{i128(p[1][0]) - p[0][0], i128(p[1][1]) - p[0][1], i128(p[1][2]) - p[0][2]},
+                        {i128(p[2][0]) - p[1][0], i128(p[2][1]) - p[1][1], i128(p[2][2]) - p[1][2]},
+                        {i128(p[0][0]) - p[2][0], i128(p[0][1]) - p[2][1], i128(p[0][2]) - p[2][2]}};
+  // Triangle normal.
+  const i128 n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
+                     e[0][0] * e[2][1] - e[0][1] * e[2][0]};
+  {
+    const i128 d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
+    const i128 r = i128(h) * (abs128(n[0]) + abs128(n[1]) + abs128(n[2]));
+    if (abs128(d) > r) return false;
+  }
+  // Edge x box-axis: axis = e_j x unit_i.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      i128 a[3] = {0, 0, 0};
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      // e x unit_i has components: [i] = 0, [i1] = e[i2], [i2] = -e[i1].
+      a[i1] = e[j][i2];
+      a[i2] = -e[j][i1];
+      i128 mn = 0, mx = 0;
+      for (int k = 0; k < 3; ++k) {
+        const i128 proj = a[i1] * p[k][i1] + a[i2] * p[k][i2];
+        if (k == 0 || proj < mn) mn = proj;
+        if (k == 0 || proj > mx) mx = proj;
+      }
+      const i128 r = i128(h) * (abs128(a[i1]) + abs128(a[i2]));
+      if (mn > r || mx < -r) return false;
+    }
+  return true;
+}
+
+// ---------------------------------------------------------------- clipping (double)
+
+struct Poly {
+  int n = 0;
+  double p[12][3];  // a triangle clipped by 6 planes has at most 9 vertices
+};
+
+void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
+  Poly tmp;
+  // Clip against lo (keep >= lo), then hi (keep <= hi).
+  auto clip = [axis](const Poly& src, Poly& dst, double bound, bool keepAbove) {
+    dst.n = 0;
+    for (int i = 0; i < src.n; ++i) {
+      const double* a = src.p[i];
+      const double* b = src.p[(i + 1) % src.n];
+      const double da = keepAbove ? a[axis] - bound : bound - a[axis];
+      const double db = keepAbove ? b[axis] - bound : bound - b[axis];
+      if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
+      if ((da >= 0) != (db >= 0)) {
+        const double t = da / (da - db);
+        double* q = dst.p[dst.n++];
+        for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
+        q[axis] = bound;
+      }
+    }
+  };
+  clip(in, tmp, lo, true);
+  clip(tmp, out, hi, false);
+}
+
+double polyArea(const Poly& P) {
+  if (P.n < 3) return 0;
+  double s[3] = {0, 0, 0};
+  for (int i = 1; i + 1 < P.n; ++i) {
+    const double* a = P.p[0];
+    const double* b = P.p[i];
+    const double* c = P.p[i + 1];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    s[0] += u[1] * v[2] - u[2] * v[1];
+    s[1] += u[2] * v[0] - u[0] * v[2];
+    s[2] += u[0] * v[1] - u[1] * v[0];
+  }
+  return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+}
+
+void polyRange(const Poly& P, int axis, double& lo, double& hi) {
+  lo = hi = P.p[0][axis];
+  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
+}
+
+// ---------------------------------------------------------------- helpers
+
+i64 floorDiv(i128 a, i128 b) {  // b > 0
+  i128 q = a / b;
+  if ((a % b != 0) && (a < 0)) --q;
+  return i64(q);
+}
+
+struct ColorSum {
+  uint64_t r = 0, g = 0, b = 0, w = 0;
+};
+
+uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
+  return (uint64_t(uint32_t(u)) << 42) | (uint64_t(uint32_t(v)) << 21) | uint64_t(uint32_t(w));
+}
+
+struct Snapped {
+  std::vector<Vec3i> pos;  // lattice coordinates
+};
+
+/// Range of voxels whose closed interval [k, k+1] touches [lo, hi] (lattice units).
+void touchRange(i64 lo, i64 hi, int32_t dim, int32_t& first, int32_t& last) {
+  // Voxel k touches iff k*S <= hi and (k+1)*S >= lo.
+  const i64 f = floorDiv(i128(lo) - 1, kS) + 0;  // largest k with (k+1)*S < lo is floor((lo-1)/S) - 1
+  first = int32_t(std::max<i64>(0, f));
+  if ((i128(first) + 1) * kS < lo) ++first;
+  last = int32_t(std::min<i64>(dim - 1, floorDiv(hi, kS)));
+}
+
+}  // namespace
+
+int64_t snapToLattice(double g) { return i64(std::llround(g * double(kS))); }
+
+bool triangleTouchesVoxel(const std::array<int64_t, 3> tri[3], int32_t u, int32_t v, int32_t w) {
+  const i64 c[3] = {(2 * i64(u) + 1) * kS, (2 * i64(v) + 1) * kS, (2 * i64(w) + 1) * kS};
+  Vec3i p[3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) p[k][i] = 2 * tri[k][i] - c[i];
+  return satDoubled(p);
+}
+
+namespace {
+
+// ---------------------------------------------------------------- surface pass
+
+struct BoxBits;
+
+struct SurfaceWork {
+  const Mesh& mesh;
+  const std::vector<uint8_t>& triClass;
+  const Snapped& snapped;
+  Dims dims;
+  bool color;
+  BoxBits* surfaceBits;  // solid mode: marks surface voxels inside the mesh's box
+};
+
+void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w);
+
+struct SurfaceOut {
+  explicit SurfaceOut(const SceneHeader& h) : builder(h) {}
+  SceneBuilder builder;
+  std::unordered_map<uint64_t, ColorSum> colors;
+};
+
+std::array<float, 4> triangleColor(const Mesh& m, size_t t) {
+  std::array<float, 4> c{1, 1, 1, 1};
+  if (!m.triangleMaterial.empty() && m.triangleMaterial[t] < m.materials.size())
+    c = m.materials[m.triangleMaterial[t]].baseColorFactor;
+  if (!m.colors.empty()) {
+    for (int k = 0; k < 4; ++k) {
+      float s = 0;
+      for (int j = 0; j < 3; ++j) s += m.colors[m.triangles[t][j]][k];
+      c[k] *= s / 3.0f;
+    }
+  }
+  return c;
+}
+
+void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
+  const auto& tri = W.mesh.triangles[t];
+  std::array<int64_t, 3> q[3];
+  for (int k = 0; k < 3; ++k) q[k] = W.snapped.pos[tri[k]];
+  i64 lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = std::min({q[0][i], q[1][i], q[2][i]});
+    hi[i] = std::max({q[0][i], q[1][i], q[2][i]});
+  }
+  int32_t first[3], last[3];
+  const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
+  for (int i = 0; i < 3; ++i) {
+    touchRange(lo[i], hi[i], dimv[i], first[i], last[i]);
+    if (first[i] > last[i]) return;
+  }
+  const uint8_t cls = W.triClass[t];
+  std::array<float, 4> rgba{};
+  if (W.color) rgba = triangleColor(W.mesh, t);
+
+  Poly P;
+  P.n = 3;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
+  const double eps = 1e-6;  // candidate search margin; exact SAT decides
+  const bool small = (i64(last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1)) <= 27;
+
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
+    if (!triangleTouchesVoxel(q, u, v, w)) return;
+    double area = 0;
+    if (exactUV) {
+      Poly z;
+      clipAxis(*exactUV, z, 2, w, w + 1.0);
+      area = polyArea(z);
+    } else {
+      Poly a, b, c;
+      clipAxis(P, a, 0, u, u + 1.0);
+      clipAxis(a, b, 1, v, v + 1.0);
+      clipAxis(b, c, 2, w, w + 1.0);
+      area = polyArea(c);
+    }
+    const double units = std::round(area * double(kS));
+    const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
+    out.builder.addVotes({u, v, w}, cls, votes, true);
+    if (W.surfaceBits) markSurface(*W.surfaceBits, u, v, w);
+    if (W.color) {
+      ColorSum& s = out.colors[voxelKey(u, v, w)];
+      auto q16 = [](float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
+      s.r += votes * q16(rgba[0]);
+      s.g += votes * q16(rgba[1]);
+      s.b += votes * q16(rgba[2]);
+      s.w += votes;
+    }
+  };
+
+  if (small) {
+    for (int32_t u = first[0]; u <= last[0]; ++u)
+      for (int32_t v = first[1]; v <= last[1]; ++v)
+        for (int32_t w = first[2]; w <= last[2]; ++w) emit(u, v, w, nullptr);
+    return;
+  }
+  for (int32_t u = first[0]; u <= last[0]; ++u) {
+    Poly Pu, Pue;
+    clipAxis(P, Pue, 0, u - eps, u + 1 + eps);
+    if (Pue.n == 0) continue;
+    clipAxis(P, Pu, 0, u, u + 1.0);
+    double ylo, yhi;
+    polyRange(Pue, 1, ylo, yhi);
+    const int32_t v0 = std::max(first[1], int32_t(std::floor(ylo - eps)) - 1);
+    const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
+    for (int32_t v = v0; v <= v1; ++v) {
+      Poly Puve, Puv;
+      clipAxis(Pue, Puve, 1, v - eps, v + 1 + eps);
+      if (Puve.n == 0) continue;
+      clipAxis(Pu, Puv, 1, v, v + 1.0);
+      double zlo, zhi;
+      polyRange(Puve, 2, zlo, zhi);
+      const int32_t w0 = std::max(first[2], int32_t(std::floor(zlo - eps)) - 1);
+      const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
+      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, &Puv);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- solid pass
+
+struct Crossing {
+  uint64_t column;  // b * extentC + c within the bbox
+  int32_t start;    // first voxel along the ray whose centre lies beyond the crossing
+  int8_t delta;     // +1 entering (normal against the ray), -1 leaving
+  uint8_t cls;
+  bool operator<(const Crossing& o) const {
+    return std::tie(column, start, delta, cls) < std::tie(o.column, o.start, o.delta, o.cls);
+  }
+};
+
+/// Does the edge a->b own the points on it (top-left rule for CCW triangles)?
+bool ownsEdge(i64 ax, i64 ay, i64 bx, i64 by) {
+  const i64 dx = bx - ax, dy = by - ay;
+  return dy > 0 || (dy == 0 && dx < 0);
+}
+
+i64 ceilDiv(i128 a, i128 b) { return -floorDiv(-a, b); }
+
+/// Crossings of rays along `axis` (through voxel centres, in the +axis
+/// direction) with one triangle, for rays whose columns lie in [lo, hi].
+void crossTriangle(const Vec3i q[3], int axis, uint8_t cls, const int32_t lo[3], const int32_t hi[3],
+                   std::vector<Crossing>& out) {
+  const int a = axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+  // Doubled coordinates: voxel centres sit at odd multiples of kS.
+  i64 P[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) P[k][i] = 2 * q[k][i];
+  i128 area2 = i128(P[1][b] - P[0][b]) * (P[2][c] - P[0][c]) - i128(P[1][c] - P[0][c]) * (P[2][b] - P[0][b]);
+  if (area2 == 0) return;  // contains the ray direction: no crossing
+  // (b, c, a) is right-handed, so area2 has the sign of the normal's component
+  // along +a: positive means the ray leaves the solid there (outward normals).
+  const int8_t delta = area2 > 0 ? -1 : +1;
+  int idx[3] = {0, 1, 2};
+  if (area2 < 0) std::swap(idx[1], idx[2]), area2 = -area2;
+  const i64* V[3] = {P[idx[0]], P[idx[1]], P[idx[2]]};
+  const i64 bmin = std::min({V[0][b], V[1][b], V[2][b]}), bmax = std::max({V[0][b], V[1][b], V[2][b]});
+  const i64 cmin = std::min({V[0][c], V[1][c], V[2][c]}), cmax = std::max({V[0][c], V[1][c], V[2][c]});
+  // Voxel k's centre along an axis is (2k + 1) kS.
+  const i64 kb0 = std::max<i64>(lo[b], ceilDiv(i128(bmin) - kS, 2 * kS));
+  const i64 kb1 = std::min<i64>(hi[b], floorDiv(i128(bmax) - kS, 2 * kS));
+  const i64 kc0 = std::max<i64>(lo[c], ceilDiv(i128(cmin) - kS, 2 * kS));
+  const i64 kc1 = std::min<i64>(hi[c], floorDiv(i128(cmax) - kS, 2 * kS));
+  const bool own[3] = {ownsEdge(V[0][b], V[0][c], V[1][b], V[1][c]), ownsEdge(V[1][b], V[1][c], V[2][b], V[2][c]),
+                       ownsEdge(V[2][b], V[2][c], V[0][b], V[0][c])};
+  const i64 extentC = i64(hi[c]) - lo[c] + 1;
+  for (i64 kb = kb0; kb <= kb1; ++kb)
+    for (i64 kc = kc0; kc <= kc1; ++kc) {
+      const i64 Qb = (2 * kb + 1) * kS, Qc = (2 * kc + 1) * kS;
+      i128 E[3];
+      bool inside = true;
+      for (int e = 0; e < 3 && inside; ++e) {
+        const i64* A = V[e];
+        const i64* B = V[(e + 1) % 3];
+        E[e] = i128(B[b] - A[b]) * (Qc - A[c]) - i128(B[c] - A[c]) * (Qb - A[b]);
+        inside = E[e] > 0 || (E[e] == 0 && own[e]);
+      }
+      if (!inside) continue;
+      // Height along a at Q, as num / area2 (barycentric weights E / area2).
+      const i128 num = E[1] * V[0][a] + E[2] * V[1][a] + E[0] * V[2][a];
+      i64 start = floorDiv(num - i128(kS) * area2, i128(2 * kS) * area2) + 1;
+      start = std::clamp<i64>(start, lo[a], i64(hi[a]) + 1);
+      out.push_back({uint64_t((kb - lo[b]) * extentC + (kc - lo[c])), int32_t(start), delta, cls});
+    }
+}
+
+/// A bit per voxel of the mesh's bounding box [lo, hi], x-major, z fastest.
+struct BoxBits {
+  int32_t lo[3], ext[3];
+  std::vector<std::atomic<uint64_t>> words;
+  BoxBits(const int32_t l[3], const int32_t h[3]) {
+    uint64_t n = 1;
+    for (int i = 0; i < 3; ++i) lo[i] = l[i], ext[i] = h[i] - l[i] + 1, n *= uint64_t(ext[i]);
+    words = std::vector<std::atomic<uint64_t>>((n + 63) / 64);
+  }
+  uint64_t index(int32_t x, int32_t y, int32_t z) const {
+    return (uint64_t(x - lo[0]) * ext[1] + uint64_t(y - lo[1])) * ext[2] + uint64_t(z - lo[2]);
+  }
+  void set(uint64_t i) { words[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed); }
+  bool get(uint64_t i) const { return (words[i >> 6].load(std::memory_order_relaxed) >> (i & 63)) & 1; }
+};
+
+void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w) { bits.set(bits.index(u, v, w)); }
+
+/// The class of the part enclosing voxel `k` of a column: the last crossing at
+/// or before it that enters the solid; nullopt when the column has none.
+std::optional<uint8_t> enclosingClass(const std::vector<Crossing>& sorted, uint64_t column, int32_t k) {
+  auto end = std::upper_bound(sorted.begin(), sorted.end(), Crossing{column, k, 127, 255});
+  for (auto it = end; it != sorted.begin();) {
+    --it;
+    if (it->column != column) break;
+    if (it->delta > 0) return it->cls;
+  }
+  return std::nullopt;
+}
+
+template <typename Fn>
+void parallelFor(size_t n, unsigned threads, Fn&& fn) {  // fn(begin, end, threadIndex)
+  threads = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, n))));
+  if (threads == 1) return fn(size_t(0), n, 0u);
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] { fn(n * t / threads, n * (t + 1) / threads, t); });
+  for (std::thread& th : pool) th.join();
+}
+
+}  // namespace
+
+Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
+                   const VoxelizeSettings& settings) {
+  if (triangleClass.size() != mesh.triangles.size())
+    throw Error(ErrorKind::Internal, "voxelizeMesh: one class per triangle expected");
+  const Dims dims = header.dims;
+  const unsigned threads = std::max(1u, settings.threads);
+  const size_t nTri = mesh.triangles.size();
+
+  // Snap every vertex to the 2^-16 voxel lattice in grid space.
+  Snapped snapped;
+  snapped.pos.resize(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double g = (mesh.positions[i][k] - header.origin[k]) / header.voxelSize;
+      if (!std::isfinite(g))
+        throwBadInput("vertex " + std::to_string(i) + " has a non-finite coordinate; use --drop-invalid");
+      if (std::abs(g) > kMaxGrid)
+        throwBadInput("vertex " + std::to_string(i) + " lies " + std::to_string(std::llround(std::abs(g))) +
+                      " voxels from the grid (limit 2^20); crop the scene with --bounds");
+      snapped.pos[i][k] = snapToLattice(g);
+    }
+
+  // Solid mode works inside the mesh's bounding box (in voxels, clamped to the domain).
+  const bool solid = settings.fill == FillMode::Solid && nTri > 0;
+  int32_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  std::unique_ptr<BoxBits> surfaceBits;
+  if (solid) {
+    const int32_t dimv[3] = {int32_t(dims.x), int32_t(dims.y), int32_t(dims.z)};
+    bool empty = false;
+    uint64_t volume = 1;
+    for (int i = 0; i < 3; ++i) {
+      i64 mn = snapped.pos[mesh.triangles[0][0]][i], mx = mn;
+      for (const auto& tri : mesh.triangles)
+        for (uint32_t vi : tri) mn = std::min(mn, snapped.pos[vi][i]), mx = std::max(mx, snapped.pos[vi][i]);
+      touchRange(mn, mx, dimv[i], lo[i], hi[i]);
+      if (lo[i] > hi[i]) empty = true;
+      else volume *= uint64_t(hi[i] - lo[i] + 1);
+    }
+    if (!empty && volume > (uint64_t(1) << 34))
+      throwUsage("solid fill of a " + std::to_string(volume) + "-voxel bounding box needs about " +
+                 std::to_string(volume / (uint64_t(1) << 31)) +
+                 " GiB of working memory; lower --res or use --fill surface");
+    if (!empty) surfaceBits = std::make_unique<BoxBits>(lo, hi);
+  }
+
+  const bool color = mesh.hasColor();
+  const SurfaceWork work{mesh, triangleClass, snapped, dims, color, surfaceBits.get()};
+  std::atomic<size_t> done{0};
+  const double surfaceShare = surfaceBits ? 0.5 : 1.0;
+  auto report = [&](double fraction) {
+    if (settings.progress) settings.progress(std::min(1.0, fraction));
+  };
+
+  // Surface pass: triangles split across threads; integer sums merge exactly.
+  std::vector<std::unique_ptr<SurfaceOut>> parts(threads);
+  for (auto& p : parts) p = std::make_unique<SurfaceOut>(header);
+  parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
+    for (size_t i = b; i < e; ++i) {
+      surfaceTriangle(work, i, *parts[t]);
+      if ((i - b) % 4096 == 4095) report(surfaceShare * double(done += 4096) / double(nTri));
+    }
+  });
+  for (unsigned t = 1; t < threads; ++t) {
+    parts[0]->builder.merge(std::move(parts[t]->builder));
+    for (const auto& [k, c] : parts[t]->colors) {
+      ColorSum& s = parts[0]->colors[k];
+      s.r += c.r, s.g += c.g, s.b += c.b, s.w += c.w;
+    }
+  }
+  SceneBuilder& builder = parts[0]->builder;
+  for (const auto& [k, c] : parts[0]->colors) {
+    if (c.w == 0) continue;
+    const Coord3 at{int32_t(k >> 42), int32_t((k >> 21) & 0x1fffff), int32_t(k & 0x1fffff)};
+    const double d = double(c.w) * 65535.0;
+    builder.setColor(at, {float(double(c.r) / d), float(double(c.g) / d), float(double(c.b) / d)});
+  }
+
+  if (surfaceBits) {
+    // Winding numbers along +x, +y, +z rays through every voxel centre of the box.
+    std::vector<std::vector<Crossing>> crossings(3);
+    std::vector<std::unique_ptr<BoxBits>> inside;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<std::vector<Crossing>> perThread(threads);
+      parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
+        for (size_t i = b; i < e; ++i) {
+          const auto& tri = mesh.triangles[i];
+          const Vec3i q[3] = {snapped.pos[tri[0]], snapped.pos[tri[1]], snapped.pos[tri[2]]};
+          crossTriangle(q, axis, triangleClass[i], lo, hi, perThread[t]);
+        }
+      });
+      std::vector<Crossing>& all = crossings[axis];
+      for (auto& v : perThread) all.insert(all.end(), v.begin(), v.end());
+      std::sort(all.begin(), all.end());  // a total order: the same result for any split
+      auto bits = std::make_unique<BoxBits>(lo, hi);
+      const int a = axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+      const uint64_t extentC = uint64_t(hi[c] - lo[c] + 1);
+      for (size_t i = 0; i < all.size();) {
+        const uint64_t column = all[i].column;
+        int32_t xyz[3];
+        xyz[b] = int32_t(column / extentC) + lo[b];
+        xyz[c] = int32_t(column % extentC) + lo[c];
+        int winding = 0;
+        for (; i < all.size() && all[i].column == column; ++i) {
+          winding += all[i].delta;
+          const int32_t to = (i + 1 < all.size() && all[i + 1].column == column) ? all[i + 1].start : hi[a] + 1;
+          if (winding == 0) continue;
+          for (int32_t k = all[i].start; k < to; ++k) {
+            xyz[a] = k;
+            bits->set(bits->index(xyz[0], xyz[1], xyz[2]));
+          }
+        }
+      }
+      inside.push_back(std::move(bits));
+      report(surfaceShare + 0.15 * (axis + 1));
+    }
+    // Interior voxels: inside for at least 2 of the 3 rays and not on the surface.
+    const uint64_t extX = uint64_t(hi[0] - lo[0] + 1);
+    std::vector<std::unique_ptr<SceneBuilder>> interior(threads);
+    for (auto& b : interior) b = std::make_unique<SceneBuilder>(header);
+    parallelFor(extX, threads, [&](size_t xb, size_t xe, unsigned t) {
+      for (int32_t x = lo[0] + int32_t(xb); x < lo[0] + int32_t(xe); ++x)
+        for (int32_t y = lo[1]; y <= hi[1]; ++y)
+          for (int32_t z = lo[2]; z <= hi[2]; ++z) {
+            const uint64_t i = surfaceBits->index(x, y, z);
+            if (surfaceBits->get(i)) continue;
+            if (int(inside[0]->get(i)) + int(inside[1]->get(i)) + int(inside[2]->get(i)) < 2) continue;
+            // The enclosing part: along +z first, then +x, then +y.
+            const int32_t xyz[3] = {x, y, z};
+            std::optional<uint8_t> cls;
+            for (int axis : {2, 0, 1}) {
+              const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+              const uint64_t column = uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
+              cls = enclosingClass(crossings[axis], column, xyz[axis]);
+              if (cls) break;
+            }
+            interior[t]->addVotes({x, y, z}, cls ? *cls : triangleClass[0], kInteriorVotes, false);
+          }
+    });
+    for (auto& b : interior) builder.merge(std::move(*b));
+  }
+  report(1.0);
+  return std::move(builder).build();
+}
+
+}  // namespace vox
