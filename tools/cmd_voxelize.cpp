@@ -4,6 +4,7 @@
 
 #include "formats/blockmap_json.h"
 #include "formats/scene_vdb.h"
+#include "formats/vdb_grid_input.h"
 #include "libvox/demo_hamlet.h"
 #include "libvox/error.h"
 #include "tools/cli.h"
@@ -18,6 +19,9 @@ struct VoxelizeOptions {
   std::string output;
   uint32_t resolution = 0;  // 0 = the input's default (demo: 256)
   std::string gridSize = "64,48,64";
+  double voxelSize = 0;
+  std::string gridName;
+  std::optional<double> threshold;
   CommonOptions common;
 };
 
@@ -29,6 +33,8 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 }
 
 int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) {
+  if (o.voxelSize > 0 && o.resolution)
+    throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
   if (!endsWith(o.output, ".vdb"))
     throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
   if (o.inputs.size() != 1)
@@ -57,12 +63,25 @@ int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) 
     vox::BlockMapOptions b;
     b.gridSize = parseTriple(o.gridSize, "--grid-size");
     scene = vox::readBlockMap(input, b);
+  } else if (endsWith(input, ".vdb")) {
+    run.phase("resample");
+    run.input(input);
+    vox::VdbGridInputOptions v;
+    v.gridName = o.gridName;
+    v.threshold = o.threshold;
+    v.voxelSize = o.voxelSize;
+    v.resolution = o.voxelSize > 0 ? o.resolution : (o.resolution ? o.resolution : 256);
+    v.threads = run.threads();
+    auto bar = run.progress("resample");
+    v.progress = [&bar](double f) { bar->update(f); };
+    scene = vox::readVdbGridAsScene(input, v);
+    bar->done();
   } else {
     if (!std::filesystem::exists(input))
       throw vox::Error(vox::ErrorKind::BadInput, input + ": no such file");
     throw vox::Error(vox::ErrorKind::BadInput,
-                     input + ": unsupported input; this version of vox reads demo:hamlet and seed 002 block "
-                             "maps (*.json); mesh and .vdb inputs are not implemented yet");
+                     input + ": unsupported input; this version of vox reads demo:hamlet, seed 002 block maps "
+                             "(*.json) and OpenVDB grids (*.vdb); mesh inputs are not implemented yet");
   }
   run.phase("write");
   vox::writeSceneVdb(*scene, outputTemp);
@@ -87,6 +106,8 @@ Command registerVoxelize(CLI::App& root) {
       "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default 256)\n"
       "  MAP.json      a seed 002 block map: one voxel per block, dims = largest position + 1,\n"
       "                world placement from worldScale and --grid-size\n"
+      "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
+      "                inside where value >= T), resampled at --res (default 256) or --voxel-size\n"
       "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
   cmd->add_option("inputs", opts->inputs, "demo:hamlet or a map.json")->required();
   cmd->add_option("-o,--output", opts->output, "Scene file to write (*.vdb)")->required();
@@ -94,6 +115,10 @@ Command registerVoxelize(CLI::App& root) {
       ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--grid-size", opts->gridSize, "Block-map world grid X,Y,Z (seed 002)")
       ->capture_default_str();
+  cmd->add_option("--voxel-size", opts->voxelSize, "World units per voxel (instead of --res)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--grid", opts->gridName, ".vdb input: the grid to read (default: the first float grid)");
+  cmd->add_option("--threshold", opts->threshold, ".vdb fog volume: inside where value >= T");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts, cmd] {
             std::vector<std::string> argv = {"vox", "voxelize"};

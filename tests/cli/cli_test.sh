@@ -198,6 +198,23 @@ diff)
   expect_stdout "first difference at voxel"
   expect_exit 3 "$vox" diff t1.vdb missing.vdb
   ;;
+vdb_input)
+  # A level set written by OpenVDB's own tool, when it is installed.
+  if command -v vdb_tool >/dev/null; then
+    vdb_tool -sphere r=8 dim=64 voxel=0.25 name=ball -write keep_ball.vdb >/dev/null 2>&1 || fail "vdb_tool failed"
+    expect_exit 0 "$vox" voxelize keep_ball.vdb --voxel-size 0.5 -o ball.vdb --depfile ball.d
+    expect_exit 0 "$vox" info --json ball.vdb
+    cp out.txt ball.json
+    # (4/3) pi 8^3 / 0.5^3 = 17157 voxels, within 4%.
+    jcheck ball.json "assert abs(d['occupied']-17157) < 0.04*17157, d['occupied']"
+    grep -q "keep_ball.vdb" ball.d || fail "depfile lacks the .vdb input"
+    expect_exit 2 "$vox" voxelize keep_ball.vdb --voxel-size 0.5 --res 10 -o x.vdb
+    expect_exit 3 "$vox" voxelize keep_ball.vdb --grid nothere -o x.vdb
+    expect_stderr "no grid named 'nothere'"
+  else
+    echo "SKIP: vdb_tool not installed (package libopenvdb-tools)"
+  fi
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 
