@@ -9,6 +9,7 @@
 #include <set>
 
 #include "libvox/voxelize.h"
+#include "libvox/voxelize_check.h"
 #include "test_util.h"
 
 using namespace vox;
@@ -303,4 +304,28 @@ TEST(Voxelize, RefusesFarAndNonFiniteVertices) {
                                       {"vertex 1", "non-finite"}));
   const Scene empty = run(meshOf({}, {}), gridHeader(4), FillMode::Solid);
   EXPECT_EQ(empty.occupiedCount(), 0u);
+}
+
+TEST(VoxelizeCheck, OracleAgreesAndVolumeIsMeasured) {
+  const Mesh m = sphereMesh({16.2, 15.9, 16.1}, 11.3, 64);
+  const Scene surf = run(m, gridHeader(32), FillMode::Surface, 2);
+  const SurfaceCheck c = checkSurface(m, surf, 1u << 30);
+  EXPECT_EQ(c.missed, 0u);
+  ASSERT_TRUE(c.extra);
+  EXPECT_EQ(*c.extra, 0u);
+  EXPECT_EQ(c.oracleVoxels, surf.occupiedCount());
+  // A sample cannot attribute extras.
+  const SurfaceCheck sampled = checkSurface(m, surf, 100);
+  EXPECT_FALSE(sampled.extra);
+  EXPECT_EQ(sampled.missed, 0u);
+  const Scene solid = run(m, gridHeader(32), FillMode::Solid, 2);
+  const SolidCheck s = checkSolid(m, solid, 4000);
+  EXPECT_NEAR(s.meshVolume, 4.0 / 3.0 * M_PI * std::pow(11.3, 3), 0.03 * 4.0 / 3.0 * M_PI * std::pow(11.3, 3));
+  EXPECT_GT(s.relativeVolumeError, 0.0) << "conservative surface voxels add volume";
+  EXPECT_GT(s.iou, 0.75) << "the conservative surface shell lowers IoU at 11 voxels per radius";
+  EXPECT_GT(s.samples, 2000u);
+  // Winding number: 1 inside, 0 outside, -1 inside an inverted mesh.
+  EXPECT_NEAR(windingNumber(m, {16, 16, 16}), 1.0, 1e-9);
+  EXPECT_NEAR(windingNumber(m, {40, 16, 16}), 0.0, 1e-9);
+  EXPECT_NEAR(windingNumber(sphereMesh({16.2, 15.9, 16.1}, 11.3, 64, true), {16, 16, 16}), -1.0, 1e-9);
 }
