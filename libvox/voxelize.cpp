@@ -179,18 +179,93 @@ struct SurfaceOut {
   std::unordered_map<uint64_t, ColorSum> colors;
 };
 
-std::array<float, 4> triangleColor(const Mesh& m, size_t t) {
+float srgbToLinear(uint8_t c) {
+  static const auto lut = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double x = i / 255.0;
+      t[i] = float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return lut[c];
+}
+
+double wrapCoord(double x, MeshTexture::Wrap mode) {
+  switch (mode) {
+    case MeshTexture::Wrap::ClampToEdge: return std::clamp(x, 0.0, 1.0);
+    case MeshTexture::Wrap::MirroredRepeat: {
+      double f = std::fmod(std::abs(x), 2.0);
+      return f > 1.0 ? 2.0 - f : f;
+    }
+    default: return x - std::floor(x);
+  }
+}
+
+/// Linear RGBA of a texture at (s, t) in glTF conventions (t = 0 at the top row),
+/// bilinear unless the sampler asks for nearest.
+std::array<float, 4> sampleTexture(const MeshTexture& tex, double s, double t) {
+  if (tex.width == 0 || tex.height == 0) return {1, 1, 1, 1};
+  const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
+  auto texel = [&](int64_t ix, int64_t iy) {
+    auto wrapI = [](int64_t i, uint32_t n, MeshTexture::Wrap m) -> uint32_t {
+      if (m == MeshTexture::Wrap::Repeat) return uint32_t(((i % n) + n) % n);
+      return uint32_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
+    };
+    const uint8_t* p = &tex.rgba[(size_t(wrapI(iy, tex.height, tex.wrapT)) * tex.width + wrapI(ix, tex.width, tex.wrapS)) * 4];
+    return std::array<float, 4>{srgbToLinear(p[0]), srgbToLinear(p[1]), srgbToLinear(p[2]), p[3] / 255.0f};
+  };
+  if (tex.nearest) return texel(int64_t(std::floor(x + 0.5)), int64_t(std::floor(y + 0.5)));
+  const int64_t x0 = int64_t(std::floor(x)), y0 = int64_t(std::floor(y));
+  const float fx = float(x - double(x0)), fy = float(y - double(y0));
+  const auto a = texel(x0, y0), b = texel(x0 + 1, y0), c = texel(x0, y0 + 1), d = texel(x0 + 1, y0 + 1);
+  std::array<float, 4> r;
+  for (int k = 0; k < 4; ++k)
+    r[k] = (a[k] * (1 - fx) + b[k] * fx) * (1 - fy) + (c[k] * (1 - fx) + d[k] * fx) * fy;
+  return r;
+}
+
+/// Linear colour of triangle t at barycentric (l0, l1, l2): base colour factor x
+/// vertex colour x texture, each interpolated/sampled at that point.
+std::array<float, 4> surfaceColor(const Mesh& m, size_t t, double l0, double l1, double l2) {
   std::array<float, 4> c{1, 1, 1, 1};
-  if (!m.triangleMaterial.empty() && m.triangleMaterial[t] < m.materials.size())
-    c = m.materials[m.triangleMaterial[t]].baseColorFactor;
-  if (!m.colors.empty()) {
-    for (int k = 0; k < 4; ++k) {
-      float s = 0;
-      for (int j = 0; j < 3; ++j) s += m.colors[m.triangles[t][j]][k];
-      c[k] *= s / 3.0f;
+  const MeshMaterial* mat = nullptr;
+  if (!m.triangleMaterial.empty() && m.triangleMaterial[t] < m.materials.size()) mat = &m.materials[m.triangleMaterial[t]];
+  if (mat) c = mat->baseColorFactor;
+  const auto& tri = m.triangles[t];
+  if (!m.colors.empty())
+    for (int k = 0; k < 4; ++k)
+      c[k] *= float(l0 * m.colors[tri[0]][k] + l1 * m.colors[tri[1]][k] + l2 * m.colors[tri[2]][k]);
+  if (mat && mat->texture >= 0 && size_t(mat->texture) < m.textures.size()) {
+    const auto& uv = mat->texCoordSet == 1 ? m.uv1 : m.uv0;
+    if (!uv.empty()) {
+      const double s = l0 * uv[tri[0]][0] + l1 * uv[tri[1]][0] + l2 * uv[tri[2]][0];
+      const double tt = l0 * uv[tri[0]][1] + l1 * uv[tri[1]][1] + l2 * uv[tri[2]][1];
+      const auto tex = sampleTexture(m.textures[size_t(mat->texture)], s, tt);
+      for (int k = 0; k < 4; ++k) c[k] *= tex[k];
     }
   }
   return c;
+}
+
+/// Barycentric coordinates of the vertex average of polygon `P` in triangle (a, b, c).
+void barycentric(const Poly& P, const double a[3], const double b[3], const double c[3], double& l0, double& l1,
+                 double& l2) {
+  double p[3] = {0, 0, 0};
+  for (int i = 0; i < P.n; ++i)
+    for (int k = 0; k < 3; ++k) p[k] += P.p[i][k] / P.n;
+  const double v0[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v1[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]},
+               v2[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+  const double d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0), d21 = dot(v2, v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0)) {  // degenerate triangle: use its centroid
+    l0 = l1 = l2 = 1.0 / 3.0;
+    return;
+  }
+  l1 = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+  l2 = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - l1);
+  l0 = 1.0 - l1 - l2;
 }
 
 void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
@@ -209,8 +284,6 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     if (first[i] > last[i]) return;
   }
   const uint8_t cls = W.triClass[t];
-  std::array<float, 4> rgba{};
-  if (W.color) rgba = triangleColor(W.mesh, t);
 
   Poly P;
   P.n = 3;
@@ -221,23 +294,25 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
 
   auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
     if (!triangleTouchesVoxel(q, u, v, w)) return;
-    double area = 0;
+    Poly piece;  // the part of the triangle inside the voxel
     if (exactUV) {
-      Poly z;
-      clipAxis(*exactUV, z, 2, w, w + 1.0);
-      area = polyArea(z);
+      clipAxis(*exactUV, piece, 2, w, w + 1.0);
     } else {
-      Poly a, b, c;
+      Poly a, b;
       clipAxis(P, a, 0, u, u + 1.0);
       clipAxis(a, b, 1, v, v + 1.0);
-      clipAxis(b, c, 2, w, w + 1.0);
-      area = polyArea(c);
+      clipAxis(b, piece, 2, w, w + 1.0);
     }
+    const double area = polyArea(piece);
     const double units = std::round(area * double(kS));
     const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
     out.builder.addVotes({u, v, w}, cls, votes, true);
     if (W.surfaceBits) markSurface(*W.surfaceBits, u, v, w);
     if (W.color) {
+      // Colour at the piece's centre (the triangle's centroid if clipping lost it).
+      double l0 = 1.0 / 3, l1 = 1.0 / 3, l2 = 1.0 / 3;
+      if (piece.n > 0) barycentric(piece, P.p[0], P.p[1], P.p[2], l0, l1, l2);
+      const std::array<float, 4> rgba = surfaceColor(W.mesh, t, l0, l1, l2);
       ColorSum& s = out.colors[voxelKey(u, v, w)];
       auto q16 = [](float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
       s.r += votes * q16(rgba[0]);

@@ -58,9 +58,12 @@ struct VoxelizeSettings {
 
 /// Voxelizes `mesh` into a scene with `header` (dims, placement, class table).
 /// `triangleClass[i]` is the class id (in header.classes) of triangle i.
-/// Colour: when the mesh has colour, surface voxels get the area-weighted
-/// average of base colour factor x vertex colour (linear) — textures are not
-/// sampled by this function.
+/// Colour: when the mesh has colour, each surface voxel gets the vote-weighted
+/// (area-weighted) average over the triangle pieces inside it of base colour
+/// factor x vertex colour x texture (linear light; 8-bit sRGB texels decoded
+/// exactly), evaluated at the centre of each piece (bilinear texture sampling
+/// with the material's wrap modes, or nearest when the sampler says so).
+/// Sums are integers, so colours do not depend on the thread count.
 Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                    const VoxelizeSettings& settings);
 

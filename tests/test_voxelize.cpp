@@ -329,3 +329,44 @@ TEST(VoxelizeCheck, OracleAgreesAndVolumeIsMeasured) {
   EXPECT_NEAR(windingNumber(m, {40, 16, 16}), 0.0, 1e-9);
   EXPECT_NEAR(windingNumber(sphereMesh({16.2, 15.9, 16.1}, 11.3, 64, true), {16, 16, 16}), -1.0, 1e-9);
 }
+
+TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
+  // A 2 x 2 unit square at z = 0.5 over voxels (0..1, 0..1, 0), textured with a
+  // 2 x 2 nearest-filtered texture: each voxel sees one texel.
+  Mesh m = meshOf({{0, 0, 0.5}, {2, 0, 0.5}, {2, 2, 0.5}, {0, 2, 0.5}}, {{0, 1, 2}, {0, 2, 3}});
+  m.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};  // glTF: t = 0 is the top row
+  MeshTexture tex;
+  tex.width = tex.height = 2;
+  tex.nearest = true;
+  // top row: red, green; bottom row: blue, sRGB 188 grey.
+  tex.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 188, 188, 188, 255};
+  m.textures.push_back(tex);
+  m.materials[0].texture = 0;
+  m.materials[0].baseColorFactor = {1, 1, 0.5f, 1};
+  SceneHeader h = gridHeader(2);
+  h.dims = {2, 2, 1};
+  const Scene s = run(m, h, FillMode::Surface);
+  ASSERT_TRUE(s.hasColor());
+  std::vector<ClassVotes> tmp;
+  auto col = [&](int u, int v) { return *s.voxel({u, v, 0}, tmp)->color; };
+  // Voxel (0, 1) is the top-left texel (v grows with t decreasing... uv (0,0) at world y = 2).
+  EXPECT_NEAR(col(0, 1).r, 1.0f, 1e-4);
+  EXPECT_NEAR(col(0, 1).g, 0.0f, 1e-4);
+  EXPECT_NEAR(col(1, 1).g, 1.0f, 1e-4);
+  EXPECT_NEAR(col(0, 0).b, 0.5f, 1e-4) << "blue texel x factor 0.5";
+  EXPECT_NEAR(col(1, 0).r, 0.50289f, 1e-3) << "sRGB 188 decodes to linear 0.5029";
+  EXPECT_NEAR(col(1, 0).b, 0.5f * 0.50289f, 1e-3);
+  // Vertex colours alone: interpolated, averaged by area.
+  Mesh vc = meshOf({{0, 0, 0.5}, {2, 0, 0.5}, {2, 2, 0.5}, {0, 2, 0.5}}, {{0, 1, 2}, {0, 2, 3}});
+  vc.colors = {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {0, 0, 0, 1}};
+  const Scene sv = run(vc, h, FillMode::Surface);
+  std::vector<ClassVotes> t2;
+  EXPECT_LT(sv.voxel({0, 0, 0}, t2)->color->r, 0.5f);
+  EXPECT_GT(sv.voxel({1, 0, 0}, t2)->color->r, 0.5f);
+  // Interior voxels carry no colour.
+  Mesh box = boxMesh({0.5, 0.5, 0.5}, {5.5, 5.5, 5.5});
+  box.materials[0].baseColorFactor = {0.2f, 0.4f, 0.6f, 1};
+  const Scene sb = run(box, gridHeader(6), FillMode::Solid);
+  EXPECT_FALSE(sb.voxel({3, 3, 3}, t2)->color.has_value());
+  EXPECT_NEAR(sb.voxel({0, 0, 0}, t2)->color->g, 0.4f, 1e-4);
+}
