@@ -1,0 +1,49 @@
+#include <gtest/gtest.h>
+
+#include "libvox/placement.h"
+#include "test_util.h"
+
+using namespace vox;
+
+TEST(Placement, ResolutionOnTheLongestAxis) {
+  SceneHeader h;
+  PlacementOptions o;
+  o.resolution = 256;
+  placeGrid({-1, 0, 2}, {3, 1, 2.5}, o, h);
+  EXPECT_EQ(h.dims, (Dims{256, 64, 32}));
+  EXPECT_DOUBLE_EQ(h.voxelSize, 4.0 / 256);
+  EXPECT_EQ(h.origin, (std::array<double, 3>{-1, 0, 2}));
+  o.pad = 2;
+  placeGrid({-1, 0, 2}, {3, 1, 2.5}, o, h);
+  EXPECT_EQ(h.dims, (Dims{260, 68, 36}));
+  EXPECT_DOUBLE_EQ(h.origin[0], -1 - 2 * 4.0 / 256);
+}
+
+TEST(Placement, FlatInputsResolutionOneAndBounds) {
+  SceneHeader h;
+  PlacementOptions o;
+  o.resolution = 1;
+  placeGrid({0, 0, 0}, {348, 404, 0}, o, h);  // woody.obj: z extent exactly 0
+  EXPECT_EQ(h.dims, (Dims{1, 1, 1}));
+  o.resolution = 4096;
+  placeGrid({0, 0, 0}, {348, 404, 0}, o, h);
+  EXPECT_EQ(h.dims.y, 4096u);
+  EXPECT_EQ(h.dims.z, 1u) << "zero thickness gives one layer";
+  o.bounds = std::array<double, 6>{0, 0, 0, 10, 10, 10};
+  o.resolution = 10;
+  placeGrid({-100, -100, -100}, {100, 100, 100}, o, h);
+  EXPECT_EQ(h.dims, (Dims{10, 10, 10}));
+  EXPECT_DOUBLE_EQ(h.voxelSize, 1.0);
+}
+
+TEST(Placement, Errors) {
+  SceneHeader h;
+  PlacementOptions o;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"--res"}));
+  o.resolution = 8;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({1, 1, 1}, {1, 1, 1}, o, h); }, ErrorKind::BadInput,
+                                      {"--voxel-size"}));
+  o.resolution = 0;
+  o.voxelSize = 1e-9;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"limit"}));
+}
