@@ -9,6 +9,7 @@
 
 #include "formats/vdb_structure.h"
 #include "libvox/error.h"
+#include "libvox/placement.h"
 #include "libvox/scene_grids.h"
 #include "libvox/sha256.h"
 #include "libvox/voxelize.h"
@@ -68,17 +69,13 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
     wmin = openvdb::math::minComponent(wmin, wp);
     wmax = openvdb::math::maxComponent(wmax, wp);
   }
-  const openvdb::Vec3d extent = wmax - wmin;
-  const double longest = std::max({extent.x(), extent.y(), extent.z()});
-  const double vs = o.voxelSize > 0 ? o.voxelSize : longest / o.resolution;
-  if (!(vs > 0) || !std::isfinite(vs)) throwBadInput(path + ": grid '" + name + "' has a degenerate bounding box");
-  Dims dims;
-  uint32_t* d[3] = {&dims.x, &dims.y, &dims.z};
-  for (int i = 0; i < 3; ++i) {
-    const double n = std::ceil(extent[i] / vs - 1e-9);
-    if (n > 65536) throwUsage(path + ": " + std::to_string(uint64_t(n)) + " voxels on an axis; lower --res or raise --voxel-size");
-    *d[i] = uint32_t(std::max(1.0, n));
-  }
+  SceneHeader header;
+  PlacementOptions place;
+  place.resolution = o.resolution;
+  place.voxelSize = o.voxelSize;
+  placeGrid({wmin.x(), wmin.y(), wmin.z()}, {wmax.x(), wmax.y(), wmax.z()}, place, header);
+  const Dims dims = header.dims;
+  const double vs = header.voxelSize;
   const uint64_t count = dims.count();
   if (count > (uint64_t(1) << 34)) throwUsage(path + ": a " + toString(dims) + " grid is too large; lower --res");
 
@@ -107,10 +104,6 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   work(0);
   for (std::thread& th : pool) th.join();
 
-  SceneHeader header;
-  header.dims = dims;
-  header.voxelSize = vs;
-  header.origin = {wmin.x(), wmin.y(), wmin.z()};
   header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
   uint64_t bytes = 0;
   const std::string sha = sha256File(path, &bytes);
