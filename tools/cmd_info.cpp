@@ -1,5 +1,6 @@
 // vox info FILE: what a file holds, for people (default) or scripts (--json).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -7,6 +8,7 @@
 
 #include "formats/file_util.h"
 #include "formats/scene_vdb.h"
+#include "formats/vdb_structure.h"
 #include "libvox/error.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
@@ -137,6 +139,26 @@ int runInfo(const InfoOptions& o) {
   if (!vox::looksLikeVdb(o.file))
     throw vox::Error(vox::ErrorKind::BadInput,
                      o.file + ": not a file vox knows (expected a scene .vdb); vox info reads scenes");
+  // A .vdb without voxbake metadata (a level set, a fog volume): list its grids.
+  const vox::VdbFrame frame = vox::checkVdbStructure(o.file);
+  if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {
+    nlohmann::json j = {{"file", o.file},
+                        {"kind", "openvdb"},
+                        {"file_bytes", vox::fileSizeOrMinusOne(o.file)},
+                        {"file_version", frame.fileVersion},
+                        {"library_version", std::to_string(frame.libraryMajor) + "." + std::to_string(frame.libraryMinor)}};
+    nlohmann::json grids = nlohmann::json::array();
+    for (const vox::VdbGridFrame& g : frame.grids) grids.push_back({{"name", g.uniqueName}, {"type", g.type}});
+    j["grids"] = grids;
+    if (o.json) {
+      std::cout << j.dump(2) << "\n";
+    } else {
+      std::cout << o.file << ": OpenVDB file (format " << frame.fileVersion << "), not a voxbake scene\n";
+      for (const vox::VdbGridFrame& g : frame.grids) std::cout << "  grid  " << g.uniqueName << "  (" << g.type << ")\n";
+      std::cout << "  make a scene of it with: vox voxelize " << o.file << " --res N -o scene.vdb\n";
+    }
+    return kExitOk;
+  }
   const vox::Scene scene = vox::readSceneVdb(o.file);
   const nlohmann::json j = sceneJson(o.file, scene);
   if (o.json)

@@ -208,6 +208,12 @@ vdb_input)
     # (4/3) pi 8^3 / 0.5^3 = 17157 voxels, within 4%.
     jcheck ball.json "assert abs(d['occupied']-17157) < 0.04*17157, d['occupied']"
     grep -q "keep_ball.vdb" ball.d || fail "depfile lacks the .vdb input"
+    expect_exit 0 "$vox" info keep_ball.vdb
+    expect_stdout "not a voxbake scene"
+    expect_stdout "ball"
+    expect_exit 0 "$vox" info --json keep_ball.vdb
+    cp out.txt foreign.json
+    jcheck foreign.json "assert d['kind']=='openvdb' and d['grids'][0]['name']=='ball'"
     expect_exit 2 "$vox" voxelize keep_ball.vdb --voxel-size 0.5 --res 10 -o x.vdb
     expect_exit 3 "$vox" voxelize keep_ball.vdb --grid nothere -o x.vdb
     expect_stderr "no grid named 'nothere'"
