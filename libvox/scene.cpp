@@ -1,7 +1,9 @@
 #include "libvox/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <mutex>
+#include <unordered_map>
 
 #include "libvox/error.h"
 #include "libvox/scene_grids.h"
@@ -153,90 +155,205 @@ SceneStats Scene::stats() const {
 
 // ---------------------------------------------------------------- SceneBuilder
 
-struct SceneBuilder::Cache {
-  explicit Cache(SceneGrids& g) : occupancy(g.occupancy->tree()) {}
-  openvdb::BoolGrid::Accessor occupancy;
-  std::vector<std::pair<uint8_t, openvdb::Int32Grid::Accessor>> votes;  // small, linear search
+// Votes accumulate in dense 8^3 blocks (OpenVDB's leaf size) in a hash map and
+// become OpenVDB leaves only in build(): a vote costs an array add instead of
+// several tree lookups, and merging builders is adding arrays. Measured on a
+// 100k-triangle sphere at 256^3: the voxelizer's surface pass went from ~200 ms
+// to a fraction of that with one thread.
+namespace {
+
+constexpr int kLeafLog2 = 3, kLeafDim = 1 << kLeafLog2, kLeafVoxels = kLeafDim * kLeafDim * kLeafDim;
+constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
+
+struct ClassBlock {
+  uint8_t classId;
+  std::array<uint32_t, kLeafVoxels> votes{};
 };
 
-SceneBuilder::SceneBuilder(SceneHeader header)
-    : header_(std::move(header)), grids_(makeEmptyGrids()), cache_(std::make_unique<Cache>(*grids_)) {}
+struct LeafBlock {
+  openvdb::Coord origin;
+  std::array<uint64_t, kLeafVoxels / 64> occupied{}, surface{}, colored{};
+  std::vector<std::unique_ptr<ClassBlock>> classes;  // sorted by class id, few
+  std::unique_ptr<std::array<openvdb::Vec3s, kLeafVoxels>> color;
+};
+
+uint64_t leafKey(int32_t x, int32_t y, int32_t z) {
+  auto part = [](int32_t c) { return uint64_t(uint32_t((c >> kLeafLog2) + (kCoordLimit >> kLeafLog2)) & 0x1fffff); };
+  return (part(x) << 42) | (part(y) << 21) | part(z);
+}
+
+int leafOffset(int32_t x, int32_t y, int32_t z) {  // OpenVDB's order: z fastest
+  return ((x & (kLeafDim - 1)) << (2 * kLeafLog2)) | ((y & (kLeafDim - 1)) << kLeafLog2) | (z & (kLeafDim - 1));
+}
+
+}  // namespace
+
+struct SceneBuilder::Blocks {
+  std::unordered_map<uint64_t, std::unique_ptr<LeafBlock>> leaves;
+  uint64_t lastKey = ~uint64_t(0);
+  LeafBlock* last = nullptr;
+  bool outOfRange = false;
+
+  LeafBlock& leaf(int32_t x, int32_t y, int32_t z) {
+    const uint64_t key = leafKey(x, y, z);
+    if (key == lastKey) return *last;
+    auto& slot = leaves[key];
+    if (!slot) {
+      slot = std::make_unique<LeafBlock>();
+      slot->origin = openvdb::Coord(x & ~(kLeafDim - 1), y & ~(kLeafDim - 1), z & ~(kLeafDim - 1));
+    }
+    lastKey = key;
+    last = slot.get();
+    return *last;
+  }
+};
+
+namespace {
+ClassBlock& classBlock(LeafBlock& leaf, uint8_t classId) {
+  auto at = std::lower_bound(leaf.classes.begin(), leaf.classes.end(), classId,
+                             [](const std::unique_ptr<ClassBlock>& c, uint8_t id) { return c->classId < id; });
+  if (at == leaf.classes.end() || (*at)->classId != classId) {
+    auto block = std::make_unique<ClassBlock>();
+    block->classId = classId;
+    at = leaf.classes.insert(at, std::move(block));
+  }
+  return **at;
+}
+}  // namespace
+
+SceneBuilder::SceneBuilder(SceneHeader header) : header_(std::move(header)), blocks_(std::make_unique<Blocks>()) {}
 SceneBuilder::SceneBuilder(SceneBuilder&&) noexcept = default;
 SceneBuilder::~SceneBuilder() = default;
 
 void SceneBuilder::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
   if (votes == 0) return;
-  const openvdb::Coord xyz = toVdb(c);
-  bool wasSurface = false;
-  const bool wasOn = cache_->occupancy.probeValue(xyz, wasSurface);
-  if (!wasOn || (surface && !wasSurface)) cache_->occupancy.setValueOn(xyz, wasSurface || surface);
-  openvdb::Int32Grid::Accessor* acc = nullptr;
-  for (auto& [id, a] : cache_->votes)
-    if (id == classId) acc = &a;
-  if (!acc) {
-    openvdb::Int32Grid::Ptr& grid = voteGrid(*grids_, classId);
-    cache_->votes.emplace_back(classId, grid->getAccessor());
-    acc = &cache_->votes.back().second;
+  if (c.u <= -kCoordLimit || c.v <= -kCoordLimit || c.w <= -kCoordLimit || c.u >= kCoordLimit || c.v >= kCoordLimit ||
+      c.w >= kCoordLimit) {
+    blocks_->outOfRange = true;
+    return;
   }
-  int32_t old = 0;
-  acc->probeValue(xyz, old);
-  acc->setValueOn(xyz, int32_t(saturatingAdd(uint32_t(old), votes)));
+  LeafBlock& leaf = blocks_->leaf(c.u, c.v, c.w);
+  const int i = leafOffset(c.u, c.v, c.w);
+  leaf.occupied[i >> 6] |= uint64_t(1) << (i & 63);
+  if (surface) leaf.surface[i >> 6] |= uint64_t(1) << (i & 63);
+  ClassBlock& cb = (!leaf.classes.empty() && leaf.classes.back()->classId == classId) ? *leaf.classes.back()
+                                                                                       : classBlock(leaf, classId);
+  cb.votes[i] = saturatingAdd(cb.votes[i], votes);
 }
 
 void SceneBuilder::setColor(Coord3 c, RgbLinear color) {
-  if (!grids_->color) grids_->color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0, 0, 0));
-  grids_->color->tree().setValueOn(toVdb(c), openvdb::Vec3s(color.r, color.g, color.b));
+  if (c.u <= -kCoordLimit || c.v <= -kCoordLimit || c.w <= -kCoordLimit || c.u >= kCoordLimit || c.v >= kCoordLimit ||
+      c.w >= kCoordLimit) {
+    blocks_->outOfRange = true;
+    return;
+  }
+  LeafBlock& leaf = blocks_->leaf(c.u, c.v, c.w);
+  const int i = leafOffset(c.u, c.v, c.w);
+  if (!leaf.color) leaf.color = std::make_unique<std::array<openvdb::Vec3s, kLeafVoxels>>();
+  (*leaf.color)[i] = openvdb::Vec3s(color.r, color.g, color.b);
+  leaf.colored[i >> 6] |= uint64_t(1) << (i & 63);
 }
 
 void SceneBuilder::merge(SceneBuilder&& other) {
-  for (auto it = other.grids_->occupancy->cbeginValueOn(); it; ++it) {
-    // Tiles are never created by addVotes, so only voxel values occur here.
-    bool was = false;
-    const bool on = cache_->occupancy.probeValue(it.getCoord(), was);
-    if (!on || (*it && !was)) cache_->occupancy.setValueOn(it.getCoord(), was || *it);
-  }
-  for (ClassGrid& cg : other.grids_->votes) {
-    openvdb::Int32Grid::Ptr& mine = voteGrid(*grids_, cg.classId);
-    auto acc = mine->getAccessor();
-    for (auto it = cg.grid->cbeginValueOn(); it; ++it) {
-      int32_t old = 0;
-      acc.probeValue(it.getCoord(), old);
-      acc.setValueOn(it.getCoord(), int32_t(saturatingAdd(uint32_t(old), uint32_t(*it))));
+  blocks_->outOfRange = blocks_->outOfRange || other.blocks_->outOfRange;
+  for (auto& [key, theirs] : other.blocks_->leaves) {
+    auto& slot = blocks_->leaves[key];
+    if (!slot) {
+      slot = std::move(theirs);
+      continue;
+    }
+    LeafBlock& mine = *slot;
+    for (int k = 0; k < kLeafVoxels / 64; ++k) {
+      mine.occupied[k] |= theirs->occupied[k];
+      mine.surface[k] |= theirs->surface[k];
+    }
+    for (auto& cb : theirs->classes) {
+      ClassBlock& dst = classBlock(mine, cb->classId);
+      for (int i = 0; i < kLeafVoxels; ++i) dst.votes[i] = saturatingAdd(dst.votes[i], cb->votes[i]);
+    }
+    if (theirs->color) {
+      // The receiving builder's colour wins where both have one (see scene.h).
+      if (!mine.color) mine.color = std::make_unique<std::array<openvdb::Vec3s, kLeafVoxels>>();
+      for (int i = 0; i < kLeafVoxels; ++i)
+        if (((theirs->colored[i >> 6] >> (i & 63)) & 1) && !((mine.colored[i >> 6] >> (i & 63)) & 1)) {
+          (*mine.color)[i] = (*theirs->color)[i];
+          mine.colored[i >> 6] |= uint64_t(1) << (i & 63);
+        }
     }
   }
-  if (other.grids_->color) {
-    for (auto it = other.grids_->color->cbeginValueOn(); it; ++it) {
-      openvdb::Vec3s rgb = *it;
-      setColor(fromVdb(it.getCoord()), RgbLinear{rgb[0], rgb[1], rgb[2]});
-    }
-  }
-  // Accessors cached in this builder may point at grids whose leaves changed.
-  cache_ = std::make_unique<Cache>(*grids_);
-  other.grids_ = makeEmptyGrids();
-  other.cache_ = std::make_unique<Cache>(*other.grids_);
+  other.blocks_ = std::make_unique<Blocks>();
+  blocks_->lastKey = ~uint64_t(0);
+  blocks_->last = nullptr;
 }
 
 Scene SceneBuilder::build() && {
   const Dims& d = header_.dims;
   if (d.x == 0 || d.y == 0 || d.z == 0)
     throw Error(ErrorKind::Internal, "scene dims must be >= 1 on every axis, got " + toString(d));
-  cache_.reset();
-  const openvdb::CoordBBox domain(openvdb::Coord(0, 0, 0),
-                                  openvdb::Coord(int32_t(d.x - 1), int32_t(d.y - 1), int32_t(d.z - 1)));
-  const openvdb::CoordBBox active = grids_->occupancy->evalActiveVoxelBoundingBox();
-  if (!grids_->occupancy->tree().empty() && !domain.isInside(active))
-    throw Error(ErrorKind::Internal, "a voxel lies outside the scene domain " + toString(d));
-  for (const ClassGrid& cg : grids_->votes)
-    if (!header_.classes.find(cg.classId))
-      throw Error(ErrorKind::Internal,
-                  "class id " + std::to_string(cg.classId) + " has votes but is not in the class table");
-  for (ClassGrid& cg : grids_->votes) {
-    cg.grid->setName("votes." + std::to_string(cg.classId));
+  if (blocks_->outOfRange) throw Error(ErrorKind::Internal, "a voxel lies outside the scene domain " + toString(d));
+  // Leaves in a fixed order, so the trees come out the same however the votes arrived.
+  std::vector<LeafBlock*> leaves;
+  leaves.reserve(blocks_->leaves.size());
+  for (auto& [key, leaf] : blocks_->leaves) leaves.push_back(leaf.get());
+  std::sort(leaves.begin(), leaves.end(), [](const LeafBlock* a, const LeafBlock* b) { return a->origin < b->origin; });
+
+  auto grids = makeEmptyGrids();
+  auto occAcc = grids->occupancy->getAccessor();
+  std::vector<std::pair<uint8_t, openvdb::Int32Grid::Accessor>> voteAcc;
+  std::optional<openvdb::Vec3SGrid::Accessor> colorAcc;
+  for (LeafBlock* leaf : leaves) {
+    const openvdb::Coord& o = leaf->origin;
+    for (int k = 0; k < 3; ++k)
+      if (o[k] < 0 || uint32_t(o[k] + kLeafDim - 1) >= (k == 0 ? d.x : k == 1 ? d.y : d.z)) {
+        // The block straddles or leaves the domain: check its voxels one by one.
+        for (int i = 0; i < kLeafVoxels; ++i) {
+          if (!((leaf->occupied[i >> 6] >> (i & 63)) & 1)) continue;
+          const int32_t x = o.x() + (i >> 6), y = o.y() + ((i >> 3) & 7), z = o.z() + (i & 7);
+          if (x < 0 || y < 0 || z < 0 || uint32_t(x) >= d.x || uint32_t(y) >= d.y || uint32_t(z) >= d.z)
+            throw Error(ErrorKind::Internal, "voxel " + toString(Coord3{x, y, z}) + " lies outside the scene domain " +
+                                                 toString(d));
+        }
+        break;
+      }
+    // Occupancy leaf: active = occupied, value = surface flag.
+    auto* occLeaf = occAcc.touchLeaf(o);
+    for (int k = 0; k < kLeafVoxels / 64; ++k)
+      for (uint64_t bits = leaf->occupied[k]; bits; bits &= bits - 1) {
+        const int i = k * 64 + __builtin_ctzll(bits);
+        occLeaf->setValueOn(openvdb::Index(i), ((leaf->surface[k] >> (i & 63)) & 1) != 0);
+      }
+    for (auto& cb : leaf->classes) {
+      if (!header_.classes.find(cb->classId))
+        throw Error(ErrorKind::Internal,
+                    "class id " + std::to_string(cb->classId) + " has votes but is not in the class table");
+      auto it = std::find_if(voteAcc.begin(), voteAcc.end(), [&](const auto& p) { return p.first == cb->classId; });
+      if (it == voteAcc.end()) {
+        voteAcc.emplace_back(cb->classId, voteGrid(*grids, cb->classId)->getAccessor());
+        it = voteAcc.end() - 1;
+      }
+      auto* vLeaf = it->second.touchLeaf(o);
+      for (int i = 0; i < kLeafVoxels; ++i)
+        if (cb->votes[i]) vLeaf->setValueOn(openvdb::Index(i), int32_t(cb->votes[i]));
+    }
+    if (leaf->color) {
+      if (!grids->color) {
+        grids->color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0, 0, 0));
+        colorAcc.emplace(grids->color->getAccessor());
+      }
+      auto* cLeaf = colorAcc->touchLeaf(o);
+      for (int k = 0; k < kLeafVoxels / 64; ++k)
+        for (uint64_t bits = leaf->colored[k] & leaf->occupied[k]; bits; bits &= bits - 1) {
+          const int i = k * 64 + __builtin_ctzll(bits);
+          cLeaf->setValueOn(openvdb::Index(i), (*leaf->color)[i]);
+        }
+    }
   }
-  if (grids_->color) grids_->color->setName("color");
+  blocks_.reset();
+  for (ClassGrid& cg : grids->votes) cg.grid->setName("votes." + std::to_string(cg.classId));
+  if (grids->color) grids->color->setName("color");
   Scene scene;
   scene.header_ = std::move(header_);
-  scene.grids_ = std::move(grids_);
+  scene.grids_ = std::move(grids);
   return scene;
 }
 

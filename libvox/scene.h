@@ -162,9 +162,8 @@ class SceneBuilder {
 
  private:
   SceneHeader header_;
-  std::unique_ptr<SceneGrids> grids_;
-  struct Cache;
-  std::unique_ptr<Cache> cache_;
+  struct Blocks;  // votes accumulated in dense 8^3 blocks until build()
+  std::unique_ptr<Blocks> blocks_;
 };
 
 /// Result of comparing two scenes voxel for voxel (the basis of `vox diff`).

@@ -148,12 +148,66 @@ void touchRange(i64 lo, i64 hi, int32_t dim, int32_t& first, int32_t& last) {
 
 int64_t snapToLattice(double g) { return i64(std::llround(g * double(kS))); }
 
+namespace {
+
+// The same separating-axis test in double precision, used as a filter: it
+// answers only when every axis is decided by a margin far above the rounding
+// error (1e-9 of the magnitudes involved, against ~1e-15 actual), and returns
+// -1 otherwise so the exact test decides. Inputs are exact (integers < 2^40).
+int satFiltered(const Vec3i p[3]) {
+  const double h = double(kS);
+  double q[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) q[k][i] = double(p[k][i]);
+  const double e[3][3] = {{q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]},
+                          {q[2][0] - q[1][0], q[2][1] - q[1][1], q[2][2] - q[1][2]},
+                          {q[0][0] - q[2][0], q[0][1] - q[2][1], q[0][2] - q[2][2]}};
+  bool ambiguous = false;
+  const double n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
+                       e[0][0] * e[2][1] - e[0][1] * e[2][0]};
+  {
+    const double d = n[0] * q[0][0] + n[1] * q[0][1] + n[2] * q[0][2];
+    const double r = h * (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
+    const double mag = (std::abs(e[0][1] * e[2][2]) + std::abs(e[0][2] * e[2][1])) * std::abs(q[0][0]) +
+                       (std::abs(e[0][2] * e[2][0]) + std::abs(e[0][0] * e[2][2])) * std::abs(q[0][1]) +
+                       (std::abs(e[0][0] * e[2][1]) + std::abs(e[0][1] * e[2][0])) * std::abs(q[0][2]) + r;
+    const double err = 1e-9 * mag;
+    if (std::abs(d) - r > err) return 0;
+    if (std::abs(d) - r > -err) ambiguous = true;
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      const double a1 = e[j][i2], a2 = -e[j][i1];
+      double mn = 0, mx = 0, mag = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double proj = a1 * q[k][i1] + a2 * q[k][i2];
+        mag = std::max(mag, std::abs(a1 * q[k][i1]) + std::abs(a2 * q[k][i2]));
+        if (k == 0 || proj < mn) mn = proj;
+        if (k == 0 || proj > mx) mx = proj;
+      }
+      const double r = h * (std::abs(a1) + std::abs(a2));
+      const double err = 1e-9 * (mag + r);
+      if (mn - r > err || -r - mx > err) return 0;
+      if (mn - r > -err || -r - mx > -err) ambiguous = true;
+    }
+  return ambiguous ? -1 : 1;
+}
+
+}  // namespace
+
 bool triangleTouchesVoxel(const std::array<int64_t, 3> tri[3], int32_t u, int32_t v, int32_t w) {
   const i64 c[3] = {(2 * i64(u) + 1) * kS, (2 * i64(v) + 1) * kS, (2 * i64(w) + 1) * kS};
   Vec3i p[3];
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i) p[k][i] = 2 * tri[k][i] - c[i];
-  return satDoubled(p);
+  // Box axes first: exact, cheap, and they reject most candidates.
+  for (int i = 0; i < 3; ++i) {
+    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
+    if (mn > kS || mx < -kS) return false;
+  }
+  const int quick = satFiltered(p);
+  return quick >= 0 ? quick == 1 : satDoubled(p);
 }
 
 namespace {
@@ -290,20 +344,15 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
-  const bool small = (i64(last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1)) <= 27;
 
   auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
-    if (!triangleTouchesVoxel(q, u, v, w)) return;
     Poly piece;  // the part of the triangle inside the voxel
-    if (exactUV) {
-      clipAxis(*exactUV, piece, 2, w, w + 1.0);
-    } else {
-      Poly a, b;
-      clipAxis(P, a, 0, u, u + 1.0);
-      clipAxis(a, b, 1, v, v + 1.0);
-      clipAxis(b, piece, 2, w, w + 1.0);
-    }
+    clipAxis(*exactUV, piece, 2, w, w + 1.0);
     const double area = polyArea(piece);
+    // A piece of clearly positive area proves the intersection (double rounding
+    // cannot make 1e-9 voxel^2 out of nothing); touching or missing voxels, where
+    // the area is ~0, are decided by the exact test.
+    if (!(area > 1e-9) && !triangleTouchesVoxel(q, u, v, w)) return;
     const double units = std::round(area * double(kS));
     const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
     out.builder.addVotes({u, v, w}, cls, votes, true);
@@ -322,12 +371,6 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     }
   };
 
-  if (small) {
-    for (int32_t u = first[0]; u <= last[0]; ++u)
-      for (int32_t v = first[1]; v <= last[1]; ++v)
-        for (int32_t w = first[2]; w <= last[2]; ++w) emit(u, v, w, nullptr);
-    return;
-  }
   for (int32_t u = first[0]; u <= last[0]; ++u) {
     Poly Pu, Pue;
     clipAxis(P, Pue, 0, u - eps, u + 1 + eps);
