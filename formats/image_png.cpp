@@ -77,6 +77,9 @@ bool pngWriteAll(png_structp png, png_infop info, FILE* f, int level, uint32_t w
   if (setjmp(png_jmpbuf(png))) return false;
   png_init_io(png, f);
   png_set_compression_level(png, level);
+  // Atlases are mostly runs of zero texels: the SUB filter alone compresses them as
+  // well as adaptive filtering (measured on the demo atlases) at a fraction of the time.
+  png_set_filter(png, 0, PNG_FILTER_SUB);
   png_set_IHDR(png, info, w, h, depth, colorType, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
   if (textCount > 0) png_set_text(png, info, texts, textCount);

@@ -94,20 +94,29 @@ BijectionResult byParts(const AtlasLayout& L, unsigned threads) {
   r.method = "by-parts";
   FailureLog log;
   const Dims d = L.dims;
-  // Part 1: the in-tile map at the extreme tile positions of the first and last layer.
+  // Part 1: the in-tile map. x depends on (u, w) only and y on (v, w) only, so
+  // each axis is checked on its own, over every u (every v), at the first and
+  // last tile column (tile row) of a layer.
   const uint32_t cols[2] = {0, L.tilesPerRow - 1}, rowsIn[2] = {0, L.rowsPerLayer - 1};
   for (uint32_t c : cols)
-    for (uint32_t ri : rowsIn)
-      for (uint32_t v = 0; v < d.y; ++v)
-        for (uint32_t u = 0; u < d.x; ++u) {
-          const uint64_t w = uint64_t(ri) * L.tilesPerRow + c;  // a tile of layer 0
-          if (w >= d.z) continue;
-          const TexelAddress t = L.toTexel(u, v, uint32_t(w));
-          const auto back = L.toVoxel(t.layer, t.x, t.y);
-          ++r.voxelsChecked;
-          if (t.x != c * d.x + u || t.y != ri * d.y + v || !back || back->u != int32_t(u) || back->v != int32_t(v))
-            log.add(r.voxelsChecked, {"inverse differs", {int32_t(u), int32_t(v), int32_t(w)}, t, back, std::nullopt});
-        }
+    for (uint32_t ri : rowsIn) {
+      const uint64_t w = uint64_t(ri) * L.tilesPerRow + c;  // a tile slot of layer 0
+      if (w >= d.z) continue;
+      for (uint32_t u = 0; u < d.x; ++u) {
+        const TexelAddress t = L.toTexel(u, 0, uint32_t(w)), t2 = L.toTexel(u, d.y - 1, uint32_t(w));
+        const auto back = L.toVoxel(t.layer, t.x, t.y);
+        ++r.voxelsChecked;
+        if (t.x != c * d.x + u || t2.x != t.x || !back || back->u != int32_t(u) || back->w != int32_t(w))
+          log.add(r.voxelsChecked, {"inverse differs", {int32_t(u), 0, int32_t(w)}, t, back, std::nullopt});
+      }
+      for (uint32_t v = 0; v < d.y; ++v) {
+        const TexelAddress t = L.toTexel(0, v, uint32_t(w)), t2 = L.toTexel(d.x - 1, v, uint32_t(w));
+        const auto back = L.toVoxel(t.layer, t.x, t.y);
+        ++r.voxelsChecked;
+        if (t.y != ri * d.y + v || t2.y != t.y || !back || back->v != int32_t(v) || back->w != int32_t(w))
+          log.add(r.voxelsChecked, {"inverse differs", {0, int32_t(v), int32_t(w)}, t, back, std::nullopt});
+      }
+    }
   // Part 2: the tile-index map, every w, and every tile slot beyond Z is padding.
   uint64_t slots = uint64_t(L.layers) * L.rowsPerLayer * L.tilesPerRow;
   for (uint64_t slot = 0; slot < slots; ++slot) {
@@ -126,10 +135,11 @@ BijectionResult byParts(const AtlasLayout& L, unsigned threads) {
   }
   r.argument =
       "x = col * X + u with 0 <= u < X is Euclidean division of x by X, so (col, u) <-> x is a bijection of "
-      "[0, T) x [0, X) onto [0, T * X); likewise (rowInLayer, v) <-> y onto [0, R * Y). The in-tile part was "
-      "checked exhaustively at the extreme tile positions and the tile-index map w <-> (layer, rowInLayer, col) "
-      "for every w and every tile slot; composed, (u, v, w) <-> (layer, x, y) is a bijection onto the texels of "
-      "the first Z tile slots, and the texels of the remaining slots are padding, which the inverse rejects.";
+      "[0, T) x [0, X) onto [0, T * X); likewise (rowInLayer, v) <-> y onto [0, R * Y). Checked: the u and v "
+      "axes exhaustively at the first and last tile column and row (x depends on u and w only, y on v and w "
+      "only), and the tile-index map w <-> (layer, rowInLayer, col) for every w and every tile slot. Composed, "
+      "(u, v, w) <-> (layer, x, y) is a bijection onto the texels of the first Z tile slots; the texels of the "
+      "remaining slots are padding, which the inverse rejects.";
   r.failures = log.count;
   r.first = log.first;
   return r;

@@ -9,9 +9,10 @@
 // injective, its image is exactly the texels the inverse accepts, and the
 // inverse undoes it.
 //
-// By parts (larger layouts): the in-tile map (u, v) <-> (x mod X, y mod Y) and
-// the tile-index map w <-> (layer, row, column) are each checked exhaustively,
-// and the composition is argued in `argument` (Euclidean division).
+// By parts (larger layouts): the in-tile map is separable (x depends on u and
+// w, y on v and w), so the u and v axes are checked exhaustively at the extreme
+// tile positions, the tile-index map w <-> (layer, row, column) for every w and
+// tile slot, and the composition is argued in `argument` (Euclidean division).
 #pragma once
 
 #include <cstdint>
@@ -32,8 +33,8 @@ struct BijectionFailure {
 
 struct BijectionResult {
   std::string method;            // "exhaustive" or "by-parts"
-  uint64_t voxelsChecked = 0;
-  uint64_t texelsChecked = 0;
+  uint64_t voxelsChecked = 0;   // exhaustive: every voxel; by parts: axis positions checked
+  uint64_t texelsChecked = 0;   // exhaustive: every texel; by parts: tile slots checked
   uint64_t paddingTexels = 0;
   uint64_t failures = 0;
   std::optional<BijectionFailure> first;  // the first failure in voxel order (w, v, u), then texel order

@@ -87,27 +87,31 @@ std::optional<VoxelView> Scene::voxel(Coord3 c, std::vector<ClassVotes>& storage
 }
 
 void Scene::forEachVoxel(const std::function<void(const VoxelView&)>& fn) const {
-  std::vector<openvdb::Int32Grid::ConstAccessor> accessors;
-  for (const ClassGrid& cg : grids_->votes) accessors.push_back(cg.grid->getConstAccessor());
-  std::optional<openvdb::Vec3SGrid::ConstAccessor> colorAcc;
-  if (grids_->color) colorAcc.emplace(grids_->color->getConstAccessor());
+  // Leaf by leaf: the matching vote and colour leaves are looked up once per
+  // 8^3 block, then voxels are read straight from the leaf buffers. Readers
+  // expand tiles into voxels, so every active value sits in a leaf.
+  const size_t nClasses = grids_->votes.size();
+  std::vector<const openvdb::Int32Tree::LeafNodeType*> voteLeaves(nClasses);
   std::vector<ClassVotes> storage;
-  storage.reserve(grids_->votes.size());
+  storage.reserve(nClasses);
   for (auto leaf = grids_->occupancy->tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::Coord origin = leaf->origin();
+    for (size_t i = 0; i < nClasses; ++i) voteLeaves[i] = grids_->votes[i].grid->tree().probeConstLeaf(origin);
+    const openvdb::Vec3STree::LeafNodeType* colorLeaf =
+        grids_->color ? grids_->color->tree().probeConstLeaf(origin) : nullptr;
     for (auto it = leaf->cbeginValueOn(); it; ++it) {
-      const openvdb::Coord xyz = it.getCoord();
+      const openvdb::Index offset = it.pos();
       storage.clear();
-      for (size_t i = 0; i < accessors.size(); ++i) {
-        int32_t n = 0;
-        if (accessors[i].probeValue(xyz, n)) storage.push_back({grids_->votes[i].classId, uint32_t(n)});
-      }
+      for (size_t i = 0; i < nClasses; ++i)
+        if (voteLeaves[i] && voteLeaves[i]->isValueOn(offset))
+          storage.push_back({grids_->votes[i].classId, uint32_t(voteLeaves[i]->getValue(offset))});
       VoxelView view;
-      view.at = fromVdb(xyz);
+      view.at = fromVdb(it.getCoord());
       view.surface = *it;
       view.votes = storage;
-      if (colorAcc) {
-        openvdb::Vec3s rgb;
-        if (colorAcc->probeValue(xyz, rgb)) view.color = RgbLinear{rgb[0], rgb[1], rgb[2]};
+      if (colorLeaf && colorLeaf->isValueOn(offset)) {
+        const openvdb::Vec3s& rgb = colorLeaf->getValue(offset);
+        view.color = RgbLinear{rgb[0], rgb[1], rgb[2]};
       }
       fn(view);
     }

@@ -1,6 +1,8 @@
 #include "tools/cli.h"
 
+#ifdef VOX_WITH_TBB
 #include <tbb/global_control.h>
+#endif
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -16,9 +18,15 @@
 
 namespace voxcli {
 
+// OpenVDB's own parallel loops run on TBB: cap them at --threads too. The
+// launcher builds this file without TBB (its commands use std::thread only).
 struct ThreadLimit {
+#ifdef VOX_WITH_TBB
   explicit ThreadLimit(unsigned n) : control(tbb::global_control::max_allowed_parallelism, n) {}
   tbb::global_control control;
+#else
+  explicit ThreadLimit(unsigned) {}
+#endif
 };
 
 void addCommonOptions(CLI::App& cmd, CommonOptions& o) {

@@ -7,7 +7,10 @@
 #include <sstream>
 
 #include "formats/file_util.h"
+#include "formats/image.h"
 #include "formats/scene_vdb.h"
+#include "libvox/texel_formats.h"
+#include "tools/atlas_files.h"
 #include "formats/vdb_structure.h"
 #include "libvox/error.h"
 #include "tools/cli.h"
@@ -20,7 +23,92 @@ namespace {
 struct InfoOptions {
   std::string file;
   bool json = false;
+  std::string pixel;  // "x,y" for atlases
+  std::string scene;  // with --pixel: the scene, for class names and votes
 };
+
+int infoAtlas(const InfoOptions& o) {
+  AtlasImageInfo info;
+  const vox::Image img = readAtlasImage(o.file, info);
+  nlohmann::json j = atlasInfoJson(info);
+  j["file"] = o.file;
+  j["kind"] = "atlas";
+  j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels},
+                {"sample", vox::sampleTypeName(img.type)}};
+  j["file_bytes"] = vox::fileSizeOrMinusOne(o.file);
+  if (!o.pixel.empty()) {
+    const size_t comma = o.pixel.find(',');
+    char* end = nullptr;
+    const unsigned long x = std::strtoul(o.pixel.c_str(), &end, 10);
+    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(o.pixel.c_str() + comma + 1, &end, 10);
+    if (comma == std::string::npos || *end != '\0' || x >= info.layout.width || y >= info.layout.height)
+      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + o.pixel + ": expected x,y inside the " +
+                                                  std::to_string(info.layout.width) + " x " +
+                                                  std::to_string(info.layout.height) + " atlas");
+    nlohmann::json p = {{"texel", {info.layer, x, y}}};
+    const auto voxel = info.layout.toVoxel(info.layer, uint32_t(x), uint32_t(y));
+    p["voxel"] = voxel ? nlohmann::json{voxel->u, voxel->v, voxel->w} : nlohmann::json(nullptr);
+    const bool bitmap = info.content == vox::AtlasContent::Occupancy || info.content == vox::AtlasContent::Occupancy2;
+    if (bitmap) {
+      const uint32_t perByte = info.content == vox::AtlasContent::Occupancy ? 8 : 4;
+      const uint8_t byte = img.pixels[size_t(y) * img.width + x / perByte];
+      const int bits = 8 / int(perByte), shift = bits * int(x % perByte);
+      p["occupied"] = bool((byte >> shift) & 1);
+      if (bits == 2) p["touched"] = bool((byte >> (shift + 1)) & 1);
+    } else {
+      nlohmann::json values = nlohmann::json::array();
+      const size_t base = (size_t(y) * img.width + x) * img.channels;
+      for (uint32_t c = 0; c < img.channels; ++c) {
+        const size_t i = base + c;
+        switch (img.type) {
+          case vox::SampleType::U8: values.push_back(img.pixels[i]); break;
+          case vox::SampleType::U16: values.push_back(reinterpret_cast<const uint16_t*>(img.pixels.data())[i]); break;
+          case vox::SampleType::U32: values.push_back(reinterpret_cast<const uint32_t*>(img.pixels.data())[i]); break;
+          case vox::SampleType::F16: values.push_back(vox::halfToFloat(reinterpret_cast<const uint16_t*>(img.pixels.data())[i])); break;
+          case vox::SampleType::F32: values.push_back(reinterpret_cast<const float*>(img.pixels.data())[i]); break;
+        }
+      }
+      p["values"] = values;
+      if (info.content == vox::AtlasContent::Summary)
+        p["summary"] = {{"cls", values[0]}, {"conf", values[1]}, {"obs", values[2]}, {"mrg", values[3]}};
+    }
+    if (!o.scene.empty() && voxel) {
+      const vox::Scene scene = vox::readSceneVdb(o.scene);
+      std::vector<vox::ClassVotes> storage;
+      const auto v = scene.voxel(*voxel, storage);
+      if (!v) {
+        p["scene_voxel"] = nullptr;
+      } else {
+        nlohmann::json votes = nlohmann::json::object();
+        for (const vox::ClassVotes& c : v->votes) {
+          const vox::ClassInfo* ci = scene.header().classes.find(c.classId);
+          votes[ci ? ci->name : std::to_string(c.classId)] = c.votes;
+        }
+        p["scene_voxel"] = {{"surface", v->surface}, {"votes", votes}};
+        if (p.contains("summary")) {
+          const vox::ClassInfo* ci = scene.header().classes.find(uint8_t(p["summary"]["cls"].get<int>()));
+          if (ci) p["summary"]["class_name"] = ci->name;
+        }
+      }
+    }
+    j["pixel"] = p;
+  }
+  if (o.json) {
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  const vox::AtlasLayout& L = info.layout;
+  std::cout << o.file << ": " << vox::atlasContentName(info.content) << " atlas (" << info.format << "), layer "
+            << info.layer << " of " << L.layers << "\n"
+            << "  scene dims    " << vox::toString(L.dims) << "\n"
+            << "  atlas         " << L.width << " x " << L.height << ", " << L.tilesPerRow << " tiles per row, "
+            << L.rowsPerLayer << " tile rows per layer\n"
+            << "  image         " << img.width << " x " << img.height << " x " << img.channels << " "
+            << vox::sampleTypeName(img.type) << "\n"
+            << "  built from    " << info.scene << "\n";
+  if (j.contains("pixel")) std::cout << "  pixel         " << j["pixel"].dump() << "\n";
+  return kExitOk;
+}
 
 nlohmann::json rgb(vox::Rgb8 c) { return {c.r, c.g, c.b}; }
 
@@ -136,9 +224,11 @@ void printScene(const nlohmann::json& j) {
 int runInfo(const InfoOptions& o) {
   if (vox::fileSizeOrMinusOne(o.file) < 0 && !std::filesystem::exists(o.file))
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
+  if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) return infoAtlas(o);
+  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlas images");
   if (!vox::looksLikeVdb(o.file))
     throw vox::Error(vox::ErrorKind::BadInput,
-                     o.file + ": not a file vox knows (expected a scene .vdb); vox info reads scenes");
+                     o.file + ": not a file vox knows (expected a scene .vdb or an atlas .png/.exr)");
   // A .vdb without voxbake metadata (a level set, a fog volume): list its grids.
   const vox::VdbFrame frame = vox::checkVdbStructure(o.file);
   if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {
@@ -172,9 +262,11 @@ int runInfo(const InfoOptions& o) {
 
 Command registerInfo(CLI::App& root) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* cmd = root.add_subcommand("info", "Describe a scene (.vdb)");
+  CLI::App* cmd = root.add_subcommand("info", "Describe a scene (.vdb), an OpenVDB file or an atlas (.png/.exr)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
+  cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values");
+  cmd->add_option("--scene", opts->scene, "With --pixel: the scene, for class names and votes");
   return {cmd, [opts] { return runInfo(*opts); }};
 }
 

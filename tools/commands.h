@@ -21,5 +21,7 @@ struct Command {
 Command registerVoxelize(CLI::App& root);
 Command registerInfo(CLI::App& root);
 Command registerDiff(CLI::App& root);
+Command registerVerifyBijection(CLI::App& root);
+Command registerBuildAtlas(CLI::App& root);
 
 }  // namespace voxcli

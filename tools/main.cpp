@@ -11,7 +11,12 @@
 #include <cstring>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "libvox/version.h"
+#include "tools/commands.h"
+#include "tools/dispatch.h"
+#include "tools/verify_bijection.h"
 
 namespace {
 
@@ -30,6 +35,13 @@ int main(int argc, char** argv) {
   if (argc == 2 && (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "-V") == 0)) {
     std::printf("%s\n", vox::versionString().c_str());
     return 0;
+  }
+  // verify-bijection proofs and format checks need no scene: run them here.
+  if (argc >= 2 && std::strcmp(argv[1], "verify-bijection") == 0 && !voxcli::needsSceneModule(argc, argv)) {
+    CLI::App app{"vox", "vox"};
+    app.require_subcommand(1);
+    std::vector<voxcli::Command> commands{voxcli::registerVerifyBijection(app)};
+    return voxcli::parseAndRun(app, commands, argc, argv);
   }
   // The module sits beside the binary in the build tree, in ../lib/voxbake when
   // installed; VOX_CMDS_MODULE overrides both.

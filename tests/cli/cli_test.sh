@@ -221,6 +221,89 @@ vdb_input)
     echo "SKIP: vdb_tool not installed (package libopenvdb-tools)"
   fi
   ;;
+atlas)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o g.vdb
+  # Default outputs: the summary atlas, the 1-bit bitmap and the sidecar, nothing else.
+  expect_exit 0 "$vox" build-atlas g.vdb -o def
+  [ "$(ls def | tr '\n' ' ')" = "g.atlas.json g.occupancy.png g.summary.png " ] || fail "default outputs: $(ls def)"
+  jcheck def/g.atlas.json "assert d['layout']['width']==512 and d['layout']['height']==512 and len(d['files'])==2"
+  # Golden bytes, identical at 1 and 2 threads (Debian 12's zlib and libpng).
+  expect_exit 0 "$vox" build-atlas g.vdb -o a1 --all --threads 1
+  expect_exit 0 "$vox" build-atlas g.vdb -o a2 --all --threads 2
+  (cd a1 && sha256sum *.png) > got.sum
+  diff -u "$data/../golden/demo64_atlas.sha256" got.sum || fail "demo atlases differ from the golden hashes"
+  (cd a2 && sha256sum *.png) | diff -q - got.sum >/dev/null || fail "atlases differ between --threads 1 and 2"
+  # Every atlas checks out against its scene, through the inverse mapping.
+  for f in a1/*.png; do
+    expect_exit 0 "$vox" verify-bijection --atlas "$f" --scene g.vdb
+  done
+  expect_exit 0 "$vox" verify-bijection --atlas a1/g.summary.png --scene g.vdb --json
+  cp out.txt v.json
+  jcheck v.json "assert d['ok'] and d['texels_checked']==512*512 and d['failures']==0"
+  # An atlas of a scene that differs in one block fails at that block's texel.
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o m.vdb
+  sed 's/"position": \[3, 2, 1\], "blockType": "Plank"/"position": [3, 2, 1], "blockType": "Snow"/' "$data/map_small.json" > keep_m2.json
+  expect_exit 0 "$vox" voxelize keep_m2.json -o m2.vdb
+  expect_exit 0 "$vox" build-atlas m2.vdb -o bad --all
+  expect_exit 1 "$vox" verify-bijection --atlas bad/m2.summary.png --scene m.vdb --json
+  cp out.txt f.json
+  python3 - <<'PY' || fail "flipped texel not reported at the right place"
+import json
+d = json.load(open('f.json'))
+assert d['failures'] == 1, d
+f = d['first_failure']
+assert f['voxel'] == [3, 2, 1], f
+assert f['expected'][0] == 4 and f['actual'][0] == 5, f   # Plank (4) expected, Snow (5) found
+# 4 x 3 tiles, one per row (4 x 6 is squarer than 8 x 3): tile w = 1 starts at y = 3,
+# so voxel (3, 2, 1) is texel (3, 3 + 2).
+assert f['texel'] == [0, 3, 5], f
+PY
+  expect_exit 0 "$vox" verify-bijection --atlas bad/m2.occupancy2.png --scene m.vdb
+  expect_exit 0 "$vox" verify-bijection --atlas bad/m2.votes.3.png --scene m.vdb
+  expect_exit 1 "$vox" verify-bijection --atlas bad/m2.votes.5.png --scene m.vdb
+  expect_stdout "first: texel"
+  # Picking: a texel decodes to its voxel and summary.
+  expect_exit 0 "$vox" info a1/g.summary.png --pixel 100,20 --scene g.vdb --json
+  cp out.txt p.json
+  jcheck p.json "p=d['pixel']; assert p['voxel'] is not None and p['texel']==[0,100,20]"
+  expect_exit 0 "$vox" info a1/g.summary.png
+  expect_stdout "summary atlas (rgba8)"
+  # What cannot be written is refused before anything is written.
+  expect_exit 2 "$vox" build-atlas g.vdb -o nocolor --color
+  expect_stderr "no colour"
+  [ ! -e nocolor/g.summary.png ] || fail "a refused run wrote files"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 300 -o big.vdb
+  expect_exit 2 "$vox" build-atlas big.vdb -o idf --identity --format rgba8
+  expect_stderr "cannot hold coordinate 256"
+  expect_stderr "rgba16 would"
+  expect_exit 0 "$vox" build-atlas big.vdb -o idf --identity --format rgba16f
+  expect_exit 0 "$vox" verify-bijection --atlas idf/big.identity.exr --scene big.vdb
+  expect_exit 3 "$vox" verify-bijection --atlas g.vdb --scene g.vdb
+  expect_exit 2 "$vox" verify-bijection --atlas a1/g.summary.png
+  ;;
+bijection)
+  expect_exit 0 "$vox" verify-bijection --res 256
+  expect_stdout "exhaustive"
+  expect_stdout "OK"
+  expect_exit 0 "$vox" verify-bijection --dims 1,1,4097 --json
+  cp out.txt b.json
+  jcheck b.json "assert d['ok'] and d['voxels_checked']==4097 and d['method']=='exhaustive'"
+  expect_exit 0 "$vox" verify-bijection --dims 100000,100000,100000 --max-side 200000
+  expect_stdout "by-parts"
+  expect_exit 0 "$vox" verify-bijection --format rgba16f --dims 2049,1,1
+  expect_exit 1 "$vox" verify-bijection --format rgba16f --dims 2050,1,1
+  expect_stdout "cannot hold coordinate 2049"
+  expect_exit 0 "$vox" verify-bijection --format rgba32f --json
+  cp out.txt f.json
+  jcheck f.json "assert d['max_exact_integer']==2**24"
+  expect_exit 2 "$vox" verify-bijection
+  expect_exit 2 "$vox" verify-bijection --dims 0,1,1
+  expect_exit 2 "$vox" verify-bijection --format rgba12
+  expect_exit 2 "$vox" verify-bijection --dims 40000,1,1
+  expect_stderr "--max-side"
+  expect_exit 0 "$vox" verify-bijection --res 64 --report r.json
+  jcheck r.json "assert d['command']=='verify-bijection' and d['error']['failures']==0"
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 

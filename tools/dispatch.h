@@ -1,0 +1,14 @@
+// Parse argv with a CLI11 app, run the chosen subcommand, and map errors to the
+// documented exit codes. Shared by the launcher (tools/main.cpp) and the
+// command module (tools/app.cpp).
+#pragma once
+
+#include <vector>
+
+#include "tools/commands.h"
+
+namespace voxcli {
+
+int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** argv);
+
+}  // namespace voxcli
