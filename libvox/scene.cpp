@@ -186,6 +186,11 @@ uint64_t leafKey(int32_t x, int32_t y, int32_t z) {
   return (part(x) << 42) | (part(y) << 21) | part(z);
 }
 
+bool representable(Coord3 c) {
+  auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
+  return ok(c.u) && ok(c.v) && ok(c.w);
+}
+
 int leafOffset(int32_t x, int32_t y, int32_t z) {  // OpenVDB's order: z fastest
   return ((x & (kLeafDim - 1)) << (2 * kLeafLog2)) | ((y & (kLeafDim - 1)) << kLeafLog2) | (z & (kLeafDim - 1));
 }
@@ -231,8 +236,7 @@ SceneBuilder::~SceneBuilder() = default;
 
 void SceneBuilder::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
   if (votes == 0) return;
-  if (c.u <= -kCoordLimit || c.v <= -kCoordLimit || c.w <= -kCoordLimit || c.u >= kCoordLimit || c.v >= kCoordLimit ||
-      c.w >= kCoordLimit) {
+  if (!representable(c)) {
     blocks_->outOfRange = true;
     return;
   }
@@ -246,8 +250,7 @@ void SceneBuilder::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surf
 }
 
 void SceneBuilder::setColor(Coord3 c, RgbLinear color) {
-  if (c.u <= -kCoordLimit || c.v <= -kCoordLimit || c.w <= -kCoordLimit || c.u >= kCoordLimit || c.v >= kCoordLimit ||
-      c.w >= kCoordLimit) {
+  if (!representable(c)) {
     blocks_->outOfRange = true;
     return;
   }

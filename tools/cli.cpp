@@ -1,5 +1,7 @@
 #include "tools/cli.h"
 
+#include "tools/dispatch.h"
+
 #ifdef VOX_WITH_TBB
 #include <tbb/global_control.h>
 #endif
@@ -66,8 +68,8 @@ void ProgressBar::done() {
   std::fputc('\n', stderr);
 }
 
-Run::Run(std::string command, const CommonOptions& options, std::vector<std::string> argv)
-    : command_(std::move(command)), options_(options) {
+Run::Run(std::string command, const CommonOptions& options) : command_(std::move(command)), options_(options) {
+  const std::vector<std::string>& argv = invocation();
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   threads_ = options.threads == 0 ? cores : options.threads;
   limit_ = std::make_unique<ThreadLimit>(threads_);

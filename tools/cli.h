@@ -3,7 +3,7 @@
 // --threads, progress on stderr, --quiet.
 //
 // A subcommand's life:
-//   Run run("voxelize", common, argv);        // parses nothing; starts the clock
+//   Run run("voxelize", common);              // parses nothing; starts the clock
 //   run.phase("parse"); run.input(path);     // every file read goes to the depfile
 //   std::string tmp = run.output("a.vdb");   // write there; renamed at finish()
 //   run.counts()["voxels"] = n;               // lands in the report
@@ -64,7 +64,8 @@ class ProgressBar {
 
 class Run {
  public:
-  Run(std::string command, const CommonOptions& options, std::vector<std::string> argv);
+  /// The report records the command line parseAndRun was given.
+  Run(std::string command, const CommonOptions& options);
   ~Run();
 
   /// Ends the current phase (if any) and starts a new one, timed in the report.

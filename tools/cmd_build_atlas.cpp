@@ -40,8 +40,8 @@ struct Output {
   bool exr = false;
 };
 
-int runBuildAtlas(const BuildAtlasOptions& o, const std::vector<std::string>& argv) {
-  Run run("build-atlas", o.common, argv);
+int runBuildAtlas(const BuildAtlasOptions& o) {
+  Run run("build-atlas", o.common);
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
   if (!fs::is_directory(o.outDir)) throw vox::Error(vox::ErrorKind::Io, o.outDir + ": cannot create the output directory");
@@ -229,9 +229,7 @@ Command registerBuildAtlas(CLI::App& root) {
   cmd->add_option("--max-side", o->maxSide, "Largest texture side; further tile rows go to layers")->capture_default_str();
   cmd->add_option("--compression", o->compression, "PNG zlib level 0-9")->check(CLI::Range(0, 9))->capture_default_str();
   addCommonOptions(*cmd, o->common);
-  return {cmd, [o] {
-            return runBuildAtlas(*o, {"vox", "build-atlas", o->scene, "-o", o->outDir});
-          }};
+  return {cmd, [o] { return runBuildAtlas(*o); }};
 }
 
 }  // namespace voxcli

@@ -155,13 +155,12 @@ Command registerVerifyBijection(CLI::App& root) {
   cmd->add_flag("--json", o->json, "Print the result as JSON on stdout");
   addCommonOptions(*cmd, o->common);
   return {cmd, [o] {
-            std::vector<std::string> argv = {"vox", "verify-bijection"};
             if (!o->atlas.empty() || !o->scene.empty()) {
               if (o->atlas.empty() || o->scene.empty())
                 throw vox::Error(vox::ErrorKind::Usage, "--atlas and --scene go together");
               return runAtlasCheck(*o);
             }
-            Run run("verify-bijection", o->common, argv);
+            Run run("verify-bijection", o->common);
             if (!o->format.empty()) {
               const int code = runFormat(*o, run, std::cout);
               return run.finish(code);

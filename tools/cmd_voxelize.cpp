@@ -32,7 +32,7 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return tail == suffix;
 }
 
-int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) {
+int runVoxelize(const VoxelizeOptions& o) {
   if (o.voxelSize > 0 && o.resolution)
     throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
   if (!endsWith(o.output, ".vdb"))
@@ -41,7 +41,7 @@ int runVoxelize(const VoxelizeOptions& o, const std::vector<std::string>& argv) 
     throw vox::Error(vox::ErrorKind::Usage,
                      "this version combines no inputs yet: give exactly one of demo:hamlet or a map.json");
   const std::string& input = o.inputs[0];
-  Run run("voxelize", o.common, argv);
+  Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
   std::optional<vox::Scene> scene;
   if (input.rfind("demo:", 0) == 0) {
@@ -120,14 +120,7 @@ Command registerVoxelize(CLI::App& root) {
   cmd->add_option("--grid", opts->gridName, ".vdb input: the grid to read (default: the first float grid)");
   cmd->add_option("--threshold", opts->threshold, ".vdb fog volume: inside where value >= T");
   addCommonOptions(*cmd, opts->common);
-  return {cmd, [opts, cmd] {
-            std::vector<std::string> argv = {"vox", "voxelize"};
-            for (const std::string& s : opts->inputs) argv.push_back(s);
-            argv.push_back("-o");
-            argv.push_back(opts->output);
-            (void)cmd;
-            return runVoxelize(*opts, argv);
-          }};
+  return {cmd, [opts] { return runVoxelize(*opts); }};
 }
 
 }  // namespace voxcli

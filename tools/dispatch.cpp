@@ -21,7 +21,14 @@ int exitCodeFor(vox::ErrorKind kind) {
 }
 }  // namespace
 
+namespace {
+std::vector<std::string> gInvocation;
+}
+
+const std::vector<std::string>& invocation() { return gInvocation; }
+
 int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** argv) {
+  gInvocation.assign(argv, argv + argc);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -3,6 +3,7 @@
 // command module (tools/app.cpp).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "tools/commands.h"
@@ -10,5 +11,8 @@
 namespace voxcli {
 
 int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** argv);
+
+/// The command line parseAndRun was given, for reports.
+const std::vector<std::string>& invocation();
 
 }  // namespace voxcli

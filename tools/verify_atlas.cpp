@@ -65,7 +65,7 @@ std::string describe(const Failure& f, uint32_t channels) {
 }  // namespace
 
 int runAtlasCheck(const VerifyBijectionOptions& o) {
-  Run run("verify-bijection", o.common, {"vox", "verify-bijection", "--atlas", o.atlas, "--scene", o.scene});
+  Run run("verify-bijection", o.common);
   run.phase("read");
   run.input(o.atlas);
   run.input(o.scene);
