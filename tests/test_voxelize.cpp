@@ -10,6 +10,7 @@
 
 #include "libvox/voxelize.h"
 #include "libvox/voxelize_check.h"
+#include "libvox/voxelize_sdf.h"
 #include "test_util.h"
 
 using namespace vox;
@@ -369,4 +370,20 @@ TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
   const Scene sb = run(box, gridHeader(6), FillMode::Solid);
   EXPECT_FALSE(sb.voxel({3, 3, 3}, t2)->color.has_value());
   EXPECT_NEAR(sb.voxel({0, 0, 0}, t2)->color->g, 0.4f, 1e-4);
+}
+
+TEST(VoxelizeSdf, AgreesWithTheExactMethodUpToAShell) {
+  const Mesh m = sphereMesh({16.2, 15.9, 16.1}, 11.3, 64);
+  VoxelizeSettings st;
+  st.fill = FillMode::Solid;
+  const Scene exact = voxelizeMesh(m, std::vector<uint8_t>(m.triangles.size(), 1), gridHeader(32), st);
+  const Scene sdf = voxelizeMeshSdf(m, std::vector<uint8_t>(m.triangles.size(), 1), gridHeader(32), st);
+  const auto a = occupied(exact), b = occupied(sdf);
+  size_t both = 0;
+  for (const auto& k : a) both += b.count(k);
+  const double iou = double(both) / double(a.size() + b.size() - both);
+  EXPECT_GT(iou, 0.9);
+  std::vector<ClassVotes> tmp;
+  EXPECT_TRUE(sdf.voxel({16, 16, 16}, tmp)) << "the centre is inside";
+  EXPECT_FALSE(sdf.voxel({0, 0, 0}, tmp));
 }
