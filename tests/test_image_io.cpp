@@ -42,7 +42,9 @@ TEST(ImageIo, PngRoundTripsEveryShape) {
   for (SampleType t : {SampleType::U8, SampleType::U16})
     for (uint32_t c = 1; c <= 4; ++c) {
       const Image img = pattern(37, 11, c, t);
-      const std::string path = dir.file("p" + std::to_string(c) + sampleTypeName(t) + ".png");
+      std::string name = std::to_string(c);
+      name.append(sampleTypeName(t)).append(".png");
+      const std::string path = dir.file(name);
       writePng(img, path);
       EXPECT_TRUE(isPngFile(path));
       const Image back = readPng(path);

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   std::string errors;
   for (const std::string& path : candidates) {
     if (path.empty() || access(path.c_str(), R_OK) != 0) continue;
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (!handle) {
       errors += std::string("\n  ") + dlerror();
       continue;

@@ -304,6 +304,60 @@ bijection)
   expect_exit 0 "$vox" verify-bijection --res 64 --report r.json
   jcheck r.json "assert d['command']=='verify-bijection' and d['error']['failures']==0"
   ;;
+mesh)
+  # A unit cube of two materials, written here.
+  cat > keep_cube.obj <<'OBJ'
+mtllib keep_cube.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+usemtl Wall
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+usemtl Roof
+f 4 1 5 8
+OBJ
+  printf 'newmtl Wall\nKd 0.5 0.5 0.5\nnewmtl Roof\nKd 1 0 0\n' > keep_cube.mtl
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o s.vdb --check --report s.json --depfile s.d
+  jcheck s.json "e=d['error']['surface']; assert e['missed']==0 and e['extra']==0 and e['oracle_voxels']==d['counts']['occupied_voxels']"
+  jcheck s.json "assert d['counts']['triangles']==12 and d['counts']['dims']==[8,8,8] and [p['name'] for p in d['phases']]==['parse','voxelize','write','check']"
+  grep -q keep_cube.mtl s.d || fail "depfile lacks the mtl"
+  expect_exit 0 "$vox" info --json s.vdb
+  cp out.txt s_info.json
+  # Surface of an 8^3 cube whose faces lie on grid planes: the 8^3 shell (closed boxes) = 8^3 - 6^3.
+  jcheck s_info.json "assert d['occupied']==8**3-6**3 and [c['name'] for c in d['classes']]==['Wall','Roof'] and d['has_color']"
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o solid.vdb --fill solid --check --report solid.json
+  jcheck solid.json "e=d['error']['solid']; assert abs(e['mesh_volume']-1.0)<1e-9 and abs(e['voxel_volume']-1.0)<1e-9 and e['iou']==1.0"
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o sdf.vdb --fill solid --method sdf
+  # --classes maps materials; several inputs combine; --pad grows the grid.
+  printf '{"classes":[{"name":"roof","id":9,"match":["material:Roof"]},{"name":"rest"}],"default":"rest"}' > keep_classes.json
+  expect_exit 0 "$vox" voxelize keep_cube.obj keep_cube.obj --res 8 --pad 2 -o c.vdb --classes keep_classes.json
+  expect_exit 0 "$vox" info --json c.vdb
+  cp out.txt c.json
+  jcheck c.json "assert d['dims']==[12,12,12] and sorted(c['name'] for c in d['classes'])==['rest','roof'] and len(d['sources'])==2"
+  # Resolution 1: one voxel.
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 1 -o one.vdb
+  # Bad inputs: empty mesh, NaN, unknown options.
+  : > keep_empty.obj
+  expect_exit 3 "$vox" voxelize keep_empty.obj -o e.vdb
+  expect_stderr "no triangles"
+  printf 'v 0 0 0\nv 1 0 nan\nv 0 1 0\nv 1 1 1\nf 1 2 3\nf 1 3 4\n' > keep_nan.obj
+  expect_exit 3 "$vox" voxelize keep_nan.obj -o e.vdb
+  expect_stderr "--drop-invalid"
+  expect_exit 0 "$vox" voxelize keep_nan.obj -o e.vdb --drop-invalid
+  expect_stderr "dropped 1 triangles"
+  expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --fill hollow
+  expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
+  expect_exit 2 "$vox" voxelize keep_cube.obj demo:hamlet -o x.vdb
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 

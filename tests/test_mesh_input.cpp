@@ -1,0 +1,188 @@
+// Mesh readers: hand-written files for every feature and error, plus the
+// third-party files of ../shared/data when present.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "formats/image.h"
+#include "formats/mesh_input.h"
+#include "test_util.h"
+
+using namespace vox;
+
+namespace {
+Mesh read(const std::string& path, bool drop = false) {
+  std::vector<std::string> w;
+  MeshReadOptions o;
+  o.dropInvalid = drop;
+  return readMeshFile(path, o, w);
+}
+::testing::AssertionResult rejects(const std::string& path, std::initializer_list<std::string> needles) {
+  return voxtest::throwsVoxError([&] { read(path); }, ErrorKind::BadInput, needles);
+}
+const std::string kData = VOX_SHARED_DATA_DIR;
+bool haveData() { return std::filesystem::exists(kData + "/MANIFEST.md"); }
+}  // namespace
+
+TEST(ObjReader, QuadsNegativeIndicesMaterialsGroupsAndTextures) {
+  voxtest::TempDir dir;
+  Image tex(2, 1, 4, SampleType::U8);
+  tex.pixels = {255, 0, 0, 255, 0, 0, 255, 255};
+  writePng(tex, dir.file("t.png"));
+  voxtest::writeText(dir.file("m.mtl"), "newmtl Red\nKd 1 0 0\nnewmtl Tex\nKd 1 1 1\nmap_Kd t.png\n");
+  voxtest::writeText(dir.file("m.obj"),
+                     "# comment\nmtllib m.mtl\no first\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\n"
+                     "usemtl Red\nf 1 2 3 4\ng second\nusemtl Tex\nf -4/1 -3/2 -2/1\nf 1//1 2//1 3//1\n");
+  const Mesh m = read(dir.file("m.obj"));
+  EXPECT_EQ(m.triangleCount(), 4u) << "a quad fan-triangulates into 2";
+  ASSERT_EQ(m.materials.size(), 2u);
+  EXPECT_EQ(m.materials[0].name, "Red");
+  EXPECT_EQ(m.materials[0].baseColorFactor[1], 0.0f);
+  EXPECT_EQ(m.materials[1].texture, 0);
+  ASSERT_EQ(m.textures.size(), 1u);
+  EXPECT_EQ(m.textures[0].width, 2u);
+  EXPECT_EQ(m.triangleMaterial, (std::vector<uint32_t>{0, 0, 1, 1}));
+  EXPECT_EQ(m.parts[m.trianglePart[2]].nodeName, "second");
+  EXPECT_EQ(m.parts[m.trianglePart[0]].nodeName, "first");
+  EXPECT_EQ(m.uv0.size(), m.positions.size());
+  EXPECT_EQ(m.filesRead.size(), 3u) << "obj, mtl, texture";
+  EXPECT_TRUE(m.hasColor());
+}
+
+TEST(ObjReader, ErrorsNameTheLine) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("a.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+  EXPECT_TRUE(rejects(dir.file("a.obj"), {"a.obj:3", "vertex 3", "2 are defined"}));
+  voxtest::writeText(dir.file("b.obj"), "v 0 0 zero\n");
+  EXPECT_TRUE(rejects(dir.file("b.obj"), {"b.obj:1", "expected a number"}));
+  voxtest::writeText(dir.file("c.obj"), "v 0 0 0\nv 1 0 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n");
+  EXPECT_TRUE(rejects(dir.file("c.obj"), {"c.obj", "1 vertices have NaN", "vertex 1", "--drop-invalid"}));
+  EXPECT_EQ(read(dir.file("c.obj"), true).triangleCount(), 1u);
+  voxtest::writeText(dir.file("d.obj"), "mtllib missing.mtl\n");
+  EXPECT_TRUE(rejects(dir.file("d.obj"), {"d.obj:1", "missing.mtl"}));
+  voxtest::writeText(dir.file("e.obj"), "v 0 0 0\nf 1 1\n");
+  EXPECT_TRUE(rejects(dir.file("e.obj"), {"e.obj:2", "at least 3"}));
+  EXPECT_EQ(read((voxtest::writeText(dir.file("empty.obj"), ""), dir.file("empty.obj"))).triangleCount(), 0u);
+}
+
+TEST(StlReader, AsciiAndBinaryIncludingASolidHeader) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("a.stl"),
+                     "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
+  EXPECT_EQ(read(dir.file("a.stl")).triangleCount(), 1u);
+  std::string bin(84 + 50, '\0');
+  std::memcpy(bin.data(), "solid but binary", 16);
+  const uint32_t n = 1;
+  std::memcpy(bin.data() + 80, &n, 4);
+  const float v[9] = {0, 0, 0, 2, 0, 0, 0, 2, 0};
+  std::memcpy(bin.data() + 84 + 12, v, 36);
+  voxtest::writeText(dir.file("b.stl"), bin);
+  const Mesh m = read(dir.file("b.stl"));
+  ASSERT_EQ(m.triangleCount(), 1u);
+  EXPECT_EQ(m.positions[1][0], 2.0);
+  voxtest::writeText(dir.file("c.stl"), "solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n");
+  EXPECT_TRUE(rejects(dir.file("c.stl"), {"c.stl:6", "2 vertices"}));
+  voxtest::writeText(dir.file("d.stl"), "garbage");
+  EXPECT_TRUE(rejects(dir.file("d.stl"), {"not an STL"}));
+}
+
+TEST(PlyReader, AsciiAndBinaryBothEndiansWithColours) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("a.ply"),
+                     "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                     "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
+                     "property list uchar int vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n"
+                     "0 1 0 188 188 188\n4 0 1 2 3\n");
+  const Mesh a = read(dir.file("a.ply"));
+  EXPECT_EQ(a.triangleCount(), 2u);
+  ASSERT_EQ(a.colors.size(), 4u);
+  EXPECT_NEAR(a.colors[3][0], 0.50289f, 1e-4) << "sRGB 188 -> linear";
+  for (bool big : {false, true}) {
+    std::string s = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+                    "element face 1\nproperty list uchar ushort vertex_index\nend_header\n";
+    auto put = [&](const void* p, size_t n) {
+      std::string b(static_cast<const char*>(p), n);
+      if (big) std::reverse(b.begin(), b.end());
+      s += b;
+    };
+    const double coords[9] = {0, 0, 0, 3, 0, 0, 0, 3, 0};
+    for (double c : coords) put(&c, 8);
+    const uint8_t cnt = 3;
+    s += char(cnt);
+    for (uint16_t i : {uint16_t(0), uint16_t(1), uint16_t(2)}) put(&i, 2);
+    voxtest::writeText(dir.file("b.ply"), s);
+    const Mesh b = read(dir.file("b.ply"));
+    ASSERT_EQ(b.triangleCount(), 1u) << big;
+    EXPECT_EQ(b.positions[1][0], 3.0) << big;
+    voxtest::writeText(dir.file("c.ply"), s.substr(0, s.size() - 3));
+    EXPECT_TRUE(rejects(dir.file("c.ply"), {"c.ply", "ends early"}));
+  }
+  voxtest::writeText(dir.file("d.ply"), "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                        "end_header\n0 0 0\n3 0 0 5\n");
+  EXPECT_TRUE(rejects(dir.file("d.ply"), {"face 0", "vertex 5"}));
+}
+
+TEST(GltfReader, DataUriNodeTransformsStripsAndDraco) {
+  voxtest::TempDir dir;
+  // Three float positions (36 bytes) + strip indices 0,1,2 (ushort, 6 bytes + 2 padding).
+  std::string bin;
+  const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  bin.append(reinterpret_cast<const char*>(p), 36);
+  const uint16_t idx[4] = {0, 1, 2, 0};
+  bin.append(reinterpret_cast<const char*>(idx), 8);
+  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string enc;
+  for (size_t i = 0; i < bin.size(); i += 3) {
+    const uint32_t n = (uint8_t(bin[i]) << 16) | (i + 1 < bin.size() ? uint8_t(bin[i + 1]) << 8 : 0) |
+                       (i + 2 < bin.size() ? uint8_t(bin[i + 2]) : 0);
+    enc += b64[(n >> 18) & 63];
+    enc += b64[(n >> 12) & 63];
+    enc += i + 1 < bin.size() ? b64[(n >> 6) & 63] : '=';
+    enc += i + 2 < bin.size() ? b64[n & 63] : '=';
+  }
+  const std::string gltf = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+    "nodes":[{"name":"root","translation":[10,0,0],"children":[1]},{"name":"child","scale":[2,2,2],"mesh":0}],
+    "meshes":[{"name":"tri","primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":5,"material":0}]}],
+    "materials":[{"name":"red","pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1]}}],
+    "buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,)" + enc + R"("}],
+    "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+                 {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+  voxtest::writeText(dir.file("t.gltf"), gltf);
+  const Mesh m = read(dir.file("t.gltf"));
+  ASSERT_EQ(m.triangleCount(), 1u);
+  EXPECT_EQ(m.positions[1][0], 12.0) << "child scale 2 then root translation 10";
+  EXPECT_EQ(m.parts[m.trianglePart[0]].nodeName, "root/child");
+  EXPECT_EQ(m.parts[m.trianglePart[0]].meshName, "tri");
+  EXPECT_EQ(m.materials[m.triangleMaterial[0]].name, "red");
+  std::string draco = gltf;
+  draco.insert(1, R"("extensionsRequired":["KHR_draco_mesh_compression"],"extensionsUsed":["KHR_draco_mesh_compression"],)");
+  voxtest::writeText(dir.file("d.gltf"), draco);
+  EXPECT_TRUE(rejects(dir.file("d.gltf"), {"d.gltf", "KHR_draco_mesh_compression", "not support"}));
+  voxtest::writeText(dir.file("bad.gltf"), "{not json");
+  EXPECT_TRUE(rejects(dir.file("bad.gltf"), {"bad.gltf", "cannot read"}));
+  EXPECT_TRUE(rejects(dir.file("none.glb"), {"none.glb"}));
+}
+
+TEST(MeshData, ThirdPartyFilesWhenPresent) {
+  if (!haveData()) GTEST_SKIP() << "../shared/data is absent: third-party mesh checks skipped";
+  EXPECT_EQ(read(kData + "/common-3d-test-models/stanford-bunny.obj").triangleCount(), 69451u);
+  EXPECT_EQ(read(kData + "/cgal-data/pig.stl").triangleCount(), 16848u);
+  EXPECT_EQ(read(kData + "/cgal-data/b9.ply").triangleCount(), 0u) << "a point cloud has no faces";
+  EXPECT_EQ(read(kData + "/common-3d-test-models/teapot.obj").triangleCount(), 6320u);
+  EXPECT_EQ(read(kData + "/cuda_voxelizer/bunny.OBJ").triangleCount(), 5110u) << "upper-case extension";
+  EXPECT_EQ(read(kData + "/khronos-gltf-sample-models/SimpleSparseAccessor/SimpleSparseAccessor.gltf").triangleCount(), 12u);
+  const Mesh box = read(kData + "/gltf/assimp/BoxTextured-glTF/BoxTextured.gltf");
+  EXPECT_EQ(box.triangleCount(), 12u);
+  EXPECT_EQ(box.textures.size(), 1u);
+  EXPECT_EQ(box.filesRead.size(), 3u) << "gltf, bin, png";
+  EXPECT_TRUE(rejects(kData + "/gltf/assimp/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb",
+                      {"accessor", "(POSITION)", "NaN or infinite"}));
+  EXPECT_TRUE(rejects(kData + "/gltf/assimp/MissingBin/BoxTextured.gltf", {"BoxTextured0.bin"}));
+  EXPECT_TRUE(rejects(kData + "/gltf/assimp/draco/2CylinderEngine.gltf", {"KHR_draco_mesh_compression"}));
+  EXPECT_EQ(read(kData + "/gltf/assimp/Triangle-Mesh-Quantized/triangle_mesh_quantized.gltf").triangleCount(), 1u);
+}
