@@ -10,7 +10,7 @@ libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1
 libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev libpng-dev
 libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev
 libgtest-dev libgmock-dev libbenchmark-dev
-libopenvdb-tools hyperfine python3"
+libopenvdb-tools hyperfine python3 gnuplot-nox clang"
 
 missing=""
 for p in $PKGS; do

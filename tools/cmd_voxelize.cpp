@@ -87,6 +87,7 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
     else mesh.append(m);
   }
   for (const std::string& w : warnings) run.note("warning: " + w);
+  run.phase("prepare");  // classes, placement, provenance hashes
   if (mesh.triangles.empty())
     throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
                                                    ": no triangles; there is nothing to voxelize");
@@ -131,7 +132,9 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
       run.error()["surface"] = {{"triangles_checked", c.trianglesChecked}, {"oracle_voxels", c.oracleVoxels},
                                 {"missed", c.missed}, {"extra", c.extra ? nlohmann::json(*c.extra) : nlohmann::json(nullptr)}};
     } else {
-      const vox::SolidCheck c = vox::checkSolid(mesh, scene, 20000);
+      // The winding-number reference costs (samples x triangles): keep it near 1e8 evaluations.
+      const uint64_t samples = std::clamp<uint64_t>(uint64_t(1e8) / std::max<size_t>(1, mesh.triangles.size()), 500, 20000);
+      const vox::SolidCheck c = vox::checkSolid(mesh, scene, samples);
       run.error()["solid"] = {{"mesh_volume", c.meshVolume}, {"voxel_volume", c.voxelVolume},
                               {"relative_volume_error", c.relativeVolumeError}, {"samples", c.samples}, {"iou", c.iou}};
     }

@@ -328,7 +328,7 @@ OBJ
   printf 'newmtl Wall\nKd 0.5 0.5 0.5\nnewmtl Roof\nKd 1 0 0\n' > keep_cube.mtl
   expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o s.vdb --check --report s.json --depfile s.d
   jcheck s.json "e=d['error']['surface']; assert e['missed']==0 and e['extra']==0 and e['oracle_voxels']==d['counts']['occupied_voxels']"
-  jcheck s.json "assert d['counts']['triangles']==12 and d['counts']['dims']==[8,8,8] and [p['name'] for p in d['phases']]==['parse','voxelize','write','check']"
+  jcheck s.json "assert d['counts']['triangles']==12 and d['counts']['dims']==[8,8,8] and [p['name'] for p in d['phases']]==['parse','prepare','voxelize','write','check']"
   grep -q keep_cube.mtl s.d || fail "depfile lacks the mtl"
   expect_exit 0 "$vox" info --json s.vdb
   cp out.txt s_info.json
