@@ -249,6 +249,29 @@ void SceneBuilder::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surf
   cb.votes[i] = saturatingAdd(cb.votes[i], votes);
 }
 
+void SceneBuilder::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface) {
+  if (votes == 0 || length == 0) return;
+  const Coord3 last{start.u, start.v, int32_t(int64_t(start.w) + length - 1)};
+  if (!representable(start) || !representable(last)) {
+    blocks_->outOfRange = true;
+    return;
+  }
+  for (int32_t w = start.w; w <= last.w;) {
+    // One leaf block at a time: the run's part inside it shares the block.
+    const int32_t blockEnd = std::min(last.w, (w | (kLeafDim - 1)));
+    LeafBlock& leaf = blocks_->leaf(start.u, start.v, w);
+    ClassBlock& cb = (!leaf.classes.empty() && leaf.classes.back()->classId == classId) ? *leaf.classes.back()
+                                                                                         : classBlock(leaf, classId);
+    for (int32_t z = w; z <= blockEnd; ++z) {
+      const int i = leafOffset(start.u, start.v, z);
+      leaf.occupied[i >> 6] |= uint64_t(1) << (i & 63);
+      if (surface) leaf.surface[i >> 6] |= uint64_t(1) << (i & 63);
+      cb.votes[i] = saturatingAdd(cb.votes[i], votes);
+    }
+    w = blockEnd + 1;
+  }
+}
+
 void SceneBuilder::setColor(Coord3 c, RgbLinear color) {
   if (!representable(c)) {
     blocks_->outOfRange = true;
@@ -322,13 +345,13 @@ Scene SceneBuilder::build() && {
         }
         break;
       }
-    // Occupancy leaf: active = occupied, value = surface flag.
+    // Occupancy leaf: active = occupied, value = surface flag. Our blocks use
+    // OpenVDB's voxel order, so masks and values are copied word for word.
     auto* occLeaf = occAcc.touchLeaf(o);
-    for (int k = 0; k < kLeafVoxels / 64; ++k)
-      for (uint64_t bits = leaf->occupied[k]; bits; bits &= bits - 1) {
-        const int i = k * 64 + __builtin_ctzll(bits);
-        occLeaf->setValueOn(openvdb::Index(i), ((leaf->surface[k] >> (i & 63)) & 1) != 0);
-      }
+    for (int k = 0; k < kLeafVoxels / 64; ++k) {
+      occLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = leaf->occupied[k];
+      occLeaf->buffer().data()[k] = leaf->surface[k] & leaf->occupied[k];
+    }
     for (auto& cb : leaf->classes) {
       if (!header_.classes.find(cb->classId))
         throw Error(ErrorKind::Internal,
@@ -339,8 +362,16 @@ Scene SceneBuilder::build() && {
         it = voteAcc.end() - 1;
       }
       auto* vLeaf = it->second.touchLeaf(o);
-      for (int i = 0; i < kLeafVoxels; ++i)
-        if (cb->votes[i]) vLeaf->setValueOn(openvdb::Index(i), int32_t(cb->votes[i]));
+      int32_t* values = vLeaf->buffer().data();
+      for (int k = 0; k < kLeafVoxels / 64; ++k) {
+        uint64_t on = 0;
+        for (int b = 0; b < 64; ++b) {
+          const uint32_t n = cb->votes[k * 64 + b];
+          on |= uint64_t(n != 0) << b;
+          values[k * 64 + b] = int32_t(n);
+        }
+        vLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = on;
+      }
     }
     if (leaf->color) {
       if (!grids->color) {

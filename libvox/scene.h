@@ -152,6 +152,9 @@ class SceneBuilder {
   /// Adds `votes` votes for `classId` at `c` (which must be inside the domain and
   /// classId in the class table; checked in build()). Votes of 0 are ignored.
   void addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface);
+  /// The same votes for `length` voxels from `start` along +w (a run of a
+  /// column); equivalent to that many addVotes calls, at a fraction of the cost.
+  void addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface);
   void setColor(Coord3 c, RgbLinear color);
   /// Moves the content of `other` (same header) into this builder.
   void merge(SceneBuilder&& other);

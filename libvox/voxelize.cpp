@@ -622,24 +622,50 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
     const uint64_t extX = uint64_t(hi[0] - lo[0] + 1);
     std::vector<std::unique_ptr<SceneBuilder>> interior(threads);
     for (auto& b : interior) b = std::make_unique<SceneBuilder>(header);
+    const std::vector<Crossing>& zCross = crossings[2];
+    const uint64_t extY = uint64_t(hi[1] - lo[1] + 1);
     parallelFor(extX, threads, [&](size_t xb, size_t xe, unsigned t) {
       for (int32_t x = lo[0] + int32_t(xb); x < lo[0] + int32_t(xe); ++x)
-        for (int32_t y = lo[1]; y <= hi[1]; ++y)
+        for (int32_t y = lo[1]; y <= hi[1]; ++y) {
+          // Walk this +z column's crossings alongside z: the class of the last
+          // entering crossing at or below each voxel is the enclosing part's.
+          const uint64_t column = uint64_t(x - lo[0]) * extY + uint64_t(y - lo[1]);
+          auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
+          std::optional<uint8_t> columnClass;
+          // Interior voxels go in runs along z (same class, consecutive).
+          int32_t runStart = 0, runLength = 0;
+          uint8_t runClass = 0;
+          auto flush = [&] {
+            if (runLength) interior[t]->addRun({x, y, runStart}, uint32_t(runLength), runClass, kInteriorVotes, false);
+            runLength = 0;
+          };
           for (int32_t z = lo[2]; z <= hi[2]; ++z) {
-            const uint64_t i = surfaceBits->index(x, y, z);
-            if (surfaceBits->get(i)) continue;
-            if (int(inside[0]->get(i)) + int(inside[1]->get(i)) + int(inside[2]->get(i)) < 2) continue;
-            // The enclosing part: along +z first, then +x, then +y.
-            const int32_t xyz[3] = {x, y, z};
-            std::optional<uint8_t> cls;
-            for (int axis : {2, 0, 1}) {
-              const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-              const uint64_t column = uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
-              cls = enclosingClass(crossings[axis], column, xyz[axis]);
-              if (cls) break;
+            while (cur != zCross.end() && cur->column == column && cur->start <= z) {
+              if (cur->delta > 0) columnClass = cur->cls;
+              ++cur;
             }
-            interior[t]->addVotes({x, y, z}, cls ? *cls : triangleClass[0], kInteriorVotes, false);
+            const uint64_t i = surfaceBits->index(x, y, z);
+            if (surfaceBits->get(i) ||
+                int(inside[0]->get(i)) + int(inside[1]->get(i)) + int(inside[2]->get(i)) < 2) {
+              flush();
+              continue;
+            }
+            std::optional<uint8_t> cls = columnClass;
+            // Rare: no entering crossing below along +z; ask the +x, then +y rays.
+            const int32_t xyz[3] = {x, y, z};
+            for (int axis : {0, 1}) {
+              if (cls) break;
+              const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+              const uint64_t col = uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
+              cls = enclosingClass(crossings[size_t(axis)], col, xyz[axis]);
+            }
+            const uint8_t k = cls ? *cls : triangleClass[0];
+            if (runLength && (k != runClass || runStart + runLength != z)) flush();
+            if (!runLength) runStart = z, runClass = k;
+            ++runLength;
           }
+          flush();
+        }
     });
     for (auto& b : interior) builder.merge(std::move(*b));
   }
