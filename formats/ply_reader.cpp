@@ -150,7 +150,6 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
   Mesh mesh;
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
-  bool colours = false;
   for (const Element& e : elements) {
     const bool isVertex = e.name == "vertex", isFace = e.name == "face";
     if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
@@ -167,7 +166,6 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
       if ((n == "vertex_indices" || n == "vertex_index") && e.props[k].list) iface = int(k);
     }
     if (isVertex && (ix < 0 || iy < 0 || iz < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
-    colours = colours || (isVertex && ir >= 0 && ig >= 0 && ib >= 0);
     std::vector<double> vals(e.props.size());
     std::vector<uint32_t> poly;
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -205,7 +203,6 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
       }
     }
   }
-  (void)colours;
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
   checkFinite(mesh, name, options, warnings);

@@ -42,8 +42,6 @@ BijectionResult exhaustive(const AtlasLayout& L, unsigned threads) {
   parallel(d.z, threads, [&](uint64_t w0, uint64_t w1) {
     for (uint32_t w = uint32_t(w0); w < w1; ++w)
       for (uint32_t v = 0; v < d.y; ++v) {
-        // One row of a tile: u = 0..X-1 maps to consecutive texels (checked below per voxel).
-        const TexelAddress t0 = L.toTexel(0, v, w);
         for (uint32_t u = 0; u < d.x; ++u) {
           const TexelAddress t = L.toTexel(u, v, w);
           const uint64_t key = (uint64_t(w) * d.y + v) * d.x + u;
@@ -59,7 +57,6 @@ BijectionResult exhaustive(const AtlasLayout& L, unsigned threads) {
           if (!back || back->u != int32_t(u) || back->v != int32_t(v) || back->w != int32_t(w))
             log.add(key, {"inverse differs", {int32_t(u), int32_t(v), int32_t(w)}, t, back, std::nullopt});
         }
-        (void)t0;
       }
   });
   r.voxelsChecked = d.count();
@@ -88,8 +85,7 @@ BijectionResult exhaustive(const AtlasLayout& L, unsigned threads) {
   return r;
 }
 
-BijectionResult byParts(const AtlasLayout& L, unsigned threads) {
-  (void)threads;
+BijectionResult byParts(const AtlasLayout& L) {  // serial: the parts are small
   BijectionResult r;
   r.method = "by-parts";
   FailureLog log;
@@ -150,7 +146,7 @@ BijectionResult byParts(const AtlasLayout& L, unsigned threads) {
 BijectionResult proveBijection(const AtlasLayout& layout, unsigned threads, uint64_t exhaustiveLimit) {
   const uint64_t texels = uint64_t(layout.layers) * layout.width * layout.height;
   if (layout.dims.count() <= exhaustiveLimit && texels <= 2 * exhaustiveLimit) return exhaustive(layout, threads);
-  return byParts(layout, threads);
+  return byParts(layout);
 }
 
 }  // namespace vox
