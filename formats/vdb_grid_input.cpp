@@ -84,8 +84,10 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   const unsigned threads = std::max(1u, std::min<unsigned>(o.threads, dims.z));
   std::atomic<uint32_t> slices{0};
   auto work = [&](unsigned t) {
+    // GridSampler keeps a reference to the accessor: it must outlive the sampler.
+    const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
     openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-        grid->getConstAccessor(), grid->transform());
+        accessor, grid->transform());
     for (uint32_t w = dims.z * t / threads; w < dims.z * (t + 1) / threads; ++w) {
       for (uint32_t v = 0; v < dims.y; ++v)
         for (uint32_t u = 0; u < dims.x; ++u) {
