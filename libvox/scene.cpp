@@ -56,6 +56,17 @@ bool Scene::hasColor() const { return grids_->color != nullptr; }
 
 uint64_t Scene::occupiedCount() const { return grids_->occupancy->activeVoxelCount(); }
 
+uint64_t Scene::surfaceCount() const {
+  uint64_t n = 0;
+  for (auto leaf = grids_->occupancy->tree().cbeginLeaf(); leaf; ++leaf) {
+    const auto& mask = leaf->getValueMask();
+    const openvdb::Index64* value = leaf->buffer().data();
+    for (openvdb::Index k = 0; k < 8; ++k)
+      n += uint64_t(__builtin_popcountll(mask.template getWord<openvdb::Index64>(k) & value[k]));
+  }
+  return n;
+}
+
 std::vector<uint8_t> Scene::classesPresent() const {
   std::vector<uint8_t> ids;
   for (const ClassGrid& c : grids_->votes) ids.push_back(c.classId);

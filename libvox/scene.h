@@ -116,6 +116,8 @@ class Scene {
 
   bool hasColor() const;
   uint64_t occupiedCount() const;
+  /// Occupied voxels with the surface flag; counted from the leaf masks (fast).
+  uint64_t surfaceCount() const;
   /// Class ids that have a vote grid, ascending.
   std::vector<uint8_t> classesPresent() const;
 

@@ -61,6 +61,7 @@ TEST(DemoHamlet, HasVariedVotesTiesAndEveryMaterial) {
   EXPECT_EQ(s.classesPresent().size(), 7u) << "grass, dirt, stone, plank, snow, sand, water";
   const SceneStats st = s.stats();
   EXPECT_EQ(st.bounds.min.v, 0);
+  EXPECT_EQ(s.surfaceCount(), st.surface) << "leaf-mask count equals the voxel walk";
   EXPECT_EQ(s.header().dims, (Dims{128, 128, 128}));
 }
 

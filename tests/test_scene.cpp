@@ -62,6 +62,7 @@ TEST(Scene, BuilderSemantics) {
   const SceneStats stats = s.stats();
   EXPECT_EQ(stats.occupied, 3u);
   EXPECT_EQ(stats.surface, 1u);
+  EXPECT_EQ(s.surfaceCount(), stats.surface);
   EXPECT_EQ(stats.colored, 1u);
   EXPECT_EQ(stats.bounds.min, (Coord3{0, 0, 0}));
   EXPECT_EQ(stats.bounds.max, (Coord3{4, 2, 69}));

@@ -139,14 +139,14 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
                               {"relative_volume_error", c.relativeVolumeError}, {"samples", c.samples}, {"iou", c.iou}};
     }
   }
-  const vox::SceneStats stats = scene.stats();
+  const uint64_t occupied = scene.occupiedCount(), surface = scene.surfaceCount();
   const vox::Dims d = scene.header().dims;
   run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", mesh.triangles.size()},
                   {"vertices", mesh.positions.size()}, {"input_bytes", bytesRead},
-                  {"occupied_voxels", stats.occupied}, {"surface_voxels", stats.surface},
+                  {"occupied_voxels", occupied}, {"surface_voxels", surface},
                   {"classes_present", scene.classesPresent().size()}, {"method", o.method}, {"fill", o.fill},
                   {"warnings", warnings}};
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(stats.occupied) + " occupied voxels from " +
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
            std::to_string(mesh.triangles.size()) + " triangles");
   return run.finish();
 }
@@ -208,13 +208,13 @@ int runVoxelize(const VoxelizeOptions& o) {
   }
   run.phase("write");
   vox::writeSceneVdb(*scene, outputTemp);
-  const vox::SceneStats stats = scene->stats();
+  const uint64_t occupied = scene->occupiedCount();
   const vox::Dims d = scene->header().dims;
   run.counts()["dims"] = {d.x, d.y, d.z};
-  run.counts()["occupied_voxels"] = stats.occupied;
-  run.counts()["surface_voxels"] = stats.surface;
+  run.counts()["occupied_voxels"] = occupied;
+  run.counts()["surface_voxels"] = scene->surfaceCount();
   run.counts()["classes_present"] = scene->classesPresent().size();
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(stats.occupied) +
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) +
            " occupied voxels, " + std::to_string(scene->classesPresent().size()) + " classes");
   return run.finish();
 }
