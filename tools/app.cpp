@@ -20,5 +20,7 @@ extern "C" __attribute__((visibility("default"))) int vox_cli_main(int argc, cha
   commands.push_back(voxcli::registerDiff(app));
   commands.push_back(voxcli::registerVerifyBijection(app));
   commands.push_back(voxcli::registerBuildAtlas(app));
+  commands.push_back(voxcli::registerMip(app));
+  commands.push_back(voxcli::registerPackChunks(app));
   return voxcli::parseAndRun(app, commands, argc, argv);
 }

@@ -15,6 +15,8 @@
 #include "libvox/error.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/info_pages.h"
+#include "formats/pagefile.h"
 
 namespace voxcli {
 
@@ -225,6 +227,7 @@ int runInfo(const InfoOptions& o) {
   if (vox::fileSizeOrMinusOne(o.file) < 0 && !std::filesystem::exists(o.file))
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) return infoAtlas(o);
+  if (vox::pagefile::looksLikePageFile(o.file)) return infoPageFile(o.file, o.json);
   if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlas images");
   if (!vox::looksLikeVdb(o.file))
     throw vox::Error(vox::ErrorKind::BadInput,
@@ -250,11 +253,14 @@ int runInfo(const InfoOptions& o) {
     return kExitOk;
   }
   const vox::Scene scene = vox::readSceneVdb(o.file);
-  const nlohmann::json j = sceneJson(o.file, scene);
+  nlohmann::json j = sceneJson(o.file, scene);
+  const nlohmann::json pyramid = pyramidInfoJson(o.file);  // `vox mip` files: the levels above 0
+  if (!pyramid.is_null()) j["pyramid"] = pyramid;
   if (o.json)
     std::cout << j.dump(2) << "\n";
   else
     printScene(j);
+  if (!o.json && !pyramid.is_null()) std::cout << pyramidInfoText(pyramid);
   return kExitOk;
 }
 
@@ -262,7 +268,7 @@ int runInfo(const InfoOptions& o) {
 
 Command registerInfo(CLI::App& root) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* cmd = root.add_subcommand("info", "Describe a scene (.vdb), an OpenVDB file or an atlas (.png/.exr)");
+  CLI::App* cmd = root.add_subcommand("info", "Describe a scene or pyramid (.vdb), an OpenVDB file, an atlas (.png/.exr) or a page file (.vpk)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
   cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values");

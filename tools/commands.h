@@ -23,5 +23,7 @@ Command registerInfo(CLI::App& root);
 Command registerDiff(CLI::App& root);
 Command registerVerifyBijection(CLI::App& root);
 Command registerBuildAtlas(CLI::App& root);
+Command registerMip(CLI::App& root);
+Command registerPackChunks(CLI::App& root);
 
 }  // namespace voxcli

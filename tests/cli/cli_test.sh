@@ -358,6 +358,61 @@ OBJ
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
   expect_exit 2 "$vox" voxelize keep_cube.obj demo:hamlet -o x.vdb
   ;;
+mip_pack)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
+  # Pyramid in one file; error against the hamlet voxelized directly at 32, 16, ...
+  expect_exit 0 "$vox" mip h.vdb -o p.vdb --source demo:hamlet --report mip.json --depfile mip.d
+  jcheck mip.json "L=d['counts']['levels']; assert [l['dims'] for l in L]==[[32]*3,[16]*3,[8]*3,[4]*3,[2]*3,[1]*3]; assert L[-1]['occupied']==1"
+  jcheck mip.json "L0=d['counts']['levels'][0]['occupied']; E=d['error']['levels']; assert len(E)==6 and E[0]['level']==1 and 0<E[0]['iou']<=1 and E[0]['both']+E[0]['only_mip']==L0 and 0<=E[0]['class_disagreement']<=1"
+  grep -q 'h.vdb' mip.d || fail "depfile lacks the input"
+  expect_exit 0 "$vox" info --json p.vdb
+  cp out.txt pinfo.json
+  jcheck pinfo.json "assert d['dims']==[64,64,64] and len(d['pyramid']['levels'])==6 and d['pyramid']['occupancy']=='any'"
+  expect_exit 0 "$vox" info p.vdb
+  expect_stdout "pyramid       6 levels"
+  # The pyramid file is still a scene (level 0).
+  expect_exit 0 "$vox" diff p.vdb h.vdb
+  # --split: one scene per level; the same content at any thread count.
+  expect_exit 0 "$vox" mip h.vdb -o s.vdb --split --levels 2 --occupancy majority --threads 1
+  expect_exit 0 "$vox" info --json s.mip2.vdb
+  cp out.txt s2.json
+  jcheck s2.json "assert d['dims']==[16,16,16] and d['mip_level']==2 and abs(d['voxel_size']-1.6)<1e-12"
+  expect_exit 0 "$vox" mip h.vdb -o t.vdb --split --levels 2 --occupancy majority --threads 2
+  expect_exit 0 "$vox" diff s.mip2.vdb t.mip2.vdb
+  [ ! -e s.mip3.vdb ] || fail "--levels 2 wrote a third level"
+  expect_exit 2 "$vox" mip h.vdb -o x.vdb --levels 7
+  expect_stderr "at most 6"
+  expect_exit 2 "$vox" mip h.vdb -o x.vdb --occupancy most
+  expect_exit 3 "$vox" mip missing.vdb -o x.vdb
+  # Page files: byte-identical at any thread count, verified, described.
+  expect_exit 0 "$vox" pack-chunks h.vdb -o a.vpk --mips --threads 1 --report pack.json
+  expect_exit 0 "$vox" pack-chunks h.vdb -o b.vpk --mips --threads 2
+  cmp -s a.vpk b.vpk || fail "page files differ between --threads 1 and 2"
+  jcheck pack.json "c=d['counts']; assert c['chunk']==16 and c['levels'][0]['voxels']>0 and len(c['levels'])==7 and c['bytes_per_voxel']>0"
+  expect_exit 0 "$vox" pack-chunks --verify a.vpk
+  expect_exit 0 "$vox" info --json a.vpk
+  cp out.txt ainfo.json
+  jcheck ainfo.json "assert d['kind']=='pagefile' and d['layout']=='bricks' and d['chunk']==16 and d['align']==4096 and len(d['levels'])==7 and d['channels']==['occupancy','summary','surface']"
+  expect_exit 0 "$vox" info a.vpk
+  expect_stdout "bytes per voxel"
+  # From the stored pyramid, chunk 8, small alignment.
+  expect_exit 0 "$vox" pack-chunks p.vdb -o c.vpk --mips --chunk 8 --align 64
+  expect_exit 0 "$vox" pack-chunks --verify c.vpk
+  # Corruption: a flipped payload byte fails --verify (exit 1) naming the chunk and the field;
+  # a truncated file is refused (exit 3).
+  python3 -c "
+import struct
+b=bytearray(open('a.vpk','rb').read()); off=struct.unpack_from('<Q',b,128+16)[0]; b[off+5]^=0x40
+open('keep_bad.vpk','wb').write(b); open('keep_cut.vpk','wb').write(b[:len(b)-7])"
+  expect_exit 1 "$vox" pack-chunks --verify keep_bad.vpk
+  expect_stderr "chunk 0 (level 0"
+  expect_stderr "crc32c"
+  expect_exit 3 "$vox" pack-chunks --verify keep_cut.vpk
+  expect_stderr "truncated"
+  expect_exit 3 "$vox" info keep_cut.vpk
+  expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --chunk 12
+  expect_exit 2 "$vox" pack-chunks h.vdb
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 
