@@ -1,0 +1,23 @@
+#!/bin/sh
+# Builds and runs the libFuzzer target of the page file reader
+# (clang, -fsanitize=fuzzer,address,undefined). Seeds are small page files made
+# by the vox binary of BUILD_DIR (default build) when it exists.
+# Usage: scripts/fuzz_pagefile.sh [SECONDS=60]   (corpus in build-fuzz/corpus-pagefile)
+set -eu
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+out=build-fuzz
+corpus=$out/corpus-pagefile
+mkdir -p "$corpus"
+command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
+clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. tests/fuzz/fuzz_pagefile.cpp formats/pagefile.cpp \
+  libvox/crc32c.cpp -o "$out/fuzz_pagefile"
+vox=${BUILD_DIR:-build}/bin/vox
+if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
+  tmp=$(mktemp -d)
+  "$vox" voxelize demo:hamlet --res 12 -o "$tmp/h.vdb" --quiet
+  "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/h8.vpk" --chunk 8 --align 8 --mips --quiet
+  "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/h16.vpk" --chunk 16 --align 16 --quiet
+  rm -rf "$tmp"
+fi
+"$out/fuzz_pagefile" -max_total_time="$seconds" -max_len=65536 -timeout=10 "$corpus"
