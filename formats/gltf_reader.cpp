@@ -60,6 +60,18 @@ class Accessors {
     const int csize = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
     if (comps < 1 || comps > 4 || csize <= 0)
       throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has an unsupported type");
+    // A count the file cannot hold is refused before anything is allocated: an
+    // accessor with a bufferView needs count elements inside it; one without
+    // (all zeros plus sparse values) is capped at 2^31 elements.
+    const uint64_t maxCount = a.bufferView >= 0 && size_t(a.bufferView) < m_.bufferViews.size()
+                                  ? uint64_t(m_.bufferViews[size_t(a.bufferView)].byteLength) / uint64_t(csize * comps)
+                                  : uint64_t(1) << 31;
+    if (uint64_t(a.count) > maxCount)
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has count " + std::to_string(a.count) +
+                    ", more than its bufferView can hold (" + std::to_string(maxCount) + ")");
+    if (a.sparse.isSparse && (a.sparse.count < 0 || uint64_t(a.sparse.count) > uint64_t(a.count)))
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has sparse count " +
+                    std::to_string(a.sparse.count) + " for " + std::to_string(a.count) + " elements");
     std::vector<std::array<double, 4>> out(a.count, std::array<double, 4>{0, 0, 0, 0});
     if (a.bufferView >= 0) readView(a.bufferView, a.byteOffset, a.count, a.componentType, comps, a.normalized, 0, out,
                                     index, role, nullptr);
@@ -93,6 +105,11 @@ class Accessors {
     const size_t elem = size_t(csize) * size_t(comps);
     const size_t stride = v.byteStride ? v.byteStride : elem;
     const size_t start = v.byteOffset + offset;
+    if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
+      throwBadInput(who + ": bufferView " + std::to_string(viewIndex) + " overruns its buffer (" +
+                    std::to_string(buf.size()) + " bytes)");
+    // count and stride are now bounded by real buffer sizes, so the products below cannot overflow.
+    if (count > v.byteLength || stride > 4096) throwBadInput(who + " reads past the end of its bufferView");
     if (count > 0 && (start + (count - 1) * stride + elem > buf.size() || start + (count - 1) * stride + elem > v.byteOffset + v.byteLength))
       throwBadInput(who + " reads past the end of its buffer");
     for (size_t i = 0; i < count; ++i) {
@@ -131,7 +148,8 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
   std::string err, warn;
   std::string lower = path;
   for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (!std::filesystem::exists(path)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  std::error_code existsError;
+  if (!std::filesystem::exists(path, existsError)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
   const bool ok = lower.size() >= 4 && lower.substr(lower.size() - 4) == ".glb"
                       ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                       : loader.LoadASCIIFromFile(&model, &err, &warn, path);
@@ -197,12 +215,18 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
 
   Accessors acc(model, path);
+  std::vector<uint8_t> visited(model.nodes.size(), 0);
   size_t invalidPositions = 0;
   std::string firstInvalid;
   // Walk the node hierarchy.
   std::function<void(int, const Mat4&, const std::string&, int)> visit = [&](int ni, const Mat4& parent,
                                                                             const std::string& parentPath, int depth) {
     if (ni < 0 || size_t(ni) >= model.nodes.size() || depth > 256) throwBadInput(path + ": node " + std::to_string(ni) + " is invalid or the hierarchy is cyclic");
+    // glTF nodes have at most one parent: a node reached twice is a cycle or a
+    // shared child (which could also multiply the work exponentially).
+    if (visited[size_t(ni)]++)
+      throwBadInput(path + ": node " + std::to_string(ni) + " is reached twice in the node hierarchy (a cycle, or a node "
+                    "with two parents, which glTF forbids); fix the file's \"children\" lists");
     const tinygltf::Node& node = model.nodes[size_t(ni)];
     const Mat4 world = mul(parent, localMatrix(node));
     const std::string nodePath = parentPath.empty() ? node.name : parentPath + "/" + node.name;
@@ -277,7 +301,15 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
           for (uint32_t i = 0; i < pos.size(); ++i) idx.push_back(i);
         }
         const uint32_t material = prim.material >= 0 && size_t(prim.material) < model.materials.size() ? uint32_t(prim.material) : defaultMaterial;
+        // glTF: a node whose world matrix has a negative determinant mirrors the
+        // mesh, and its triangles wind clockwise; keep every output triangle
+        // counter-clockwise (the solid fill relies on consistent orientation).
+        const double det3 = world[0] * (world[5] * world[10] - world[9] * world[6]) -
+                            world[4] * (world[1] * world[10] - world[9] * world[2]) +
+                            world[8] * (world[1] * world[6] - world[5] * world[2]);
+        const bool mirrored = det3 < 0;
         auto addTri = [&](uint32_t a, uint32_t b, uint32_t c) {
+          if (mirrored) std::swap(b, c);
           mesh.triangles.push_back({base + a, base + b, base + c});
           mesh.triangleMaterial.push_back(material);
           mesh.trianglePart.push_back(part);

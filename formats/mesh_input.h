@@ -20,6 +20,10 @@ struct MeshReadOptions {
   /// Drop triangles that touch a vertex with a NaN or infinite coordinate
   /// (reported in `warnings`) instead of refusing the file.
   bool dropInvalid = false;
+  /// OBJ: an `mtllib` file or a `map_Kd` texture that does not exist is
+  /// reported in `warnings` (materials keep their names, untextured) instead of
+  /// refusing the file. Off by default: a missing file is an error naming it.
+  bool ignoreMissingMaterials = false;
 };
 
 /// Reads any supported mesh file by extension. Non-fatal notes (skipped

@@ -60,7 +60,17 @@ double number(Cursor& c, const std::string& name, const char* what) {
   return v;
 }
 
+/// True when `path` names a regular file; never throws (a name too long or
+/// otherwise invalid is simply not a file).
+bool isFile(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
 MeshTexture loadTexture(const std::string& path, const std::string& mtlName, size_t line) {
+  if (!isFile(path))
+    throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path +
+                  ": the texture file is missing; restore it or remove the map_Kd line");
   const std::string bytes = readFileBytes(path);
   int w = 0, h = 0, n = 0;
   stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &w, &h, &n, 4);
@@ -75,8 +85,24 @@ MeshTexture loadTexture(const std::string& path, const std::string& mtlName, siz
   return t;
 }
 
+/// `file` (as written in an OBJ/MTL) relative to `dir`. Files written on
+/// Windows use '\\' as separator (".\\tex.jpg"): when the name as written does
+/// not exist, try it with '/'.
+std::string resolvePath(const std::string& dir, const std::string& file) {
+  std::string full = (std::filesystem::path(dir) / file).string();
+  if (file.find('\\') != std::string::npos && !isFile(full)) {
+    std::string slashed = file;
+    for (char& ch : slashed)
+      if (ch == '\\') ch = '/';
+    const std::string alt = (std::filesystem::path(dir) / slashed).lexically_normal().string();
+    if (isFile(alt)) return alt;
+  }
+  return full;
+}
+
 /// Parses an MTL file into `mesh.materials` (names -> index in `byName`).
-void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::string, uint32_t>& byName) {
+void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::string, uint32_t>& byName,
+              const MeshReadOptions& options, std::vector<std::string>& warnings) {
   const std::string text = readFileBytes(path);
   mesh.filesRead.push_back(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
@@ -97,7 +123,14 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
       std::string file = c.rest();
       // Options such as "-bm 1 file.png" precede the file name: take the last word.
       if (const size_t sp = file.find_last_of(" \t"); sp != std::string::npos) file = file.substr(sp + 1);
-      const std::string full = (std::filesystem::path(dir) / file).string();
+      const std::string full = resolvePath(dir, file);
+      if (options.ignoreMissingMaterials && !isFile(full)) {
+        warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file +
+                           ": the texture file is missing; material '" + mesh.materials[current].name +
+                           "' is left untextured");
+        c.nextLine();
+        continue;
+      }
       mesh.textures.push_back(loadTexture(full, path, c.line));
       mesh.filesRead.push_back(full);
       mesh.materials[current].texture = int(mesh.textures.size() - 1);
@@ -126,6 +159,7 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
   std::vector<Corner> face;
   std::vector<uint32_t> vertexOfObj;  // objPositions index -> mesh vertex (no texcoord)
+  size_t invalidVertices = 0, firstInvalidLine = 0, firstInvalidVertex = 0;  // NaN/Inf "v" lines
 
   auto resolve = [&](int64_t idx, size_t count, size_t line, const char* what) -> uint32_t {
     const int64_t i = idx < 0 ? int64_t(count) + idx : idx - 1;
@@ -165,6 +199,9 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
     if (key == "v") {
       std::array<double, 3> p;
       for (int k = 0; k < 3; ++k) p[k] = number(c, name, "a vertex coordinate");
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+        if (!invalidVertices++) firstInvalidLine = c.line, firstInvalidVertex = objPositions.size() + 1;
+      }
       objPositions.push_back(p);
       vertexOfObj.push_back(UINT32_MAX);
     } else if (key == "vt") {
@@ -230,18 +267,41 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       }
       currentMaterial = it->second;
     } else if (key == "mtllib") {
-      const std::string file = c.rest();
-      const std::string full = (std::filesystem::path(baseDir) / file).string();
-      try {
-        parseMtl(full, mesh, materialByName);
-      } catch (const Error& e) {
-        throwBadInput(name + ":" + std::to_string(c.line) + ": mtllib " + file + ": " + e.what());
+      // "mtllib a.mtl b.mtl" names several files; a single name may contain spaces.
+      const std::string all = c.rest();
+      std::vector<std::string> files{all};
+      if (!isFile(resolvePath(baseDir, all))) {
+        files.clear();
+        for (size_t b = 0; b < all.size();) {
+          const size_t e = std::min(all.find_first_of(" \t", b), all.size());
+          if (e > b) files.push_back(all.substr(b, e - b));
+          b = e + 1;
+        }
+      }
+      for (const std::string& file : files) {
+        const std::string full = resolvePath(baseDir, file);
+        if (options.ignoreMissingMaterials && !isFile(full)) {
+          warnings.push_back(name + ":" + std::to_string(c.line) + ": mtllib " + file +
+                             ": the material library is missing; its materials are white");
+          continue;
+        }
+        try {
+          parseMtl(full, mesh, materialByName, options, warnings);
+        } catch (const Error& e) {
+          throwBadInput(name + ":" + std::to_string(c.line) + ": mtllib " + file + ": " + e.what());
+        }
       }
     }
     c.nextLine();
   }
   if (mesh.materials.empty()) mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   if (!mesh.uv0.empty()) mesh.uv0.resize(mesh.positions.size(), {0, 0});
+  // Name the first bad "v" line (the generic check below only knows mesh vertex numbers).
+  if (invalidVertices && !options.dropInvalid)
+    bad(name, firstInvalidLine,
+        std::to_string(invalidVertices) + " vertices have NaN or infinite coordinates (the first is vertex " +
+            std::to_string(firstInvalidVertex) + ", on this line); fix the file or pass --drop-invalid to drop their "
+            "triangles");
   checkFinite(mesh, name, options, warnings);
   return mesh;
 }

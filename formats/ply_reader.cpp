@@ -51,6 +51,13 @@ struct Element {
   std::vector<Property> props;
 };
 
+/// The fewest body bytes one value of `p` can take (ASCII: a digit; binary:
+/// its size, or the count's size for a list, which may be empty).
+uint64_t minBodyBytes(const Property& p, int format) {
+  if (format == 0) return 1;
+  return typeSize(p.list ? p.countType : p.type);
+}
+
 float srgbByteToLinear(double c) {
   const double x = c / 255.0;
   return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
@@ -59,18 +66,29 @@ float srgbByteToLinear(double c) {
 class Reader {
  public:
   Reader(const char* d, size_t n, std::string name, int format) : p_(d), end_(d + n), name_(std::move(name)), format_(format) {}
+  size_t remaining() const { return size_t(end_ - p_); }
+  /// The element being read, for messages (built only when something is wrong).
+  void at(const std::string* element, uint64_t index) {
+    element_ = element;
+    index_ = index;
+  }
+  std::string what() const { return "element '" + *element_ + "' " + std::to_string(index_); }
   // Reads one scalar as double. format: 0 ascii, 1 little, 2 big endian.
-  double scalar(Type t, const char* what) {
+  double scalar(Type t) {
     if (format_ == 0) {
       while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
       double v = 0;
-      auto [ptr, ec] = std::from_chars(p_, end_, v);
-      if (ec != std::errc()) throwBadInput(name_ + ": " + what + ": expected a number in the ASCII body");
+      // from_chars rejects a leading '+', which some writers emit.
+      const char* b = p_ < end_ && *p_ == '+' ? p_ + 1 : p_;
+      auto [ptr, ec] = std::from_chars(b, end_, v);
+      if (ec != std::errc())
+        throwBadInput(name_ + ": " + what() + ": " +
+                      (b >= end_ ? "the file ends early (truncated?)" : "expected a number in the ASCII body"));
       p_ = ptr;
       return v;
     }
     const size_t n = typeSize(t);
-    if (size_t(end_ - p_) < n) throwBadInput(name_ + ": " + what + ": the file ends early (truncated?)");
+    if (size_t(end_ - p_) < n) throwBadInput(name_ + ": " + what() + ": the file ends early (truncated?)");
     unsigned char b[8];
     std::memcpy(b, p_, n);
     p_ += n;
@@ -92,6 +110,8 @@ class Reader {
   const char* end_;
   std::string name_;
   int format_;
+  const std::string* element_ = nullptr;
+  uint64_t index_ = 0;
 };
 
 }  // namespace
@@ -99,10 +119,23 @@ class Reader {
 Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings) {
   // Header.
+  // The header ends at the first line that is "end_header" (a comment may
+  // contain those words too).
   const std::string_view all(data, size);
-  const size_t headerEnd = all.find("end_header");
+  size_t headerEnd = std::string_view::npos;
+  for (size_t ls = 0; ls < size;) {
+    size_t le = all.find('\n', ls);
+    if (le == std::string_view::npos) le = size;
+    std::string_view l = all.substr(ls, le - ls);
+    while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) l.remove_suffix(1);
+    if (l == "end_header") {
+      headerEnd = ls;
+      break;
+    }
+    ls = le + 1;
+  }
   if (size < 3 || std::strncmp(data, "ply", 3) != 0 || headerEnd == std::string_view::npos)
-    throwBadInput(name + ": not a PLY file (no 'ply' magic or no 'end_header')");
+    throwBadInput(name + ": not a PLY file (no 'ply' magic or no 'end_header' line)");
   std::istringstream header(std::string(data, headerEnd));
   std::string line;
   int format = -1;
@@ -166,21 +199,30 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
       if ((n == "vertex_indices" || n == "vertex_index") && e.props[k].list) iface = int(k);
     }
     if (isVertex && (ix < 0 || iy < 0 || iz < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
+    if (e.props.empty()) continue;  // an element without properties has no bytes in the body
+    // Every item takes at least one byte per scalar property (and per list
+    // count): refuse counts the rest of the file cannot hold before looping.
+    uint64_t minBytes = 0;
+    for (const Property& p : e.props) minBytes += minBodyBytes(p, format);
+    if (minBytes && e.count > r.remaining() / minBytes)
+      throwBadInput(name + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items but only " +
+                    std::to_string(r.remaining()) + " bytes follow the header (truncated, or a wrong count?)");
     std::vector<double> vals(e.props.size());
     std::vector<uint32_t> poly;
     for (uint64_t i = 0; i < e.count; ++i) {
-      const std::string what = "element '" + e.name + "' " + std::to_string(i);
+      r.at(&e.name, i);
       for (size_t k = 0; k < e.props.size(); ++k) {
         const Property& p = e.props[k];
         if (!p.list) {
-          vals[k] = r.scalar(p.type, what.c_str());
+          vals[k] = r.scalar(p.type);
           continue;
         }
-        const double count = r.scalar(p.countType, what.c_str());
-        if (count < 0 || count > 1e6) throwBadInput(name + ": " + what + ": list of " + std::to_string(count) + " entries");
+        const double count = r.scalar(p.countType);
+        if (!(count >= 0 && count <= 1e6))
+          throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
         poly.clear();
         for (int j = 0; j < int(count); ++j) {
-          const double v = r.scalar(p.type, what.c_str());
+          const double v = r.scalar(p.type);
           if (isFace && int(k) == iface) {
             if (v < 0 || v >= double(mesh.positions.size()))
               throwBadInput(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(v)) +

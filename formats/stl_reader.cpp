@@ -17,7 +17,24 @@ Mesh parseStl(const char* data, size_t size, const std::string& name, const Mesh
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
   uint32_t n = 0;
   if (size >= 84) std::memcpy(&n, data + 80, 4);
-  const bool binary = size >= 84 && uint64_t(size) == 84 + 50 * uint64_t(n);
+  const uint64_t binarySize = 84 + 50 * uint64_t(n);
+  bool binary = size >= 84 && uint64_t(size) == binarySize;
+  if (!binary && size >= 84) {
+    // Not of the exact binary size. ASCII STL is text: a NUL byte (or a header
+    // not starting with "solid") means a binary file that is truncated or padded.
+    const char* s = data;
+    while (s < data + size && (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')) ++s;
+    const bool solid = size_t(data + size - s) >= 5 && std::strncmp(s, "solid", 5) == 0;
+    if (!solid || std::memchr(data, 0, size)) {
+      if (uint64_t(size) < binarySize)
+        throwBadInput(name + ": " + (solid ? "" : "not ASCII STL (no 'solid'), and as ") + "binary STL it announces " +
+                      std::to_string(n) + " triangles (" + std::to_string(binarySize) + " bytes) but the file has " +
+                      std::to_string(size) + " bytes: truncated, or not an STL file");
+      warnings.push_back(name + ": binary STL has " + std::to_string(uint64_t(size) - binarySize) +
+                         " bytes after its " + std::to_string(n) + " triangles; ignored");
+      binary = true;
+    }
+  }
   if (binary) {
     mesh.positions.reserve(size_t(n) * 3);
     mesh.triangles.reserve(n);
