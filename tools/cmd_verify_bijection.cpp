@@ -143,6 +143,9 @@ Command registerVerifyBijection(CLI::App& root) {
       "  --dims X,Y,Z | --res N     prove the mapping of that layout (exhaustive, or by parts when huge)\n"
       "  --format F [--dims ...]    measure which integers F holds exactly, and whether the dims fit\n"
       "  --atlas FILE --scene S     check a built atlas or bitmap against its scene\n"
+      "  --canonical IMG --scene S  check a render-canonical image: every hit pixel decodes to an occupied\n"
+      "                             voxel, and is the voxel a brute-force ray finds (camera: the image's own,\n"
+      "                             or --camera/--eye...)\n"
       "Exit 0 when everything holds, 1 when a check fails (the first failure is printed).");
   cmd->add_option("--dims", o->dims, "Scene dims X,Y,Z");
   cmd->add_option("--res", o->res, "Cube dims N,N,N")->check(CLI::Range(1u, 1u << 30));
@@ -151,10 +154,21 @@ Command registerVerifyBijection(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--format", o->format, "rgba8 | rgba16 | rgba32ui | rgba16f | rgba32f");
   cmd->add_option("--atlas", o->atlas, "An atlas or bitmap image written by vox build-atlas");
-  cmd->add_option("--scene", o->scene, "The scene the atlas was built from");
+  cmd->add_option("--scene", o->scene, "The scene the atlas was built from (or the render's scene / page file)");
+  cmd->add_option("--canonical", o->canonical, "A canonical image written by vox render-canonical");
+  addCameraOptions(*cmd, o->camera);
+  cmd->add_option("--check-budget", o->checkBudget,
+                  "--canonical: ray-voxel tests the brute force may spend; past it, every k-th pixel is checked")
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as JSON on stdout");
   addCommonOptions(*cmd, o->common);
   return {cmd, [o] {
+            if (!o->canonical.empty()) {
+              if (o->scene.empty()) throw vox::Error(vox::ErrorKind::Usage, "--canonical needs --scene (the scene or page file rendered)");
+              if (!o->atlas.empty()) throw vox::Error(vox::ErrorKind::Usage, "give --atlas or --canonical, not both");
+              return runCanonicalCheck(*o);
+            }
+            if (o->camera.given()) throw vox::Error(vox::ErrorKind::Usage, "camera options go with --canonical");
             if (!o->atlas.empty() || !o->scene.empty()) {
               if (o->atlas.empty() || o->scene.empty())
                 throw vox::Error(vox::ErrorKind::Usage, "--atlas and --scene go together");

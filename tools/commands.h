@@ -25,5 +25,6 @@ Command registerVerifyBijection(CLI::App& root);
 Command registerBuildAtlas(CLI::App& root);
 Command registerMip(CLI::App& root);
 Command registerPackChunks(CLI::App& root);
+Command registerRenderCanonical(CLI::App& root);
 
 }  // namespace voxcli

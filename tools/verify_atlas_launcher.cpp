@@ -7,4 +7,7 @@ namespace voxcli {
 int runAtlasCheck(const VerifyBijectionOptions&) {
   throw vox::Error(vox::ErrorKind::Internal, "atlas checks run in the command module; the launcher did not route it");
 }
+int runCanonicalCheck(const VerifyBijectionOptions&) {
+  throw vox::Error(vox::ErrorKind::Internal, "canonical checks run in the command module; the launcher did not route it");
+}
 }  // namespace voxcli

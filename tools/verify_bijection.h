@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "tools/camera_options.h"
 #include "tools/cli.h"
 
 namespace voxcli {
@@ -14,6 +15,9 @@ struct VerifyBijectionOptions {
   uint32_t maxSide = 16384;
   std::string format;
   std::string atlas, scene;
+  std::string canonical;       // --canonical IMG: a render-canonical image to check against --scene
+  CameraOptions camera;        // with --canonical: the camera to re-cast (default: the image's own)
+  double checkBudget = 2e9;    // ray-voxel tests the brute force may spend
   bool json = false;
   CommonOptions common;
 };
@@ -23,5 +27,7 @@ bool needsSceneModule(int argc, char** argv);
 
 /// `verify-bijection --atlas FILE --scene S` (tools/verify_atlas.cpp, module only).
 int runAtlasCheck(const VerifyBijectionOptions& options);
+/// `verify-bijection --canonical IMG --scene S [camera]` (tools/verify_canonical.cpp, module only).
+int runCanonicalCheck(const VerifyBijectionOptions& options);
 
 }  // namespace voxcli

@@ -1,0 +1,260 @@
+// Why castRay equals castRayBruteForce, bit for bit:
+//
+// Work in a mirrored frame where every moving axis has dir > 0 (index i' = -i-1,
+// origin' = -origin, plane p' = -p). Negation is exact and IEEE rounding is
+// symmetric, so time'(p') = (p' - o') * (1/d') is bit-identical to the
+// brute force's (p - o) * (1/d) for the same plane: both casters see the same
+// numbers, monotone in the plane index.
+//
+// An "event" is a time T at which the DDA tests every voxel whose per-axis
+// intervals all contain T (the product of one index range per axis: one index,
+// or two or more when T is a plane crossing on that axis). Events are the
+// start time and every plane crossing of a moving axis, except those inside a
+// box the DDA jumps over. A jump goes from event T, where the voxels ahead of T
+// all lie in one empty 8^3/64^3/512^3 box (on every axis, including the
+// 1-2 indices of an axis the ray does not move along), to the first time T' the
+// ray reaches a far face of that box. For t strictly between T and T' the
+// voxels touched lie inside the box (monotonicity), so none is occupied.
+//
+// An occupied voxel V with key k touches the ray at k, and k is an event: it is
+// the start time or V's entry plane time on some axis, and it cannot lie inside
+// a jump (V would be inside an empty box). So the first event with an occupied
+// voxel is min key, and the voxels found there are exactly the occupied voxels
+// with that key (voxels touched at T whose key is below T were tested at an
+// earlier event and are empty). The tie rule is applied to those candidates.
+#include "libvox/raycast.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vox {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool better(double exitA, const Coord3& a, double exitB, const Coord3& b) {
+  if (exitA != exitB) return exitA > exitB;
+  if (a.w != b.w) return a.w < b.w;
+  if (a.v != b.v) return a.v < b.v;
+  return a.u < b.u;
+}
+
+int at(const Coord3& c, int a) { return a == 0 ? c.u : a == 1 ? c.v : c.w; }
+
+// The face the ray entered `voxel` through at time `key`: among moving axes
+// whose entry plane time equals key, the one the ray is most head-on to
+// (largest |dir|), then the lowest axis.
+void entryFace(const Ray& ray, const Coord3& voxel, double key, RayHit& hit) {
+  hit.faceAxis = -1;
+  hit.faceSign = 0;
+  double best = -1;
+  for (int a = 0; a < 3; ++a) {
+    const double d = ray.dir[size_t(a)];
+    if (d == 0) continue;
+    const double inv = 1.0 / d;
+    const double plane = d > 0 ? double(at(voxel, a)) : double(at(voxel, a)) + 1.0;
+    const double t = (plane - ray.origin[size_t(a)]) * inv;
+    if (t == key && std::fabs(d) > best) {
+      best = std::fabs(d);
+      hit.faceAxis = a;
+      hit.faceSign = d > 0 ? -1 : 1;
+    }
+  }
+}
+
+struct Frame {
+  bool moving[3]{};
+  bool flip[3]{};
+  double o[3]{}, d[3]{}, inv[3]{};
+  int64_t dlo[3]{}, dhi[3]{};  // mirrored domain [dlo, dhi)
+
+  double time(int a, int64_t p) const { return (double(p) - o[a]) * inv[a]; }
+  int64_t real(int a, int64_t i) const { return flip[a] ? -i - 1 : i; }
+
+  // Indices (mirrored) whose interval on moving axis a contains T, from a guess.
+  void range(int a, double T, int64_t guess, int64_t& lo, int64_t& hi) const {
+    int64_t i = guess;
+    while (time(a, i) > T) --i;
+    while (time(a, i + 1) <= T) ++i;
+    hi = i;
+    lo = i;
+    while (time(a, lo) >= T) --lo;
+  }
+  int64_t guess(int a, double T, int64_t minI, int64_t maxI) const {
+    const double g = std::floor(o[a] + T * d[a]);
+    if (!(g >= double(minI))) return minI;
+    if (!(g <= double(maxI))) return maxI;
+    return int64_t(g);
+  }
+};
+
+}  // namespace
+
+bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double& exit) {
+  enter = -kInf;
+  exit = kInf;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
+    const double c = double(at(voxel, a));
+    if (d == 0) {
+      if (o < c || o > c + 1.0) return false;
+      continue;
+    }
+    const double inv = 1.0 / d;
+    const double t0 = (c - o) * inv, t1 = (c + 1.0 - o) * inv;
+    enter = std::max(enter, std::min(t0, t1));
+    exit = std::min(exit, std::max(t0, t1));
+  }
+  return enter <= exit && exit >= 0;
+}
+
+RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray) {
+  RayHit best;
+  for (const Coord3& c : occupied) {
+    double enter, exit;
+    if (!rayVoxelInterval(ray, c, enter, exit)) continue;
+    const double key = std::max(enter, 0.0);
+    if (!best.hit || key < best.t || (key == best.t && better(exit, c, best.exit, best.voxel))) {
+      best.hit = true;
+      best.t = key;
+      best.exit = exit;
+      best.voxel = c;
+    }
+  }
+  if (best.hit) entryFace(ray, best.voxel, best.t, best);
+  return best;
+}
+
+RayHit castRay(const RayGrid& grid, const Ray& ray) {
+  RayHit result;
+  const Dims& dims = grid.dims();
+  const int64_t n[3] = {int64_t(dims.x), int64_t(dims.y), int64_t(dims.z)};
+  Frame f;
+  int64_t lo[3], hi[3];
+  int movingCount = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
+    if (d == 0) {
+      // Not moving on this axis: the indices i with i <= o <= i + 1, clipped to the domain.
+      if (!(o >= 0 && o <= double(n[a]))) return result;
+      const double fl = std::floor(o);
+      hi[a] = std::min<int64_t>(int64_t(fl), n[a] - 1);
+      lo[a] = (fl == o) ? std::max<int64_t>(int64_t(fl) - 1, 0) : int64_t(fl);
+      f.o[a] = o;
+      f.dlo[a] = 0;
+      f.dhi[a] = n[a];
+      continue;
+    }
+    ++movingCount;
+    f.moving[a] = true;
+    f.flip[a] = d < 0;
+    f.o[a] = f.flip[a] ? -o : o;
+    f.d[a] = f.flip[a] ? -d : d;
+    f.inv[a] = 1.0 / f.d[a];  // == -(1.0 / d) when flipped, bit for bit
+    f.dlo[a] = f.flip[a] ? -n[a] : 0;
+    f.dhi[a] = f.flip[a] ? 0 : n[a];
+  }
+  if (movingCount == 0) return result;
+
+  // Clip to the domain box.
+  double T = 0, tEnd = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (!f.moving[a]) continue;
+    T = std::max(T, f.time(a, f.dlo[a]));
+    tEnd = std::min(tEnd, f.time(a, f.dhi[a]));
+  }
+  if (!(T <= tEnd)) return result;
+  for (int a = 0; a < 3; ++a)
+    if (f.moving[a]) f.range(a, T, f.guess(a, T, f.dlo[a] - 1, f.dhi[a]), lo[a], hi[a]);
+
+  // Brick cache: the probe result for the last brick looked at.
+  int64_t cacheKey[3] = {INT64_MIN, 0, 0};
+  int cacheLevel = 3;
+  const RayGrid::Mask512* cacheBrick = nullptr;
+  auto probe = [&](int64_t u, int64_t v, int64_t w, bool& occ) {
+    const int64_t bx = u >> 3, by = v >> 3, bz = w >> 3;
+    if (bx != cacheKey[0] || by != cacheKey[1] || bz != cacheKey[2]) {
+      cacheKey[0] = bx;
+      cacheKey[1] = by;
+      cacheKey[2] = bz;
+      cacheBrick = nullptr;
+      cacheLevel = grid.probe(u, v, w, &cacheBrick);
+    }
+    occ = false;
+    if (cacheLevel == 0) {
+      const int bit = RayGrid::bitOf(uint32_t(u & 7), uint32_t(v & 7), uint32_t(w & 7));
+      occ = ((*cacheBrick)[size_t(bit >> 6)] >> (bit & 63)) & 1;
+    }
+    return cacheLevel;
+  };
+
+  for (;;) {
+    ++result.steps;
+    for (int a = 0; a < 3; ++a)
+      if (f.moving[a] && lo[a] >= f.dhi[a]) return result;
+
+    // Test every voxel touched at T; note the emptiness level of those ahead.
+    int64_t clo[3], chi[3];
+    for (int a = 0; a < 3; ++a) {
+      clo[a] = std::max(lo[a], f.dlo[a]);
+      chi[a] = std::min(hi[a], f.dhi[a] - 1);
+    }
+    bool found = false;
+    Coord3 bestVoxel;
+    double bestExit = 0;
+    int minLevel = 3;
+    for (int64_t i = clo[0]; i <= chi[0]; ++i)
+      for (int64_t j = clo[1]; j <= chi[1]; ++j)
+        for (int64_t k = clo[2]; k <= chi[2]; ++k) {
+          const int64_t m[3] = {i, j, k};
+          const Coord3 c{int32_t(f.real(0, i)), int32_t(f.real(1, j)), int32_t(f.real(2, k))};
+          bool occ;
+          const int level = probe(c.u, c.v, c.w, occ);
+          bool ahead = true;
+          for (int a = 0; a < 3; ++a)
+            if (f.moving[a] && m[a] != hi[a]) ahead = false;
+          if (ahead) minLevel = std::min(minLevel, level);
+          if (!occ) continue;
+          double exit = kInf;
+          for (int a = 0; a < 3; ++a)
+            if (f.moving[a]) exit = std::min(exit, f.time(a, m[a] + 1));
+          if (!found || better(exit, c, bestExit, bestVoxel)) {
+            found = true;
+            bestVoxel = c;
+            bestExit = exit;
+          }
+        }
+    if (found) {
+      result.hit = true;
+      result.voxel = bestVoxel;
+      result.t = T;
+      result.exit = bestExit;
+      entryFace(ray, bestVoxel, T, result);
+      return result;
+    }
+
+    // Advance: past the voxel ahead, or past the empty box around it.
+    for (int a = 0; a < 3; ++a)
+      if (f.moving[a] && hi[a] >= f.dhi[a]) return result;  // the ray leaves the domain at T
+    const int shift = 3 * minLevel;
+    double Tn = kInf;
+    int64_t far[3] = {0, 0, 0};
+    double tFar[3] = {kInf, kInf, kInf};
+    for (int a = 0; a < 3; ++a) {
+      if (!f.moving[a]) continue;
+      far[a] = ((hi[a] >> shift) + 1) << shift;
+      tFar[a] = f.time(a, far[a]);
+      Tn = std::min(Tn, tFar[a]);
+    }
+    for (int a = 0; a < 3; ++a) {
+      if (!f.moving[a]) continue;
+      const int64_t g = tFar[a] == Tn ? far[a] : shift == 0 ? hi[a] : f.guess(a, Tn, hi[a], far[a] - 1);
+      f.range(a, Tn, g, lo[a], hi[a]);
+    }
+    T = Tn;
+  }
+}
+
+}  // namespace vox

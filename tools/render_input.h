@@ -1,0 +1,35 @@
+// The input of render-canonical and verify-bijection --canonical: a scene
+// (.vdb) or a page file (.vpk), loaded once into what rays and shading need.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "formats/pagefile.h"
+#include "libvox/render_sources.h"
+
+namespace voxcli {
+
+struct RenderInput {
+  std::string path;
+  std::string kind;  // "scene" or "pages"
+  int level = 0;     // page files: the level rendered
+  vox::Dims dims;
+  vox::GridFrame frame;
+  vox::ClassTable classes;
+  std::optional<vox::Scene> scene;
+  std::optional<vox::pagefile::Reader> pages;
+  std::unique_ptr<vox::RayGrid> grid;
+
+  /// Summary bytes of `voxels` (empty voxels: zeros).
+  std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const;
+};
+
+/// Loads a scene .vdb or a page file (sniffed by magic); `level` selects a page
+/// file level (scenes: must be 0). Throws vox::Error naming the file.
+RenderInput loadRenderInput(const std::string& path, int level);
+
+}  // namespace voxcli
