@@ -69,6 +69,25 @@ bool looksLikePageFile(const std::string& path);
 /// Bytes of a bricks-layout payload.
 uint64_t bricksPayloadBytes(uint32_t chunkVoxels, uint32_t occupied, bool full, uint32_t flags);
 
+/// The `svo` layout (PAGEFILE.md): node flags, the brick table's "no bitmap"
+/// slot, the fixed part of a payload.
+inline constexpr uint8_t kSvoNodeFull = 1;   // the node's brick has all 512 voxels (no bitmap stored)
+inline constexpr uint8_t kSvoNodeColor = 2;  // some voxel of the node's brick has a colour
+inline constexpr uint32_t kSvoNoBitmap = 0xFFFFFFFFu;
+inline constexpr uint32_t kSvoFixedBytes = 16;
+/// Bytes of an svo payload with `nodes` nodes (= bricks), `bitmaps` stored
+/// bitmaps and `records` voxel records (leaf and mip voxels).
+uint64_t svoPayloadBytes(uint64_t nodes, uint64_t bitmaps, uint64_t records, uint32_t flags);
+
+/// The `columns` layout (PAGEFILE.md).
+inline constexpr uint32_t kColumnsFixedBytes = 8;
+/// u32 words of a mask of side^3 bits: ceil(side^3 / 32).
+uint32_t columnsLadderWordCount(uint32_t side);
+/// Bytes of the mip ladder of a chunk of side C (levels 1 .. log2 C - 1).
+uint64_t columnsLadderBytes(uint32_t chunkSide);
+/// Bytes of a columns payload.
+uint64_t columnsPayloadBytes(uint32_t chunkSide, uint32_t occupied, uint32_t surfaceCount, bool full, uint32_t flags);
+
 /// A chunk ready to be written (packing fills these, sorted by (level, key)).
 struct ChunkBlob {
   uint8_t level = 0;
@@ -84,12 +103,23 @@ struct ChunkBlob {
 /// Throws vox::Error (Internal) when chunks are not sorted or sizes are wrong.
 std::vector<uint8_t> serialize(Header header, const std::string& metaJson, const std::vector<ChunkBlob>& chunks);
 
-/// One decoded chunk (bricks layout): occupied voxels in rank order.
+/// One decoded chunk (any layout): occupied voxels in rank order.
 struct DecodedVoxel {
   uint32_t index = 0;  // x + C * (y + C * z), chunk-local
   std::array<uint8_t, 4> summary{};  // cls, conf, obs, mrg
   bool surface = true;
   std::array<uint8_t, 4> color{};  // sRGB8 + alpha (255: has colour, 0: none); zeros without kFlagColor
+};
+
+/// One node of an svo-layout chunk with its decoded brick (Reader::svoBricks).
+struct SvoBrick {
+  uint32_t node = 0;      // index in the node pool (= brick index)
+  uint8_t level = 0;      // 0: a leaf brick (voxels of the chunk); L > 0: a mip brick, voxels 2^L wide
+  uint8_t childMask = 0;  // octants of the brick that hold an occupied voxel (inner nodes: the children)
+  uint8_t flags = 0;      // kSvoNodeFull, kSvoNodeColor
+  uint32_t childPtr = 0;  // inner nodes: first child; leaves: the brick (= node)
+  std::array<uint32_t, 3> origin{};  // chunk-local level-0 voxel at the node's min corner
+  std::vector<DecodedVoxel> voxels;  // index = bx + 8 * (by + 8 * bz) within the brick, ascending
 };
 
 /// A page file opened for reading. Opening checks the header, the index and
@@ -118,10 +148,15 @@ class Reader {
 
   /// The payload bytes of entry i, after checking its CRC32C.
   std::span<const uint8_t> payload(size_t i) const;
-  /// Decodes entry i (bricks layout); checks the payload against its bitmap:
+  /// Decodes entry i, any layout, into its occupied voxels in rank order
+  /// (ascending chunk-local index); checks the payload against its masks:
   /// popcount = occupied, no voxel outside the level's domain, classes 1..255,
-  /// colour alpha 0 or 255, padding bits zero.
+  /// colour alpha 0 or 255, padding bits zero, and the layout's own structure
+  /// (svo: node tree, brick table, mip bricks; columns: masks, ladder, offsets).
   std::vector<DecodedVoxel> decode(size_t i) const;
+  /// svo layout only: every node of entry i with its brick, in node order (the
+  /// same checks as decode()).
+  std::vector<SvoBrick> svoBricks(size_t i) const;
   /// Every payload: CRC and decode(). Returns the number of voxels checked.
   uint64_t verify() const;
 
@@ -131,6 +166,9 @@ class Reader {
  private:
   Reader() = default;
   void parse();
+  std::vector<DecodedVoxel> decodeBricks(size_t i) const;
+  std::vector<DecodedVoxel> decodeSvo(size_t i, std::vector<SvoBrick>* bricks) const;
+  std::vector<DecodedVoxel> decodeColumns(size_t i) const;
   std::string name_;
   const uint8_t* data_ = nullptr;
   size_t size_ = 0;

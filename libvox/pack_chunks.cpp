@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <exception>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "libvox/atlas_content.h"
 #include "libvox/error.h"
 #include "libvox/morton.h"
+#include "libvox/pack_columns.h"
+#include "libvox/pack_svo.h"
 #include "libvox/scene_grids.h"
 #include "libvox/summary_bytes.h"
 #include "libvox/version.h"
@@ -51,12 +54,32 @@ void putU64(uint8_t* p, uint64_t v) {
   for (int b = 0; b < 8; ++b) p[b] = uint8_t(v >> (8 * b));
 }
 
-struct Scratch {
-  std::vector<uint64_t> bits;
-  std::vector<std::array<uint8_t, 4>> summary, color;
-  std::vector<uint8_t> surface;
-  std::vector<ClassVotes> votes;
-};
+// Bricks layout: bitmap (absent when full), then summary, colour and surface of
+// the occupied voxels in rank order.
+std::vector<uint8_t> encodeBricks(const packdetail::ChunkVoxels& sc, uint32_t flags) {
+  const uint32_t N = sc.side * sc.side * sc.side;
+  const bool full = sc.count == N;
+  const bool color = flags & pagefile::kFlagColor, surfaceCh = flags & pagefile::kFlagSurface;
+  std::vector<uint8_t> bytes(pagefile::bricksPayloadBytes(N, sc.count, full, flags), 0);
+  uint8_t* p = bytes.data();
+  if (!full) {
+    for (uint32_t w = 0; w < N / 64; ++w) putU64(p + 8 * w, sc.bits[w]);
+    p += N / 8;
+  }
+  uint8_t* sum = p;
+  uint8_t* colp = sum + 4ull * sc.count;
+  uint8_t* surf = colp + (color ? 4ull * sc.count : 0);
+  uint32_t rank = 0;
+  for (uint32_t w = 0; w < N / 64; ++w)
+    for (uint64_t word = sc.bits[w]; word; word &= word - 1) {
+      const uint32_t k = w * 64 + uint32_t(std::countr_zero(word));
+      std::memcpy(sum + 4 * rank, sc.summary[k].data(), 4);
+      if (color) std::memcpy(colp + 4 * rank, sc.color[k].data(), 4);
+      if (surfaceCh && sc.surface[k]) surf[rank / 8] |= uint8_t(1u << (rank % 8));
+      ++rank;
+    }
+  return bytes;
+}
 
 }  // namespace
 
@@ -65,8 +88,8 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
     throwUsage("--chunk " + std::to_string(s.chunkSide) + ": expected 8, 16 or 32");
   if (s.alignment < 8 || s.alignment > 65536 || !std::has_single_bit(s.alignment))
     throwUsage("--align " + std::to_string(s.alignment) + ": expected a power of two from 8 to 65536");
-  if (s.layout != pagefile::Layout::Bricks)
-    throwUsage(std::string("--layout ") + pagefile::layoutName(s.layout) + ": not implemented yet; use bricks");
+  if (s.layout != pagefile::Layout::Bricks && s.layout != pagefile::Layout::Svo && s.layout != pagefile::Layout::Columns)
+    throwUsage("packChunks: unknown layout " + std::to_string(int(s.layout)));
   if (levels.empty() || levels.size() > 255) throw Error(ErrorKind::Internal, "packChunks: 1..255 levels");
   const Scene& base = *levels[0];
   const SceneHeader& bh = base.header();
@@ -107,18 +130,28 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     std::vector<pagefile::ChunkBlob> out(keys.size());
     const size_t nClasses = g.votes.size();
-    const bool color = h.flags & pagefile::kFlagColor, surfaceCh = h.flags & pagefile::kFlagSurface;
+    const bool withVotes = s.layout == pagefile::Layout::Svo;
+    std::vector<std::exception_ptr> errors(keys.size());  // a layout's refusal, reported for the first chunk in order
     parallelFor(keys.size(), s.threads, [&](size_t begin, size_t end) {
-      Scratch sc;
+      packdetail::ChunkVoxels sc;
+      sc.side = C;
       sc.bits.assign(N / 64, 0);
       sc.summary.resize(N);
       sc.color.resize(N);
       sc.surface.resize(N);
+      sc.withVotes = withVotes;
+      if (withVotes) {
+        sc.voteBegin.resize(N);
+        sc.voteEnd.resize(N);
+        sc.linear.resize(N);
+      }
+      std::vector<ClassVotes> votes;
       std::vector<const IntLeaf*> voteLeaves(nClasses);
       const uint32_t leavesPerAxis = C / 8;
       for (size_t ci = begin; ci < end; ++ci) {
         const auto cc = mortonDecode(keys[ci]);
         std::fill(sc.bits.begin(), sc.bits.end(), 0);
+        sc.votes.clear();
         uint32_t count = 0;
         for (uint32_t a = 0; a < leavesPerAxis; ++a)
           for (uint32_t b = 0; b < leavesPerAxis; ++b)
@@ -134,46 +167,49 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
                 const uint32_t k = x + C * (y + C * z);
                 sc.bits[k >> 6] |= uint64_t(1) << (k & 63);
                 ++count;
-                sc.votes.clear();
+                votes.clear();
                 for (size_t q = 0; q < nClasses; ++q)
                   if (voteLeaves[q] && voteLeaves[q]->isValueOn(off))
-                    sc.votes.push_back({g.votes[q].classId, uint32_t(voteLeaves[q]->getValue(off))});
-                const SummaryTexel t = summarize(sc.votes);
+                    votes.push_back({g.votes[q].classId, uint32_t(voteLeaves[q]->getValue(off))});
+                const SummaryTexel t = summarize(votes);
                 sc.summary[k] = {t.cls, t.conf, t.obs, t.mrg};
                 sc.surface[k] = *it ? 1 : 0;
+                if (withVotes) {
+                  sc.voteBegin[k] = uint32_t(sc.votes.size());
+                  sc.votes.insert(sc.votes.end(), votes.begin(), votes.end());
+                  sc.voteEnd[k] = uint32_t(sc.votes.size());
+                }
                 if (col && col->isValueOn(off)) {
                   const openvdb::Vec3s& v = col->getValue(off);
                   sc.color[k] = {linearToSrgb8(v[0]), linearToSrgb8(v[1]), linearToSrgb8(v[2]), 255};
+                  if (withVotes) sc.linear[k] = {v[0], v[1], v[2]};
                 } else {
                   sc.color[k] = {0, 0, 0, 0};
                 }
               }
             }
+        sc.count = count;
         pagefile::ChunkBlob& blob = out[ci];
         blob.level = uint8_t(li);
         blob.key = keys[ci];
         blob.occupied = count;
         blob.full = count == N;
-        blob.bytes.resize(pagefile::bricksPayloadBytes(N, count, blob.full, h.flags));
-        uint8_t* p = blob.bytes.data();
-        if (!blob.full) {
-          for (uint32_t w = 0; w < N / 64; ++w) putU64(p + 8 * w, sc.bits[w]);
-          p += N / 8;
-        }
-        uint8_t* sum = p;
-        uint8_t* colp = sum + 4ull * count;
-        uint8_t* surf = colp + (color ? 4ull * count : 0);
-        uint32_t rank = 0;
-        for (uint32_t w = 0; w < N / 64; ++w)
-          for (uint64_t word = sc.bits[w]; word; word &= word - 1) {
-            const uint32_t k = w * 64 + uint32_t(std::countr_zero(word));
-            std::memcpy(sum + 4 * rank, sc.summary[k].data(), 4);
-            if (color) std::memcpy(colp + 4 * rank, sc.color[k].data(), 4);
-            if (surfaceCh && sc.surface[k]) surf[rank / 8] |= uint8_t(1u << (rank % 8));
-            ++rank;
+        if (count == 0) continue;  // a leaf without active voxels
+        try {
+          switch (s.layout) {
+            case pagefile::Layout::Bricks: blob.bytes = encodeBricks(sc, h.flags); break;
+            case pagefile::Layout::Svo: blob.bytes = packdetail::encodeSvo(sc, h.flags); break;
+            case pagefile::Layout::Columns:
+              blob.bytes = packdetail::encodeColumns(sc, h.flags, {int(li), cc});
+              break;
           }
+        } catch (...) {
+          errors[ci] = std::current_exception();
+        }
       }
     });
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
     PackResult::Level lv;
     lv.level = int(li);
     for (pagefile::ChunkBlob& b : out) {

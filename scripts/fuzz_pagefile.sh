@@ -2,11 +2,12 @@
 # Builds and runs the libFuzzer target of the page file reader
 # (clang, -fsanitize=fuzzer,address,undefined). Seeds are small page files made
 # by the vox binary of BUILD_DIR (default build) when it exists.
-# Usage: scripts/fuzz_pagefile.sh [SECONDS=60]   (corpus in build-fuzz/corpus-pagefile)
+# Usage: scripts/fuzz_pagefile.sh [SECONDS=60]   (corpus in $FUZZ_DIR/corpus-pagefile)
+# Env: FUZZ_DIR (default build-fuzz), BUILD_DIR (default build).
 set -eu
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-out=build-fuzz
+out=${FUZZ_DIR:-build-fuzz}
 corpus=$out/corpus-pagefile
 mkdir -p "$corpus"
 command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
@@ -18,6 +19,17 @@ if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
   "$vox" voxelize demo:hamlet --res 12 -o "$tmp/h.vdb" --quiet
   "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/h8.vpk" --chunk 8 --align 8 --mips --quiet
   "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/h16.vpk" --chunk 16 --align 16 --quiet
+  rm -rf "$tmp"
+fi
+# Seeds of the svo and columns layouts (added to an existing corpus too).
+if [ -x "$vox" ] && [ ! -e "$corpus/columns16.vpk" ]; then
+  tmp=$(mktemp -d)
+  "$vox" voxelize demo:hamlet --res 12 -o "$tmp/h.vdb" --quiet
+  for layout in svo columns; do
+    "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/${layout}8.vpk" --layout $layout --chunk 8 --align 8 --mips --quiet
+    "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/${layout}16.vpk" --layout $layout --chunk 16 --align 8 --quiet
+  done
+  "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/svo32.vpk" --layout svo --chunk 32 --align 8 --quiet
   rm -rf "$tmp"
 fi
 "$out/fuzz_pagefile" -max_total_time="$seconds" -max_len=65536 -timeout=10 "$corpus"

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -44,7 +45,12 @@ VoxelMap unpack(const Reader& r) {
   for (size_t i = 0; i < r.entries().size(); ++i) {
     const auto& e = r.entries()[i];
     const auto c = e.chunk();
+    uint32_t last = 0;
+    bool firstVoxel = true;
     for (const auto& v : r.decode(i)) {
+      EXPECT_TRUE(firstVoxel || v.index > last) << r.describe(i) << ": voxels not in rank order";
+      firstVoxel = false;
+      last = v.index;
       const int x = int(c[0] * C + (v.index % C)), y = int(c[1] * C + (v.index / C) % C), z = int(c[2] * C + v.index / (C * C));
       m[{e.level, x, y, z}] = {v.summary, v.surface, v.color};
     }
@@ -98,19 +104,26 @@ vox::Scene colouredScene() {
   return std::move(b).build();
 }
 
+using vox::pagefile::Layout;
+constexpr Layout kLayouts[] = {Layout::Bricks, Layout::Svo, Layout::Columns};
+
 TEST(PageFile, RoundTripEveryChunkSizeWithMips) {
   const vox::Scene base = colouredScene();
   const auto mips = vox::buildMipPyramid(base, vox::MipSettings{});
   std::vector<const vox::Scene*> levels{&base};
   for (const auto& m : mips) levels.push_back(&m);
   const VoxelMap want = expectedVoxels(levels);
+  for (Layout layout : kLayouts)
   for (uint32_t C : {8u, 16u, 32u})
     for (uint32_t align : {8u, 4096u}) {
+      SCOPED_TRACE(std::string(vox::pagefile::layoutName(layout)) + " C=" + std::to_string(C) + " align=" + std::to_string(align));
       vox::PackSettings s;
       s.chunkSide = C;
       s.alignment = align;
+      s.layout = layout;
       const vox::PackResult res = vox::packChunks(levels, s);
       const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "mem.vpk");
+      EXPECT_EQ(r.header().layout, layout);
       EXPECT_EQ(r.header().chunkSide(), C);
       EXPECT_EQ(r.header().levelCount, levels.size());
       EXPECT_EQ(r.header().flags, vox::pagefile::kFlagColor | vox::pagefile::kFlagSurface);
@@ -125,7 +138,21 @@ TEST(PageFile, RoundTripEveryChunkSizeWithMips) {
         const auto* e = r.find(0, 16 / C, 0, 0);
         ASSERT_NE(e, nullptr);
         EXPECT_TRUE(e->flags & vox::pagefile::kChunkFull);
-        EXPECT_EQ(e->size, vox::pagefile::bricksPayloadBytes(C * C * C, C * C * C, true, r.header().flags));
+        const uint32_t N = C * C * C;
+        if (layout == Layout::Bricks) {
+          EXPECT_EQ(e->size, vox::pagefile::bricksPayloadBytes(N, N, true, r.header().flags));
+        }
+        // Columns: no solid mask and no ladder; the block is interior except its faces.
+        if (layout == Layout::Columns) {
+          const auto pl = r.payload(size_t(e - r.entries().data()));
+          const uint32_t S = uint32_t(pl[0] | pl[1] << 8 | pl[2] << 16 | uint32_t(pl[3]) << 24);
+          EXPECT_EQ(e->size, vox::pagefile::columnsPayloadBytes(C, N, S, true, r.header().flags));
+        }
+        if (layout == Layout::Svo) {  // every brick full: no bitmap stored
+          const auto bricks = r.svoBricks(size_t(e - r.entries().data()));
+          EXPECT_EQ(e->size, vox::pagefile::svoPayloadBytes(bricks.size(), 0, 512 * bricks.size(), r.header().flags));
+          for (const auto& b : bricks) EXPECT_EQ(b.flags & vox::pagefile::kSvoNodeFull, vox::pagefile::kSvoNodeFull);
+        }
       }
       // Lookup: every entry is found; an empty chunk is not.
       for (const auto& e : r.entries()) {
@@ -144,6 +171,19 @@ TEST(PageFile, HamletRoundTripAndIdenticalAtAnyThreadCount) {
   const auto mips = vox::buildMipPyramid(base, vox::MipSettings{});
   std::vector<const vox::Scene*> levels{&base};
   for (const auto& m : mips) levels.push_back(&m);
+  const VoxelMap want = expectedVoxels(levels);
+  for (Layout layout : {Layout::Svo, Layout::Columns}) {
+    vox::PackSettings s;
+    s.layout = layout;
+    s.threads = 1;
+    const auto one = vox::packChunks(levels, s);
+    s.threads = 3;
+    const auto three = vox::packChunks(levels, s);
+    EXPECT_EQ(one.bytes, three.bytes) << vox::pagefile::layoutName(layout);
+    const Reader r = Reader::fromMemory(one.bytes.data(), one.bytes.size(), "h.vpk");
+    std::string why;
+    EXPECT_TRUE(sameMaps(unpack(r), want, why)) << vox::pagefile::layoutName(layout) << ": " << why;
+  }
   vox::PackSettings s;
   s.threads = 1;
   const auto one = vox::packChunks(levels, s);
@@ -153,7 +193,7 @@ TEST(PageFile, HamletRoundTripAndIdenticalAtAnyThreadCount) {
   const Reader r = Reader::fromMemory(one.bytes.data(), one.bytes.size(), "h.vpk");
   EXPECT_EQ(r.header().flags, vox::pagefile::kFlagSurface);  // no colour in the hamlet; interior voxels
   std::string why;
-  EXPECT_TRUE(sameMaps(unpack(r), expectedVoxels(levels), why)) << why;
+  EXPECT_TRUE(sameMaps(unpack(r), want, why)) << why;
   // Sorted by (level, key); level ranges.
   size_t total = 0;
   for (int l = 0; l < r.header().levelCount; ++l) {
@@ -162,6 +202,79 @@ TEST(PageFile, HamletRoundTripAndIdenticalAtAnyThreadCount) {
     total += b - a;
   }
   EXPECT_EQ(total, r.entries().size());
+}
+
+// The mip bricks of the svo layout are the scene's own mip levels (`any`), voxel for voxel.
+TEST(PageFile, SvoMipBricksAreThePyramidLevels) {
+  const vox::Scene base = colouredScene();
+  const auto mips = vox::buildMipPyramid(base, vox::MipSettings{});
+  std::vector<const vox::Scene*> levels{&base};
+  for (const auto& m : mips) levels.push_back(&m);
+  const VoxelMap want = expectedVoxels(levels);
+  for (uint32_t C : {16u, 32u}) {
+    vox::PackSettings s;
+    s.chunkSide = C;
+    s.alignment = 8;
+    s.layout = Layout::Svo;
+    const auto res = vox::packChunks(levels, s);
+    const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "svo.vpk");
+    size_t mipVoxels = 0;
+    for (size_t i = 0; i < r.entries().size(); ++i) {
+      const auto& e = r.entries()[i];
+      const auto c = e.chunk();
+      const auto bricks = r.svoBricks(i);
+      ASSERT_FALSE(bricks.empty());
+      EXPECT_EQ(bricks[0].level, std::countr_zero(C) - 3);  // the root
+      for (const auto& b : bricks) {
+        if (b.level == 0 || e.level + b.level >= int(levels.size())) continue;
+        // Every voxel of the level e.level + b.level inside the node's region is in its brick.
+        size_t inRegion = 0;
+        const uint32_t step = 1u << b.level;
+        for (const auto& [key, value] : want) {
+          const auto [l, u, v, w] = key;
+          if (l != e.level + b.level) continue;
+          const uint32_t x0 = (c[0] * C + b.origin[0]) / step, y0 = (c[1] * C + b.origin[1]) / step,
+                         z0 = (c[2] * C + b.origin[2]) / step;
+          if (uint32_t(u) >= x0 && uint32_t(u) < x0 + 8 && uint32_t(v) >= y0 && uint32_t(v) < y0 + 8 && uint32_t(w) >= z0 &&
+              uint32_t(w) < z0 + 8)
+            ++inRegion;
+        }
+        EXPECT_EQ(b.voxels.size(), inRegion);
+        for (const auto& v : b.voxels) {
+          const int u = int((c[0] * C + b.origin[0]) / step + (v.index & 7));
+          const int vv = int((c[1] * C + b.origin[1]) / step + ((v.index >> 3) & 7));
+          const int w = int((c[2] * C + b.origin[2]) / step + (v.index >> 6));
+          const auto it = want.find({e.level + b.level, u, vv, w});
+          ASSERT_NE(it, want.end()) << "mip voxel (" << u << "," << vv << "," << w << ") of level " << e.level + b.level;
+          EXPECT_EQ(v.summary, it->second.summary);
+          EXPECT_EQ(v.surface, it->second.surface);
+          EXPECT_EQ(v.color, it->second.color);
+          ++mipVoxels;
+        }
+      }
+    }
+    EXPECT_GT(mipVoxels, 0u);
+  }
+}
+
+TEST(PageFile, ColumnsRefuseAColouredInteriorVoxel) {
+  vox::SceneHeader h;
+  h.dims = {10, 10, 10};
+  h.classes.add({1, "a", {}, {}});
+  vox::SceneBuilder b(h);
+  b.addVotes({1, 2, 3}, 1, 5, true);
+  b.addVotes({4, 5, 6}, 1, 5, false);
+  b.setColor({4, 5, 6}, {0.5f, 0.5f, 0.5f});
+  const vox::Scene sc = std::move(b).build();
+  vox::PackSettings p;
+  p.layout = Layout::Columns;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::packChunks({&sc}, p); }, vox::ErrorKind::Usage,
+                                      {"voxel (4, 5, 6) of level 0 is interior and has a colour"}));
+  p.layout = Layout::Svo;  // the other layouts keep it
+  const auto res = vox::packChunks({&sc}, p);
+  const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "i.vpk");
+  std::string why;
+  EXPECT_TRUE(sameMaps(unpack(r), expectedVoxels({&sc}), why)) << why;
 }
 
 TEST(PageFile, EmptySceneHasNoChunks) {
@@ -185,8 +298,8 @@ TEST(PageFile, RefusesBadSettings) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::packChunks({&s}, p); }, vox::ErrorKind::Usage, {"power of two"}));
 }
 
-// A small file for the corruption tests: a few chunks of 8^3, alignment 8.
-std::vector<uint8_t> smallFile() {
+// A small file for the corruption tests: a few chunks, alignment 8.
+std::vector<uint8_t> smallFile(Layout layout = Layout::Bricks, uint32_t C = 8) {
   vox::SceneHeader h;
   h.dims = {20, 9, 10};
   h.classes.add({1, "a", {}, {}});
@@ -198,66 +311,130 @@ std::vector<uint8_t> smallFile() {
   b.addVotes({9, 3, 2}, 1, 2, true);
   b.setColor({0, 0, 0}, {1, 0, 0});
   const vox::Scene s = std::move(b).build();
-  const auto mips = vox::buildMipPyramid(s, vox::MipSettings{.levels = 1});
+  vox::MipSettings ms;
+  ms.levels = 1;
+  const auto mips = vox::buildMipPyramid(s, ms);
   vox::PackSettings p;
-  p.chunkSide = 8;
+  p.chunkSide = C;
   p.alignment = 8;
+  p.layout = layout;
   return vox::packChunks({&s, &mips[0]}, p).bytes;
 }
 
 TEST(PageFile, EveryTruncationIsRefused) {
-  const std::vector<uint8_t> file = smallFile();
-  ASSERT_GT(file.size(), 300u);
-  ASSERT_LT(file.size(), 4000u);
-  for (size_t n = 0; n < file.size(); ++n) {
-    // An exact-size heap copy, so that ASan catches any read past the end.
-    std::unique_ptr<uint8_t[]> prefix(new uint8_t[n ? n : 1]);
-    std::copy(file.begin(), file.begin() + long(n), prefix.get());
-    EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(prefix.get(), n, "t.vpk").verify(); },
-                                        vox::ErrorKind::BadInput, {"t.vpk: "}))
-        << "prefix of " << n << " bytes";
-  }
-  // Truncated past the header: named as such.
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(file.data(), file.size() - 1, "t.vpk"); },
-                                      vox::ErrorKind::BadInput, {"file_bytes", "truncated"}));
-  EXPECT_EQ(Reader::fromMemory(file.data(), file.size(), "t.vpk").verify(), 4u + 3u);  // level 0 + level 1
+  for (Layout layout : kLayouts)
+    for (uint32_t C : {8u, 16u, 32u}) {
+      SCOPED_TRACE(std::string(vox::pagefile::layoutName(layout)) + " C=" + std::to_string(C));
+      const std::vector<uint8_t> file = smallFile(layout, C);
+      ASSERT_GT(file.size(), 300u);
+      ASSERT_LT(file.size(), 30000u);
+      EXPECT_EQ(Reader::fromMemory(file.data(), file.size(), "t.vpk").verify(), 4u + 3u);  // level 0 + level 1
+      for (size_t n = 0; n < file.size(); ++n) {
+        // An exact-size heap copy, so that ASan catches any read past the end.
+        std::unique_ptr<uint8_t[]> prefix(new uint8_t[n ? n : 1]);
+        std::copy(file.begin(), file.begin() + long(n), prefix.get());
+        EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(prefix.get(), n, "t.vpk").verify(); },
+                                            vox::ErrorKind::BadInput, {"t.vpk: "}))
+            << "prefix of " << n << " bytes";
+      }
+      // Truncated past the header: named as such.
+      EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(file.data(), file.size() - 1, "t.vpk"); },
+                                          vox::ErrorKind::BadInput, {"file_bytes", "truncated"}));
+    }
 }
 
 TEST(PageFile, EveryBitFlipInHeaderAndIndexIsDetected) {
-  const std::vector<uint8_t> file = smallFile();
-  const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
-  const size_t end = ok.header().metaOffset + ok.header().metaBytes;  // header, index and metadata
-  for (size_t bit = 0; bit < end * 8; ++bit) {
-    std::vector<uint8_t> bad = file;
-    bad[bit / 8] ^= uint8_t(1u << (bit % 8));
-    EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(bad.data(), bad.size(), "f.vpk"); },
-                                        vox::ErrorKind::BadInput, {"f.vpk: "}))
-        << "bit " << bit;
+  for (Layout layout : kLayouts) {
+    SCOPED_TRACE(vox::pagefile::layoutName(layout));
+    const std::vector<uint8_t> file = smallFile(layout);
+    const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+    const size_t end = ok.header().metaOffset + ok.header().metaBytes;  // header, index and metadata
+    for (size_t bit = 0; bit < end * 8; ++bit) {
+      std::vector<uint8_t> bad = file;
+      bad[bit / 8] ^= uint8_t(1u << (bit % 8));
+      EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(bad.data(), bad.size(), "f.vpk"); },
+                                          vox::ErrorKind::BadInput, {"f.vpk: "}))
+          << "bit " << bit;
+    }
+    // A flipped payload bit opens, and fails on read naming the chunk and the field.
+    for (size_t i = 0; i < ok.entries().size(); ++i)
+      for (size_t bit = 0; bit < ok.entries()[i].size * 8; bit += 7) {
+        std::vector<uint8_t> bad = file;
+        bad[ok.entries()[i].offset + bit / 8] ^= uint8_t(1u << (bit % 8));
+        const Reader r = Reader::fromMemory(bad.data(), bad.size(), "f.vpk");
+        EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput,
+                                            {r.describe(i) + ": field 'crc32c'"}))
+            << "chunk " << i << " bit " << bit;
+      }
   }
-  // A flipped payload bit opens, and fails on read naming the chunk and the field.
-  std::vector<uint8_t> bad = file;
-  const auto& e = ok.entries()[1];
-  bad[e.offset + 3] ^= 0x10;
-  const Reader r = Reader::fromMemory(bad.data(), bad.size(), "f.vpk");
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput,
-                                      {"chunk 1 (level 0, chunk (", "field 'crc32c'"}));
+}
+
+// The chunks of a file, as blobs to re-serialize (with correct CRCs).
+std::vector<vox::pagefile::ChunkBlob> blobsOf(const Reader& r) {
+  std::vector<vox::pagefile::ChunkBlob> blobs;
+  for (size_t i = 0; i < r.entries().size(); ++i) {
+    const auto& e = r.entries()[i];
+    const auto p = r.payload(i);
+    blobs.push_back({e.level, e.key, e.occupied, bool(e.flags & 1), std::vector<uint8_t>(p.begin(), p.end())});
+  }
+  return blobs;
 }
 
 TEST(PageFile, PayloadInconsistentWithItsBitmapIsRefused) {
   // Re-serialize a chunk whose bitmap has an extra bit: the CRC is right, the content is not.
   const std::vector<uint8_t> file = smallFile();
   const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
-  std::vector<vox::pagefile::ChunkBlob> blobs;
-  for (size_t i = 0; i < ok.entries().size(); ++i) {
-    const auto& e = ok.entries()[i];
-    const auto p = ok.payload(i);
-    blobs.push_back({e.level, e.key, e.occupied, bool(e.flags & 1), std::vector<uint8_t>(p.begin(), p.end())});
-  }
+  std::vector<vox::pagefile::ChunkBlob> blobs = blobsOf(ok);
   blobs[0].bytes[10] ^= 0x01;  // voxel 80 of chunk 0: bits say one more voxel than `occupied`
   vox::pagefile::Header h = ok.header();
   const auto bytes = vox::pagefile::serialize(h, ok.metaJson(), blobs);
   const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "g.vpk");
   EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput, {"chunk 0", "field 'bitmap'"}));
+}
+
+// Every bit of the structural part of every svo and columns payload (counts,
+// nodes, brick table, bitmaps / masks, ladder, colour offsets), flipped under a
+// correct CRC, is refused by decode() naming the chunk and a field.
+TEST(PageFile, EveryStructuralBitFlipUnderAGoodCrcIsRefused) {
+  for (Layout layout : {Layout::Svo, Layout::Columns})
+    for (uint32_t C : {8u, 16u, 32u}) {
+      SCOPED_TRACE(std::string(vox::pagefile::layoutName(layout)) + " C=" + std::to_string(C));
+      const std::vector<uint8_t> file = smallFile(layout, C);
+      const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+      const auto& h = ok.header();
+      const std::vector<vox::pagefile::ChunkBlob> blobs = blobsOf(ok);
+      size_t tried = 0;
+      for (size_t i = 0; i < blobs.size(); ++i) {
+        const auto& b = blobs[i].bytes;
+        auto u32 = [&](size_t at) { return uint32_t(b[at] | b[at + 1] << 8 | b[at + 2] << 16 | uint32_t(b[at + 3]) << 24); };
+        // Structural ranges [begin, end) of the payload, in bytes.
+        std::vector<std::pair<size_t, size_t>> ranges;
+        if (layout == Layout::Svo) {
+          const size_t B = u32(0), M = u32(4);
+          ranges.push_back({0, 16 + 16 * B + 64 * M});
+        } else {
+          const uint32_t N = C * C * C;
+          const bool full = blobs[i].full;
+          const size_t masks = 8 + (full ? 0 : N / 8 + vox::pagefile::columnsLadderBytes(C)) + ((h.flags & 2) ? N / 8 : 0);
+          ranges.push_back({0, masks});
+          if (h.flags & vox::pagefile::kFlagColor) {
+            const size_t off = masks + 4ull * blobs[i].occupied;
+            ranges.push_back({off, off + 4ull * (C * C + 1)});
+          }
+        }
+        for (const auto& [begin, end] : ranges)
+          for (size_t bit = begin * 8; bit < end * 8; ++bit) {
+            std::vector<vox::pagefile::ChunkBlob> bad = blobs;
+            bad[i].bytes[bit / 8] ^= uint8_t(1u << (bit % 8));
+            const auto bytes = vox::pagefile::serialize(h, ok.metaJson(), bad);
+            const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "s.vpk");
+            EXPECT_TRUE(voxtest::throwsVoxError([&] { r.decode(i); }, vox::ErrorKind::BadInput, {r.describe(i) + ": ", "field '"}))
+                << "chunk " << i << " byte " << bit / 8 << " bit " << bit % 8;
+            ++tried;
+          }
+      }
+      EXPECT_GT(tried, 100u);
+    }
 }
 
 }  // namespace

@@ -143,8 +143,12 @@ Command registerPackChunks(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
   cmd->footer(
       "Page file format: formats/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
-      "(level, Morton key), payloads at aligned offsets: occupancy bitmap, then summary bytes,\n"
-      "sRGB8 colour and surface bits of the occupied voxels in rank order; no empty chunks).\n"
+      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n"
+      "  bricks   occupancy bitmap, then summary bytes, sRGB8 colour and surface bits of the\n"
+      "           occupied voxels in rank order (default)\n"
+      "  svo      pointerless octree of 64-bit nodes over 8^3 bricks, mip bricks at inner nodes\n"
+      "  columns  z-innermost u32 solid and surface masks per column, mip ladder, summary bytes,\n"
+      "           colour offsets and colours of surface voxels\n"
       "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
       "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
@@ -153,7 +157,7 @@ Command registerPackChunks(CLI::App& root) {
   cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
   cmd->add_option("--chunk", opts->chunk, "Chunk side C: 8, 16 or 32")->capture_default_str();
   cmd->add_option("--align", opts->align, "Payload alignment in bytes (power of two, 8..65536)")->capture_default_str();
-  cmd->add_option("--layout", opts->layout, "bricks (svo and columns: not yet)")->capture_default_str();
+  cmd->add_option("--layout", opts->layout, "bricks, svo or columns")->capture_default_str();
   cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
   cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")->capture_default_str();

@@ -1,6 +1,7 @@
-// libFuzzer target for the page file reader (formats/pagefile.h): any input must
-// either open and verify, or throw vox::Error; crashes, reads past the end
-// (ASan), hangs and other exceptions are bugs.
+// libFuzzer target for the page file reader (formats/pagefile.h), every layout
+// (bricks, svo, columns): any input must either open and verify, or throw
+// vox::Error; crashes, reads past the end (ASan), hangs and other exceptions
+// are bugs.
 // Build and run: scripts/fuzz_pagefile.sh [SECONDS]
 #include <cstddef>
 #include <cstdint>
@@ -16,6 +17,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (r.find(e.level, c[0], c[1], c[2]) != &e) __builtin_trap();  // lookup finds every entry
     }
     r.verify();
+    if (r.header().layout == vox::pagefile::Layout::Svo)  // the node/brick view checks the same payloads
+      for (size_t i = 0; i < r.entries().size(); ++i) {
+        const auto bricks = r.svoBricks(i);
+        uint64_t leaves = 0;
+        for (const auto& b : bricks) leaves += b.level == 0 ? b.voxels.size() : 0;
+        if (leaves != r.entries()[i].occupied) __builtin_trap();  // verify() checked this
+      }
   } catch (const vox::Error&) {
   }
   return 0;
