@@ -45,6 +45,11 @@ for s in $scenes; do
     -n "vox pack-chunks --mips" "$vox pack-chunks $s.vdb -o pm.vpk --mips --threads $threads --quiet" >&2
   "$vox" pack-chunks $s.vdb -o p.vpk --threads "$threads" --quiet --report pack_report_$s.json
   "$vox" pack-chunks $s.vdb -o p8.vpk --chunk 8 --align 64 --threads "$threads" --quiet --report pack8_report_$s.json
+  for layout in bricks svo columns; do
+    "$vox" pack-chunks $s.vdb -o l.vpk --layout $layout --threads "$threads" --quiet --report layout_${layout}16_$s.json
+    "$vox" pack-chunks $s.vdb -o l.vpk --layout $layout --chunk 8 --align 64 --threads "$threads" --quiet --report layout_${layout}8_$s.json
+    "$vox" pack-chunks --verify l.vpk --quiet
+  done
   "$vox" info --json $s.vdb > info_$s.json
   "$vox" mip $s.vdb -o m.vdb --threads "$threads" --quiet --report mip_report_$s.json
   python3 - "$s" >> "$results" <<'PY'
@@ -66,6 +71,10 @@ print(json.dumps({
   "vpk_bytes": rep["file_bytes"], "bpv": rep["bytes_per_voxel"], "chunks": rep["chunks"],
   "pack_core_s": rep["pack_seconds"], "pack_phases": json.load(open(f"pack_report_{s}.json"))["phases"],
   "vpk8_bytes": rep8["file_bytes"], "bpv8": rep8["bytes_per_voxel"],
+  "layouts": [dict(layout=l, chunk=c, **{k: r[k] for k in ("file_bytes", "voxels", "chunks", "bytes_per_voxel", "pack_seconds")},
+                   payload_bytes=sum(x["payload_bytes"] for x in r["levels"]))
+              for l in ("bricks", "svo", "columns") for c in (16, 8)
+              for r in [json.load(open(f"layout_{l}{c}_{s}.json"))["counts"]]],
 }))
 PY
 done
@@ -110,6 +119,19 @@ p("\n\"pack core MB/s\" is the page file's size over the time of the chunking it
 p("`pack_seconds` of `--report`, without reading the .vdb). Phases of one run (seconds):\n")
 for r in rows:
     p(f"* {r['scene']}: " + ", ".join(f"{ph['name']} {ph['seconds']:.3f}" for ph in r["pack_phases"]))
+p("\n## Layouts: bytes per occupied voxel\n")
+p("`vox pack-chunks --layout L` of each scene (level 0 only), C = 16 with the default 4 KiB")
+p("alignment and C = 8 with 64-byte alignment (formats/PAGEFILE.md). \"file\" counts the whole")
+p(".vpk (header, index, metadata, alignment padding); \"payload\" only the chunk payloads. svo")
+p("payloads include the mip bricks of the inner nodes (C = 16 and 32); columns payloads the mip")
+p("ladder. Pack time is the chunking alone (`pack_seconds` of `--report`), one run.\n")
+p("| scene | layout | C, alignment | chunks | .vpk | file bytes/voxel | payload bytes/voxel | pack (s) |")
+p("| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |")
+for r in rows:
+    for l in r["layouts"]:
+        al = "4 KiB" if l["chunk"] == 16 else "64 B"
+        p(f"| {r['scene']} | {l['layout']} | {l['chunk']}, {al} | {l['chunks']:,} | {l['file_bytes'] / 1e6:.2f} MB | "
+          f"**{l['bytes_per_voxel']:.2f}** | {l['payload_bytes'] / l['voxels']:.2f} | {l['pack_seconds']:.3f} |")
 notes = open(sys.argv[5]).read()
 if notes:
     p("")

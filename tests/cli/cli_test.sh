@@ -465,6 +465,101 @@ OBJ
     cp out.txt tinfo.json
     jcheck tinfo.json "assert d['layout']=='$layout' and d['channels']==['occupancy','summary','color','surface']"
   done
+  # A reader written from formats/PAGEFILE.md alone (no vox code) decodes the same voxels
+  # (summary, colour, surface at every level) from every layout and chunk size.
+  cat > keep_specreader.py <<'PY'
+import struct, sys
+# A page file reader written from formats/PAGEFILE.md alone: decodes every chunk of
+# any layout into {(level, x, y, z): (summary, colour, surface)}.
+def read(path):
+    b = open(path, 'rb').read()
+    assert b[:8] == b'VOXPAGES'
+    layout, clog, levels, alog = b[12], b[13], b[14], b[15]
+    flags = struct.unpack_from('<I', b, 16)[0]
+    color, surf = bool(flags & 1), bool(flags & 2)
+    n = struct.unpack_from('<Q', b, 64)[0]
+    C = 1 << clog; N = C ** 3
+    out = {}
+    def bit(buf, off, k): return (buf[off + (k >> 3)] >> (k & 7)) & 1
+    for i in range(n):
+        e = 128 + 32 * i
+        lvl, eflags = b[e], b[e + 1]
+        occ, key, off, size = struct.unpack_from('<IQQI', b, e + 4)
+        cx = cy = cz = 0
+        for j in range(21):
+            cx |= ((key >> (3 * j)) & 1) << j; cy |= ((key >> (3 * j + 1)) & 1) << j; cz |= ((key >> (3 * j + 2)) & 1) << j
+        full = eflags & 1
+        vox = []  # (x, y, z, summary, colour, surface)
+        if layout == 1:
+            p = off
+            idx = list(range(N)) if full else [k for k in range(N) if bit(b, off, k)]
+            if not full: p += N // 8
+            sp, cp = p, p + 4 * occ
+            fp = cp + (4 * occ if color else 0)
+            for r, k in enumerate(idx):
+                vox.append((k % C, (k // C) % C, k // (C * C), b[sp + 4 * r:sp + 4 * r + 4],
+                            b[cp + 4 * r:cp + 4 * r + 4] if color else b'\0' * 4, bit(b, fp, r) if surf else 1))
+        elif layout == 2:
+            B, M, T, _ = struct.unpack_from('<IIII', b, off)
+            nodes = off + 16; bricks = nodes + 8 * B; bms = bricks + 8 * B
+            sp = bms + 64 * M; cp = sp + 4 * T; fp = cp + (4 * T if color else 0)
+            org = {0: (0, 0, 0)}
+            for ni in range(B):
+                raw = struct.unpack_from('<Q', b, nodes + 8 * ni)[0]
+                mask, level, ptr = raw & 255, (raw >> 24) & 255, raw >> 32
+                ox, oy, oz = org[ni]
+                if level > 0:
+                    h = 8 << (level - 1); c = ptr
+                    for o in range(8):
+                        if mask >> o & 1:
+                            org[c] = (ox + h * (o & 1), oy + h * ((o >> 1) & 1), oz + h * (o >> 2)); c += 1
+                    continue
+                first, slot = struct.unpack_from('<II', b, bricks + 8 * ni)
+                r = first
+                for k in range(512):
+                    if slot != 0xFFFFFFFF and not bit(b, bms + 64 * slot, k): continue
+                    vox.append((ox + (k & 7), oy + ((k >> 3) & 7), oz + (k >> 6), b[sp + 4 * r:sp + 4 * r + 4],
+                                b[cp + 4 * r:cp + 4 * r + 4] if color else b'\0' * 4, bit(b, fp, r) if surf else 1))
+                    r += 1
+        elif layout == 3:
+            S = struct.unpack_from('<I', b, off)[0]
+            p = off + 8
+            solid = None if full else p
+            if not full: p += N // 8
+            smask = p if surf else None
+            if surf: p += N // 8
+            if not full:
+                s = C // 2
+                while s >= 2: p += 4 * ((s ** 3 + 31) // 32); s //= 2
+            sp = p; op = sp + 4 * occ; cp = op + 4 * (C * C + 1)
+            r = 0
+            for col in range(C * C):
+                cr = struct.unpack_from('<I', b, op + 4 * col)[0] if color else 0
+                for z in range(C):
+                    k = z + C * col
+                    if solid is not None and not bit(b, solid, k): continue
+                    isf = bit(b, smask, k) if surf else 1
+                    c4 = b'\0' * 4
+                    if color and isf:
+                        c4 = b[cp + 4 * cr:cp + 4 * cr + 4]; cr += 1
+                    vox.append((col % C, col // C, z, b[sp + 4 * r:sp + 4 * r + 4], c4, isf))
+                    r += 1
+        assert len(vox) == occ, (path, i, len(vox), occ)
+        for x, y, z, s4, c4, f in vox:
+            out[(lvl, cx * C + x, cy * C + y, cz * C + z)] = (bytes(s4), bytes(c4), f)
+    return out
+maps = [read(p) for p in sys.argv[1:]]
+assert maps[0] and all(m == maps[0] for m in maps[1:]), [len(m) for m in maps]
+print(len(maps[0]), "voxels, the same in", len(maps), "files")
+PY
+  for layout in bricks svo columns; do
+    for c in 8 16 32; do
+      expect_exit 0 "$vox" pack-chunks tri.vdb -o s_${layout}_$c.vpk --layout $layout --mips --chunk $c --align 8
+    done
+  done
+  python3 keep_specreader.py t_bricks.vpk s_*.vpk > out.txt 2> err.txt || fail "spec reader: $(tail -c 400 err.txt)"
+  expect_stdout "voxels, the same in 10 files"
+  python3 keep_specreader.py a.vpk l1.vpk > out.txt 2> err.txt || fail "spec reader (hamlet): $(tail -c 400 err.txt)"
   # vox mip --source MESH: the any-pyramid of an exact surface voxelization is exact
   # (IoU 1, no class disagreement) at every level against voxelizing the mesh directly.
   expect_exit 0 "$vox" voxelize keep_tri.obj --res 32 -o tris.vdb
