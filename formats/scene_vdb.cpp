@@ -136,7 +136,9 @@ bool looksLikeVdb(const std::string& path) {
   return in && magic == 0x56444220;  // OpenVDB's OPENVDB_MAGIC (" BDV")
 }
 
-Scene readSceneVdb(const std::string& path) {
+Scene readSceneVdb(const std::string& path) { return readSceneVdb(path, SceneParts::All); }
+
+Scene readSceneVdb(const std::string& path, SceneParts parts) {
   ensureOpenVdbInitialized();
   {
     std::ifstream probe(path, std::ios::binary);
@@ -151,7 +153,12 @@ Scene readSceneVdb(const std::string& path) {
     openvdb::io::File file(path);
     file.open(/*delayLoad=*/false);
     meta = file.getMetadata();
-    grids = file.getGrids();
+    if (parts == SceneParts::All) {
+      grids = file.getGrids();
+    } else {
+      grids = std::make_shared<openvdb::GridPtrVec>();
+      if (file.hasGrid("occupancy")) grids->push_back(file.readGrid("occupancy"));
+    }
     file.close();
   } catch (const std::exception& e) {
     // OpenVDB may quote garbage from a corrupt file: keep the message short and printable.
@@ -277,6 +284,7 @@ Scene readSceneVdb(const std::string& path) {
   identity(*g.occupancy);
   for (ClassGrid& cg : g.votes) identity(*cg.grid);
   if (g.color) identity(*g.color);
+  if (parts == SceneParts::OccupancyOnly) return scene;
   // Topology invariants: every vote/colour voxel is occupied and every occupied
   // voxel has a vote.
   auto occ = g.occupancy->getConstAccessor();

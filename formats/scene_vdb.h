@@ -18,6 +18,14 @@ void writeSceneVdb(const Scene& scene, const std::string& path);
 /// metadata out of range, voxels outside the dims, votes of 0 or negative).
 Scene readSceneVdb(const std::string& path);
 
+/// What readSceneVdb loads. OccupancyOnly reads the header and the occupancy
+/// grid and leaves the vote and colour grids in the file (the returned scene
+/// has no vote grids, so it breaks the "every occupied voxel has a vote"
+/// invariant: for renderers and tools that need where voxels are, not what
+/// they are). It is checked like a full read otherwise.
+enum class SceneParts { All, OccupancyOnly };
+Scene readSceneVdb(const std::string& path, SceneParts parts);
+
 /// True when the file starts with OpenVDB's magic number (cheap sniffing).
 bool looksLikeVdb(const std::string& path);
 

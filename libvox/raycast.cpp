@@ -238,6 +238,61 @@ RayHit castRay(const RayGrid& grid, const Ray& ray) {
     // Advance: past the voxel ahead, or past the empty box around it.
     for (int a = 0; a < 3; ++a)
       if (f.moving[a] && hi[a] >= f.dhi[a]) return result;  // the ray leaves the domain at T
+    bool stationarySingle = true;
+    for (int a = 0; a < 3; ++a)
+      if (!f.moving[a] && clo[a] != chi[a]) stationarySingle = false;
+    if (minLevel == 0 && stationarySingle) {
+      // Inside a non-empty brick: step voxel by voxel while each event crosses
+      // exactly one plane (then the voxels touched are the one left, already
+      // tested, and the one entered). Anything else goes back to the general
+      // event above.
+      int64_t idx[3];
+      double tN[3];
+      for (int a = 0; a < 3; ++a) {
+        idx[a] = f.moving[a] ? hi[a] : clo[a];
+        tN[a] = f.moving[a] ? f.time(a, idx[a] + 1) : kInf;
+      }
+      for (;;) {
+        const int a0 = tN[0] <= tN[1] ? (tN[0] <= tN[2] ? 0 : 2) : (tN[1] <= tN[2] ? 1 : 2);
+        const double Tn = tN[a0];
+        const int64_t next = idx[a0] + 1;
+        const double tAfter = f.time(a0, next + 1);
+        const int crossing = int(tN[0] == Tn) + int(tN[1] == Tn) + int(tN[2] == Tn);
+        if (crossing > 1 || tAfter == Tn || next >= f.dhi[a0]) {
+          for (int a = 0; a < 3; ++a) {
+            if (!f.moving[a]) continue;
+            if (tN[a] == Tn) f.range(a, Tn, idx[a] + 1, lo[a], hi[a]);
+            else lo[a] = hi[a] = idx[a];
+          }
+          T = Tn;
+          break;
+        }
+        ++result.steps;
+        idx[a0] = next;
+        tN[a0] = tAfter;
+        const Coord3 c{int32_t(f.real(0, idx[0])), int32_t(f.real(1, idx[1])), int32_t(f.real(2, idx[2]))};
+        bool occ;
+        const int level = probe(c.u, c.v, c.w, occ);
+        if (occ) {
+          result.hit = true;
+          result.voxel = c;
+          result.t = Tn;
+          result.exit = std::min(tN[0], std::min(tN[1], tN[2]));
+          entryFace(ray, c, Tn, result);
+          return result;
+        }
+        if (level > 0) {  // left the brick for an empty one: jump from the general event
+          for (int a = 0; a < 3; ++a) {
+            if (!f.moving[a]) continue;
+            lo[a] = hi[a] = idx[a];
+          }
+          lo[a0] = next - 1;
+          T = Tn;
+          break;
+        }
+      }
+      continue;
+    }
     const int shift = 3 * minLevel;
     double Tn = kInf;
     int64_t far[3] = {0, 0, 0};

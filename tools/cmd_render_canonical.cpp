@@ -100,9 +100,11 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
     vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
   const std::vector<vox::CameraView> views = resolveCameras(o.camera, 512, 512);
 
+  const bool needSummaries = std::find(modes.begin(), modes.end(), "class") != modes.end() ||
+                             std::find(modes.begin(), modes.end(), "shaded") != modes.end();
   run.phase("load");
   run.input(o.input);
-  const RenderInput in = loadRenderInput(o.input, o.level);
+  const RenderInput in = loadRenderInput(o.input, o.level, needSummaries);
   const vox::RayGrid& grid = *in.grid;
   const int bits = vox::canonicalBits(in.dims);
   for (const vox::CameraView& v : views) {
@@ -146,9 +148,6 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
   const double castSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - castStart).count();
 
   // Voxels hit by any ray (sorted keys), for class/shaded lookups and the touched set.
-  const bool needSummaries =
-      std::find(modes.begin(), modes.end(), "class") != modes.end() ||
-      std::find(modes.begin(), modes.end(), "shaded") != modes.end();
   std::vector<uint64_t> hitKeys;
   std::vector<vox::SummaryTexel> hitSummaries;
   if (needSummaries || !o.touched.empty() || !o.touchedBitmap.empty()) {

@@ -60,7 +60,7 @@ std::vector<vox::SummaryTexel> RenderInput::summaries(std::span<const vox::Coord
   return vox::pageSummaries(*pages, level, voxels);
 }
 
-RenderInput loadRenderInput(const std::string& path, int level) {
+RenderInput loadRenderInput(const std::string& path, int level, bool needSummaries) {
   RenderInput in;
   in.path = path;
   in.level = level;
@@ -81,7 +81,7 @@ RenderInput loadRenderInput(const std::string& path, int level) {
   }
   if (level != 0) vox::throwUsage("--level " + std::to_string(level) + ": only page files (.vpk) hold levels; " + path + " is a scene");
   in.kind = "scene";
-  in.scene.emplace(vox::readSceneVdb(path));
+  in.scene.emplace(vox::readSceneVdb(path, needSummaries ? vox::SceneParts::All : vox::SceneParts::OccupancyOnly));
   const vox::SceneHeader& h = in.scene->header();
   in.dims = h.dims;
   in.frame.origin = h.origin;

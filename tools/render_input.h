@@ -29,7 +29,9 @@ struct RenderInput {
 };
 
 /// Loads a scene .vdb or a page file (sniffed by magic); `level` selects a page
-/// file level (scenes: must be 0). Throws vox::Error naming the file.
-RenderInput loadRenderInput(const std::string& path, int level);
+/// file level (scenes: must be 0). Without `needSummaries` a scene's vote
+/// grids are not read (summaries() then returns zeros). Throws vox::Error
+/// naming the file.
+RenderInput loadRenderInput(const std::string& path, int level, bool needSummaries = true);
 
 }  // namespace voxcli
