@@ -15,6 +15,7 @@
 #include "libvox/error.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/info_canonical.h"
 #include "tools/info_pages.h"
 #include "formats/pagefile.h"
 
@@ -226,7 +227,11 @@ void printScene(const nlohmann::json& j) {
 int runInfo(const InfoOptions& o) {
   if (vox::fileSizeOrMinusOne(o.file) < 0 && !std::filesystem::exists(o.file))
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
-  if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) return infoAtlas(o);
+  if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
+    const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
+    if (!img.textValue("vox:canonical").empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
+    return infoAtlas(o);
+  }
   if (vox::pagefile::looksLikePageFile(o.file)) return infoPageFile(o.file, o.json);
   if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlas images");
   if (!vox::looksLikeVdb(o.file))
@@ -271,8 +276,8 @@ Command registerInfo(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("info", "Describe a scene or pyramid (.vdb), an OpenVDB file, an atlas (.png/.exr) or a page file (.vpk)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
-  cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values");
-  cmd->add_option("--scene", opts->scene, "With --pixel: the scene, for class names and votes");
+  cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values; canonical renders: the voxel under pixel x,y");
+  cmd->add_option("--scene", opts->scene, "With --pixel: the scene (or page file), for class names, summary and votes");
   return {cmd, [opts] { return runInfo(*opts); }};
 }
 

@@ -571,6 +571,107 @@ PY
   expect_exit 2 "$vox" mip tris.vdb -o x.vdb --source keep_tri.obj --source keep_tri.obj
   expect_stderr "give one mesh"
   ;;
+render)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
+  cam="--eye 20,15,20 --target 0,2,0 --size 96x64"
+  # Exact against the brute force on every pixel; report has rays/s and steps.
+  expect_exit 0 "$vox" render-canonical h.vdb -o c.png $cam --check --report r.json --threads 1
+  jcheck r.json "c=d['counts']; e=d['error']; assert c['rays']==6144 and 0<c['hits']<6144 and c['mean_steps_per_ray']>0 and c['rays_per_second']>0, c; assert e['pixels_checked']==6144 and e['pixels_differing']==0, e"
+  expect_exit 0 "$vox" render-canonical h.vdb -o c2.png $cam --threads 2
+  cmp -s c.png c2.png || fail "canonical render differs between --threads 1 and 2"
+  sha256sum c.png > got.sum
+  diff -u "$data/../golden/render_demo64.sha256" got.sum || fail "the demo render differs from its golden hash"
+  # verify-bijection: every hit decodes to an occupied voxel and equals the ray (camera from the image).
+  expect_exit 0 "$vox" verify-bijection --canonical c.png --scene h.vdb
+  expect_stdout "0 pixels differ from the exact ray"
+  expect_stdout "OK"
+  # A render from another camera fails the check against this camera, naming a pixel.
+  expect_exit 0 "$vox" render-canonical h.vdb -o d.png --eye 21,15,20 --target 0,2,0 --size 96x64
+  expect_exit 1 "$vox" verify-bijection --canonical d.png --scene h.vdb $cam --json
+  jcheck out.txt "assert d['ok'] is False and d['pixels_differing_from_ray']>0 and d['first_failures'][0]['pixel'], d"
+  # Picking: the centre pixel is a voxel of the scene, with its class.
+  expect_exit 0 "$vox" info c.png --pixel 48,40 --scene h.vdb --json
+  jcheck out.txt "p=d['pixel']; assert d['kind']=='render' and p['hit'] and len(p['voxel'])==3 and p['values'][:3]==p['voxel'] and p['values'][3]==255, p; assert p['scene_voxel']['class_name'] and p['scene_voxel']['summary']['cls']>=1, p"
+  expect_exit 0 "$vox" info c.png --pixel 0,0 --json
+  jcheck out.txt "assert d['pixel']['hit'] is False and d['pixel']['values']==[0,0,0,0]"
+  expect_exit 2 "$vox" info c.png --pixel 96,0
+  # Every mode from one pass; the names carry the mode.
+  expect_exit 0 "$vox" render-canonical h.vdb -o m.png $cam --mode canonical,class,shaded,depth,normal
+  for f in m.canonical.png m.class.png m.shaded.png m.depth.exr m.normal.png; do [ -s $f ] || fail "$f not written"; done
+  cmp -s c.png m.canonical.png || true  # same pixels, different text (mode list): not compared
+  expect_exit 0 "$vox" info m.depth.exr --json
+  jcheck out.txt "assert d['mode']=='depth' and d['image']['sample']=='float' and d['image']['channels']==1, d"
+  expect_exit 0 "$vox" info m.shaded.png --json
+  jcheck out.txt "assert d['mode']=='shaded' and d['image']['channels']==3, d"
+  # Touched set: chunks sorted by Morton key, counts adding up; the 2-bit bitmap checks against the scene.
+  expect_exit 0 "$vox" render-canonical h.vdb $cam --touched t.json --chunk-size 16 --touched-bitmap tb.png --report rt.json
+  jcheck t.json "C=d['chunks']; assert d['chunk_size']==16 and C and sum(c['voxels'] for c in C)==d['voxels_touched']>0; assert [c['morton'] for c in C]==sorted(c['morton'] for c in C); assert all(0<=x<4 for c in C for x in c['chunk'])"
+  expect_exit 0 "$vox" verify-bijection --atlas tb.png --scene h.vdb
+  expect_exit 0 "$vox" info c.png --pixel 48,40 --json
+  python3 -c "import json; p=json.load(open('out.txt'))['pixel']['voxel']; print(p[0], p[1], p[2])" > picked.txt
+  read -r pu pv pw < picked.txt
+  tx=$(( (pw % 8) * 64 + pu )); ty=$(( (pw / 8) * 64 + pv ))
+  expect_exit 0 "$vox" info tb.png --pixel $tx,$ty --json
+  jcheck out.txt "p=d['pixel']; assert p['occupied'] and p['touched'], p"
+  # Page file input: the same voxels, checked against the scene by the exact ray.
+  expect_exit 0 "$vox" pack-chunks h.vdb -o h.vpk
+  expect_exit 0 "$vox" render-canonical h.vpk -o p.png $cam
+  expect_exit 0 "$vox" verify-bijection --canonical p.png --scene h.vdb $cam
+  # Hard cameras, each checked pixel by pixel against the brute force: straight down
+  # an axis (rays in grid planes), inside the scene, and 1e6 voxels away.
+  expect_exit 0 "$vox" render-canonical h.vdb -o top.png --eye 0,30,0 --target 0,0,0 --up 0,0,-1 --fov 40 --size 40x40 --check --report rtop.json
+  jcheck rtop.json "e=d['error']; assert e['pixels_differing']==0 and e['pixels_checked']==1600 and d['counts']['hits']==1600, e"
+  expect_exit 0 "$vox" render-canonical h.vdb -o in.png --eye 0.05,1.0,0.05 --target 5,1,3 --fov 100 --size 40x30 --check --report rin.json
+  jcheck rin.json "e=d['error']; assert e['pixels_differing']==0 and d['counts']['hits']>0, e"
+  expect_exit 0 "$vox" render-canonical h.vdb -o far.png --eye 100000,70000,80000 --target 0,1,0 --fov 0.004 --size 40x30 --check --report rfar.json
+  jcheck rfar.json "e=d['error']; assert e['pixels_differing']==0 and d['counts']['hits']>0, (e, d['counts'])"
+  # Seed 002 cameras: a metadata.json with matrices computed here (gl-matrix lookAt /
+  # perspective, column-major) on the map scene; every view renders and verifies.
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o map.vdb
+  python3 - <<'EOF'
+import json, math
+def lookat(eye, c, up):
+    z=[eye[i]-c[i] for i in range(3)]; l=math.sqrt(sum(x*x for x in z)); z=[x/l for x in z]
+    x=[up[1]*z[2]-up[2]*z[1], up[2]*z[0]-up[0]*z[2], up[0]*z[1]-up[1]*z[0]]; l=math.sqrt(sum(a*a for a in x)); x=[a/l for a in x]
+    y=[z[1]*x[2]-z[2]*x[1], z[2]*x[0]-z[0]*x[2], z[0]*x[1]-z[1]*x[0]]
+    d=lambda a,b: sum(a[i]*b[i] for i in range(3))
+    return [x[0],y[0],z[0],0, x[1],y[1],z[1],0, x[2],y[2],z[2],0, -d(x,eye),-d(y,eye),-d(z,eye),1]
+def persp(fovy, aspect, n, f):
+    t=1/math.tan(fovy/2); nf=1/(n-f)
+    return [t/aspect,0,0,0, 0,t,0,0, 0,0,(f+n)*nf,-1, 0,0,2*f*n*nf,0]
+views=[]
+# The map's blocks sit at world x, z = (position - 32) * 2 (seed 002 centring): around (-60, 2, -62).
+for i,eye in enumerate([[-80,20,-90],[-45,12,-40]]):
+    views.append({"id":"view_%03d"%i,"index":i,"position":eye,"viewMatrix":lookat(eye,[-60,2,-62],[0,1,0]),"projectionMatrix":persp(math.radians(60),1.0,0.1,500.0)})
+json.dump({"formatVersion":"1.0","imageSize":{"width":64,"height":64},"viewCount":2,"views":views}, open("metadata.json","w"))
+bad=json.load(open("metadata.json")); bad["views"][1]["projectionMatrix"]=[1,2,3]; json.dump(bad, open("bad_metadata.json","w"))
+EOF
+  expect_exit 0 "$vox" render-canonical map.vdb -o v.png --camera metadata.json --check --report rv.json
+  jcheck rv.json "assert d['counts']['views']==2 and d['counts']['hits']>0 and d['error']['pixels_differing']==0, d['counts']"
+  for i in 0 1; do
+    [ -s v.view$i.png ] || fail "v.view$i.png not written"
+    expect_exit 0 "$vox" verify-bijection --canonical v.view$i.png --scene map.vdb --camera metadata.json --view $i
+  done
+  expect_exit 1 "$vox" verify-bijection --canonical v.view0.png --scene map.vdb --camera metadata.json --view 1
+  # Bad input and usage: clear errors, documented codes, no partial outputs.
+  mkdir -p bad && cd bad
+  expect_exit 3 "$vox" render-canonical ../map.vdb -o x.png --camera ../bad_metadata.json
+  expect_stderr "views[1].projectionMatrix"
+  expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png --camera ../metadata.json --view 2
+  expect_stderr "0..1"
+  expect_exit 2 "$vox" render-canonical ../map.vdb -o x.jpg $cam
+  expect_stderr ".png"
+  expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png
+  expect_stderr "--eye"
+  expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png $cam --mode canonical,sketch
+  expect_stderr "sketch"
+  expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png --eye 1,2,3 --target 1,2,3
+  expect_exit 3 "$vox" render-canonical ../nothing.vdb -o x.png $cam
+  expect_exit 3 "$vox" verify-bijection --canonical ../m.depth.exr --scene ../h.vdb
+  expect_stderr "RGBA"
+  no_outputs
+  cd ..
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 
