@@ -33,8 +33,9 @@ std::vector<uint8_t> encodeColumns(const ChunkVoxels& chunk, uint32_t flags, con
         const uint32_t x = k & (C - 1), y = (k >> log2C) & (C - 1), z = k >> (2 * log2C);
         throwUsage("--layout columns stores colour for surface voxels only, but voxel (" +
                    std::to_string(place.chunk[0] * C + x) + ", " + std::to_string(place.chunk[1] * C + y) + ", " +
-                   std::to_string(place.chunk[2] * C + z) + ") of level " + std::to_string(place.level) +
-                   " is interior and has a colour; use --layout bricks or svo");
+                   std::to_string(place.chunk[2] * C + z) + ") of level " + std::to_string(place.level) + " (chunk (" +
+                   std::to_string(place.chunk[0]) + ", " + std::to_string(place.chunk[1]) + ", " +
+                   std::to_string(place.chunk[2]) + "), field 'colors') is interior and has a colour; use --layout bricks or svo");
       }
     }
   std::vector<uint8_t> out(pagefile::columnsPayloadBytes(C, chunk.count, surfaceCount, full, flags), 0);

@@ -269,7 +269,7 @@ TEST(PageFile, ColumnsRefuseAColouredInteriorVoxel) {
   vox::PackSettings p;
   p.layout = Layout::Columns;
   EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::packChunks({&sc}, p); }, vox::ErrorKind::Usage,
-                                      {"voxel (4, 5, 6) of level 0 is interior and has a colour"}));
+                                      {"voxel (4, 5, 6) of level 0 (chunk (0, 0, 0), field 'colors') is interior and has a colour"}));
   p.layout = Layout::Svo;  // the other layouts keep it
   const auto res = vox::packChunks({&sc}, p);
   const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "i.vpk");

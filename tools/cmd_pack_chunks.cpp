@@ -99,7 +99,13 @@ int runPack(const PackOptions& o) {
   std::vector<const vox::Scene*> ptrs;
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
   const auto t0 = std::chrono::steady_clock::now();
-  const vox::PackResult res = vox::packChunks(ptrs, s);
+  vox::PackResult res;
+  try {
+    res = vox::packChunks(ptrs, s);
+  } catch (const vox::Error& e) {
+    if (e.kind != vox::ErrorKind::Usage) throw;
+    throw vox::Error(e.kind, o.input + ": " + e.what());  // a scene the layout cannot hold: name the file
+  }
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   {
