@@ -20,12 +20,6 @@ void splitKey(uint64_t k, uint32_t& bx, uint32_t& by, uint32_t& bz) {
 
 }  // namespace
 
-uint32_t RayGrid::Node::child(int bit) const {
-  const int word = bit >> 6, b = bit & 63;
-  const uint64_t below = b ? (mask[word] & ((uint64_t(1) << b) - 1)) : 0;
-  return base + prefix[word] + uint32_t(std::popcount(below));
-}
-
 RayGrid::RayGrid(Dims dims) : dims_(dims) {
   if (dims.x == 0 || dims.y == 0 || dims.z == 0 || dims.maxAxis() > (1u << 20))
     throwUsage("ray grid: dims " + toString(dims) + " must be 1..2^20 per axis");

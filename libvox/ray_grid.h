@@ -29,6 +29,8 @@
 namespace vox {
 
 class RayGrid {
+  struct Node;  // defined below
+
  public:
   using Mask512 = std::array<uint64_t, 8>;  // bit b is word b >> 6, bit b & 63
 
@@ -61,12 +63,35 @@ class RayGrid {
 
   static int bitOf(uint32_t x, uint32_t y, uint32_t z) { return int((x << 6) | (y << 3) | z); }
 
+  /// probe() with the last super-region, region and brick remembered, so a ray
+  /// walking through neighbouring voxels mostly skips the upper levels (each
+  /// level is a dependent load that misses the cache on large grids). One per
+  /// thread / ray; not thread-safe.
+  class Cursor {
+   public:
+    explicit Cursor(const RayGrid& grid) : g_(grid) {}
+    /// Same result as RayGrid::probe; `occupied` is set for level 0.
+    int probe(int64_t u, int64_t v, int64_t w, bool& occupied);
+
+   private:
+    const RayGrid& g_;
+    uint64_t superKey_ = ~uint64_t(0), regionKey_ = ~uint64_t(0), brickKey_ = ~uint64_t(0);
+    const Node* super_ = nullptr;
+    const Node* region_ = nullptr;
+    const Mask512* brick_ = nullptr;
+    int brickLevel_ = 3;
+  };
+
  private:
   struct Node {
     Mask512 mask{};
     uint32_t base = 0;                  // index of the first child in the next level's array
     std::array<uint16_t, 8> prefix{};   // children before word i
-    uint32_t child(int bit) const;
+    uint32_t child(int bit) const {
+      const int word = bit >> 6, b = bit & 63;
+      const uint64_t below = b ? (mask[size_t(word)] & ((uint64_t(1) << b) - 1)) : 0;
+      return base + prefix[size_t(word)] + uint32_t(__builtin_popcountll(below));
+    }
     bool has(int bit) const { return (mask[bit >> 6] >> (bit & 63)) & 1; }
   };
   Dims dims_;
@@ -78,5 +103,49 @@ class RayGrid {
   uint64_t occupied_ = 0;
   bool finished_ = false;
 };
+
+inline int RayGrid::Cursor::probe(int64_t u, int64_t v, int64_t w, bool& occupied) {
+  occupied = false;
+  const RayGrid& g = g_;
+  if (u < 0 || v < 0 || w < 0 || u >= int64_t(g.dims_.x) || v >= int64_t(g.dims_.y) || w >= int64_t(g.dims_.z)) return 3;
+  const uint64_t bkey = (uint64_t(u >> 3) << 42) | (uint64_t(v >> 3) << 21) | uint64_t(w >> 3);
+  if (bkey != brickKey_) {
+    brickKey_ = bkey;
+    const uint64_t rkey = (uint64_t(u >> 6) << 42) | (uint64_t(v >> 6) << 21) | uint64_t(w >> 6);
+    if (rkey != regionKey_) {
+      regionKey_ = rkey;
+      const uint64_t skey = (uint64_t(u >> 9) << 42) | (uint64_t(v >> 9) << 21) | uint64_t(w >> 9);
+      if (skey != superKey_) {
+        superKey_ = skey;
+        const int32_t s = g.top_[(size_t(u >> 9) * g.topDims_[1] + size_t(v >> 9)) * g.topDims_[2] + size_t(w >> 9)];
+        super_ = s < 0 ? nullptr : &g.supers_[size_t(s)];
+      }
+      region_ = nullptr;
+      if (super_) {
+        const int rbit = bitOf(uint32_t(u >> 6) & 7, uint32_t(v >> 6) & 7, uint32_t(w >> 6) & 7);
+        if (super_->has(rbit)) region_ = &g.regions_[super_->child(rbit)];
+      }
+    }
+    brick_ = nullptr;
+    if (!super_) {
+      brickLevel_ = 3;
+    } else if (!region_) {
+      brickLevel_ = 2;
+    } else {
+      const int bbit = bitOf(uint32_t(u >> 3) & 7, uint32_t(v >> 3) & 7, uint32_t(w >> 3) & 7);
+      if (region_->has(bbit)) {
+        brick_ = &g.bricks_[region_->child(bbit)];
+        brickLevel_ = 0;
+      } else {
+        brickLevel_ = 1;
+      }
+    }
+  }
+  if (brickLevel_ == 0) {
+    const int bit = bitOf(uint32_t(u & 7), uint32_t(v & 7), uint32_t(w & 7));
+    occupied = ((*brick_)[size_t(bit >> 6)] >> (bit & 63)) & 1;
+  }
+  return brickLevel_;
+}
 
 }  // namespace vox

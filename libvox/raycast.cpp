@@ -92,6 +92,15 @@ struct Frame {
 
 }  // namespace
 
+Ray sanitizeRay(const Ray& ray) {
+  Ray r = ray;
+  double m = 0;
+  for (double d : r.dir) m = std::max(m, std::fabs(d));
+  for (double& d : r.dir)
+    if (std::fabs(d) < m * 1e-200 || std::fabs(d) < 1e-290) d = 0;
+  return r;
+}
+
 bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double& exit) {
   enter = -kInf;
   exit = kInf;
@@ -110,7 +119,8 @@ bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double
   return enter <= exit && exit >= 0;
 }
 
-RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray) {
+RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& rayIn) {
+  const Ray ray = sanitizeRay(rayIn);
   RayHit best;
   for (const Coord3& c : occupied) {
     double enter, exit;
@@ -127,7 +137,8 @@ RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray) {
   return best;
 }
 
-RayHit castRay(const RayGrid& grid, const Ray& ray) {
+RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
+  const Ray ray = sanitizeRay(rayIn);
   RayHit result;
   const Dims& dims = grid.dims();
   const int64_t n[3] = {int64_t(dims.x), int64_t(dims.y), int64_t(dims.z)};
@@ -169,26 +180,8 @@ RayHit castRay(const RayGrid& grid, const Ray& ray) {
   for (int a = 0; a < 3; ++a)
     if (f.moving[a]) f.range(a, T, f.guess(a, T, f.dlo[a] - 1, f.dhi[a]), lo[a], hi[a]);
 
-  // Brick cache: the probe result for the last brick looked at.
-  int64_t cacheKey[3] = {INT64_MIN, 0, 0};
-  int cacheLevel = 3;
-  const RayGrid::Mask512* cacheBrick = nullptr;
-  auto probe = [&](int64_t u, int64_t v, int64_t w, bool& occ) {
-    const int64_t bx = u >> 3, by = v >> 3, bz = w >> 3;
-    if (bx != cacheKey[0] || by != cacheKey[1] || bz != cacheKey[2]) {
-      cacheKey[0] = bx;
-      cacheKey[1] = by;
-      cacheKey[2] = bz;
-      cacheBrick = nullptr;
-      cacheLevel = grid.probe(u, v, w, &cacheBrick);
-    }
-    occ = false;
-    if (cacheLevel == 0) {
-      const int bit = RayGrid::bitOf(uint32_t(u & 7), uint32_t(v & 7), uint32_t(w & 7));
-      occ = ((*cacheBrick)[size_t(bit >> 6)] >> (bit & 63)) & 1;
-    }
-    return cacheLevel;
-  };
+  RayGrid::Cursor cursor(grid);
+  auto probe = [&](int64_t u, int64_t v, int64_t w, bool& occ) { return cursor.probe(u, v, w, occ); };
 
   for (;;) {
     ++result.steps;
@@ -287,6 +280,68 @@ RayHit castRay(const RayGrid& grid, const Ray& ray) {
             lo[a] = hi[a] = idx[a];
           }
           lo[a0] = next - 1;
+          T = Tn;
+          break;
+        }
+      }
+      continue;
+    }
+    if (stationarySingle) {
+      // In empty space: step from cell to cell of the coarsest empty level
+      // (8^3, 64^3 or 512^3 voxels) while each event crosses exactly one cell
+      // face. The voxels touched there lie in the cell left (empty) and the
+      // cell entered; while the entered cell is empty too, no fine index is
+      // needed. When it is not, or on a tie, go back to an exact general event.
+      int L = minLevel;
+      int64_t cur[3], cell[3];
+      double tN[3];
+      for (int a = 0; a < 3; ++a) cur[a] = f.moving[a] ? hi[a] : clo[a];
+      auto setLevel = [&](int level) {
+        L = level;
+        for (int a = 0; a < 3; ++a) {
+          cell[a] = cur[a] >> (3 * L);
+          tN[a] = f.moving[a] ? f.time(a, (cell[a] + 1) << (3 * L)) : kInf;
+        }
+      };
+      setLevel(L);
+      for (;;) {
+        const int a0 = tN[0] <= tN[1] ? (tN[0] <= tN[2] ? 0 : 2) : (tN[1] <= tN[2] ? 1 : 2);
+        const double Tn = tN[a0];
+        const int64_t P = (cell[a0] + 1) << (3 * L);  // the plane crossed at Tn
+        const int crossing = int(tN[0] == Tn) + int(tN[1] == Tn) + int(tN[2] == Tn);
+        if (crossing > 1 || !(f.time(a0, P - 1) < Tn) || !(f.time(a0, P + 1) > Tn)) {
+          for (int a = 0; a < 3; ++a) {
+            if (!f.moving[a]) continue;
+            const int64_t first = cell[a] << (3 * L), last = ((cell[a] + 1) << (3 * L)) - 1;
+            f.range(a, Tn, tN[a] == Tn ? last + 1 : f.guess(a, Tn, first, last), lo[a], hi[a]);
+          }
+          T = Tn;
+          break;
+        }
+        if (P >= f.dhi[a0]) return result;  // out of the domain; the cell left was empty
+        ++result.steps;
+        cur[a0] = P;
+        ++cell[a0];
+        tN[a0] = f.time(a0, (cell[a0] + 1) << (3 * L));
+        // The entered cell's emptiness, from any of its voxels inside the domain.
+        int64_t rep[3];
+        for (int a = 0; a < 3; ++a)
+          rep[a] = a == a0 ? P : std::clamp<int64_t>(cell[a] << (3 * L), f.dlo[a], f.dhi[a] - 1);
+        bool occ;
+        const int level = probe(f.real(0, rep[0]), f.real(1, rep[1]), f.real(2, rep[2]), occ);
+        if (level > L) {
+          setLevel(level);
+        } else if (level < L) {
+          // Not empty: the exact voxels touched at Tn, then a general event.
+          for (int a = 0; a < 3; ++a) {
+            if (!f.moving[a]) continue;
+            if (a == a0) {
+              lo[a] = P - 1;
+              hi[a] = P;
+            } else {
+              f.range(a, Tn, f.guess(a, Tn, cell[a] << (3 * L), ((cell[a] + 1) << (3 * L)) - 1), lo[a], hi[a]);
+            }
+          }
           T = Tn;
           break;
         }

@@ -58,7 +58,12 @@ RayHit castRay(const RayGrid& grid, const Ray& ray);
 /// The same answer by testing every voxel in `occupied` (any order).
 RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray);
 
-/// enter/exit of one voxel as defined above; false when the ray misses it.
+/// The ray both casters actually trace: direction components below 1e-200 of
+/// the largest (or below 1e-290) become 0, so that 1 / dir stays finite.
+Ray sanitizeRay(const Ray& ray);
+
+/// enter/exit of one voxel as defined above (for a sanitized ray); false when
+/// the ray misses it.
 bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double& exit);
 
 }  // namespace vox

@@ -113,11 +113,12 @@ Ray adversarialRay(std::mt19937_64& rng, const vox::Dims& d) {
       r.dir[size_t(axis)] = 0;
       break;
     }
-    case 5:  // far away (1e6 voxels), aimed at the grid
+    case 5:  // far away (1e6 voxels; or 1e16, where plane times collide in double), aimed at the grid
     case 6: {
       double target[3];
+      const double far = unit(rng) < 0.7 ? 1e6 : 1e16;
       for (int a = 0; a < 3; ++a) target[a] = unit(rng) * ext[a];
-      for (int a = 0; a < 3; ++a) r.origin[size_t(a)] = target[a] + (unit(rng) * 2 - 1) * 1e6;
+      for (int a = 0; a < 3; ++a) r.origin[size_t(a)] = target[a] + (unit(rng) * 2 - 1) * far;
       for (int a = 0; a < 3; ++a) r.dir[size_t(a)] = target[a] - r.origin[size_t(a)];
       break;
     }
