@@ -31,15 +31,26 @@ void parallelRows(uint32_t height, unsigned threads, Fn&& rowFn) {
 
 }  // namespace
 
+PixelRays::PixelRays(const Camera& camera, const GridFrame& frame)
+    : m_(camera.cameraToWorld), invVoxelSize_(1.0 / frame.voxelSize), voxelSize_(frame.voxelSize) {
+  for (int a = 0; a < 3; ++a)
+    origin_[size_t(a)] = (camera.eye[size_t(a)] - frame.origin[size_t(a)]) / frame.voxelSize;
+  const Mat4d& P = camera.projection;
+  column_.resize(camera.width);
+  row_.resize(camera.height);
+  for (uint32_t x = 0; x < camera.width; ++x)
+    column_[x] = (2.0 * (double(x) + 0.5) / double(camera.width) - 1.0 + P[8]) / P[0];
+  for (uint32_t y = 0; y < camera.height; ++y)
+    row_[y] = (1.0 - 2.0 * (double(y) + 0.5) / double(camera.height) + P[9]) / P[5];
+}
+
+double PixelRays::worldDistance(const Ray& ray, double t) const {
+  const double l = std::sqrt(ray.dir[0] * ray.dir[0] + ray.dir[1] * ray.dir[1] + ray.dir[2] * ray.dir[2]);
+  return t * l * voxelSize_;
+}
+
 Ray gridRay(const Camera& camera, const GridFrame& frame, uint32_t x, uint32_t y) {
-  Vec3d o, d;
-  camera.pixelRay(x, y, o, d);
-  Ray r;
-  for (int a = 0; a < 3; ++a) {
-    r.origin[size_t(a)] = (o[size_t(a)] - frame.origin[size_t(a)]) / frame.voxelSize;
-    r.dir[size_t(a)] = d[size_t(a)] / frame.voxelSize;
-  }
-  return r;
+  return PixelRays(camera, frame).ray(x, y);
 }
 
 ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& camera, unsigned threads,
@@ -50,11 +61,13 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   out.pixels.resize(size_t(camera.width) * camera.height);
   std::atomic<uint64_t> hits{0}, steps{0};
   std::atomic<uint32_t> rowsDone{0};
+  const PixelRays rays(camera, frame);
   parallelRows(camera.height, threads, [&](uint32_t y) {
     uint64_t rowHits = 0, rowSteps = 0;
     PixelHit* row = out.pixels.data() + size_t(y) * camera.width;
     for (uint32_t x = 0; x < camera.width; ++x) {
-      const RayHit h = castRay(grid, gridRay(camera, frame, x, y));
+      const Ray ray = rays.ray(x, y);
+      const RayHit h = castRay(grid, ray);
       rowSteps += h.steps;
       PixelHit& p = row[x];
       if (!h.hit) continue;
@@ -63,7 +76,7 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
       p.u = h.voxel.u;
       p.v = h.voxel.v;
       p.w = h.voxel.w;
-      p.depth = float(h.t);
+      p.depth = float(rays.worldDistance(ray, h.t));
       p.faceAxis = int8_t(h.faceAxis);
       p.faceSign = int8_t(h.faceSign);
     }
@@ -85,11 +98,12 @@ ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, cons
   std::vector<uint8_t> differs(size_t(samples), 0);
   std::vector<RayHit> expected(static_cast<size_t>(samples));
   std::atomic<uint64_t> next{0};
+  const PixelRays rays(camera, frame);
   auto worker = [&] {
     for (uint64_t s; (s = next.fetch_add(1)) < samples;) {
       const uint64_t i = s * stride;
       const uint32_t x = uint32_t(i % hits.width), y = uint32_t(i / hits.width);
-      const RayHit ref = castRayBruteForce(occupied, gridRay(camera, frame, x, y));
+      const RayHit ref = castRayBruteForce(occupied, rays.ray(x, y));
       const PixelHit& got = hits.pixels[size_t(i)];
       const bool same = ref.hit == got.hit &&
                         (!ref.hit || (ref.voxel.u == got.u && ref.voxel.v == got.v && ref.voxel.w == got.w));

@@ -44,7 +44,34 @@ struct ViewHits {
   uint64_t steps = 0;  // DDA events over all rays
 };
 
-/// The grid-space ray of pixel (x, y).
+/// The grid-space rays of a camera's pixels, with the per-column and per-row
+/// terms computed once: ray(x, y) starts at the eye, (eye - origin) / voxelSize,
+/// along the camera's direction through the pixel centre (Camera::pixelRay's
+/// formula, not normalised) times 1 / voxelSize. Every caster and checker
+/// builds its rays here, so they trace bit-identical rays. Immutable after
+/// construction: thread-safe.
+class PixelRays {
+ public:
+  PixelRays(const Camera& camera, const GridFrame& frame);
+  Ray ray(uint32_t x, uint32_t y) const {
+    const double cx = column_[x], cy = row_[y];
+    Ray r;
+    r.origin = origin_;
+    for (int a = 0; a < 3; ++a)
+      r.dir[size_t(a)] = (m_[size_t(a)] * cx + m_[size_t(a) + 4] * cy - m_[size_t(a) + 8]) * invVoxelSize_;
+    return r;
+  }
+  /// World distance along `ray` (one of ours) for the ray parameter t.
+  double worldDistance(const Ray& ray, double t) const;
+
+ private:
+  std::array<double, 3> origin_{};
+  Mat4d m_{};  // camera -> world
+  double invVoxelSize_ = 1, voxelSize_ = 1;
+  std::vector<double> column_, row_;  // camera-space x and y of each pixel centre at z = -1
+};
+
+/// The grid-space ray of pixel (x, y) (PixelRays, for one-off use).
 Ray gridRay(const Camera& camera, const GridFrame& frame, uint32_t x, uint32_t y);
 
 /// Casts every pixel of `camera`. `progress` (may be empty) gets fractions.
