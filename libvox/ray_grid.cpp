@@ -63,6 +63,7 @@ void RayGrid::finish() {
   for (size_t i = 0; i < pending_.size(); ++i) order[i] = {sortKey(pending_[i].first), i};
   std::sort(order.begin(), order.end());
 
+  std::vector<uint64_t> brickKeys;  // non-empty bricks, for the distance field
   int32_t curSuper = -1;
   uint64_t curTop = ~uint64_t(0), curRegionKey = ~uint64_t(0), curBrickKey = ~uint64_t(0);
   int32_t curRegion = -1;
@@ -104,6 +105,7 @@ void RayGrid::finish() {
     const int bbit = int(skey & 511);
     regions_[size_t(curRegion)].mask[bbit >> 6] |= uint64_t(1) << (bbit & 63);
     bricks_.push_back(mask);
+    brickKeys.push_back(pending_[idx].first);
     curBrickKey = skey;
   }
   pending_.clear();
@@ -119,9 +121,56 @@ void RayGrid::finish() {
   };
   prefixes(supers_);
   prefixes(regions_);
+  buildDistanceField(brickKeys);
   occupied_ = 0;
   for (const Mask512& b : bricks_)
     for (uint64_t m : b) occupied_ += uint64_t(std::popcount(m));
+}
+
+void RayGrid::buildDistanceField(const std::vector<uint64_t>& brickKeys) {
+  brickDims_ = {(dims_.x + 7) / 8, (dims_.y + 7) / 8, (dims_.z + 7) / 8};
+  const size_t nx = brickDims_[0] + 2, ny = brickDims_[1] + 2, nz = brickDims_[2] + 2;
+  if (uint64_t(brickDims_[0]) * brickDims_[1] * brickDims_[2] > (uint64_t(1) << 24)) return;
+  // Chessboard distance by two raster passes over the 26-neighbourhood (each
+  // pass takes the 13 neighbours already visited), exact for the L-infinity
+  // metric; the padding ring stays 255 (far) so no bounds checks are needed.
+  brickDist_.assign(nx * ny * nz, 255);
+  for (uint64_t key : brickKeys) {
+    uint32_t bx, by, bz;
+    splitKey(key, bx, by, bz);
+    brickDist_[(size_t(bx + 1) * ny + (by + 1)) * nz + (bz + 1)] = 0;
+  }
+  uint8_t* d = brickDist_.data();
+  const ptrdiff_t sx = ptrdiff_t(ny * nz), sy = ptrdiff_t(nz);
+  std::vector<ptrdiff_t> before;  // offsets of the 13 neighbours earlier in raster order, minus the z-1 one
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const ptrdiff_t off = dx * sx + dy * sy + dz;
+        if (off < 0 && off != -1) before.push_back(off);
+      }
+  auto pass = [&](int dir) {
+    for (size_t xi = 1; xi + 1 < nx; ++xi) {
+      const size_t x = dir > 0 ? xi : nx - 1 - xi;
+      for (size_t yi = 1; yi + 1 < ny; ++yi) {
+        const size_t y = dir > 0 ? yi : ny - 1 - yi;
+        uint8_t* row = d + x * size_t(sx) + y * size_t(sy);
+        for (size_t z = 1; z + 1 < nz; ++z) {
+          int m = row[z];
+          for (ptrdiff_t off : before) m = std::min<int>(m, row[ptrdiff_t(z) + dir * off] + 1);
+          row[z] = uint8_t(std::min(m, 255));
+        }
+        if (dir > 0)
+          for (size_t z = 1; z + 1 < nz; ++z) row[z] = uint8_t(std::min<int>(row[z], row[z - 1] + 1));
+        else
+          for (size_t z = nz - 2; z >= 1; --z) row[z] = uint8_t(std::min<int>(row[z], row[z + 1] + 1));
+      }
+    }
+  };
+  pass(+1);
+  pass(-1);
+  // The padding ring was a stand-in for "far": it holds no brick, and is read
+  // by nobody (queries are for bricks inside the domain).
 }
 
 int RayGrid::probe(int64_t u, int64_t v, int64_t w, const Mask512** brick) const {
@@ -147,7 +196,7 @@ bool RayGrid::occupied(int64_t u, int64_t v, int64_t w) const {
 
 size_t RayGrid::memoryBytes() const {
   return top_.size() * sizeof(int32_t) + (supers_.size() + regions_.size()) * sizeof(Node) +
-         bricks_.size() * sizeof(Mask512);
+         bricks_.size() * sizeof(Mask512) + brickDist_.size();
 }
 
 void RayGrid::forEachOccupied(const std::function<void(uint32_t, uint32_t, uint32_t)>& fn) const {

@@ -28,6 +28,15 @@
 
 namespace vox {
 
+/// Bit count without a libgcc call: Debian's x86-64 baseline has no POPCNT, and
+/// __builtin_popcountll then becomes a function call in the hottest loop.
+inline uint32_t popcount64(uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return uint32_t((x * 0x0101010101010101ull) >> 56);
+}
+
 class RayGrid {
   struct Node;  // defined below
 
@@ -63,6 +72,16 @@ class RayGrid {
 
   static int bitOf(uint32_t x, uint32_t y, uint32_t z) { return int((x << 6) | (y << 3) | z); }
 
+  /// Chebyshev distance, in bricks, from brick (bx, by, bz) (inside the
+  /// domain) to the nearest non-empty brick, capped at 255: every brick closer
+  /// than that is empty (bricks outside the domain are empty). 0 for a
+  /// non-empty brick; 1 when the grid has no distance field (domains of more
+  /// than 2^24 bricks). Lets a ray jump over many empty cells at once.
+  uint32_t emptyBricksAround(int64_t bx, int64_t by, int64_t bz) const {
+    if (brickDist_.empty()) return 1;
+    return brickDist_[(size_t(bx + 1) * (brickDims_[1] + 2) + size_t(by + 1)) * (brickDims_[2] + 2) + size_t(bz + 1)];
+  }
+
   /// probe() with the last super-region, region and brick remembered, so a ray
   /// walking through neighbouring voxels mostly skips the upper levels (each
   /// level is a dependent load that misses the cache on large grids). One per
@@ -90,7 +109,7 @@ class RayGrid {
     uint32_t child(int bit) const {
       const int word = bit >> 6, b = bit & 63;
       const uint64_t below = b ? (mask[size_t(word)] & ((uint64_t(1) << b) - 1)) : 0;
-      return base + prefix[size_t(word)] + uint32_t(__builtin_popcountll(below));
+      return base + prefix[size_t(word)] + popcount64(below);
     }
     bool has(int bit) const { return (mask[bit >> 6] >> (bit & 63)) & 1; }
   };
@@ -99,6 +118,9 @@ class RayGrid {
   std::vector<int32_t> top_;
   std::vector<Node> supers_, regions_;
   std::vector<Mask512> bricks_;
+  std::array<uint32_t, 3> brickDims_{};
+  std::vector<uint8_t> brickDist_;  // (bx+1, by+1, bz+1) in a 1-brick padded box; see emptyBricksAround
+  void buildDistanceField(const std::vector<uint64_t>& brickKeys);
   std::vector<std::pair<uint64_t, Mask512>> pending_;  // (brick key, mask) until finish()
   uint64_t occupied_ = 0;
   bool finished_ = false;

@@ -92,7 +92,8 @@ struct Frame {
 
 }  // namespace
 
-Ray sanitizeRay(const Ray& ray) {
+namespace {
+inline Ray sanitized(const Ray& ray) {
   Ray r = ray;
   double m = 0;
   for (double d : r.dir) m = std::max(m, std::fabs(d));
@@ -100,6 +101,9 @@ Ray sanitizeRay(const Ray& ray) {
     if (std::fabs(d) < m * 1e-200 || std::fabs(d) < 1e-290) d = 0;
   return r;
 }
+}  // namespace
+
+Ray sanitizeRay(const Ray& ray) { return sanitized(ray); }
 
 bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double& exit) {
   enter = -kInf;
@@ -120,7 +124,7 @@ bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double
 }
 
 RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& rayIn) {
-  const Ray ray = sanitizeRay(rayIn);
+  const Ray ray = sanitized(rayIn);
   RayHit best;
   for (const Coord3& c : occupied) {
     double enter, exit;
@@ -138,7 +142,7 @@ RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& rayIn) {
 }
 
 RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
-  const Ray ray = sanitizeRay(rayIn);
+  const Ray ray = sanitized(rayIn);
   RayHit result;
   const Dims& dims = grid.dims();
   const int64_t n[3] = {int64_t(dims.x), int64_t(dims.y), int64_t(dims.z)};
@@ -287,11 +291,13 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
       continue;
     }
     if (stationarySingle) {
-      // In empty space: step from cell to cell of the coarsest empty level
+      // In empty space: move from cell to cell of the coarsest empty level
       // (8^3, 64^3 or 512^3 voxels) while each event crosses exactly one cell
-      // face. The voxels touched there lie in the cell left (empty) and the
-      // cell entered; while the entered cell is empty too, no fine index is
-      // needed. When it is not, or on a tie, go back to an exact general event.
+      // face; the voxels touched there lie in the cell left (empty) and the
+      // cell entered, so while the entered cell is empty too no voxel index is
+      // needed. Where the brick distance field says the k-cell box around the
+      // current cell is empty, jump to that box's exit instead. A non-empty
+      // cell, or a tie, goes back to an exact general event.
       int L = minLevel;
       int64_t cur[3], cell[3];
       double tN[3];
@@ -303,25 +309,78 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
           tN[a] = f.moving[a] ? f.time(a, (cell[a] + 1) << (3 * L)) : kInf;
         }
       };
+      // Cells of level L around `voxel`'s cell known empty on every side: the
+      // brick distance kb covers k cells of m = 8^(L-1) bricks when k m <= kb.
+      auto jumpCells = [&](const int64_t* voxel) -> int64_t {
+        const uint32_t kb = grid.emptyBricksAround(f.real(0, voxel[0]) >> 3, f.real(1, voxel[1]) >> 3,
+                                                   f.real(2, voxel[2]) >> 3);
+        const int64_t k = int64_t(kb) >> (3 * (L - 1));
+        return k < 1 ? 1 : k;
+      };
       setLevel(L);
+      int64_t k = jumpCells(cur);
+      // The exact voxels touched at Tn (cells known on every axis), for a general event.
+      auto exactAt = [&](double Tn, const int64_t* far, const double* tFar) {
+        for (int a = 0; a < 3; ++a) {
+          if (!f.moving[a]) continue;
+          const int64_t first = cell[a] << (3 * L);
+          f.range(a, Tn, tFar[a] == Tn ? far[a] : f.guess(a, Tn, first, far[a] - 1), lo[a], hi[a]);
+        }
+        T = Tn;
+      };
       for (;;) {
-        const int a0 = tN[0] <= tN[1] ? (tN[0] <= tN[2] ? 0 : 2) : (tN[1] <= tN[2] ? 1 : 2);
-        const double Tn = tN[a0];
-        const int64_t P = (cell[a0] + 1) << (3 * L);  // the plane crossed at Tn
-        const int crossing = int(tN[0] == Tn) + int(tN[1] == Tn) + int(tN[2] == Tn);
-        if (crossing > 1 || !(f.time(a0, P - 1) < Tn) || !(f.time(a0, P + 1) > Tn)) {
+        int64_t far[3] = {0, 0, 0};
+        double tFar[3] = {kInf, kInf, kInf};
+        if (k == 1) {
+          for (int a = 0; a < 3; ++a) {
+            far[a] = (cell[a] + 1) << (3 * L);
+            tFar[a] = tN[a];
+          }
+        } else {
           for (int a = 0; a < 3; ++a) {
             if (!f.moving[a]) continue;
-            const int64_t first = cell[a] << (3 * L), last = ((cell[a] + 1) << (3 * L)) - 1;
-            f.range(a, Tn, tN[a] == Tn ? last + 1 : f.guess(a, Tn, first, last), lo[a], hi[a]);
+            far[a] = (cell[a] + k) << (3 * L);
+            tFar[a] = f.time(a, far[a]);
           }
-          T = Tn;
+        }
+        const int a0 = tFar[0] <= tFar[1] ? (tFar[0] <= tFar[2] ? 0 : 2) : (tFar[1] <= tFar[2] ? 1 : 2);
+        const double Tn = tFar[a0];
+        const int64_t P = far[a0];  // the plane crossed at Tn
+        const int crossing = int(tFar[0] == Tn) + int(tFar[1] == Tn) + int(tFar[2] == Tn);
+        if (crossing > 1 || !(f.time(a0, P - 1) < Tn) || !(f.time(a0, P + 1) > Tn)) {
+          exactAt(Tn, far, tFar);
           break;
         }
-        if (P >= f.dhi[a0]) return result;  // out of the domain; the cell left was empty
+        if (P >= f.dhi[a0]) return result;  // out of the domain; the box left was empty
+        if (k > 1) {
+          // Which cell of the box each other axis is in at Tn; a cell face
+          // exactly at Tn is a tie.
+          bool tie = false;
+          int64_t moved[3];
+          for (int a = 0; a < 3; ++a) {
+            moved[a] = cell[a];
+            if (!f.moving[a] || a == a0) continue;
+            const int64_t shift = 3 * L;
+            int64_t c = f.guess(a, Tn, cell[a] << shift, far[a] - 1) >> shift;
+            while (c > cell[a] && f.time(a, c << shift) > Tn) --c;
+            while (c < cell[a] + k - 1 && f.time(a, (c + 1) << shift) <= Tn) ++c;
+            if (f.time(a, c << shift) == Tn) tie = true;
+            moved[a] = c;
+          }
+          if (tie) {
+            exactAt(Tn, far, tFar);
+            break;
+          }
+          for (int a = 0; a < 3; ++a) {
+            if (!f.moving[a] || a == a0) continue;
+            cell[a] = moved[a];
+            cur[a] = cell[a] << (3 * L);  // any voxel of the cell will do for setLevel
+            tN[a] = f.time(a, (cell[a] + 1) << (3 * L));
+          }
+        }
         ++result.steps;
         cur[a0] = P;
-        ++cell[a0];
+        cell[a0] = P >> (3 * L);
         tN[a0] = f.time(a0, (cell[a0] + 1) << (3 * L));
         // The entered cell's emptiness, from any of its voxels inside the domain.
         int64_t rep[3];
@@ -345,6 +404,7 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
           T = Tn;
           break;
         }
+        k = jumpCells(rep);
       }
       continue;
     }

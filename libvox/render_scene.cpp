@@ -20,7 +20,9 @@ RayGrid rayGridFromScene(const Scene& scene) {
   // Active tiles (constant blocks of 8^3 or more): every brick they cover is full.
   RayGrid::Mask512 full;
   full.fill(~uint64_t(0));
-  for (auto it = tree.cbeginValueOn(); it; ++it) {
+  auto it = tree.cbeginValueOn();
+  it.setMaxDepth(openvdb::BoolTree::ValueOnCIter::LEAF_DEPTH - 1);  // tiles only, not every voxel
+  for (; it; ++it) {
     if (it.isVoxelValue()) continue;
     const openvdb::CoordBBox b = it.getBoundingBox();
     const openvdb::Coord lo = openvdb::Coord::maxComponent(b.min(), openvdb::Coord(0));

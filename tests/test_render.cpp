@@ -262,6 +262,37 @@ TEST(RayGrid, ProbeLevelsAndOccupancy) {
   EXPECT_EQ(seen.size(), 3u);
 }
 
+TEST(RayGrid, BrickDistanceFieldIsTheExactChebyshevDistance) {
+  // Against brute force: the distance from every brick to the nearest
+  // non-empty one (the caster jumps over boxes this distance says are empty,
+  // so an overestimate would skip voxels).
+  std::mt19937_64 rng(99);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::uniform_int_distribution<uint32_t> side(1, 300);
+    const vox::Dims dims{side(rng), side(rng) / 3 + 1, side(rng)};
+    RayGrid g(dims);
+    std::vector<std::array<int64_t, 3>> full;
+    std::uniform_real_distribution<double> unit(0, 1);
+    const int n = 1 + int(unit(rng) * 12);
+    for (int i = 0; i < n; ++i) {
+      const uint32_t u = uint32_t(unit(rng) * dims.x), v = uint32_t(unit(rng) * dims.y), w = uint32_t(unit(rng) * dims.z);
+      g.addVoxel(u, v, w);
+      full.push_back({u >> 3, v >> 3, w >> 3});
+    }
+    g.finish();
+    const int64_t bx = (dims.x + 7) / 8, by = (dims.y + 7) / 8, bz = (dims.z + 7) / 8;
+    for (int64_t x = 0; x < bx; ++x)
+      for (int64_t y = 0; y < by; ++y)
+        for (int64_t z = 0; z < bz; ++z) {
+          int64_t best = 255;
+          for (const auto& f : full)
+            best = std::min(best, std::max({std::abs(f[0] - x), std::abs(f[1] - y), std::abs(f[2] - z)}));
+          ASSERT_EQ(g.emptyBricksAround(x, y, z), uint32_t(best)) << "brick " << x << "," << y << "," << z << " of "
+                                                                  << vox::toString(dims);
+        }
+  }
+}
+
 TEST(Camera, LookAtAndPerspectiveEqualHandComputedMatrices) {
   // Eye on +z looking at the origin: the view is a translation by -5 along z.
   const vox::Mat4d v = vox::lookAtMatrix({0, 0, 5}, {0, 0, 0}, {0, 1, 0});

@@ -349,6 +349,8 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
                   {"rays_per_second", castSeconds > 0 ? double(rays) / castSeconds : 0.0},
                   {"mrays_per_second", mrays},
                   {"cast_seconds", castSeconds},
+                  {"read_seconds", in.readSeconds},
+                  {"ray_grid_seconds", in.gridSeconds},
                   {"files", planned.size() + (o.touched.empty() ? 0 : 1)}};
   if (!hitKeys.empty()) run.counts()["voxels_touched"] = hitKeys.size();
   if (o.check) run.error() = checkJson;

@@ -1,5 +1,6 @@
 #include "tools/render_input.h"
 
+#include <chrono>
 #include <nlohmann/json.hpp>
 
 #include "formats/scene_vdb.h"
@@ -62,6 +63,8 @@ std::vector<vox::SummaryTexel> RenderInput::summaries(std::span<const vox::Coord
 
 RenderInput loadRenderInput(const std::string& path, int level, bool needSummaries) {
   RenderInput in;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
   in.path = path;
   in.level = level;
   if (vox::pagefile::looksLikePageFile(path)) {
@@ -76,7 +79,10 @@ RenderInput loadRenderInput(const std::string& path, int level, bool needSummari
     in.frame.origin = h.origin;
     in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << level);
     in.classes = pageClasses(*in.pages);
+    const auto t1 = std::chrono::steady_clock::now();
     in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromPages(*in.pages, level));
+    in.readSeconds = seconds(t0, t1);
+    in.gridSeconds = seconds(t1, std::chrono::steady_clock::now());
     return in;
   }
   if (level != 0) vox::throwUsage("--level " + std::to_string(level) + ": only page files (.vpk) hold levels; " + path + " is a scene");
@@ -87,7 +93,10 @@ RenderInput loadRenderInput(const std::string& path, int level, bool needSummari
   in.frame.origin = h.origin;
   in.frame.voxelSize = h.voxelSize;  // already the level's voxel size for mip scenes
   in.classes = h.classes;
+  const auto t1 = std::chrono::steady_clock::now();
   in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromScene(*in.scene));
+  in.readSeconds = seconds(t0, t1);
+  in.gridSeconds = seconds(t1, std::chrono::steady_clock::now());
   return in;
 }
 

@@ -23,6 +23,7 @@ struct RenderInput {
   std::optional<vox::Scene> scene;
   std::optional<vox::pagefile::Reader> pages;
   std::unique_ptr<vox::RayGrid> grid;
+  double readSeconds = 0, gridSeconds = 0;  // reading the file, building the ray grid
 
   /// Summary bytes of `voxels` (empty voxels: zeros).
   std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const;
