@@ -44,6 +44,11 @@ struct Image {
 /// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
 /// `zlibLevel` 0..9 (6 is libpng's and OpenImageIO's default). Throws vox::Error (Io).
 void writePng(const Image& image, const std::string& path, int zlibLevel = 6);
+/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
+/// deflated in up to 16 row slices on `threads` threads (formats/image_png_parallel.cpp).
+/// The bytes depend on the image only, not on `threads`; they differ from
+/// writePng's (one deflate stream) but decode to the same pixels.
+void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);
 /// Reads 8/16-bit gray/GA/RGB/RGBA PNGs (palette and < 8-bit images are expanded
 /// to 8 bits). Throws vox::Error (BadInput) naming the file.
 Image readPng(const std::string& path);

@@ -142,6 +142,11 @@ RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& rayIn) {
 }
 
 RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
+  RayGrid::Cursor cursor(grid);
+  return castRay(grid, rayIn, cursor);
+}
+
+RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
   const Ray ray = sanitized(rayIn);
   RayHit result;
   const Dims& dims = grid.dims();
@@ -184,7 +189,6 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
   for (int a = 0; a < 3; ++a)
     if (f.moving[a]) f.range(a, T, f.guess(a, T, f.dlo[a] - 1, f.dhi[a]), lo[a], hi[a]);
 
-  RayGrid::Cursor cursor(grid);
   auto probe = [&](int64_t u, int64_t v, int64_t w, bool& occ) { return cursor.probe(u, v, w, occ); };
 
   for (;;) {

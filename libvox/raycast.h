@@ -54,6 +54,9 @@ struct RayHit {
 
 /// The first occupied voxel of `grid` along `ray` (see the header comment).
 RayHit castRay(const RayGrid& grid, const Ray& ray);
+/// The same, reusing `cursor` (of the same grid) across rays: neighbouring
+/// rays then find their first cells in cache. One cursor per thread.
+RayHit castRay(const RayGrid& grid, const Ray& ray, RayGrid::Cursor& cursor);
 
 /// The same answer by testing every voxel in `occupied` (any order).
 RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray);

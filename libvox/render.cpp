@@ -65,9 +65,10 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   parallelRows(camera.height, threads, [&](uint32_t y) {
     uint64_t rowHits = 0, rowSteps = 0;
     PixelHit* row = out.pixels.data() + size_t(y) * camera.width;
+    RayGrid::Cursor cursor(grid);
     for (uint32_t x = 0; x < camera.width; ++x) {
       const Ray ray = rays.ray(x, y);
-      const RayHit h = castRay(grid, ray);
+      const RayHit h = castRay(grid, ray, cursor);
       rowSteps += h.steps;
       PixelHit& p = row[x];
       if (!h.hit) continue;

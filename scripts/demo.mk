@@ -6,8 +6,13 @@ OUT ?= out
 RES ?= 256
 MAP := scripts/demo/village_map.json
 
+CAMERA := --eye 20,15,20 --target 0,2,0 --fov 40 --size 1280x720
+
 all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.info.txt \
-     $(OUT)/atlas/hamlet.atlas.json $(OUT)/atlas/hamlet.verify.txt $(OUT)/bijection.txt
+     $(OUT)/atlas/hamlet.atlas.json $(OUT)/atlas/hamlet.verify.txt $(OUT)/bijection.txt \
+     $(OUT)/hamlet_mips.vdb $(OUT)/hamlet.vpk.verify.txt \
+     $(OUT)/render/hamlet.canonical.png $(OUT)/render/hamlet.verify.txt $(OUT)/render/pages.verify.txt \
+     $(OUT)/render/village.png
 	@echo
 	@echo "demo outputs in $(OUT)/:"
 	@ls -l $(OUT) | tail -n +2
@@ -18,6 +23,11 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
 	@echo "  atlas/             hamlet atlases: summary RGBA8, identity, per-class votes, 1/2-bit bitmaps (PNG)"
 	@echo "  atlas/hamlet.verify.txt  every atlas checked texel by texel against the scene"
 	@echo "  bijection.txt      proof of the $(RES)^3 voxel<->texel mapping"
+	@echo "  hamlet_mips.vdb    LOD pyramid (levels 1..n, error per level vs the hamlet voxelized directly: hamlet_mips.report.json)"
+	@echo "  hamlet.vpk         page file of the hamlet and its mips (16^3 chunks), verified: hamlet.vpk.verify.txt"
+	@echo "  render/            hamlet.{canonical,shaded,class,normal}.png, hamlet.depth.exr from one exact pass (checked"
+	@echo "                     pixel by pixel against a brute-force caster), the chunks it touched (hamlet.touched.json),"
+	@echo "                     the same view from the page file, and village.png (the block map, shaded)"
 
 $(OUT):
 	mkdir -p $(OUT)
@@ -37,9 +47,35 @@ $(OUT)/atlas/hamlet.verify.txt: $(OUT)/atlas/hamlet.atlas.json
 $(OUT)/bijection.txt:
 	$(VOX) verify-bijection --res $(RES) > $@.tmp && mv $@.tmp $@
 
+$(OUT)/hamlet_mips.vdb: $(OUT)/hamlet.vdb
+	$(VOX) mip $< -o $@ --source demo:hamlet --depfile $@.d --report $(OUT)/hamlet_mips.report.json
+
+$(OUT)/hamlet.vpk: $(OUT)/hamlet_mips.vdb
+	$(VOX) pack-chunks $< -o $@ --mips --depfile $@.d --report $(OUT)/hamlet.vpk.report.json
+
+$(OUT)/hamlet.vpk.verify.txt: $(OUT)/hamlet.vpk
+	$(VOX) pack-chunks --verify $< > $@.tmp 2>&1 && mv $@.tmp $@
+
+$(OUT)/render/hamlet.canonical.png: $(OUT)/hamlet.vdb
+	mkdir -p $(OUT)/render
+	$(VOX) render-canonical $< -o $(OUT)/render/hamlet.png $(CAMERA) --mode canonical,shaded,class,depth,normal \
+	  --touched $(OUT)/render/hamlet.touched.json --check --depfile $@.d --report $(OUT)/render/hamlet.report.json
+
+$(OUT)/render/hamlet.verify.txt: $(OUT)/render/hamlet.canonical.png
+	$(VOX) verify-bijection --canonical $< --scene $(OUT)/hamlet.vdb > $@.tmp && mv $@.tmp $@
+
+$(OUT)/render/pages.verify.txt: $(OUT)/hamlet.vpk
+	mkdir -p $(OUT)/render
+	$(VOX) render-canonical $< -o $(OUT)/render/pages.png $(CAMERA)
+	$(VOX) verify-bijection --canonical $(OUT)/render/pages.png --scene $(OUT)/hamlet.vdb > $@.tmp && mv $@.tmp $@
+
+$(OUT)/render/village.png: $(OUT)/village.vdb scripts/demo/village_cameras.json
+	mkdir -p $(OUT)/render
+	$(VOX) render-canonical $< -o $@ --camera scripts/demo/village_cameras.json --view 0 --mode shaded --depfile $@.d
+
 $(OUT)/%.info.txt: $(OUT)/%.vdb
 	$(VOX) info $< > $@.tmp && mv $@.tmp $@
 
--include $(wildcard $(OUT)/*.d $(OUT)/atlas/*.d)
+-include $(wildcard $(OUT)/*.d $(OUT)/atlas/*.d $(OUT)/render/*.d)
 
 .PHONY: all

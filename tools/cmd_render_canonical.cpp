@@ -286,7 +286,7 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
     img.text = {{"vox:canonical", meta.dump()}, {"Software", vox::versionString()}};
     const std::string tmp = run.output(pl.path);
     if (exr) vox::writeExr(img, tmp, vox::ExrCompression::Zip);
-    else vox::writePng(img, tmp, o.compression);
+    else vox::writePngParallel(img, tmp, o.compression, run.threads());
   }
 
   // The touched set: chunks of C^3 voxels with the count of distinct voxels hit.
