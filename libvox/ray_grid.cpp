@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <climits>
 
 #include "libvox/error.h"
 
@@ -122,6 +123,22 @@ void RayGrid::finish() {
   prefixes(supers_);
   prefixes(regions_);
   buildDistanceField(brickKeys);
+  if (!brickKeys.empty()) {
+    std::array<int64_t, 3> lo{INT64_MAX, INT64_MAX, INT64_MAX}, hi{-1, -1, -1};
+    for (uint64_t key : brickKeys) {
+      uint32_t b[3];
+      splitKey(key, b[0], b[1], b[2]);
+      for (int a = 0; a < 3; ++a) {
+        lo[size_t(a)] = std::min<int64_t>(lo[size_t(a)], b[a]);
+        hi[size_t(a)] = std::max<int64_t>(hi[size_t(a)], b[a]);
+      }
+    }
+    const int64_t n[3] = {dims_.x, dims_.y, dims_.z};
+    for (int a = 0; a < 3; ++a) {
+      contentMin_[size_t(a)] = lo[size_t(a)] * 8;
+      contentEnd_[size_t(a)] = std::min<int64_t>((hi[size_t(a)] + 1) * 8, n[a]);
+    }
+  }
   occupied_ = 0;
   for (const Mask512& b : bricks_)
     for (uint64_t m : b) occupied_ += uint64_t(std::popcount(m));

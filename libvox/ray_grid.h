@@ -65,6 +65,10 @@ class RayGrid {
   bool occupied(int64_t u, int64_t v, int64_t w) const;
 
   uint64_t occupiedCount() const { return occupied_; }
+  /// [contentMin, contentEnd): a box of whole bricks (clipped to the domain)
+  /// holding every occupied voxel. Empty grid: both zero.
+  const std::array<int64_t, 3>& contentMin() const { return contentMin_; }
+  const std::array<int64_t, 3>& contentEnd() const { return contentEnd_; }
   size_t brickCount() const { return bricks_.size(); }
   size_t memoryBytes() const;
   /// Every occupied voxel, in brick order then bit order. Serial.
@@ -119,6 +123,7 @@ class RayGrid {
   std::vector<Node> supers_, regions_;
   std::vector<Mask512> bricks_;
   std::array<uint32_t, 3> brickDims_{};
+  std::array<int64_t, 3> contentMin_{}, contentEnd_{};
   std::vector<uint8_t> brickDist_;  // (bx+1, by+1, bz+1) in a 1-brick padded box; see emptyBricksAround
   void buildDistanceField(const std::vector<uint64_t>& brickKeys);
   std::vector<std::pair<uint64_t, Mask512>> pending_;  // (brick key, mask) until finish()

@@ -149,22 +149,26 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
 RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
   const Ray ray = sanitized(rayIn);
   RayHit result;
-  const Dims& dims = grid.dims();
-  const int64_t n[3] = {int64_t(dims.x), int64_t(dims.y), int64_t(dims.z)};
+  // The ray is clipped to the box of non-empty bricks rather than the whole
+  // domain: voxels outside it are empty, so the answer is the same and rays
+  // that pass beside the content stop at once.
+  if (grid.occupiedCount() == 0) return result;
+  const std::array<int64_t, 3>& b0 = grid.contentMin();
+  const std::array<int64_t, 3>& b1 = grid.contentEnd();
   Frame f;
   int64_t lo[3], hi[3];
   int movingCount = 0;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
     if (d == 0) {
-      // Not moving on this axis: the indices i with i <= o <= i + 1, clipped to the domain.
-      if (!(o >= 0 && o <= double(n[a]))) return result;
+      // Not moving on this axis: the indices i with i <= o <= i + 1, clipped to the box.
+      if (!(o >= double(b0[a]) && o <= double(b1[a]))) return result;
       const double fl = std::floor(o);
-      hi[a] = std::min<int64_t>(int64_t(fl), n[a] - 1);
-      lo[a] = (fl == o) ? std::max<int64_t>(int64_t(fl) - 1, 0) : int64_t(fl);
+      hi[a] = std::min<int64_t>(int64_t(fl), b1[a] - 1);
+      lo[a] = (fl == o) ? std::max<int64_t>(int64_t(fl) - 1, b0[a]) : int64_t(fl);
       f.o[a] = o;
-      f.dlo[a] = 0;
-      f.dhi[a] = n[a];
+      f.dlo[a] = b0[a];
+      f.dhi[a] = b1[a];
       continue;
     }
     ++movingCount;
@@ -173,8 +177,8 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
     f.o[a] = f.flip[a] ? -o : o;
     f.d[a] = f.flip[a] ? -d : d;
     f.inv[a] = 1.0 / f.d[a];  // == -(1.0 / d) when flipped, bit for bit
-    f.dlo[a] = f.flip[a] ? -n[a] : 0;
-    f.dhi[a] = f.flip[a] ? 0 : n[a];
+    f.dlo[a] = f.flip[a] ? -b1[a] : b0[a];
+    f.dhi[a] = f.flip[a] ? -b0[a] : b1[a];
   }
   if (movingCount == 0) return result;
 
