@@ -166,17 +166,25 @@ void RayGrid::buildDistanceField(const std::vector<uint64_t>& brickKeys) {
         const ptrdiff_t off = dx * sx + dy * sy + dz;
         if (off < 0 && off != -1) before.push_back(off);
       }
+  // Per row: the 12 neighbours in other rows (already final in this pass) in
+  // loops over z that compilers vectorise, then the z-1 (or z+1) neighbour in
+  // a sequential scan.
+  std::vector<uint8_t> m(nz);
   auto pass = [&](int dir) {
     for (size_t xi = 1; xi + 1 < nx; ++xi) {
       const size_t x = dir > 0 ? xi : nx - 1 - xi;
       for (size_t yi = 1; yi + 1 < ny; ++yi) {
         const size_t y = dir > 0 ? yi : ny - 1 - yi;
         uint8_t* row = d + x * size_t(sx) + y * size_t(sy);
-        for (size_t z = 1; z + 1 < nz; ++z) {
-          int m = row[z];
-          for (ptrdiff_t off : before) m = std::min<int>(m, row[ptrdiff_t(z) + dir * off] + 1);
-          row[z] = uint8_t(std::min(m, 255));
+        for (size_t z = 0; z < nz; ++z) m[z] = row[z];
+        for (ptrdiff_t off : before) {
+          const uint8_t* nb = row + dir * off;
+          for (size_t z = 1; z + 1 < nz; ++z) {
+            const uint8_t v = uint8_t(nb[z] + (nb[z] != 255));  // +1, saturating at 255
+            m[z] = m[z] < v ? m[z] : v;
+          }
         }
+        for (size_t z = 1; z + 1 < nz; ++z) row[z] = m[z];
         if (dir > 0)
           for (size_t z = 1; z + 1 < nz; ++z) row[z] = uint8_t(std::min<int>(row[z], row[z - 1] + 1));
         else
