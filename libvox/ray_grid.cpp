@@ -72,8 +72,9 @@ void RayGrid::finish() {
     uint32_t bx, by, bz;
     splitKey(pending_[idx].first, bx, by, bz);
     Mask512 mask = pending_[idx].second;
-    // Drop bits outside the domain (partial bricks on the far faces).
-    for (int b = 0; b < 512; ++b) {
+    // Drop bits outside the domain (partial bricks on the far faces only).
+    const bool partial = (bx + 1) * 8 > dims_.x || (by + 1) * 8 > dims_.y || (bz + 1) * 8 > dims_.z;
+    for (int b = 0; partial && b < 512; ++b) {
       if (!((mask[b >> 6] >> (b & 63)) & 1)) continue;
       const uint32_t u = bx * 8 + uint32_t(b >> 6), v = by * 8 + uint32_t((b >> 3) & 7), w = bz * 8 + uint32_t(b & 7);
       if (u >= dims_.x || v >= dims_.y || w >= dims_.z) mask[b >> 6] &= ~(uint64_t(1) << (b & 63));
