@@ -49,6 +49,11 @@ struct Cursor {
   throwBadInput(name + ":" + std::to_string(line) + ": " + what);
 }
 
+/// sRGB-encoded [0, 1] to linear (the sRGB transfer function).
+float srgbUnitToLinear(double c) {
+  return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+
 double number(Cursor& c, const std::string& name, const char* what) {
   c.skipSpaces();
   double v = 0;
@@ -159,6 +164,11 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
   std::vector<Corner> face;
   std::vector<uint32_t> vertexOfObj;  // objPositions index -> mesh vertex (no texcoord)
+  std::vector<uint32_t> objOfVertex;  // mesh vertex -> objPositions index (for vertex colours)
+  // "v x y z r g b [a]" (MeshLab, ZBrush and most scanners): colours in [0, 1]
+  // written from 8-bit sRGB, so they are decoded to linear like PLY bytes.
+  std::vector<std::array<float, 4>> objColors;
+  bool anyVertexColor = false;
   size_t invalidVertices = 0, firstInvalidLine = 0, firstInvalidVertex = 0;  // NaN/Inf "v" lines
 
   auto resolve = [&](int64_t idx, size_t count, size_t line, const char* what) -> uint32_t {
@@ -173,6 +183,7 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       if (vertexOfObj[c.v] == UINT32_MAX) {
         vertexOfObj[c.v] = uint32_t(mesh.positions.size());
         mesh.positions.push_back(objPositions[c.v]);
+        objOfVertex.push_back(c.v);
         if (!mesh.uv0.empty()) mesh.uv0.push_back({0, 0});  // keep uv0 parallel once it exists
       }
       return vertexOfObj[c.v];
@@ -181,6 +192,7 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
     auto [it, inserted] = splitIndex.emplace(key, uint32_t(mesh.positions.size()));
     if (inserted) {
       mesh.positions.push_back(objPositions[c.v]);
+      objOfVertex.push_back(c.v);
       mesh.uv0.resize(mesh.positions.size() - 1, {0, 0});
       // OBJ's v grows upwards; glTF's t (which the voxelizer samples) downwards.
       mesh.uv0.push_back({texcoords[size_t(c.vt)][0], 1.0f - texcoords[size_t(c.vt)][1]});
@@ -204,6 +216,24 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       }
       objPositions.push_back(p);
       vertexOfObj.push_back(UINT32_MAX);
+      // Optional trailing numbers: w (1 value, ignored), r g b (3) or r g b a (4).
+      double extra[4];
+      int n = 0;
+      for (c.skipSpaces(); !c.atEol() && *c.p != '#'; c.skipSpaces()) {
+        if (n == 4) bad(name, c.line, "a vertex has more than 7 numbers; expected x y z [w] or x y z r g b [a]");
+        extra[n++] = number(c, name, "a vertex colour");
+      }
+      std::array<float, 4> color{1, 1, 1, 1};
+      if (n == 2) bad(name, c.line, "a vertex has 5 numbers; expected x y z [w] or x y z r g b [a]");
+      if (n >= 3) {
+        for (int k = 0; k < n; ++k)
+          if (!(extra[k] >= 0 && extra[k] <= 1))
+            bad(name, c.line, "vertex colour component " + std::to_string(extra[k]) + " is outside [0, 1]");
+        for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbUnitToLinear(extra[k]);
+        if (n == 4) color[3] = float(extra[3]);
+        anyVertexColor = true;
+      }
+      objColors.push_back(color);
     } else if (key == "vt") {
       const float s = float(number(c, name, "a texture coordinate"));
       c.skipSpaces();
@@ -296,6 +326,10 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
   }
   if (mesh.materials.empty()) mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   if (!mesh.uv0.empty()) mesh.uv0.resize(mesh.positions.size(), {0, 0});
+  if (anyVertexColor) {  // vertices written without a colour are white
+    mesh.colors.resize(mesh.positions.size());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.colors[i] = objColors[objOfVertex[i]];
+  }
   // Name the first bad "v" line (the generic check below only knows mesh vertex numbers).
   if (invalidVertices && !options.dropInvalid)
     bad(name, firstInvalidLine,

@@ -735,3 +735,26 @@ TEST(MeshIoData, PrimitiveModesAndBadFiles) {
   EXPECT_EQ(box.filesRead.size(), 3u) << "gltf, bin, png";
   EXPECT_EQ(box.textures.size(), 1u);
 }
+
+TEST(ObjIo, VertexColoursAreSrgbDecodedAndOptionalPerVertex) {
+  voxtest::TempDir dir;
+  // Vertex 1: sRGB 0.5 grey; vertex 2: red with alpha; vertex 3: x y z w (no colour: white).
+  voxtest::writeText(dir.file("c.obj"), "v 0 0 0 0.5 0.5 0.5\nv 1 0 0 1 0 0 0.25\nv 0 1 0 1.0\nf 1 2 3\n");
+  const Mesh m = read(dir.file("c.obj"));
+  ASSERT_EQ(m.colors.size(), m.positions.size());
+  const double half = std::pow((0.5 + 0.055) / 1.055, 2.4);  // the sRGB curve at 0.5: 0.214
+  EXPECT_NEAR(m.colors[0][0], half, 1e-6);
+  EXPECT_NEAR(m.colors[0][2], half, 1e-6);
+  EXPECT_EQ(m.colors[0][3], 1.0f);
+  EXPECT_EQ(m.colors[1], (std::array<float, 4>{1, 0, 0, 0.25f}));
+  EXPECT_EQ(m.colors[2], (std::array<float, 4>{1, 1, 1, 1}));
+  EXPECT_TRUE(m.hasColor());
+  // Without colours nothing changes.
+  voxtest::writeText(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0 # comment\nf 1 2 3\n");
+  EXPECT_TRUE(read(dir.file("n.obj")).colors.empty());
+  // Malformed colours name the line.
+  voxtest::writeText(dir.file("b.obj"), "v 0 0 0\nv 1 0 0 0.5 0.5\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_TRUE(rejects(dir.file("b.obj"), {"b.obj:2", "5 numbers"}));
+  voxtest::writeText(dir.file("r.obj"), "v 0 0 0 2 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_TRUE(rejects(dir.file("r.obj"), {"r.obj:1", "outside [0, 1]"}));
+}

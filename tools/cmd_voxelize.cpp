@@ -37,6 +37,7 @@ struct VoxelizeOptions {
   uint32_t pad = 0;
   std::string classes;
   bool dropInvalid = false;
+  bool ignoreMissingMaterials = false;
   bool check = false;
   CommonOptions common;
 };
@@ -73,6 +74,7 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
   run.phase("parse");
   vox::MeshReadOptions ro;
   ro.dropInvalid = o.dropInvalid;
+  ro.ignoreMissingMaterials = o.ignoreMissingMaterials;
   std::vector<std::string> warnings;
   vox::Mesh mesh;
   uint64_t bytesRead = 0;
@@ -252,6 +254,8 @@ Command registerVoxelize(CLI::App& root) {
   cmd->add_option("--pad", opts->pad, "Meshes: empty voxels added on every side");
   cmd->add_option("--classes", opts->classes, "Meshes: JSON mapping material/mesh/node names to classes");
   cmd->add_flag("--drop-invalid", opts->dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
+  cmd->add_flag("--ignore-missing-materials", opts->ignoreMissingMaterials,
+                "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
   cmd->add_flag("--check", opts->check, "Meshes: measure the error against exact references (into --report)");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runVoxelize(*opts); }};

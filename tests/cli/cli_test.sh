@@ -357,6 +357,19 @@ OBJ
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --fill hollow
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
   expect_exit 2 "$vox" voxelize keep_cube.obj demo:hamlet -o x.vdb
+  # A missing MTL file: an error naming it, or with --ignore-missing-materials a warning.
+  printf 'mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Roof\nf 1 2 3\n' > keep_nomtl.obj
+  expect_exit 3 "$vox" voxelize keep_nomtl.obj --res 8 -o nomtl.vdb
+  expect_stderr "gone.mtl"
+  expect_exit 0 "$vox" voxelize keep_nomtl.obj --res 8 -o nomtl.vdb --ignore-missing-materials
+  expect_stderr "gone.mtl"
+  expect_exit 0 "$vox" info nomtl.vdb --json
+  jcheck out.txt "assert [c['name'] for c in d['classes']]==['Roof'], d['classes']"
+  # OBJ vertex colours (v x y z r g b) colour the voxels.
+  printf 'v 0 0 0 1 0 0\nv 1 0 0 1 0 0\nv 0 1 0 1 0 0\nf 1 2 3\n' > keep_red.obj
+  expect_exit 0 "$vox" voxelize keep_red.obj --res 8 -o red.vdb
+  expect_exit 0 "$vox" info red.vdb --json
+  jcheck out.txt "assert d['colored']>0, d"
   ;;
 mip_pack)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
