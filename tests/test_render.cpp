@@ -376,6 +376,14 @@ TEST(Camera, BadCameraFilesNameTheElement) {
   EXPECT_TRUE(throwsVoxError([] { vox::parseCameraJson("[1,2]", "c.json", std::nullopt); }, bad, {"c.json", "object"}));
 }
 
+TEST(Render, CanonicalFormatIsTheNarrowestExactOne) {
+  EXPECT_EQ(vox::canonicalBits({1, 1, 1}), 8);
+  EXPECT_EQ(vox::canonicalBits({256, 3, 256}), 8);       // coordinates 0..255
+  EXPECT_EQ(vox::canonicalBits({4, 257, 4}), 16);        // 256 needs 16 bits
+  EXPECT_EQ(vox::canonicalBits({65536, 1, 1}), 16);      // 0..65535
+  EXPECT_EQ(vox::canonicalBits({1, 1, 65537}), 32);      // EXR UINT
+}
+
 TEST(Shading, TerrainFormulaByHandForEveryFaceDirection) {
   // sunDir = normalize(-0.4, -0.85, -0.5): |s| = sqrt(1.1325).
   const double s = std::sqrt(1.1325);
