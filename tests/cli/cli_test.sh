@@ -631,6 +631,14 @@ render)
   expect_exit 0 "$vox" pack-chunks h.vdb -o h.vpk
   expect_exit 0 "$vox" render-canonical h.vpk -o p.png $cam
   expect_exit 0 "$vox" verify-bijection --canonical p.png --scene h.vdb $cam
+  # A mip level of a page file, exact against the brute force and verified from the page file.
+  expect_exit 0 "$vox" mip h.vdb -o hp.vdb
+  expect_exit 0 "$vox" pack-chunks hp.vdb -o hp.vpk --mips
+  expect_exit 0 "$vox" render-canonical hp.vpk --level 1 -o l1.png $cam --check --report rl1.json
+  jcheck rl1.json "assert d['error']['pixels_differing']==0 and d['counts']['hits']>0, d['counts']"
+  expect_exit 0 "$vox" verify-bijection --canonical l1.png --scene hp.vpk
+  expect_exit 2 "$vox" render-canonical hp.vpk --level 9 -o l9.png $cam
+  expect_stderr "holds levels 0.."
   # Hard cameras, each checked pixel by pixel against the brute force: straight down
   # an axis (rays in grid planes), inside the scene, and 1e6 voxels away.
   expect_exit 0 "$vox" render-canonical h.vdb -o top.png --eye 0,30,0 --target 0,0,0 --up 0,0,-1 --fov 40 --size 40x40 --check --report rtop.json
