@@ -13,8 +13,9 @@
 // that NDC position at z_camera = -1:
 //   dir_camera = ((ndc_x + P[8]) / P[0], (ndc_y + P[9]) / P[5], -1)
 // (P[8], P[9] are the off-centre terms, 0 for seed 002's matrices), then
-//   dir_world = inverse(view) applied to (dir_camera, 0), normalised to length 1,
-// so the ray parameter is a world distance. Rays start at the eye: near and far
+//   dir_world = inverse(view) applied to (dir_camera, 0)
+// (pixelRay normalises it to length 1; the renderer's PixelRays, render.h,
+// uses it as is and measures depth with its length). Rays start at the eye: near and far
 // are not used (a voxel between the eye and the near plane is still hit).
 //
 // All arithmetic is double; the same camera gives bit-identical rays on every
