@@ -99,6 +99,13 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
   if (o.chunk == 0 || (o.chunk & (o.chunk - 1)) != 0 || o.chunk > 1024)
     vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
   const std::vector<vox::CameraView> views = resolveCameras(o.camera, 512, 512);
+  for (const vox::CameraView& v : views) {
+    const uint64_t pixels = uint64_t(v.camera.width) * v.camera.height;
+    if (pixels > (uint64_t(1) << 28))
+      vox::throwUsage(v.label + ": " + std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) +
+                      " is " + std::to_string(pixels) + " pixels; at most 268435456 per view (each needs a 20-byte hit "
+                      "record in memory): render tiles with narrower fields of view");
+  }
 
   const bool needSummaries = std::find(modes.begin(), modes.end(), "class") != modes.end() ||
                              std::find(modes.begin(), modes.end(), "shaded") != modes.end();
