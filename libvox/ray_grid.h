@@ -95,6 +95,8 @@ class RayGrid {
     explicit Cursor(const RayGrid& grid) : g_(grid) {}
     /// Same result as RayGrid::probe; `occupied` is set for level 0.
     int probe(int64_t u, int64_t v, int64_t w, bool& occupied);
+    /// The brick mask of the last probe that returned 0 (valid until the next probe).
+    const Mask512* lastBrick() const { return brick_; }
 
    private:
     const RayGrid& g_;

@@ -251,12 +251,18 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
       // exactly one plane (then the voxels touched are the one left, already
       // tested, and the one entered). Anything else goes back to the general
       // event above.
-      int64_t idx[3];
+      int64_t idx[3], rc[3], rs[3], bk[3];  // mirrored index, real index, real step, real brick
       double tN[3];
       for (int a = 0; a < 3; ++a) {
         idx[a] = f.moving[a] ? hi[a] : clo[a];
         tN[a] = f.moving[a] ? f.time(a, idx[a] + 1) : kInf;
+        rc[a] = f.real(a, idx[a]);
+        rs[a] = f.flip[a] ? -1 : 1;
+        bk[a] = rc[a] >> 3;
       }
+      bool occStart;
+      probe(rc[0], rc[1], rc[2], occStart);  // the brick ahead is non-empty (minShift == 0)
+      const RayGrid::Mask512* brick = cursor.lastBrick();
       for (;;) {
         const int a0 = tN[0] <= tN[1] ? (tN[0] <= tN[2] ? 0 : 2) : (tN[1] <= tN[2] ? 1 : 2);
         const double Tn = tN[a0];
@@ -275,9 +281,18 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
         ++result.steps;
         idx[a0] = next;
         tN[a0] = tAfter;
-        const Coord3 c{int32_t(f.real(0, idx[0])), int32_t(f.real(1, idx[1])), int32_t(f.real(2, idx[2]))};
+        rc[a0] += rs[a0];
         bool occ;
-        const int level = probe(c.u, c.v, c.w, occ);
+        int level = 0;
+        if ((rc[a0] >> 3) == bk[a0]) {  // same brick: one bit test
+          const int bit = RayGrid::bitOf(uint32_t(rc[0] & 7), uint32_t(rc[1] & 7), uint32_t(rc[2] & 7));
+          occ = ((*brick)[size_t(bit >> 6)] >> (bit & 63)) & 1;
+        } else {
+          bk[a0] = rc[a0] >> 3;
+          level = probe(rc[0], rc[1], rc[2], occ);
+          brick = cursor.lastBrick();
+        }
+        const Coord3 c{int32_t(rc[0]), int32_t(rc[1]), int32_t(rc[2])};
         if (occ) {
           result.hit = true;
           result.voxel = c;
