@@ -38,7 +38,7 @@ struct RenderCanonicalOptions {
   bool check = false;
   double checkBudget = 2e9;
   int level = 0;
-  int compression = 6;
+  int compression = 4;  // measured on a 1080p RGBA16 render: 2.7x faster than 6 for 25 % more bytes
   CommonOptions common;
 };
 
