@@ -1,6 +1,7 @@
 #include "libvox/voxelize.h"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -468,13 +469,47 @@ struct BoxBits {
   BoxBits(const int32_t l[3], const int32_t h[3]) {
     uint64_t n = 1;
     for (int i = 0; i < 3; ++i) lo[i] = l[i], ext[i] = h[i] - l[i] + 1, n *= uint64_t(ext[i]);
-    words = std::vector<std::atomic<uint64_t>>((n + 63) / 64);
+    words = std::vector<std::atomic<uint64_t>>((n + 63) / 64 + 1);  // +1: get64 reads one word ahead
   }
   uint64_t index(int32_t x, int32_t y, int32_t z) const {
     return (uint64_t(x - lo[0]) * ext[1] + uint64_t(y - lo[1])) * ext[2] + uint64_t(z - lo[2]);
   }
   void set(uint64_t i) { words[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed); }
   bool get(uint64_t i) const { return (words[i >> 6].load(std::memory_order_relaxed) >> (i & 63)) & 1; }
+  /// Bits i .. i+63 (bit 0 = i).
+  uint64_t get64(uint64_t i) const {
+    const uint64_t k = i >> 6, sh = i & 63;
+    const uint64_t a = words[k].load(std::memory_order_relaxed) >> sh;
+    return sh ? a | (words[k + 1].load(std::memory_order_relaxed) << (64 - sh)) : a;
+  }
+};
+
+// The inside flags of one axis's rays, in BoxBits' layout (z fastest), written
+// by one thread: plain words, and runs along z set a word at a time. (Setting
+// one atomic bit per voxel was a third of a solid voxelization.)
+struct PlainBits {
+  int32_t lo[3], ext[3];
+  std::vector<uint64_t> words;
+  PlainBits(const int32_t l[3], const int32_t h[3]) {
+    uint64_t n = 1;
+    for (int i = 0; i < 3; ++i) lo[i] = l[i], ext[i] = h[i] - l[i] + 1, n *= uint64_t(ext[i]);
+    words.assign((n + 63) / 64 + 1, 0);
+  }
+  uint64_t index(int32_t x, int32_t y, int32_t z) const {
+    return (uint64_t(x - lo[0]) * ext[1] + uint64_t(y - lo[1])) * ext[2] + uint64_t(z - lo[2]);
+  }
+  void set(uint64_t i) { words[i >> 6] |= uint64_t(1) << (i & 63); }
+  void setRange(uint64_t from, uint64_t to) {  // bits [from, to)
+    while (from < to) {
+      const uint64_t bit = from & 63, n = std::min<uint64_t>(64 - bit, to - from);
+      words[from >> 6] |= (n == 64 ? ~uint64_t(0) : ((uint64_t(1) << n) - 1)) << bit;
+      from += n;
+    }
+  }
+  uint64_t get64(uint64_t i) const {
+    const uint64_t k = i >> 6, sh = i & 63;
+    return sh ? (words[k] >> sh) | (words[k + 1] << (64 - sh)) : words[k];
+  }
 };
 
 void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w) { bits.set(bits.index(u, v, w)); }
@@ -583,7 +618,7 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
   if (surfaceBits) {
     // Winding numbers along +x, +y, +z rays through every voxel centre of the box.
     std::vector<std::vector<Crossing>> crossings(3);
-    std::vector<std::unique_ptr<BoxBits>> inside;
+    std::vector<std::unique_ptr<PlainBits>> inside(3);
     for (int axis = 0; axis < 3; ++axis) {
       std::vector<std::vector<Crossing>> perThread(threads);
       parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
@@ -595,8 +630,13 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
       });
       std::vector<Crossing>& all = crossings[axis];
       for (auto& v : perThread) all.insert(all.end(), v.begin(), v.end());
+    }
+    // Sort and fill the three axes side by side (each writes only its own bits).
+    parallelFor(3, threads, [&](size_t axisBegin, size_t axisEnd, unsigned) {
+    for (int axis = int(axisBegin); axis < int(axisEnd); ++axis) {
+      std::vector<Crossing>& all = crossings[size_t(axis)];
       std::sort(all.begin(), all.end());  // a total order: the same result for any split
-      auto bits = std::make_unique<BoxBits>(lo, hi);
+      auto bits = std::make_unique<PlainBits>(lo, hi);
       const int a = axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
       const uint64_t extentC = uint64_t(hi[c] - lo[c] + 1);
       for (size_t i = 0; i < all.size();) {
@@ -609,15 +649,24 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
           winding += all[i].delta;
           const int32_t to = (i + 1 < all.size() && all[i + 1].column == column) ? all[i + 1].start : hi[a] + 1;
           if (winding == 0) continue;
+          if (a == 2) {  // contiguous along z
+            if (to > all[i].start) {
+              xyz[2] = all[i].start;
+              const uint64_t first = bits->index(xyz[0], xyz[1], xyz[2]);
+              bits->setRange(first, first + uint64_t(to - all[i].start));
+            }
+            continue;
+          }
           for (int32_t k = all[i].start; k < to; ++k) {
             xyz[a] = k;
             bits->set(bits->index(xyz[0], xyz[1], xyz[2]));
           }
         }
       }
-      inside.push_back(std::move(bits));
-      report(surfaceShare + 0.15 * (axis + 1));
+      inside[size_t(axis)] = std::move(bits);
     }
+    });
+    report(surfaceShare + 0.45);
     // Interior voxels: inside for at least 2 of the 3 rays and not on the surface.
     const uint64_t extX = uint64_t(hi[0] - lo[0] + 1);
     std::vector<std::unique_ptr<SceneBuilder>> interior(threads);
@@ -632,39 +681,48 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
           const uint64_t column = uint64_t(x - lo[0]) * extY + uint64_t(y - lo[1]);
           auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
           std::optional<uint8_t> columnClass;
-          // Interior voxels go in runs along z (same class, consecutive).
-          int32_t runStart = 0, runLength = 0;
-          uint8_t runClass = 0;
-          auto flush = [&] {
-            if (runLength) interior[t]->addRun({x, y, runStart}, uint32_t(runLength), runClass, kInteriorVotes, false);
-            runLength = 0;
-          };
-          for (int32_t z = lo[2]; z <= hi[2]; ++z) {
-            while (cur != zCross.end() && cur->column == column && cur->start <= z) {
-              if (cur->delta > 0) columnClass = cur->cls;
-              ++cur;
+          // 64 voxels of the column at a time: inside for at least 2 of the 3
+          // rays and not on the surface; each run of such voxels up to the next
+          // +z crossing (where the enclosing class may change) is one addRun.
+          const uint64_t base = surfaceBits->index(x, y, lo[2]);
+          const int32_t n = hi[2] - lo[2] + 1;
+          for (int32_t z0 = 0; z0 < n; z0 += 64) {
+            const int32_t m = std::min(64, n - z0);
+            const uint64_t w0 = inside[0]->get64(base + uint64_t(z0)), w1 = inside[1]->get64(base + uint64_t(z0)),
+                           w2 = inside[2]->get64(base + uint64_t(z0));
+            uint64_t todo = ((w0 & w1) | (w0 & w2) | (w1 & w2)) & ~surfaceBits->get64(base + uint64_t(z0)) &
+                            (m == 64 ? ~uint64_t(0) : (uint64_t(1) << m) - 1);
+            while (todo) {
+              const int bit = std::countr_zero(todo);
+              const int32_t z = lo[2] + z0 + bit;
+              while (cur != zCross.end() && cur->column == column && cur->start <= z) {
+                if (cur->delta > 0) columnClass = cur->cls;
+                ++cur;
+              }
+              const int ones = std::countr_one(todo >> bit);
+              int32_t end = z + ones;
+              if (cur != zCross.end() && cur->column == column) end = std::min(end, cur->start);
+              if (columnClass) {
+                interior[t]->addRun({x, y, z}, uint32_t(end - z), *columnClass, kInteriorVotes, false);
+              } else {
+                // Rare: no entering crossing below along +z; ask the +x, then +y rays, voxel by voxel.
+                for (int32_t zz = z; zz < end; ++zz) {
+                  std::optional<uint8_t> cls;
+                  const int32_t xyz[3] = {x, y, zz};
+                  for (int axis : {0, 1}) {
+                    if (cls) break;
+                    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+                    const uint64_t col =
+                        uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
+                    cls = enclosingClass(crossings[size_t(axis)], col, xyz[axis]);
+                  }
+                  interior[t]->addRun({x, y, zz}, 1, cls ? *cls : triangleClass[0], kInteriorVotes, false);
+                }
+              }
+              const int len = end - z;
+              todo &= len >= 64 ? 0 : ~(((uint64_t(1) << len) - 1) << bit);
             }
-            const uint64_t i = surfaceBits->index(x, y, z);
-            if (surfaceBits->get(i) ||
-                int(inside[0]->get(i)) + int(inside[1]->get(i)) + int(inside[2]->get(i)) < 2) {
-              flush();
-              continue;
-            }
-            std::optional<uint8_t> cls = columnClass;
-            // Rare: no entering crossing below along +z; ask the +x, then +y rays.
-            const int32_t xyz[3] = {x, y, z};
-            for (int axis : {0, 1}) {
-              if (cls) break;
-              const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-              const uint64_t col = uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
-              cls = enclosingClass(crossings[size_t(axis)], col, xyz[axis]);
-            }
-            const uint8_t k = cls ? *cls : triangleClass[0];
-            if (runLength && (k != runClass || runStart + runLength != z)) flush();
-            if (!runLength) runStart = z, runClass = k;
-            ++runLength;
           }
-          flush();
         }
     });
     for (auto& b : interior) builder.merge(std::move(*b));
