@@ -1,5 +1,6 @@
 #include "formats/scene_vdb.h"
 
+#include "formats/scene_meta.h"
 #include "formats/vdb_structure.h"
 
 #include <algorithm>
@@ -19,29 +20,6 @@ namespace {
 using nlohmann::json;
 
 constexpr const char* kFormatName = "voxbake-scene";
-
-json rgbJson(Rgb8 c) { return json::array({c.r, c.g, c.b}); }
-
-json classesJson(const ClassTable& t) {
-  json arr = json::array();
-  for (const ClassInfo& c : t.classes()) {
-    json j = {{"id", c.id}, {"name", c.name}, {"color", rgbJson(c.color)}};
-    if (c.faces) {
-      j["top"] = rgbJson(c.faces->top);
-      j["bottom"] = rgbJson(c.faces->bottom);
-      j["side"] = rgbJson(c.faces->side);
-    }
-    arr.push_back(std::move(j));
-  }
-  return arr;
-}
-
-json sourcesJson(const std::vector<SceneSource>& sources) {
-  json arr = json::array();
-  for (const SceneSource& s : sources)
-    arr.push_back({{"path", s.path}, {"kind", s.kind}, {"sha256", s.sha256}, {"bytes", s.bytes}});
-  return arr;
-}
 
 [[noreturn]] void bad(const std::string& path, const std::string& what) {
   throwBadInput(path + ": " + what);
@@ -111,13 +89,11 @@ void writeSceneVdb(const Scene& scene, const std::string& path) {
   meta.insertMeta("vox:dims", openvdb::Vec3IMetadata(openvdb::Vec3i(int(h.dims.x), int(h.dims.y), int(h.dims.z))));
   meta.insertMeta("vox:voxel_size", openvdb::DoubleMetadata(h.voxelSize));
   meta.insertMeta("vox:origin", openvdb::Vec3DMetadata(openvdb::Vec3d(h.origin[0], h.origin[1], h.origin[2])));
-  meta.insertMeta("vox:classes", openvdb::StringMetadata(classesJson(h.classes).dump()));
-  meta.insertMeta("vox:sources", openvdb::StringMetadata(sourcesJson(h.sources).dump()));
+  meta.insertMeta("vox:classes", openvdb::StringMetadata(classTableJson(h.classes)));
+  meta.insertMeta("vox:sources", openvdb::StringMetadata(sourcesJson(h.sources)));
   meta.insertMeta("vox:mip_level", openvdb::Int32Metadata(h.mipLevel));
   if (h.blockWorld) {
-    json bw = {{"worldScale", h.blockWorld->worldScale},
-               {"gridSize", {h.blockWorld->gridSize[0], h.blockWorld->gridSize[1], h.blockWorld->gridSize[2]}}};
-    meta.insertMeta("vox:block_world", openvdb::StringMetadata(bw.dump()));
+    meta.insertMeta("vox:block_world", openvdb::StringMetadata(blockWorldJson(*h.blockWorld)));
   }
   try {
     openvdb::io::File file(path);

@@ -7,6 +7,7 @@
 
 #include "libvox/error.h"
 #include "libvox/scene_grids.h"
+#include "libvox/voxel_blocks.h"
 
 namespace vox {
 
@@ -36,11 +37,6 @@ openvdb::Int32Grid::Ptr& voteGrid(SceneGrids& g, uint8_t classId) {
     at = g.votes.insert(at, std::move(cg));
   }
   return at->grid;
-}
-
-uint32_t saturatingAdd(uint32_t a, uint32_t b) {
-  uint64_t s = uint64_t(a) + b;
-  return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
 }
 
 }  // namespace
@@ -174,199 +170,44 @@ SceneStats Scene::stats() const {
 // become OpenVDB leaves only in build(): a vote costs an array add instead of
 // several tree lookups, and merging builders is adding arrays. Measured on a
 // 100k-triangle sphere at 256^3: the voxelizer's surface pass went from ~200 ms
-// to a fraction of that with one thread.
-namespace {
+// to a fraction of that with one thread. The blocks live in VoxelBlocks
+// (voxel_blocks.h), which the direct writer also reads.
 
-constexpr int kLeafLog2 = 3, kLeafDim = 1 << kLeafLog2, kLeafVoxels = kLeafDim * kLeafDim * kLeafDim;
-constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
-
-struct ClassBlock {
-  uint8_t classId;
-  std::array<uint32_t, kLeafVoxels> votes{};
-};
-
-struct LeafBlock {
-  openvdb::Coord origin;
-  std::array<uint64_t, kLeafVoxels / 64> occupied{}, surface{}, colored{};
-  std::vector<std::unique_ptr<ClassBlock>> classes;  // sorted by class id, few
-  std::unique_ptr<std::array<openvdb::Vec3s, kLeafVoxels>> color;
-};
-
-uint64_t leafKey(int32_t x, int32_t y, int32_t z) {
-  auto part = [](int32_t c) { return uint64_t(uint32_t((c >> kLeafLog2) + (kCoordLimit >> kLeafLog2)) & 0x1fffff); };
-  return (part(x) << 42) | (part(y) << 21) | part(z);
-}
-
-bool representable(Coord3 c) {
-  auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
-  return ok(c.u) && ok(c.v) && ok(c.w);
-}
-
-int leafOffset(int32_t x, int32_t y, int32_t z) {  // OpenVDB's order: z fastest
-  return ((x & (kLeafDim - 1)) << (2 * kLeafLog2)) | ((y & (kLeafDim - 1)) << kLeafLog2) | (z & (kLeafDim - 1));
-}
-
-}  // namespace
-
-struct SceneBuilder::Blocks {
-  std::unordered_map<uint64_t, std::unique_ptr<LeafBlock>> leaves;
-  uint64_t lastKey = ~uint64_t(0);
-  LeafBlock* last = nullptr;
-  bool outOfRange = false;
-
-  LeafBlock& leaf(int32_t x, int32_t y, int32_t z) {
-    const uint64_t key = leafKey(x, y, z);
-    if (key == lastKey) return *last;
-    auto& slot = leaves[key];
-    if (!slot) {
-      slot = std::make_unique<LeafBlock>();
-      slot->origin = openvdb::Coord(x & ~(kLeafDim - 1), y & ~(kLeafDim - 1), z & ~(kLeafDim - 1));
-    }
-    lastKey = key;
-    last = slot.get();
-    return *last;
-  }
-};
-
-namespace {
-ClassBlock& classBlock(LeafBlock& leaf, uint8_t classId) {
-  auto at = std::lower_bound(leaf.classes.begin(), leaf.classes.end(), classId,
-                             [](const std::unique_ptr<ClassBlock>& c, uint8_t id) { return c->classId < id; });
-  if (at == leaf.classes.end() || (*at)->classId != classId) {
-    auto block = std::make_unique<ClassBlock>();
-    block->classId = classId;
-    at = leaf.classes.insert(at, std::move(block));
-  }
-  return **at;
-}
-}  // namespace
-
-SceneBuilder::SceneBuilder(SceneHeader header) : header_(std::move(header)), blocks_(std::make_unique<Blocks>()) {}
+SceneBuilder::SceneBuilder(SceneHeader header) : header_(std::move(header)), blocks_(std::make_unique<VoxelBlocks>()) {}
+SceneBuilder::SceneBuilder(VoxelBlocks&& blocks, SceneHeader header)
+    : header_(std::move(header)), blocks_(std::make_unique<VoxelBlocks>(std::move(blocks))) {}
 SceneBuilder::SceneBuilder(SceneBuilder&&) noexcept = default;
 SceneBuilder::~SceneBuilder() = default;
 
 void SceneBuilder::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
-  if (votes == 0) return;
-  if (!representable(c)) {
-    blocks_->outOfRange = true;
-    return;
-  }
-  LeafBlock& leaf = blocks_->leaf(c.u, c.v, c.w);
-  const int i = leafOffset(c.u, c.v, c.w);
-  leaf.occupied[i >> 6] |= uint64_t(1) << (i & 63);
-  if (surface) leaf.surface[i >> 6] |= uint64_t(1) << (i & 63);
-  ClassBlock& cb = (!leaf.classes.empty() && leaf.classes.back()->classId == classId) ? *leaf.classes.back()
-                                                                                       : classBlock(leaf, classId);
-  cb.votes[i] = saturatingAdd(cb.votes[i], votes);
+  blocks_->addVotes(c, classId, votes, surface);
 }
-
 void SceneBuilder::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface) {
-  if (votes == 0 || length == 0) return;
-  const Coord3 last{start.u, start.v, int32_t(int64_t(start.w) + length - 1)};
-  if (!representable(start) || !representable(last)) {
-    blocks_->outOfRange = true;
-    return;
-  }
-  for (int32_t w = start.w; w <= last.w;) {
-    // One leaf block at a time: the run's part inside it shares the block.
-    const int32_t blockEnd = std::min(last.w, (w | (kLeafDim - 1)));
-    LeafBlock& leaf = blocks_->leaf(start.u, start.v, w);
-    ClassBlock& cb = (!leaf.classes.empty() && leaf.classes.back()->classId == classId) ? *leaf.classes.back()
-                                                                                         : classBlock(leaf, classId);
-    for (int32_t z = w; z <= blockEnd; ++z) {
-      const int i = leafOffset(start.u, start.v, z);
-      leaf.occupied[i >> 6] |= uint64_t(1) << (i & 63);
-      if (surface) leaf.surface[i >> 6] |= uint64_t(1) << (i & 63);
-      cb.votes[i] = saturatingAdd(cb.votes[i], votes);
-    }
-    w = blockEnd + 1;
-  }
+  blocks_->addRun(start, length, classId, votes, surface);
 }
-
-void SceneBuilder::setColor(Coord3 c, RgbLinear color) {
-  if (!representable(c)) {
-    blocks_->outOfRange = true;
-    return;
-  }
-  LeafBlock& leaf = blocks_->leaf(c.u, c.v, c.w);
-  const int i = leafOffset(c.u, c.v, c.w);
-  if (!leaf.color) leaf.color = std::make_unique<std::array<openvdb::Vec3s, kLeafVoxels>>();
-  (*leaf.color)[i] = openvdb::Vec3s(color.r, color.g, color.b);
-  leaf.colored[i >> 6] |= uint64_t(1) << (i & 63);
-}
-
+void SceneBuilder::setColor(Coord3 c, RgbLinear color) { blocks_->setColor(c, color); }
 void SceneBuilder::merge(SceneBuilder&& other) {
-  blocks_->outOfRange = blocks_->outOfRange || other.blocks_->outOfRange;
-  for (auto& [key, theirs] : other.blocks_->leaves) {
-    auto& slot = blocks_->leaves[key];
-    if (!slot) {
-      slot = std::move(theirs);
-      continue;
-    }
-    LeafBlock& mine = *slot;
-    for (int k = 0; k < kLeafVoxels / 64; ++k) {
-      mine.occupied[k] |= theirs->occupied[k];
-      mine.surface[k] |= theirs->surface[k];
-    }
-    for (auto& cb : theirs->classes) {
-      ClassBlock& dst = classBlock(mine, cb->classId);
-      for (int i = 0; i < kLeafVoxels; ++i) dst.votes[i] = saturatingAdd(dst.votes[i], cb->votes[i]);
-    }
-    if (theirs->color) {
-      // The receiving builder's colour wins where both have one (see scene.h).
-      if (!mine.color) mine.color = std::make_unique<std::array<openvdb::Vec3s, kLeafVoxels>>();
-      for (int i = 0; i < kLeafVoxels; ++i)
-        if (((theirs->colored[i >> 6] >> (i & 63)) & 1) && !((mine.colored[i >> 6] >> (i & 63)) & 1)) {
-          (*mine.color)[i] = (*theirs->color)[i];
-          mine.colored[i >> 6] |= uint64_t(1) << (i & 63);
-        }
-    }
-  }
-  other.blocks_ = std::make_unique<Blocks>();
-  blocks_->lastKey = ~uint64_t(0);
-  blocks_->last = nullptr;
+  blocks_->merge(std::move(*other.blocks_));
 }
 
 Scene SceneBuilder::build() && {
-  const Dims& d = header_.dims;
-  if (d.x == 0 || d.y == 0 || d.z == 0)
-    throw Error(ErrorKind::Internal, "scene dims must be >= 1 on every axis, got " + toString(d));
-  if (blocks_->outOfRange) throw Error(ErrorKind::Internal, "a voxel lies outside the scene domain " + toString(d));
+  blocks_->validate(header_.dims, header_.classes);
   // Leaves in a fixed order, so the trees come out the same however the votes arrived.
-  std::vector<LeafBlock*> leaves;
-  leaves.reserve(blocks_->leaves.size());
-  for (auto& [key, leaf] : blocks_->leaves) leaves.push_back(leaf.get());
-  std::sort(leaves.begin(), leaves.end(), [](const LeafBlock* a, const LeafBlock* b) { return a->origin < b->origin; });
-
+  const std::vector<VoxelBlock*> leaves = blocks_->sortedBlocks();
   auto grids = makeEmptyGrids();
   auto occAcc = grids->occupancy->getAccessor();
   std::vector<std::pair<uint8_t, openvdb::Int32Grid::Accessor>> voteAcc;
   std::optional<openvdb::Vec3SGrid::Accessor> colorAcc;
-  for (LeafBlock* leaf : leaves) {
-    const openvdb::Coord& o = leaf->origin;
-    for (int k = 0; k < 3; ++k)
-      if (o[k] < 0 || uint32_t(o[k] + kLeafDim - 1) >= (k == 0 ? d.x : k == 1 ? d.y : d.z)) {
-        // The block straddles or leaves the domain: check its voxels one by one.
-        for (int i = 0; i < kLeafVoxels; ++i) {
-          if (!((leaf->occupied[i >> 6] >> (i & 63)) & 1)) continue;
-          const int32_t x = o.x() + (i >> 6), y = o.y() + ((i >> 3) & 7), z = o.z() + (i & 7);
-          if (x < 0 || y < 0 || z < 0 || uint32_t(x) >= d.x || uint32_t(y) >= d.y || uint32_t(z) >= d.z)
-            throw Error(ErrorKind::Internal, "voxel " + toString(Coord3{x, y, z}) + " lies outside the scene domain " +
-                                                 toString(d));
-        }
-        break;
-      }
+  for (VoxelBlock* leaf : leaves) {
+    const openvdb::Coord o(leaf->origin[0], leaf->origin[1], leaf->origin[2]);
     // Occupancy leaf: active = occupied, value = surface flag. Our blocks use
     // OpenVDB's voxel order, so masks and values are copied word for word.
     auto* occLeaf = occAcc.touchLeaf(o);
-    for (int k = 0; k < kLeafVoxels / 64; ++k) {
+    for (int k = 0; k < kBlockWords; ++k) {
       occLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = leaf->occupied[k];
       occLeaf->buffer().data()[k] = leaf->surface[k] & leaf->occupied[k];
     }
     for (auto& cb : leaf->classes) {
-      if (!header_.classes.find(cb->classId))
-        throw Error(ErrorKind::Internal,
-                    "class id " + std::to_string(cb->classId) + " has votes but is not in the class table");
       auto it = std::find_if(voteAcc.begin(), voteAcc.end(), [&](const auto& p) { return p.first == cb->classId; });
       if (it == voteAcc.end()) {
         voteAcc.emplace_back(cb->classId, voteGrid(*grids, cb->classId)->getAccessor());
@@ -374,7 +215,7 @@ Scene SceneBuilder::build() && {
       }
       auto* vLeaf = it->second.touchLeaf(o);
       int32_t* values = vLeaf->buffer().data();
-      for (int k = 0; k < kLeafVoxels / 64; ++k) {
+      for (int k = 0; k < kBlockWords; ++k) {
         uint64_t on = 0;
         for (int b = 0; b < 64; ++b) {
           const uint32_t n = cb->votes[k * 64 + b];
@@ -390,12 +231,14 @@ Scene SceneBuilder::build() && {
         colorAcc.emplace(grids->color->getAccessor());
       }
       auto* cLeaf = colorAcc->touchLeaf(o);
-      for (int k = 0; k < kLeafVoxels / 64; ++k)
+      for (int k = 0; k < kBlockWords; ++k)
         for (uint64_t bits = leaf->colored[k] & leaf->occupied[k]; bits; bits &= bits - 1) {
           const int i = k * 64 + __builtin_ctzll(bits);
-          cLeaf->setValueOn(openvdb::Index(i), (*leaf->color)[i]);
+          const auto& c = (*leaf->color)[i];
+          cLeaf->setValueOn(openvdb::Index(i), openvdb::Vec3s(c[0], c[1], c[2]));
         }
     }
+    VoxelBlocks::release(*leaf);  // the leaf's votes now live in the trees
   }
   blocks_.reset();
   for (ClassGrid& cg : grids->votes) cg.grid->setName("votes." + std::to_string(cg.classId));

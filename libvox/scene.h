@@ -35,6 +35,7 @@
 namespace vox {
 
 struct SceneGrids;  // scene_grids.h
+class VoxelBlocks;  // voxel_blocks.h
 
 /// A file the scene was made from, for provenance and `vox info`.
 struct SceneSource {
@@ -148,6 +149,8 @@ class Scene {
 class SceneBuilder {
  public:
   explicit SceneBuilder(SceneHeader header);
+  /// A builder that starts from blocks filled elsewhere (voxel_blocks.h).
+  SceneBuilder(VoxelBlocks&& blocks, SceneHeader header);
   SceneBuilder(SceneBuilder&&) noexcept;
   ~SceneBuilder();
 
@@ -167,8 +170,7 @@ class SceneBuilder {
 
  private:
   SceneHeader header_;
-  struct Blocks;  // votes accumulated in dense 8^3 blocks until build()
-  std::unique_ptr<Blocks> blocks_;
+  std::unique_ptr<VoxelBlocks> blocks_;  // votes accumulated in dense 8^3 blocks until build()
 };
 
 /// Result of comparing two scenes voxel for voxel (the basis of `vox diff`).

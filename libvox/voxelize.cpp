@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "libvox/error.h"
+#include "libvox/voxel_blocks.h"
 
 namespace vox {
 
@@ -229,8 +230,7 @@ struct SurfaceWork {
 void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w);
 
 struct SurfaceOut {
-  explicit SurfaceOut(const SceneHeader& h) : builder(h) {}
-  SceneBuilder builder;
+  VoxelBlocks blocks;
   std::unordered_map<uint64_t, ColorSum> colors;
 };
 
@@ -356,7 +356,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     if (!(area > 1e-9) && !triangleTouchesVoxel(q, u, v, w)) return;
     const double units = std::round(area * double(kS));
     const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
-    out.builder.addVotes({u, v, w}, cls, votes, true);
+    out.blocks.addVotes({u, v, w}, cls, votes, true);
     if (W.surfaceBits) markSurface(*W.surfaceBits, u, v, w);
     if (W.color) {
       // Colour at the piece's centre (the triangle's centroid if clipping lost it).
@@ -538,8 +538,8 @@ void parallelFor(size_t n, unsigned threads, Fn&& fn) {  // fn(begin, end, threa
 
 }  // namespace
 
-Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
-                   const VoxelizeSettings& settings) {
+VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                               const SceneHeader& header, const VoxelizeSettings& settings) {
   if (triangleClass.size() != mesh.triangles.size())
     throw Error(ErrorKind::Internal, "voxelizeMesh: one class per triangle expected");
   const Dims dims = header.dims;
@@ -593,7 +593,7 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
 
   // Surface pass: triangles split across threads; integer sums merge exactly.
   std::vector<std::unique_ptr<SurfaceOut>> parts(threads);
-  for (auto& p : parts) p = std::make_unique<SurfaceOut>(header);
+  for (auto& p : parts) p = std::make_unique<SurfaceOut>();
   parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
     for (size_t i = b; i < e; ++i) {
       surfaceTriangle(work, i, *parts[t]);
@@ -601,13 +601,13 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
     }
   });
   for (unsigned t = 1; t < threads; ++t) {
-    parts[0]->builder.merge(std::move(parts[t]->builder));
+    parts[0]->blocks.merge(std::move(parts[t]->blocks));
     for (const auto& [k, c] : parts[t]->colors) {
       ColorSum& s = parts[0]->colors[k];
       s.r += c.r, s.g += c.g, s.b += c.b, s.w += c.w;
     }
   }
-  SceneBuilder& builder = parts[0]->builder;
+  VoxelBlocks& builder = parts[0]->blocks;
   for (const auto& [k, c] : parts[0]->colors) {
     if (c.w == 0) continue;
     const Coord3 at{int32_t(k >> 42), int32_t((k >> 21) & 0x1fffff), int32_t(k & 0x1fffff)};
@@ -669,8 +669,8 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
     report(surfaceShare + 0.45);
     // Interior voxels: inside for at least 2 of the 3 rays and not on the surface.
     const uint64_t extX = uint64_t(hi[0] - lo[0] + 1);
-    std::vector<std::unique_ptr<SceneBuilder>> interior(threads);
-    for (auto& b : interior) b = std::make_unique<SceneBuilder>(header);
+    std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+    for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
     const std::vector<Crossing>& zCross = crossings[2];
     const uint64_t extY = uint64_t(hi[1] - lo[1] + 1);
     parallelFor(extX, threads, [&](size_t xb, size_t xe, unsigned t) {
@@ -728,7 +728,7 @@ Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
     for (auto& b : interior) builder.merge(std::move(*b));
   }
   report(1.0);
-  return std::move(builder).build();
+  return std::move(builder);
 }
 
 }  // namespace vox

@@ -42,6 +42,7 @@
 #include "libvox/mesh.h"
 #include "libvox/progress.h"
 #include "libvox/scene.h"
+#include "libvox/voxel_blocks.h"
 
 namespace vox {
 
@@ -66,6 +67,12 @@ struct VoxelizeSettings {
 /// Sums are integers, so colours do not depend on the thread count.
 Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                    const VoxelizeSettings& settings);
+
+/// The same voxels as voxelizeMesh, left in blocks (no OpenVDB involved) for
+/// the direct scene writer (formats/scene_vdb_direct.h). Not yet validated
+/// against the header: VoxelBlocks::validate() or SceneBuilder::build() does it.
+VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                               const SceneHeader& header, const VoxelizeSettings& settings);
 
 /// Exact closed-box / triangle intersection on snapped grid coordinates (in
 /// units of 2^-kSubvoxelBits voxel), exposed for tests and the brute-force

@@ -6,12 +6,10 @@
 #include "libvox/version.h"
 #include "tools/commands.h"
 #include "tools/dispatch.h"
+#include "tools/voxelize_mesh.h"
 
 extern "C" __attribute__((visibility("default"))) int vox_cli_main(int argc, char** argv) {
-  CLI::App app{"vox: bake triangle meshes, OpenVDB grids and block maps into sparse voxel scenes, and\n"
-               "turn scenes into atlases, bitmaps, LOD pyramids, page files and canonical renders.\n"
-               "Exit codes: 0 ok, 1 check failed / differs, 2 usage, 3 bad input, 4 I/O or internal error.",
-               "vox"};
+  CLI::App app{voxcli::kRootDescription, "vox"};
   app.set_version_flag("-V,--version", vox::versionString());
   app.require_subcommand(1);
   std::vector<voxcli::Command> commands;

@@ -18,29 +18,11 @@
 #include "libvox/error.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/voxelize_mesh.h"
 
 namespace voxcli {
 
 namespace {
-
-struct VoxelizeOptions {
-  std::vector<std::string> inputs;
-  std::string output;
-  uint32_t resolution = 0;  // 0 = the input's default (demo: 256)
-  std::string gridSize = "64,48,64";
-  double voxelSize = 0;
-  std::string gridName;
-  std::optional<double> threshold;
-  std::string fill = "surface";
-  std::string method = "exact";
-  std::string bounds;
-  uint32_t pad = 0;
-  std::string classes;
-  bool dropInvalid = false;
-  bool ignoreMissingMaterials = false;
-  bool check = false;
-  CommonOptions common;
-};
 
 bool endsWith(const std::string& s, const std::string& suffix) {
   if (s.size() < suffix.size()) return false;
@@ -49,73 +31,16 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return tail == suffix;
 }
 
-std::array<double, 6> parseBounds(const std::string& text) {
-  std::array<double, 6> b{};
-  size_t pos = 0;
-  for (int i = 0; i < 6; ++i) {
-    const size_t end = text.find(',', pos);
-    if ((i < 5) != (end != std::string::npos))
-      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects xmin,ymin,zmin,xmax,ymax,zmax, got '" + text + "'");
-    const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
-    char* stop = nullptr;
-    b[size_t(i)] = std::strtod(part.c_str(), &stop);
-    if (part.empty() || *stop != '\0')
-      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects six numbers, got '" + text + "'");
-    pos = end + 1;
-  }
-  return b;
-}
-
+// Meshes with --method sdf or --check need OpenVDB (meshToVolume, the scene
+// queries of the checks); everything else takes the direct path, here too.
 int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
-  if (o.fill != "surface" && o.fill != "solid")
-    throw vox::Error(vox::ErrorKind::Usage, "--fill " + o.fill + ": expected surface or solid");
-  if (o.method != "exact" && o.method != "sdf")
-    throw vox::Error(vox::ErrorKind::Usage, "--method " + o.method + ": expected exact or sdf");
-  run.phase("parse");
-  vox::MeshReadOptions ro;
-  ro.dropInvalid = o.dropInvalid;
-  ro.ignoreMissingMaterials = o.ignoreMissingMaterials;
-  std::vector<std::string> warnings;
-  vox::Mesh mesh;
-  uint64_t bytesRead = 0;
-  for (const std::string& in : o.inputs) {
-    run.input(in);
-    const int64_t size = vox::fileSizeOrMinusOne(in);
-    if (size < 0) throw vox::Error(vox::ErrorKind::BadInput, in + ": no such file");
-    bytesRead += uint64_t(size);
-    vox::Mesh m = vox::readMeshFile(in, ro, warnings);
-    for (const std::string& f : m.filesRead) run.input(f);
-    if (o.inputs.size() == 1) mesh = std::move(m);
-    else mesh.append(m);
-  }
-  for (const std::string& w : warnings) run.note("warning: " + w);
-  run.phase("prepare");  // classes, placement, provenance hashes
-  if (mesh.triangles.empty())
-    throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
-                                                   ": no triangles; there is nothing to voxelize");
-  // Classes: from --classes, else one per material.
-  vox::ClassMapping mapping = o.classes.empty() ? vox::classPerMaterial(mesh, o.inputs[0]) : vox::readClassMapping(o.classes);
-  if (!o.classes.empty()) run.input(o.classes);
-  const std::vector<uint8_t> triClass = vox::assignClasses(mesh, mapping);
-  // Placement.
-  vox::SceneHeader header;
-  std::array<double, 3> lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
-  std::array<double, 3> hi{-lo[0], -lo[1], -lo[2]};
-  for (const auto& tri : mesh.triangles)
-    for (uint32_t vi : tri)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], mesh.positions[vi][k]), hi[k] = std::max(hi[k], mesh.positions[vi][k]);
-  vox::PlacementOptions place;
-  place.voxelSize = o.voxelSize;
-  place.resolution = o.voxelSize > 0 ? 0 : (o.resolution ? o.resolution : 256);
-  place.pad = o.pad;
-  if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
-  vox::placeGrid(lo, hi, place, header);
-  header.classes = mapping.table;
-  for (const std::string& in : o.inputs) {
-    uint64_t bytes = 0;
-    const std::string sha = vox::sha256File(in, &bytes);
-    header.sources.push_back({in, "mesh", sha, bytes});
-  }
+  if (isLightBake(o)) return runMeshesDirect(o, run, outputTemp);
+  PreparedMeshes p = prepareMeshes(o, run);
+  const vox::Mesh& mesh = p.mesh;
+  const std::vector<uint8_t>& triClass = p.triangleClass;
+  const vox::SceneHeader& header = p.header;
+  const std::vector<std::string>& warnings = p.warnings;
+  const uint64_t bytesRead = p.bytesRead;
   run.phase("voxelize");
   vox::VoxelizeSettings settings;
   settings.fill = o.fill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
@@ -154,15 +79,8 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
 }
 
 int runVoxelize(const VoxelizeOptions& o) {
-  if (o.voxelSize > 0 && o.resolution)
-    throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
-  if (!endsWith(o.output, ".vdb"))
-    throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
-  const bool allMeshes = std::all_of(o.inputs.begin(), o.inputs.end(), [](const std::string& i) { return vox::isMeshFile(i); });
-  if (o.inputs.size() != 1 && !allMeshes)
-    throw vox::Error(vox::ErrorKind::Usage,
-                     "several inputs combine only when all are meshes (.obj .ply .stl .gltf .glb); demo:hamlet, "
-                     "map.json and .vdb inputs go one at a time");
+  checkVoxelizeOptions(o);
+  const bool allMeshes = allInputsAreMeshes(o);
   const std::string& input = o.inputs[0];
   Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
@@ -225,39 +143,7 @@ int runVoxelize(const VoxelizeOptions& o) {
 
 Command registerVoxelize(CLI::App& root) {
   auto opts = std::make_shared<VoxelizeOptions>();
-  CLI::App* cmd = root.add_subcommand("voxelize", "Bake inputs into a scene (.vdb)");
-  cmd->footer(
-      "Inputs:\n"
-      "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default 256)\n"
-      "  MAP.json      a seed 002 block map: one voxel per block, dims = largest position + 1,\n"
-      "                world placement from worldScale and --grid-size\n"
-      "  MESH...       .obj .ply .stl .gltf .glb (several combine into one scene), --res N on the\n"
-      "                longest side (default 256), --fill surface|solid, --classes FILE.json\n"
-      "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
-      "                inside where value >= T), resampled at --res (default 256) or --voxel-size\n"
-      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
-  cmd->add_option("inputs", opts->inputs, "demo:hamlet or a map.json")->required();
-  cmd->add_option("-o,--output", opts->output, "Scene file to write (*.vdb)")->required();
-  cmd->add_option("--res", opts->resolution, "Voxels on the longest axis (demo: default 256)")
-      ->check(CLI::Range(1u, 4096u));
-  cmd->add_option("--grid-size", opts->gridSize, "Block-map world grid X,Y,Z (seed 002)")
-      ->capture_default_str();
-  cmd->add_option("--voxel-size", opts->voxelSize, "World units per voxel (instead of --res)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--grid", opts->gridName, ".vdb input: the grid to read (default: the first float grid)");
-  cmd->add_option("--threshold", opts->threshold, ".vdb fog volume: inside where value >= T");
-  cmd->add_option("--fill", opts->fill, "Meshes: surface (voxels a triangle touches) or solid (plus the inside)")
-      ->capture_default_str();
-  cmd->add_option("--method", opts->method, "Meshes: exact (default) or sdf (OpenVDB meshToVolume, for comparison)")
-      ->capture_default_str();
-  cmd->add_option("--bounds", opts->bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
-  cmd->add_option("--pad", opts->pad, "Meshes: empty voxels added on every side");
-  cmd->add_option("--classes", opts->classes, "Meshes: JSON mapping material/mesh/node names to classes");
-  cmd->add_flag("--drop-invalid", opts->dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
-  cmd->add_flag("--ignore-missing-materials", opts->ignoreMissingMaterials,
-                "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
-  cmd->add_flag("--check", opts->check, "Meshes: measure the error against exact references (into --report)");
-  addCommonOptions(*cmd, opts->common);
+  CLI::App* cmd = addVoxelizeCommand(root, *opts);
   return {cmd, [opts] { return runVoxelize(*opts); }};
 }
 

@@ -17,6 +17,7 @@
 #include "tools/commands.h"
 #include "tools/dispatch.h"
 #include "tools/verify_bijection.h"
+#include "tools/voxelize_mesh.h"
 
 namespace {
 
@@ -27,6 +28,35 @@ std::string exeDir() {
   buf[n] = '\0';
   std::string p(buf);
   return p.substr(0, p.find_last_of('/'));
+}
+
+constexpr int kNoModule = -101;
+
+/// Loads module `file` (beside the binary in the build tree, in ../lib/voxbake
+/// when installed; the environment variable `envVar` overrides both) and runs
+/// its entry point; kNoModule when no candidate loads (reasons appended to `errors`).
+int runModule(const char* envVar, const char* file, const char* symbol, const std::string& dir, int argc,
+              char** argv, std::string& errors) {
+  std::string candidates[3];
+  if (const char* env = std::getenv(envVar)) candidates[0] = env;
+  candidates[1] = dir + "/" + file;
+  candidates[2] = dir + "/../lib/voxbake/" + file;
+  for (const std::string& path : candidates) {
+    if (path.empty() || access(path.c_str(), R_OK) != 0) continue;
+    void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
+    if (!handle) {
+      errors += std::string("\n  ") + dlerror();
+      continue;
+    }
+    using Entry = int (*)(int, char**);
+    auto entry = reinterpret_cast<Entry>(dlsym(handle, symbol));
+    if (!entry) {
+      errors += "\n  " + path + ": no " + symbol;
+      continue;
+    }
+    return entry(argc, argv);
+  }
+  return kNoModule;
 }
 
 }  // namespace
@@ -43,29 +73,17 @@ int main(int argc, char** argv) {
     std::vector<voxcli::Command> commands{voxcli::registerVerifyBijection(app)};
     return voxcli::parseAndRun(app, commands, argc, argv);
   }
-  // The module sits beside the binary in the build tree, in ../lib/voxbake when
-  // installed; VOX_CMDS_MODULE overrides both.
-  std::string candidates[3];
-  if (const char* env = std::getenv("VOX_CMDS_MODULE")) candidates[0] = env;
   const std::string dir = exeDir();
-  candidates[1] = dir + "/vox-cmds.so";
-  candidates[2] = dir + "/../lib/voxbake/vox-cmds.so";
   std::string errors;
-  for (const std::string& path : candidates) {
-    if (path.empty() || access(path.c_str(), R_OK) != 0) continue;
-    void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
-    if (!handle) {
-      errors += std::string("\n  ") + dlerror();
-      continue;
-    }
-    using Entry = int (*)(int, char**);
-    auto entry = reinterpret_cast<Entry>(dlsym(handle, "vox_cli_main"));
-    if (!entry) {
-      errors += "\n  " + path + ": no vox_cli_main";
-      continue;
-    }
-    return entry(argc, argv);
+  // Mesh bakes first try the light module (no OpenVDB: ~45 ms and ~33 MB less
+  // per run); it answers kDeferToFullModule, before any work, when the command
+  // line needs the full one.
+  if (argc >= 2 && std::strcmp(argv[1], "voxelize") == 0) {
+    const int code = runModule("VOX_BAKE_MODULE", "vox-bake.so", "vox_bake_main", dir, argc, argv, errors);
+    if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }
+  const int code = runModule("VOX_CMDS_MODULE", "vox-cmds.so", "vox_cli_main", dir, argc, argv, errors);
+  if (code != kNoModule) return code;
   std::fprintf(stderr,
                "vox: error: cannot load the command module vox-cmds.so (looked beside %s and in "
                "%s/../lib/voxbake)%s\nReinstall vox, or set VOX_CMDS_MODULE to the module's path.\n",

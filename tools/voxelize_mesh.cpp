@@ -1,0 +1,188 @@
+#include "tools/voxelize_mesh.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <limits>
+
+#include "formats/classes_json.h"
+#include "formats/mesh_input.h"
+#include "formats/scene_vdb_direct.h"
+#include "libvox/class_mapping.h"
+#include "libvox/error.h"
+#include "libvox/placement.h"
+#include "libvox/sha256.h"
+#include "libvox/voxelize.h"
+
+namespace voxcli {
+
+const char* const kRootDescription =
+    "vox: bake triangle meshes, OpenVDB grids and block maps into sparse voxel scenes, and\n"
+    "turn scenes into atlases, bitmaps, LOD pyramids, page files and canonical renders.\n"
+    "Exit codes: 0 ok, 1 check failed / differs, 2 usage, 3 bad input, 4 I/O or internal error.";
+
+namespace {
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  std::string tail = s.substr(s.size() - suffix.size());
+  for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return tail == suffix;
+}
+
+std::array<double, 6> parseBounds(const std::string& text) {
+  std::array<double, 6> b{};
+  size_t pos = 0;
+  for (int i = 0; i < 6; ++i) {
+    const size_t end = text.find(',', pos);
+    if ((i < 5) != (end != std::string::npos))
+      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects xmin,ymin,zmin,xmax,ymax,zmax, got '" + text + "'");
+    const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+    char* stop = nullptr;
+    b[size_t(i)] = std::strtod(part.c_str(), &stop);
+    if (part.empty() || *stop != '\0')
+      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects six numbers, got '" + text + "'");
+    pos = end + 1;
+  }
+  return b;
+}
+
+}  // namespace
+
+CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
+  CLI::App* cmd = root.add_subcommand("voxelize", "Bake inputs into a scene (.vdb)");
+  cmd->footer(
+      "Inputs:\n"
+      "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default 256)\n"
+      "  MAP.json      a seed 002 block map: one voxel per block, dims = largest position + 1,\n"
+      "                world placement from worldScale and --grid-size\n"
+      "  MESH...       .obj .ply .stl .gltf .glb (several combine into one scene), --res N on the\n"
+      "                longest side (default 256), --fill surface|solid, --classes FILE.json\n"
+      "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
+      "                inside where value >= T), resampled at --res (default 256) or --voxel-size\n"
+      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
+  cmd->add_option("inputs", o.inputs, "demo:hamlet or a map.json")->required();
+  cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
+  cmd->add_option("--res", o.resolution, "Voxels on the longest axis (demo: default 256)")->check(CLI::Range(1u, 4096u));
+  cmd->add_option("--grid-size", o.gridSize, "Block-map world grid X,Y,Z (seed 002)")->capture_default_str();
+  cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(CLI::PositiveNumber);
+  cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
+  cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T");
+  cmd->add_option("--fill", o.fill, "Meshes: surface (voxels a triangle touches) or solid (plus the inside)")
+      ->capture_default_str();
+  cmd->add_option("--method", o.method, "Meshes: exact (default) or sdf (OpenVDB meshToVolume, for comparison)")
+      ->capture_default_str();
+  cmd->add_option("--bounds", o.bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
+  cmd->add_option("--pad", o.pad, "Meshes: empty voxels added on every side");
+  cmd->add_option("--classes", o.classes, "Meshes: JSON mapping material/mesh/node names to classes");
+  cmd->add_flag("--drop-invalid", o.dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
+  cmd->add_flag("--ignore-missing-materials", o.ignoreMissingMaterials,
+                "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
+  cmd->add_flag("--check", o.check, "Meshes: measure the error against exact references (into --report)");
+  addCommonOptions(*cmd, o.common);
+  return cmd;
+}
+
+bool allInputsAreMeshes(const VoxelizeOptions& o) {
+  return std::all_of(o.inputs.begin(), o.inputs.end(), [](const std::string& i) { return vox::isMeshFile(i); });
+}
+
+void checkVoxelizeOptions(const VoxelizeOptions& o) {
+  if (o.voxelSize > 0 && o.resolution)
+    throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
+  if (!endsWith(o.output, ".vdb"))
+    throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
+  if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "several inputs combine only when all are meshes (.obj .ply .stl .gltf .glb); demo:hamlet, "
+                     "map.json and .vdb inputs go one at a time");
+}
+
+bool isLightBake(const VoxelizeOptions& o) { return allInputsAreMeshes(o) && o.method == "exact" && !o.check; }
+
+PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
+  if (o.fill != "surface" && o.fill != "solid")
+    throw vox::Error(vox::ErrorKind::Usage, "--fill " + o.fill + ": expected surface or solid");
+  if (o.method != "exact" && o.method != "sdf")
+    throw vox::Error(vox::ErrorKind::Usage, "--method " + o.method + ": expected exact or sdf");
+  PreparedMeshes p;
+  run.phase("parse");
+  vox::MeshReadOptions ro;
+  ro.dropInvalid = o.dropInvalid;
+  ro.ignoreMissingMaterials = o.ignoreMissingMaterials;
+  for (const std::string& in : o.inputs) {
+    run.input(in);
+    const int64_t size = vox::fileSizeOrMinusOne(in);
+    if (size < 0) throw vox::Error(vox::ErrorKind::BadInput, in + ": no such file");
+    p.bytesRead += uint64_t(size);
+    vox::Mesh m = vox::readMeshFile(in, ro, p.warnings);
+    for (const std::string& f : m.filesRead) run.input(f);
+    if (o.inputs.size() == 1) p.mesh = std::move(m);
+    else p.mesh.append(m);
+  }
+  for (const std::string& w : p.warnings) run.note("warning: " + w);
+  run.phase("prepare");  // classes, placement, provenance hashes
+  const vox::Mesh& mesh = p.mesh;
+  if (mesh.triangles.empty())
+    throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
+                                                   ": no triangles; there is nothing to voxelize");
+  // Classes: from --classes, else one per material.
+  vox::ClassMapping mapping = o.classes.empty() ? vox::classPerMaterial(mesh, o.inputs[0]) : vox::readClassMapping(o.classes);
+  if (!o.classes.empty()) run.input(o.classes);
+  p.triangleClass = vox::assignClasses(mesh, mapping);
+  // Placement.
+  std::array<double, 3> lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  std::array<double, 3> hi{-lo[0], -lo[1], -lo[2]};
+  for (const auto& tri : mesh.triangles)
+    for (uint32_t vi : tri)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], mesh.positions[vi][k]), hi[k] = std::max(hi[k], mesh.positions[vi][k]);
+  vox::PlacementOptions place;
+  place.voxelSize = o.voxelSize;
+  place.resolution = o.voxelSize > 0 ? 0 : (o.resolution ? o.resolution : 256);
+  place.pad = o.pad;
+  if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
+  vox::placeGrid(lo, hi, place, p.header);
+  p.header.classes = mapping.table;
+  for (const std::string& in : o.inputs) {
+    uint64_t bytes = 0;
+    const std::string sha = vox::sha256File(in, &bytes);
+    p.header.sources.push_back({in, "mesh", sha, bytes});
+  }
+  return p;
+}
+
+int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  PreparedMeshes p = prepareMeshes(o, run);
+  run.phase("voxelize");
+  vox::VoxelizeSettings settings;
+  settings.fill = o.fill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
+  settings.threads = run.threads();
+  auto bar = run.progress("voxelize");
+  settings.progress = [&bar](double f) { bar->update(f); };
+  vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
+  bar->done();
+  run.phase("write");
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
+  const vox::Dims d = p.header.dims;
+  run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", p.mesh.triangles.size()},
+                  {"vertices", p.mesh.positions.size()}, {"input_bytes", p.bytesRead},
+                  {"occupied_voxels", s.occupied}, {"surface_voxels", s.surface},
+                  {"classes_present", s.classesPresent.size()}, {"method", o.method}, {"fill", o.fill},
+                  {"warnings", p.warnings}};
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels from " +
+           std::to_string(p.mesh.triangles.size()) + " triangles");
+  return run.finish();
+}
+
+Command registerVoxelizeLight(CLI::App& root) {
+  auto opts = std::make_shared<VoxelizeOptions>();
+  CLI::App* cmd = addVoxelizeCommand(root, *opts);
+  return {cmd, [opts]() -> int {
+            if (!isLightBake(*opts)) return kDeferToFullModule;
+            checkVoxelizeOptions(*opts);
+            Run run("voxelize", opts->common);
+            const std::string outputTemp = run.output(opts->output);  // checks the destination before the work
+            return runMeshesDirect(*opts, run, outputTemp);
+          }};
+}
+
+}  // namespace voxcli
