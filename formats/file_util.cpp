@@ -1,5 +1,8 @@
 #include "formats/file_util.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -59,6 +62,32 @@ std::string readFileBytes(const std::string& path) {
   while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) bytes.append(buf, n);
   if (std::ferror(f.get())) throwBadInput(path + ": read error");
   return bytes;
+}
+
+FileView::FileView(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throwBadInput(path + ": is a directory, expected a file");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+    if (p != MAP_FAILED) {
+      mapped_ = p;
+      data_ = static_cast<const char*>(p);
+      size_ = size_t(st.st_size);
+    }
+  }
+  ::close(fd);
+  if (!mapped_) {  // pipes, devices, empty files, or mmap refused: read it
+    owned_ = readFileBytes(path);
+    data_ = owned_.data();
+    size_ = owned_.size();
+  }
+}
+
+FileView::~FileView() {
+  if (mapped_) ::munmap(mapped_, size_);
 }
 
 void writeFileBytes(const std::string& path, const std::string& bytes) {

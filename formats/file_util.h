@@ -32,6 +32,26 @@ class AtomicOutput {
 /// missing or unreadable.
 std::string readFileBytes(const std::string& path);
 
+/// A whole file, read-only, mapped into memory when it is a regular file (no
+/// copy and no fresh pages to fault in, which is most of what reading a large
+/// mesh cost), else read into memory. Throws vox::Error (BadInput) like
+/// readFileBytes. Not copyable.
+class FileView {
+ public:
+  explicit FileView(const std::string& path);
+  ~FileView();
+  FileView(const FileView&) = delete;
+  FileView& operator=(const FileView&) = delete;
+  const char* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  const char* data_ = "";
+  size_t size_ = 0;
+  void* mapped_ = nullptr;
+  std::string owned_;
+};
+
 /// Writes `bytes` to `path` (not atomic by itself; use with AtomicOutput).
 void writeFileBytes(const std::string& path, const std::string& bytes);
 

@@ -58,7 +58,7 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
 Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
   const std::string e = lowerExtension(path);
   if (e == ".gltf" || e == ".glb") return readGltf(path, options, warnings);
-  const std::string bytes = readFileBytes(path);
+  const FileView bytes(path);
   Mesh mesh;
   if (e == ".obj")
     mesh = parseObj(bytes.data(), bytes.size(), path, options, warnings, std::filesystem::path(path).parent_path().string());

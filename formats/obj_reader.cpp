@@ -3,6 +3,7 @@
 // 100 MB/s takes.
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <unordered_map>
 
@@ -170,6 +171,24 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
   std::vector<std::array<float, 4>> objColors;
   bool anyVertexColor = false;
   size_t invalidVertices = 0, firstInvalidLine = 0, firstInvalidVertex = 0;  // NaN/Inf "v" lines
+  {
+    // Reserve from a count of "v " and "f " lines (memchr runs at GB/s): growing
+    // these arrays by doubling copied and faulted in twice their final size,
+    // which cost more than parsing the numbers.
+    size_t vLines = 0, fLines = 0;
+    for (const char* q = data; q < data + size;) {
+      if (q + 1 < data + size && q[1] == ' ') vLines += q[0] == 'v', fLines += q[0] == 'f';
+      const void* nl = std::memchr(q, '\n', size_t(data + size - q));
+      q = nl ? static_cast<const char*>(nl) + 1 : data + size;
+    }
+    objPositions.reserve(vLines);
+    vertexOfObj.reserve(vLines);
+    objOfVertex.reserve(vLines);
+    mesh.positions.reserve(vLines);
+    mesh.triangles.reserve(fLines);
+    mesh.triangleMaterial.reserve(fLines);
+    mesh.trianglePart.reserve(fLines);
+  }
 
   auto resolve = [&](int64_t idx, size_t count, size_t line, const char* what) -> uint32_t {
     const int64_t i = idx < 0 ? int64_t(count) + idx : idx - 1;

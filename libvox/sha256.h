@@ -15,12 +15,18 @@ class Sha256 {
   std::string hexDigest();  // finalises; call once
 
  private:
-  void block(const uint8_t* p);
+  void block(const uint8_t* p);                // portable rounds, one 64-byte block
+  void blocks(const uint8_t* p, size_t count);  // SHA-NI when the CPU has it, else block()
   uint32_t h_[8];
   uint8_t buf_[64];
   size_t bufLen_ = 0;
   uint64_t total_ = 0;
+  bool hardware_;  // decided at construction (sha256Hardware())
 };
+
+/// True when a Sha256 constructed now uses the CPU's SHA extensions (set
+/// VOX_SHA256_PORTABLE=1 in the environment to force the portable code).
+bool sha256Hardware();
 
 /// Hex SHA-256 of a file's bytes; throws vox::Error (BadInput) if it cannot be read.
 std::string sha256File(const std::string& path, uint64_t* bytes = nullptr);

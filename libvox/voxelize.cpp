@@ -96,6 +96,20 @@ void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
   clip(tmp, out, hi, false);
 }
 
+/// `in` clipped to [lo, hi] along `axis`: `in` itself when it already lies
+/// inside (clipAxis would copy it unchanged, vertex for vertex), else the
+/// clipped polygon in `out`. Most triangle pieces at the usual resolutions sit
+/// inside one slab, so this skips most of the clipping work.
+const Poly& clipAxisView(const Poly& in, Poly& out, int axis, double lo, double hi) {
+  if (in.n > 0) {
+    double mn = in.p[0][axis], mx = mn;
+    for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
+    if (mn >= lo && mx <= hi) return in;
+  }
+  clipAxis(in, out, axis, lo, hi);
+  return out;
+}
+
 double polyArea(const Poly& P) {
   if (P.n < 3) return 0;
   double s[3] = {0, 0, 0};
@@ -347,8 +361,8 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
 
   auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
-    Poly piece;  // the part of the triangle inside the voxel
-    clipAxis(*exactUV, piece, 2, w, w + 1.0);
+    Poly pieceStorage;
+    const Poly& piece = clipAxisView(*exactUV, pieceStorage, 2, w, w + 1.0);  // the part inside the voxel
     const double area = polyArea(piece);
     // A piece of clearly positive area proves the intersection (double rounding
     // cannot make 1e-9 voxel^2 out of nothing); touching or missing voxels, where
@@ -373,19 +387,19 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
   };
 
   for (int32_t u = first[0]; u <= last[0]; ++u) {
-    Poly Pu, Pue;
-    clipAxis(P, Pue, 0, u - eps, u + 1 + eps);
+    Poly PuStorage, PueStorage;
+    const Poly& Pue = clipAxisView(P, PueStorage, 0, u - eps, u + 1 + eps);
     if (Pue.n == 0) continue;
-    clipAxis(P, Pu, 0, u, u + 1.0);
+    const Poly& Pu = clipAxisView(P, PuStorage, 0, u, u + 1.0);
     double ylo, yhi;
     polyRange(Pue, 1, ylo, yhi);
     const int32_t v0 = std::max(first[1], int32_t(std::floor(ylo - eps)) - 1);
     const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
     for (int32_t v = v0; v <= v1; ++v) {
-      Poly Puve, Puv;
-      clipAxis(Pue, Puve, 1, v - eps, v + 1 + eps);
+      Poly PuveStorage, PuvStorage;
+      const Poly& Puve = clipAxisView(Pue, PuveStorage, 1, v - eps, v + 1 + eps);
       if (Puve.n == 0) continue;
-      clipAxis(Pu, Puv, 1, v, v + 1.0);
+      const Poly& Puv = clipAxisView(Pu, PuvStorage, 1, v, v + 1.0);
       double zlo, zhi;
       polyRange(Puve, 2, zlo, zhi);
       const int32_t w0 = std::max(first[2], int32_t(std::floor(zlo - eps)) - 1);

@@ -23,3 +23,25 @@ TEST(Sha256, KnownVectors) {
   }
   EXPECT_EQ(h.hexDigest(), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
+
+// The SHA-NI rounds against the portable ones on pseudo-random data of every
+// length around the block boundaries and a few long ones.
+TEST(Sha256, HardwareMatchesPortable) {
+  if (!vox::sha256Hardware()) GTEST_SKIP() << "this CPU has no SHA extensions: only the portable code runs";
+  std::string data(200000, '\0');
+  uint64_t x = 0x9e3779b97f4a7c15ULL;
+  for (char& c : data) {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    c = char(x);
+  }
+  auto digest = [&](size_t n, bool portable) {
+    if (portable) setenv("VOX_SHA256_PORTABLE", "1", 1);
+    vox::Sha256 h;
+    unsetenv("VOX_SHA256_PORTABLE");
+    h.update(data.data(), n);
+    return h.hexDigest();
+  };
+  for (size_t n : {size_t(0), size_t(1), size_t(55), size_t(56), size_t(63), size_t(64), size_t(65), size_t(127),
+                   size_t(128), size_t(129), size_t(1000), size_t(4096), size_t(65537), size_t(200000)})
+    EXPECT_EQ(digest(n, false), digest(n, true)) << n << " bytes";
+}
