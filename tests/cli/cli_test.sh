@@ -370,6 +370,19 @@ OBJ
   expect_exit 0 "$vox" voxelize keep_red.obj --res 8 -o red.vdb
   expect_exit 0 "$vox" info red.vdb --json
   jcheck out.txt "assert d['colored']>0, d"
+  # Mesh bakes run in the light module (no OpenVDB) and write the .vdb directly:
+  # the same scene as the OpenVDB path (--check runs in vox-cmds.so), the same
+  # bytes at any thread count and on every run (the UUID comes from the content).
+  expect_exit 0 "$vox" voxelize keep_cube.obj keep_red.obj --res 16 -o light1.vdb --threads 1 --report light.json
+  jcheck light.json "assert d['counts']['occupied_voxels']>0 and d['counts']['classes_present']==3, d['counts']"
+  expect_exit 0 "$vox" voxelize keep_cube.obj keep_red.obj --res 16 -o light2.vdb --threads 2
+  cmp -s light1.vdb light2.vdb || fail "light bake: bytes differ between --threads 1 and 2"
+  expect_exit 0 "$vox" voxelize keep_cube.obj keep_red.obj --res 16 -o full.vdb --check
+  expect_exit 0 "$vox" diff light1.vdb full.vdb
+  # Without the light module, vox falls back to the full one.
+  mkdir -p nolight && cp "$(dirname "$vox")/vox" "$(dirname "$vox")/vox-cmds.so" nolight/
+  expect_exit 0 nolight/vox voxelize keep_cube.obj keep_red.obj --res 16 -o fallback.vdb --threads 2
+  cmp -s light1.vdb fallback.vdb || fail "the full module's mesh bake differs from the light module's"
   ;;
 mip_pack)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
