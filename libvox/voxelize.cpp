@@ -528,16 +528,22 @@ struct PlainBits {
 
 void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w) { bits.set(bits.index(u, v, w)); }
 
+/// Does a crossing that changes the winding number from `before` by `delta`
+/// enter a part? It does when it raises |winding|, so that parts with inverted
+/// winding (whose rays see -1 on entry) are entered too.
+bool enters(int before, int delta) { return std::abs(before + delta) > std::abs(before); }
+
 /// The class of the part enclosing voxel `k` of a column: the last crossing at
-/// or before it that enters the solid; nullopt when the column has none.
+/// or before it that enters a part; nullopt when the column has none.
 std::optional<uint8_t> enclosingClass(const std::vector<Crossing>& sorted, uint64_t column, int32_t k) {
-  auto end = std::upper_bound(sorted.begin(), sorted.end(), Crossing{column, k, 127, 255});
-  for (auto it = end; it != sorted.begin();) {
-    --it;
-    if (it->column != column) break;
-    if (it->delta > 0) return it->cls;
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), Crossing{column, INT32_MIN, -128, 0});
+  std::optional<uint8_t> cls;
+  int winding = 0;
+  for (; it != sorted.end() && it->column == column && it->start <= k; ++it) {
+    if (enters(winding, it->delta)) cls = it->cls;
+    winding += it->delta;
   }
-  return std::nullopt;
+  return cls;
 }
 
 template <typename Fn>
@@ -695,6 +701,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
           const uint64_t column = uint64_t(x - lo[0]) * extY + uint64_t(y - lo[1]);
           auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
           std::optional<uint8_t> columnClass;
+          int columnWinding = 0;
           // 64 voxels of the column at a time: inside for at least 2 of the 3
           // rays and not on the surface; each run of such voxels up to the next
           // +z crossing (where the enclosing class may change) is one addRun.
@@ -710,7 +717,8 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
               const int bit = std::countr_zero(todo);
               const int32_t z = lo[2] + z0 + bit;
               while (cur != zCross.end() && cur->column == column && cur->start <= z) {
-                if (cur->delta > 0) columnClass = cur->cls;
+                if (enters(columnWinding, cur->delta)) columnClass = cur->cls;
+                columnWinding += cur->delta;
                 ++cur;
               }
               const int ones = std::countr_one(todo >> bit);

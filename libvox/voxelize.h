@@ -32,8 +32,9 @@
 // inverted winding, nested and overlapping parts; the 2-of-3 vote repairs most
 // cracks and holes in open meshes (a hole only misleads the rays that pass
 // through it). Interior voxels get kInteriorVotes votes for the class of the
-// triangle whose crossing last entered along +z (the part that encloses them),
-// no colour, and surface flag false.
+// triangle whose crossing last entered a part along +z (the part that encloses
+// them; a crossing enters when it raises |winding number|, so parts with
+// inverted winding are entered too), no colour, and surface flag false.
 #pragma once
 
 #include <cstdint>

@@ -1,33 +1,78 @@
 #!/bin/sh
-# `vox voxelize` against vdb_tool's mesh2ls on the same mesh, same machine, one
-# hyperfine run: surface and solid fill at 256 and 512, peak memory from
-# /usr/bin/time, and parse throughput from --report.
+# `vox voxelize` against vdb_tool's mesh2ls on the same meshes, same machine,
+# one run: a generated high-polygon mesh (a bumpy sphere of 100 k triangles,
+# always) and the Stanford bunny (when ../shared/data is present). Per mesh:
+# surface and solid fill at 256 and 512 in one hyperfine run with vdb_tool,
+# peak memory from /usr/bin/time; then surface time and memory at 128..2048
+# (cost grows with the surface, not the volume), and parse throughput.
 # Usage: scripts/bench_voxelize.sh [BUILD_DIR] [MESH]   -> Markdown on stdout
 set -eu
 cd "$(dirname "$0")/.."
 VOX=$(pwd)/${1:-build}/bin/vox
-MESH=${2:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
-[ -f "$MESH" ] || { echo "bench_voxelize.sh: $MESH is absent" >&2; exit 0; }
+BUNNY=${2:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-for n in 256 512; do
-  hyperfine -N --warmup 1 --runs 5 --export-markdown "t$n.md" \
-    -n "vox surface $n" "$VOX voxelize $MESH --res $n --fill surface -o s.vdb -q --threads 2" \
-    -n "vox solid $n" "$VOX voxelize $MESH --res $n --fill solid -o v.vdb -q --threads 2" \
-    -n "vdb_tool mesh2ls $n" "vdb_tool -read $MESH -mesh2ls d=$n -write l.vdb" >/dev/null
-  cat "t$n.md"
+
+# A sphere of radius 1 with a ripple of 4% (so no face lies on a grid plane),
+# 316 x 158 quads = 99 856 triangles, as OBJ.
+python3 - > bumpy-sphere.obj <<'PY'
+import math
+S, R = 316, 158
+out = []
+for j in range(R + 1):
+    th = math.pi * j / R
+    for i in range(S):
+        ph = 2 * math.pi * i / S
+        r = 1 + 0.04 * math.sin(7 * th) * math.cos(5 * ph)
+        out.append("v %.7f %.7f %.7f" % (r * math.sin(th) * math.cos(ph), r * math.cos(th), r * math.sin(th) * math.sin(ph)))
+for j in range(R):
+    for i in range(S):
+        a, b = j * S + i + 1, j * S + (i + 1) % S + 1
+        c, d = a + S, b + S
+        out.append("f %d %d %d" % (a, c, b))
+        out.append("f %d %d %d" % (b, c, d))
+print("\n".join(out))
+PY
+meshes="$work/bumpy-sphere.obj"
+[ -f "$BUNNY" ] && meshes="$meshes $BUNNY" || echo "(the bunny is absent: ../shared/data not found; generated mesh only)"
+
+for MESH in $meshes; do
+  echo "### $(basename "$MESH") ($(grep -c '^f ' "$MESH") triangles, $(du -k "$MESH" | cut -f1) KB)"
   echo
-  for c in "$VOX voxelize $MESH --res $n --fill surface -o s.vdb -q --threads 2" \
-           "$VOX voxelize $MESH --res $n --fill solid -o v.vdb -q --threads 2" \
-           "vdb_tool -read $MESH -mesh2ls d=$n -write l.vdb"; do
-    /usr/bin/time -f "%M" $c 2> mem.txt > /dev/null || true
-    echo "peak RSS $(tail -1 mem.txt) KB: $c" | sed "s|$VOX|vox|; s|$MESH|MESH|"
+  for n in 256 512; do
+    hyperfine -N --warmup 1 --runs 5 --export-markdown "t$n.md" \
+      -n "vox surface $n" "$VOX voxelize $MESH --res $n --fill surface -o s.vdb -q --threads 2" \
+      -n "vox solid $n" "$VOX voxelize $MESH --res $n --fill solid -o v.vdb -q --threads 2" \
+      -n "vdb_tool mesh2ls $n" "vdb_tool -read $MESH -mesh2ls d=$n -write l.vdb" >/dev/null
+    cat "t$n.md"
+    echo
+    for c in "$VOX voxelize $MESH --res $n --fill surface -o s.vdb -q --threads 2" \
+             "$VOX voxelize $MESH --res $n --fill solid -o v.vdb -q --threads 2" \
+             "vdb_tool -read $MESH -mesh2ls d=$n -write l.vdb"; do
+      /usr/bin/time -f "%M" $c 2> mem.txt > /dev/null || true
+      echo "peak RSS $(tail -1 mem.txt) KB: $c" | sed "s|$VOX|vox|; s|$MESH|MESH|"
+    done
+    echo
   done
-  echo
 done
-# Parse throughput on one core: bytes / parse phase (OBJ here; binary STL and PLY below if present).
-for f in "$MESH" "$(dirname "$MESH")/../cgal-data/pig.stl"; do
+
+# Growth with resolution, surface fill, last mesh of the list: one run each.
+echo "| --res | surface voxels | wall [ms] | voxelize phase [ms] | peak RSS [MB] | file [MB] |"
+echo "|---:|---:|---:|---:|---:|---:|"
+for n in 128 256 512 1024 2048; do
+  /usr/bin/time -f "%e %M" "$VOX" voxelize "$MESH" --res $n --fill surface -o g.vdb -q --threads 2 --report g.json 2> tm.txt
+  python3 - "$n" <<'PY'
+import json, os, sys
+d = json.load(open('g.json')); ph = {p['name']: p['seconds'] for p in d['phases']}
+wall, rss = open('tm.txt').read().split()[-2:]
+print(f"| {sys.argv[1]} | {d['counts']['surface_voxels']} | {float(wall)*1000:.0f} | {ph['voxelize']*1000:.0f} | {int(rss)/1024:.1f} | {os.path.getsize('g.vdb')/1e6:.2f} |")
+PY
+done
+echo
+
+# Parse throughput on one core: bytes / parse phase.
+for f in $meshes "$(dirname "$BUNNY")/../cgal-data/pig.stl"; do
   [ -f "$f" ] || continue
   "$VOX" voxelize "$f" --res 64 -o p.vdb -q --threads 1 --report p.json
   python3 -c "

@@ -257,18 +257,22 @@ TEST(Voxelize, OpenBoxStillFillsAndNestedCavityStaysHollow) {
 }
 
 TEST(Voxelize, InteriorTakesTheEnclosingClass) {
-  Mesh m = boxMesh({1.5, 1.5, 1.5}, {10.5, 10.5, 10.5});
-  m.append(boxMesh({4.5, 4.5, 4.5}, {7.5, 7.5, 7.5}));
-  std::vector<uint8_t> cls(m.triangles.size(), 1);
-  for (size_t i = 12; i < cls.size(); ++i) cls[i] = 2;
-  VoxelizeSettings st;
-  st.fill = FillMode::Solid;
-  const Scene s = voxelizeMesh(m, cls, gridHeader(12), st);
-  std::vector<ClassVotes> tmp;
-  auto at = [&](int u, int v, int w) { return s.voxel({u, v, w}, tmp)->votes[0].classId; };
-  EXPECT_EQ(at(6, 6, 6), 2) << "inside the inner box";
-  EXPECT_EQ(at(3, 3, 3), 1) << "inside the outer box only";
-  EXPECT_EQ(s.voxel({6, 6, 6}, tmp)->votes[0].votes, kInteriorVotes);
+  // Both windings: a part with inverted winding is entered where |winding| rises.
+  for (bool inverted : {false, true}) {
+    Mesh m = boxMesh({1.5, 1.5, 1.5}, {10.5, 10.5, 10.5}, inverted);
+    m.append(boxMesh({4.5, 4.5, 4.5}, {7.5, 7.5, 7.5}, inverted));
+    std::vector<uint8_t> cls(m.triangles.size(), 1);
+    for (size_t i = 12; i < cls.size(); ++i) cls[i] = 2;
+    VoxelizeSettings st;
+    st.fill = FillMode::Solid;
+    const Scene s = voxelizeMesh(m, cls, gridHeader(12), st);
+    std::vector<ClassVotes> tmp;
+    auto at = [&](int u, int v, int w) { return s.voxel({u, v, w}, tmp)->votes[0].classId; };
+    EXPECT_EQ(at(6, 6, 6), 2) << "inside the inner box, inverted " << inverted;
+    EXPECT_EQ(at(3, 3, 3), 1) << "inside the outer box only, inverted " << inverted;
+    EXPECT_EQ(at(9, 5, 6), 1) << "inside the outer box only, inverted " << inverted;
+    EXPECT_EQ(s.voxel({6, 6, 6}, tmp)->votes[0].votes, kInteriorVotes);
+  }
 }
 
 TEST(Voxelize, VotesAreAreaInSubvoxelUnits) {
