@@ -12,6 +12,7 @@
 #include <cstring>
 #include <map>
 #include <thread>
+#include <unordered_map>
 
 #include "formats/scene_meta.h"
 #include "libvox/crc32c.h"
@@ -179,15 +180,27 @@ std::array<uint64_t, kBlockWords> activeMask(const GridPlan& g, size_t i) {
   const VoxelBlock& b = *g.leaves[i];
   switch (g.kind) {
     case GridKind::Bool: m = b.occupied; break;
-    case GridKind::Int32:
-      for (int k = 0; k < kBlockWords; ++k)
-        for (int bit = 0; bit < 64; ++bit) m[size_t(k)] |= uint64_t(g.votes[i]->votes[size_t(k * 64 + bit)] != 0) << bit;
+    case GridKind::Int32: {
+      const ClassBlock* cb = g.votes[i];
+      const bool runs = b.hasRuns() && b.runClass == g.classId;
+      for (int k = 0; k < kBlockWords; ++k) {
+        if (cb)
+          for (int bit = 0; bit < 64; ++bit) m[size_t(k)] |= uint64_t(cb->votes[size_t(k * 64 + bit)] != 0) << bit;
+        if (runs && b.runVotes) m[size_t(k)] |= b.runMask[size_t(k)];
+      }
       break;
+    }
     case GridKind::Vec3s:
       for (int k = 0; k < kBlockWords; ++k) m[size_t(k)] = b.colored[size_t(k)] & b.occupied[size_t(k)];
       break;
   }
   return m;
+}
+
+/// Compressed value buffers of full uniform vote leaves, by count (per thread).
+std::unordered_map<uint32_t, std::string>& uniformLeafCache() {
+  thread_local std::unordered_map<uint32_t, std::string> cache;
+  return cache;
 }
 
 /// LeafNode::writeBuffers for one leaf, appended to `out`.
@@ -205,11 +218,26 @@ void leafBuffer(const GridPlan& g, size_t i, const std::array<uint64_t, kBlockWo
   // and only the active values follow, in voxel order.
   out.push_back(char(0));
   if (g.kind == GridKind::Int32) {
+    const ClassBlock* cb = g.votes[i];
+    bool full = true;
+    for (uint64_t w : mask) full = full && w == ~uint64_t(0);
+    if (!cb && full) {
+      // A block of interior runs only (the bulk of a solid fill): 512 equal
+      // counts, whose compressed form is the same every time.
+      auto& cached = uniformLeafCache()[b.runVotes];
+      if (cached.empty()) {
+        std::array<int32_t, kBlockVoxels> vals;
+        vals.fill(int32_t(b.runVotes));
+        appendBlosc(cached, vals.data(), sizeof vals);
+      }
+      out += cached;
+      return;
+    }
     std::array<int32_t, kBlockVoxels> vals;
     size_t n = 0;
     for (int k = 0; k < kBlockWords; ++k)
       for (uint64_t bits = mask[size_t(k)]; bits; bits &= bits - 1)
-        vals[n++] = int32_t(g.votes[i]->votes[size_t(k * 64 + std::countr_zero(bits))]);
+        vals[n++] = int32_t(b.votesAt(g.classId, cb, k * 64 + std::countr_zero(bits)));
     appendBlosc(out, vals.data(), n * sizeof(int32_t));
   } else {
     std::array<std::array<float, 3>, kBlockVoxels> vals;
@@ -425,11 +453,15 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
       summary.occupied += uint64_t(std::popcount(b->occupied[size_t(k)]));
       summary.surface += uint64_t(std::popcount(b->occupied[size_t(k)] & b->surface[size_t(k)]));
     }
-    for (const auto& cb : b->classes) {
-      GridPlan& g = votes[cb->classId];
-      if (g.name.empty()) g = {"votes." + std::to_string(cb->classId), GridKind::Int32, cb->classId, {}, {}};
+    // The classes with votes in this block: its class blocks and its runs' class.
+    std::vector<uint8_t> ids;
+    for (const auto& cb : b->classes) ids.push_back(cb->classId);
+    if (b->hasRuns() && b->runVotes && std::find(ids.begin(), ids.end(), b->runClass) == ids.end()) ids.push_back(b->runClass);
+    for (uint8_t id : ids) {
+      GridPlan& g = votes[id];
+      if (g.name.empty()) g = {"votes." + std::to_string(id), GridKind::Int32, id, {}, {}};
       g.leaves.push_back(b);
-      g.votes.push_back(cb.get());
+      g.votes.push_back(findClassBlock(*b, id));
     }
     if (b->color) color.leaves.push_back(b);
   }

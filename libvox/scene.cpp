@@ -199,6 +199,7 @@ Scene SceneBuilder::build() && {
   std::vector<std::pair<uint8_t, openvdb::Int32Grid::Accessor>> voteAcc;
   std::optional<openvdb::Vec3SGrid::Accessor> colorAcc;
   for (VoxelBlock* leaf : leaves) {
+    materializeRuns(*leaf);  // the tree's leaves hold plain values anyway
     const openvdb::Coord o(leaf->origin[0], leaf->origin[1], leaf->origin[2]);
     // Occupancy leaf: active = occupied, value = surface flag. Our blocks use
     // OpenVDB's voxel order, so masks and values are copied word for word.

@@ -37,6 +37,25 @@ ClassBlock& classBlock(VoxelBlock& block, uint8_t classId) {
   return **at;
 }
 
+const ClassBlock* findClassBlock(const VoxelBlock& block, uint8_t classId) {
+  for (const auto& cb : block.classes)
+    if (cb->classId == classId) return cb.get();
+  return nullptr;
+}
+
+void materializeRuns(VoxelBlock& b) {
+  if (!b.hasRuns()) return;
+  ClassBlock& cb = classBlock(b, b.runClass);
+  for (int k = 0; k < kBlockWords; ++k)
+    for (uint64_t bits = b.runMask[size_t(k)]; bits; bits &= bits - 1) {
+      const size_t i = size_t(k * 64 + __builtin_ctzll(bits));
+      cb.votes[i] = saturatingVotes(cb.votes[i], b.runVotes);
+    }
+  b.runMask = {};
+  b.runClass = 0;
+  b.runVotes = 0;
+}
+
 VoxelBlocks::VoxelBlocks() = default;
 VoxelBlocks::VoxelBlocks(VoxelBlocks&&) noexcept = default;
 VoxelBlocks& VoxelBlocks::operator=(VoxelBlocks&&) noexcept = default;
@@ -80,6 +99,22 @@ void VoxelBlocks::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_
     // One block at a time: the run's part inside it shares the block.
     const int32_t blockEnd = std::min(last.w, (w | (kBlockDim - 1)));
     VoxelBlock& b = block(start.u, start.v, w);
+    if (!surface) {
+      // The voxels of one (x, y) in a block are 8 consecutive bits of one word.
+      const int first = blockOffset(start.u, start.v, w), count = blockEnd - w + 1;
+      const uint64_t bits = (count == 64 ? ~uint64_t(0) : ((uint64_t(1) << count) - 1)) << (first & 63);
+      uint64_t& word = b.runMask[size_t(first >> 6)];
+      const bool empty = !b.hasRuns();
+      if (empty || (b.runClass == classId && b.runVotes == votes && !(word & bits))) {
+        b.runClass = classId;
+        b.runVotes = votes;
+        word |= bits;
+        b.occupied[size_t(first >> 6)] |= bits;
+        w = blockEnd + 1;
+        continue;
+      }
+      materializeRuns(b);  // another class or count, or votes that add up: plain form
+    }
     ClassBlock& cb = classOf(b, classId);
     for (int32_t z = w; z <= blockEnd; ++z) {
       const int i = blockOffset(start.u, start.v, z);
@@ -112,6 +147,19 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
       continue;
     }
     VoxelBlock& mine = *slot;
+    if (theirs->hasRuns()) {
+      // Their runs join ours when they match (same class and count, disjoint
+      // voxels); otherwise they become plain votes, summed below.
+      bool overlap = false;
+      for (int k = 0; k < kBlockWords; ++k) overlap = overlap || (mine.runMask[size_t(k)] & theirs->runMask[size_t(k)]);
+      if (!mine.hasRuns() || (mine.runClass == theirs->runClass && mine.runVotes == theirs->runVotes && !overlap)) {
+        for (int k = 0; k < kBlockWords; ++k) mine.runMask[size_t(k)] |= theirs->runMask[size_t(k)];
+        mine.runClass = theirs->runClass;
+        mine.runVotes = theirs->runVotes;
+      } else {
+        materializeRuns(*theirs);
+      }
+    }
     for (int k = 0; k < kBlockWords; ++k) {
       mine.occupied[k] |= theirs->occupied[k];
       mine.surface[k] |= theirs->surface[k];
@@ -120,6 +168,7 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
       ClassBlock& dst = classBlock(mine, cb->classId);
       for (int i = 0; i < kBlockVoxels; ++i) dst.votes[i] = saturatingVotes(dst.votes[i], cb->votes[i]);
     }
+
     if (theirs->color) {
       if (!mine.color) mine.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
       for (int i = 0; i < kBlockVoxels; ++i)
@@ -163,6 +212,9 @@ void VoxelBlocks::validate(const Dims& d, const ClassTable& classes) {
         }
         break;
       }
+    if (b->hasRuns() && !classes.find(b->runClass))
+      throw Error(ErrorKind::Internal,
+                  "class id " + std::to_string(b->runClass) + " has votes but is not in the class table");
     for (const auto& cb : b->classes)
       if (!classes.find(cb->classId))
         throw Error(ErrorKind::Internal,

@@ -42,6 +42,30 @@ struct VoxelBlock {
   std::array<uint64_t, kBlockWords> occupied{}, surface{}, colored{};
   std::vector<std::unique_ptr<ClassBlock>> classes;  // sorted by class id, few
   std::unique_ptr<std::array<std::array<float, 3>, kBlockVoxels>> color;  // linear RGB, when any voxel has one
+  // Votes that runs without the surface flag added (a solid fill's interior),
+  // kept compactly while they share one class and one count: voxel i has
+  // `runVotes` more votes for `runClass` when bit i of `runMask` is set, on top
+  // of the class blocks. A full interior block then costs 64 bytes, not 2 KB
+  // per class. materializeRuns() moves them into the class blocks.
+  std::array<uint64_t, kBlockWords> runMask{};
+  uint8_t runClass = 0;
+  uint32_t runVotes = 0;
+
+  bool hasRuns() const {
+    for (uint64_t w : runMask)
+      if (w) return true;
+    return false;
+  }
+  /// The votes of class `classId` at voxel i (class block plus runs).
+  uint32_t votesAt(uint8_t classId, const ClassBlock* cb, int i) const {
+    const uint32_t base = cb ? cb->votes[size_t(i)] : 0;
+    return ((runMask[size_t(i >> 6)] >> (i & 63)) & 1) && runClass == classId ? saturatingVotesInline(base, runVotes)
+                                                                             : base;
+  }
+  static uint32_t saturatingVotesInline(uint32_t a, uint32_t b) {
+    const uint64_t s = uint64_t(a) + b;
+    return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
+  }
 };
 
 /// Voxel index of (x, y, z) inside its block.
@@ -97,5 +121,9 @@ class VoxelBlocks {
 
 /// The class block of `classId` in `block`, created (zeroed) when absent.
 ClassBlock& classBlock(VoxelBlock& block, uint8_t classId);
+/// The class block of `classId` in `block`, or null.
+const ClassBlock* findClassBlock(const VoxelBlock& block, uint8_t classId);
+/// Moves a block's run votes into its class blocks (same votes, plain form).
+void materializeRuns(VoxelBlock& block);
 
 }  // namespace vox
