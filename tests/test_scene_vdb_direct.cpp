@@ -125,6 +125,18 @@ VoxelBlocks makeBlocks(const Dims& d, uint64_t seed, bool color) {
   for (int32_t u = 8; u < 16; ++u)  // one full block, every voxel occupied
     for (int32_t v = 16; v < 24; ++v)
       if (inside({u, v, 31})) b.addRun({u, v, 24}, 8, 2, 3, (u + v) % 2);
+  // Interior runs (no surface flag), kept as masks until they mix: one class and
+  // count per block, then a second class, a different count and overlapping
+  // runs that add up, in blocks of their own.
+  if (inside({40, 40, 40})) {
+    for (int32_t v = 32; v < 40; ++v) b.addRun({32, v, 32}, 8, 1, 65536, false);     // compact
+    for (int32_t v = 32; v < 36; ++v) b.addRun({40, v, 32}, 8, 1, 65536, false);     // next block,
+    for (int32_t v = 36; v < 40; ++v) b.addRun({40, v, 32}, 8, 2, 65536, false);     //  second class
+    b.addRun({48, 32, 32}, 8, 7, 10, false), b.addRun({48, 33, 32}, 8, 7, 11, false);  // another count
+    b.addRun({56, 32, 32}, 8, 1, 65536, false), b.addRun({56, 32, 34}, 3, 1, 65536, false);  // overlap: sums
+    b.addRun({32, 40, 32}, 8, 2, 9, false), b.addVotes({32, 40, 33}, 2, 4, true);   // runs + plain votes
+    b.addRun({33, 40, 30}, 20, 1, kMaxVotesPerClass, false), b.addRun({33, 40, 32}, 2, 1, kMaxVotesPerClass, false);
+  }
   for (Coord3 c : {Coord3{127, 127, 127}, Coord3{128, 128, 128}, Coord3{4095, 0, 4096},
                    Coord3{int32_t(d.x) - 1, int32_t(d.y) - 1, int32_t(d.z) - 1}})
     if (inside(c)) b.addVotes(c, 7, kMaxVotesPerClass, true), b.addVotes(c, 7, 5, true);
@@ -202,6 +214,35 @@ TEST(SceneVdbDirect, RefusesWhatBuildRefuses) {
   fine.addVotes({1, 1, 1}, 1, 1, true);
   EXPECT_TRUE(voxtest::throwsVoxError([&] { writeSceneVdbDirect(h, fine, dir.file("no/such/dir/c.vdb")); },
                                       ErrorKind::Io, {"no/such/dir/c.vdb"}));
+}
+
+}  // namespace
+
+namespace {
+
+TEST(VoxelBlocks, RunsAddUpLikePlainVotes) {
+  // The same votes through runs (compact masks) and through addVotes one voxel
+  // at a time, merged in both orders, give the same scene.
+  const SceneHeader h = header({24, 24, 24});
+  auto viaRuns = [&](bool split) {
+    VoxelBlocks a, b;
+    a.addRun({1, 2, 3}, 12, 1, 65536, false);
+    (split ? b : a).addRun({1, 2, 5}, 4, 1, 65536, false);  // overlaps: 2 x 65536 there
+    (split ? b : a).addRun({1, 3, 0}, 16, 2, 7, false);
+    b.addRun({9, 9, 9}, 5, 7, 3, false);
+    a.merge(std::move(b));
+    return SceneBuilder(std::move(a), h).build();
+  };
+  VoxelBlocks plain;
+  for (int32_t w = 3; w < 15; ++w) plain.addVotes({1, 2, w}, 1, 65536, false);
+  for (int32_t w = 5; w < 9; ++w) plain.addVotes({1, 2, w}, 1, 65536, false);
+  for (int32_t w = 0; w < 16; ++w) plain.addVotes({1, 3, w}, 2, 7, false);
+  for (int32_t w = 9; w < 14; ++w) plain.addVotes({9, 9, w}, 7, 3, false);
+  const Scene expected = SceneBuilder(std::move(plain), h).build();
+  for (bool split : {false, true}) {
+    const SceneDifference d = compareScenes(viaRuns(split), expected);
+    EXPECT_TRUE(d.same()) << "split " << split << ": " << d.firstNote;
+  }
 }
 
 }  // namespace
