@@ -393,7 +393,9 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     const Poly& Pu = clipAxisView(P, PuStorage, 0, u, u + 1.0);
     double ylo, yhi;
     polyRange(Pue, 1, ylo, yhi);
-    const int32_t v0 = std::max(first[1], int32_t(std::floor(ylo - eps)) - 1);
+    // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
+    // (a piece starting inside a voxel does not touch the one below).
+    const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
     const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
     for (int32_t v = v0; v <= v1; ++v) {
       Poly PuveStorage, PuvStorage;
@@ -402,7 +404,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
       const Poly& Puv = clipAxisView(Pu, PuvStorage, 1, v, v + 1.0);
       double zlo, zhi;
       polyRange(Puve, 2, zlo, zhi);
-      const int32_t w0 = std::max(first[2], int32_t(std::floor(zlo - eps)) - 1);
+      const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
       const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
       for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, &Puv);
     }

@@ -2,7 +2,9 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <exception>
 #include <limits>
+#include <thread>
 
 #include "formats/classes_json.h"
 #include "formats/mesh_input.h"
@@ -105,6 +107,27 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   if (o.method != "exact" && o.method != "sdf")
     throw vox::Error(vox::ErrorKind::Usage, "--method " + o.method + ": expected exact or sdf");
   PreparedMeshes p;
+  // Provenance hashes on a second thread while the meshes are parsed (the
+  // files are in the page cache by then or soon after); errors surface at join.
+  struct Hash {
+    std::string sha;
+    uint64_t bytes = 0;
+    std::exception_ptr error;
+  };
+  std::vector<Hash> hashes(o.inputs.size());
+  std::thread hasher([&] {
+    for (size_t i = 0; i < o.inputs.size(); ++i) try {
+        hashes[i].sha = vox::sha256File(o.inputs[i], &hashes[i].bytes);
+      } catch (...) {
+        hashes[i].error = std::current_exception();
+      }
+  });
+  struct Join {
+    std::thread& t;
+    ~Join() {
+      if (t.joinable()) t.join();
+    }
+  } join{hasher};
   run.phase("parse");
   vox::MeshReadOptions ro;
   ro.dropInvalid = o.dropInvalid;
@@ -142,10 +165,10 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
   vox::placeGrid(lo, hi, place, p.header);
   p.header.classes = mapping.table;
-  for (const std::string& in : o.inputs) {
-    uint64_t bytes = 0;
-    const std::string sha = vox::sha256File(in, &bytes);
-    p.header.sources.push_back({in, "mesh", sha, bytes});
+  hasher.join();
+  for (size_t i = 0; i < o.inputs.size(); ++i) {
+    if (hashes[i].error) std::rethrow_exception(hashes[i].error);
+    p.header.sources.push_back({o.inputs[i], "mesh", hashes[i].sha, hashes[i].bytes});
   }
   return p;
 }
