@@ -1,7 +1,9 @@
-// `vox`: a small launcher. It answers --version itself and loads the command
-// module (vox-cmds.so, which links OpenVDB) only for commands that need it, so
-// that `vox --version` starts in about a millisecond instead of the ~50 ms that
-// loading OpenVDB and its dependencies costs (DESIGN section 13).
+// `vox`: a small launcher. It answers --version itself and loads a command
+// module only for commands that need one: vox-bake.so (mesh bakes, no OpenVDB)
+// for `vox voxelize`, which defers to vox-cmds.so (every command, links
+// OpenVDB) when the command line needs it. So `vox --version` starts in about a
+// millisecond and a mesh bake does not pay the ~45 ms and ~33 MB that loading
+// OpenVDB and its dependencies costs (DESIGN section 13, docs/startup.md).
 #include <dlfcn.h>
 #include <limits.h>
 #include <unistd.h>
