@@ -182,6 +182,7 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       q = nl ? static_cast<const char*>(nl) + 1 : data + size;
     }
     objPositions.reserve(vLines);
+    objColors.reserve(vLines);
     vertexOfObj.reserve(vLines);
     objOfVertex.reserve(vLines);
     mesh.positions.reserve(vLines);
