@@ -4,11 +4,13 @@
 # always) and the Stanford bunny (when ../shared/data is present). Per mesh:
 # surface and solid fill at 256 and 512 in one hyperfine run with vdb_tool,
 # peak memory from /usr/bin/time; then surface time and memory at 128..2048
-# (cost grows with the surface, not the volume), and parse throughput.
+# (cost grows with the surface, not the volume), and parse throughput (end to
+# end per file, and a Google Benchmark over the parsers: bench/bench_parse.cpp).
 # Usage: scripts/bench_voxelize.sh [BUILD_DIR] [MESH]   -> Markdown on stdout
 set -eu
 cd "$(dirname "$0")/.."
-VOX=$(pwd)/${1:-build}/bin/vox
+root=$(pwd)
+VOX=$root/${1:-build}/bin/vox
 BUNNY=${2:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -80,3 +82,11 @@ import json,os,sys
 d=json.load(open('p.json')); ph={p['name']:p['seconds'] for p in d['phases']}
 b=os.path.getsize('$f'); print(f'parse {os.path.basename(\"$f\")}: {b/1e6:.2f} MB in {ph[\"parse\"]*1000:.1f} ms = {b/1e6/ph[\"parse\"]:.0f} MB/s')"
 done
+
+# The parsers alone, one core, from memory (Google Benchmark; builds build-bench).
+echo
+cmake -S "$root" -B "$root/build-bench" -DCMAKE_BUILD_TYPE=Release -DVOX_BUILD_BENCHMARKS=ON -DVOX_BUILD_TESTS=OFF >/dev/null
+cmake --build "$root/build-bench" -j"$(nproc)" --target vox_bench_parse >/dev/null
+echo '```'
+"$root/build-bench/bin/vox_bench_parse" 2>/dev/null | grep -E "^(BM_|Benchmark|-)"
+echo '```'
