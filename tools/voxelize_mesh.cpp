@@ -92,7 +92,7 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
       "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
       "                inside where value >= T), resampled at --res (default 256) or --voxel-size\n"
       "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
-  cmd->add_option("inputs", o.inputs, "demo:hamlet or a map.json")->required();
+  cmd->add_option("inputs", o.inputs, "Meshes (.obj .ply .stl .gltf .glb), demo:hamlet, a map.json or a grid .vdb")->required();
   cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
   cmd->add_option("--res", o.resolution, "Voxels on the longest axis (demo: default 256)")->check(CLI::Range(1u, 4096u));
   cmd->add_option("--grid-size", o.gridSize, "Block-map world grid X,Y,Z (seed 002)")->capture_default_str();
