@@ -24,13 +24,6 @@ namespace voxcli {
 
 namespace {
 
-bool endsWith(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  std::string tail = s.substr(s.size() - suffix.size());
-  for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return tail == suffix;
-}
-
 // Meshes with --method sdf or --check need OpenVDB (meshToVolume, the scene
 // queries of the checks); everything else takes the direct path, here too.
 int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
@@ -98,7 +91,7 @@ int runVoxelize(const VoxelizeOptions& o) {
     h.progress = [&bar](double f) { bar->update(f); };
     scene = vox::buildHamlet(h);
     bar->done();
-  } else if (endsWith(input, ".json")) {
+  } else if (endsWithLower(input, ".json")) {
     if (o.resolution)
       throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
     run.phase("parse");
@@ -106,7 +99,7 @@ int runVoxelize(const VoxelizeOptions& o) {
     vox::BlockMapOptions b;
     b.gridSize = parseTriple(o.gridSize, "--grid-size");
     scene = vox::readBlockMap(input, b);
-  } else if (endsWith(input, ".vdb")) {
+  } else if (endsWithLower(input, ".vdb")) {
     run.phase("resample");
     run.input(input);
     vox::VdbGridInputOptions v;

@@ -28,13 +28,6 @@ const char* const kRootDescription =
 
 namespace {
 
-bool endsWith(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  std::string tail = s.substr(s.size() - suffix.size());
-  for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return tail == suffix;
-}
-
 std::array<double, 6> parseBounds(const std::string& text) {
   std::array<double, 6> b{};
   size_t pos = 0;
@@ -77,8 +70,14 @@ void tuneAllocatorForBake() {
   if (to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
-
 }  // namespace
+
+bool endsWithLower(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  std::string tail = s.substr(s.size() - suffix.size());
+  for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return tail == suffix;
+}
 
 CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   CLI::App* cmd = root.add_subcommand("voxelize", "Bake inputs into a scene (.vdb)");
@@ -121,7 +120,7 @@ bool allInputsAreMeshes(const VoxelizeOptions& o) {
 void checkVoxelizeOptions(const VoxelizeOptions& o) {
   if (o.voxelSize > 0 && o.resolution)
     throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
-  if (!endsWith(o.output, ".vdb"))
+  if (!endsWithLower(o.output, ".vdb"))
     throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
   if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
     throw vox::Error(vox::ErrorKind::Usage,

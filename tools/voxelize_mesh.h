@@ -44,6 +44,9 @@ struct VoxelizeOptions {
 /// Returned by the light module's command when the full module must run it.
 inline constexpr int kDeferToFullModule = -100;
 
+/// True when `s` ends with `suffix` (lower case), ignoring the case of `s`.
+bool endsWithLower(const std::string& s, const std::string& suffix);
+
 /// Adds the `voxelize` subcommand and every option to `root`, filling `opts`.
 CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& opts);
 
