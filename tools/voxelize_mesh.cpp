@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <thread>
@@ -193,6 +194,18 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   place.pad = o.pad;
   if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
   vox::placeGrid(lo, hi, place, p.header);
+  // OpenVDB refuses a transform whose scale has a determinant below 3e-15
+  // (math::ScaleMap), i.e. voxels smaller than ~1.44e-5 world units: say so
+  // now, before any work, whichever writer would run.
+  const double s = p.header.voxelSize;
+  if (!(s * s * s >= 3e-15)) {
+    char size[32];
+    std::snprintf(size, sizeof size, "%.3g", s);
+    throw vox::Error(vox::ErrorKind::Usage,
+                     std::string("the voxel size would be ") + size +
+                         " world units, below what an OpenVDB transform can hold (about 1.44e-5); use a lower --res "
+                         "or a larger --voxel-size, or scale the mesh up (e.g. export it in millimetres)");
+  }
   p.header.classes = mapping.table;
   hasher.join();
   for (size_t i = 0; i < o.inputs.size(); ++i) {

@@ -379,6 +379,12 @@ OBJ
   cmp -s light1.vdb light2.vdb || fail "light bake: bytes differ between --threads 1 and 2"
   expect_exit 0 "$vox" voxelize keep_cube.obj keep_red.obj --res 16 -o full.vdb --check
   expect_exit 0 "$vox" diff light1.vdb full.vdb
+  # Voxels below what an OpenVDB transform holds: a usage error from both paths, no output.
+  printf 'v 0 0 0\nv 0.0001 0 0\nv 0 0.0001 0\nf 1 2 3\n' > keep_micro.obj
+  expect_exit 2 "$vox" voxelize keep_micro.obj --res 64 -o micro.vdb
+  expect_stderr "scale the mesh up"
+  expect_exit 2 "$vox" voxelize keep_micro.obj --res 64 -o micro.vdb --check
+  [ -e micro.vdb ] && fail "micro.vdb written despite the error"
   # Without the light module, vox falls back to the full one.
   mkdir -p nolight && cp "$(dirname "$vox")/vox" "$(dirname "$vox")/vox-cmds.so" nolight/
   expect_exit 0 nolight/vox voxelize keep_cube.obj keep_red.obj --res 16 -o fallback.vdb --threads 2
