@@ -287,7 +287,6 @@ void writeTransform(Sink& out, const SceneHeader& h) {
 struct GridStats {
   uint64_t voxels = 0;
   std::array<int32_t, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
-  uint64_t int5 = 0, int4 = 0;
 };
 
 void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned threads) {
@@ -437,8 +436,7 @@ void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned thre
 DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks, const std::string& path,
                                        unsigned threads) {
   blocks.validate(h.dims, h.classes);
-  std::vector<VoxelBlock*> sorted = blocks.sortedBlocks();
-  std::stable_sort(sorted.begin(), sorted.end(), treeOrder);
+  const std::vector<VoxelBlock*> sorted = blocks.sortedBlocks(treeOrder);
 
   // The grids writeSceneVdb writes for the scene SceneBuilder::build() makes
   // from these blocks: occupancy, votes.<id> by id, color.

@@ -185,11 +185,12 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
   last_ = nullptr;
 }
 
-std::vector<VoxelBlock*> VoxelBlocks::sortedBlocks() {
+std::vector<VoxelBlock*> VoxelBlocks::sortedBlocks(BlockOrder less) {
   std::vector<VoxelBlock*> out;
   out.reserve(blocks_.size());
   for (auto& [key, b] : blocks_) out.push_back(b.get());
-  std::sort(out.begin(), out.end(), [](const VoxelBlock* a, const VoxelBlock* b) { return a->origin < b->origin; });
+  if (!less) less = [](const VoxelBlock* a, const VoxelBlock* b) { return a->origin < b->origin; };
+  std::sort(out.begin(), out.end(), less);
   return out;
 }
 

@@ -29,6 +29,12 @@ inline constexpr int kBlockDim = 1 << kBlockLog2;
 inline constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
 inline constexpr int kBlockWords = kBlockVoxels / 64;
 
+/// Saturating sum of two vote counts (at kMaxVotesPerClass).
+inline uint32_t saturatingVotes(uint32_t a, uint32_t b) {
+  const uint64_t s = uint64_t(a) + b;
+  return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
+}
+
 /// Votes of one class in one block, one count per voxel (0 = no vote).
 struct ClassBlock {
   uint8_t classId = 0;
@@ -59,24 +65,13 @@ struct VoxelBlock {
   /// The votes of class `classId` at voxel i (class block plus runs).
   uint32_t votesAt(uint8_t classId, const ClassBlock* cb, int i) const {
     const uint32_t base = cb ? cb->votes[size_t(i)] : 0;
-    return ((runMask[size_t(i >> 6)] >> (i & 63)) & 1) && runClass == classId ? saturatingVotesInline(base, runVotes)
-                                                                             : base;
-  }
-  static uint32_t saturatingVotesInline(uint32_t a, uint32_t b) {
-    const uint64_t s = uint64_t(a) + b;
-    return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
+    return ((runMask[size_t(i >> 6)] >> (i & 63)) & 1) && runClass == classId ? saturatingVotes(base, runVotes) : base;
   }
 };
 
 /// Voxel index of (x, y, z) inside its block.
 inline int blockOffset(int32_t x, int32_t y, int32_t z) {
   return ((x & (kBlockDim - 1)) << (2 * kBlockLog2)) | ((y & (kBlockDim - 1)) << kBlockLog2) | (z & (kBlockDim - 1));
-}
-
-/// Saturating sum of two vote counts (at kMaxVotesPerClass).
-inline uint32_t saturatingVotes(uint32_t a, uint32_t b) {
-  const uint64_t s = uint64_t(a) + b;
-  return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
 }
 
 class VoxelBlocks {
@@ -99,9 +94,11 @@ class VoxelBlocks {
   bool outOfRange() const { return outOfRange_; }
   size_t blockCount() const { return blocks_.size(); }
 
-  /// The blocks sorted by origin (x, then y, then z): the same order whatever
-  /// order the votes arrived in. Pointers stay valid until the next mutation.
-  std::vector<VoxelBlock*> sortedBlocks();
+  /// The blocks sorted by `less` (default: by origin, x then y then z), a total
+  /// order on origins, so the result does not depend on the order the votes
+  /// arrived in. Pointers stay valid until the next mutation.
+  using BlockOrder = bool (*)(const VoxelBlock*, const VoxelBlock*);
+  std::vector<VoxelBlock*> sortedBlocks(BlockOrder less = nullptr);
 
   /// Checks what SceneBuilder::build() checks: every occupied voxel lies in
   /// `dims`, every class with votes is in `classes`, no coordinate was out of

@@ -6,11 +6,7 @@
 
 #include "formats/blockmap_json.h"
 #include "formats/scene_vdb.h"
-#include "formats/classes_json.h"
-#include "formats/mesh_input.h"
 #include "formats/vdb_grid_input.h"
-#include "libvox/placement.h"
-#include "libvox/sha256.h"
 #include "libvox/voxelize.h"
 #include "libvox/voxelize_check.h"
 #include "libvox/voxelize_sdf.h"
@@ -30,18 +26,11 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
   if (isLightBake(o)) return runMeshesDirect(o, run, outputTemp);
   PreparedMeshes p = prepareMeshes(o, run);
   const vox::Mesh& mesh = p.mesh;
-  const std::vector<uint8_t>& triClass = p.triangleClass;
-  const vox::SceneHeader& header = p.header;
-  const std::vector<std::string>& warnings = p.warnings;
-  const uint64_t bytesRead = p.bytesRead;
   run.phase("voxelize");
-  vox::VoxelizeSettings settings;
-  settings.fill = o.fill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
-  settings.threads = run.threads();
   auto bar = run.progress("voxelize");
-  settings.progress = [&bar](double f) { bar->update(f); };
-  vox::Scene scene = o.method == "sdf" ? vox::voxelizeMeshSdf(mesh, triClass, header, settings)
-                                       : vox::voxelizeMesh(mesh, triClass, header, settings);
+  const vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
+  vox::Scene scene = o.method == "sdf" ? vox::voxelizeMeshSdf(mesh, p.triangleClass, p.header, settings)
+                                       : vox::voxelizeMesh(mesh, p.triangleClass, p.header, settings);
   bar->done();
   run.phase("write");
   vox::writeSceneVdb(scene, outputTemp);
@@ -59,16 +48,7 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
                               {"relative_volume_error", c.relativeVolumeError}, {"samples", c.samples}, {"iou", c.iou}};
     }
   }
-  const uint64_t occupied = scene.occupiedCount(), surface = scene.surfaceCount();
-  const vox::Dims d = scene.header().dims;
-  run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", mesh.triangles.size()},
-                  {"vertices", mesh.positions.size()}, {"input_bytes", bytesRead},
-                  {"occupied_voxels", occupied}, {"surface_voxels", surface},
-                  {"classes_present", scene.classesPresent().size()}, {"method", o.method}, {"fill", o.fill},
-                  {"warnings", warnings}};
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
-           std::to_string(mesh.triangles.size()) + " triangles");
-  return run.finish();
+  return finishMeshBake(o, run, p, scene.occupiedCount(), scene.surfaceCount(), scene.classesPresent().size());
 }
 
 int runVoxelize(const VoxelizeOptions& o) {

@@ -215,27 +215,36 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   return p;
 }
 
-int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
-  PreparedMeshes p = prepareMeshes(o, run);
-  run.phase("voxelize");
+vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar) {
   vox::VoxelizeSettings settings;
   settings.fill = o.fill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
   settings.threads = run.threads();
-  auto bar = run.progress("voxelize");
-  settings.progress = [&bar](double f) { bar->update(f); };
-  vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
-  bar->done();
-  run.phase("write");
-  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
+  settings.progress = [&bar](double f) { bar.update(f); };
+  return settings;
+}
+
+int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, uint64_t occupied, uint64_t surface,
+                   size_t classesPresent) {
   const vox::Dims d = p.header.dims;
   run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", p.mesh.triangles.size()},
                   {"vertices", p.mesh.positions.size()}, {"input_bytes", p.bytesRead},
-                  {"occupied_voxels", s.occupied}, {"surface_voxels", s.surface},
-                  {"classes_present", s.classesPresent.size()}, {"method", o.method}, {"fill", o.fill},
+                  {"occupied_voxels", occupied}, {"surface_voxels", surface},
+                  {"classes_present", classesPresent}, {"method", o.method}, {"fill", o.fill},
                   {"warnings", p.warnings}};
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels from " +
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
            std::to_string(p.mesh.triangles.size()) + " triangles");
   return run.finish();
+}
+
+int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  PreparedMeshes p = prepareMeshes(o, run);
+  run.phase("voxelize");
+  auto bar = run.progress("voxelize");
+  vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, voxelizeSettings(o, run, *bar));
+  bar->done();
+  run.phase("write");
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
+  return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size());
 }
 
 Command registerVoxelizeLight(CLI::App& root) {

@@ -17,6 +17,7 @@
 
 #include "libvox/mesh.h"
 #include "libvox/scene.h"
+#include "libvox/voxelize.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 
@@ -68,6 +69,13 @@ struct PreparedMeshes {
   uint64_t bytesRead = 0;
 };
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run);
+
+/// Voxelizer settings from the options (--fill, --threads), reporting progress to `bar`.
+vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar);
+
+/// The counts and the closing message of a mesh bake, then run.finish().
+int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, uint64_t occupied, uint64_t surface,
+                   size_t classesPresent);
 
 /// The mesh bake without OpenVDB: prepare, voxelize into blocks, write the
 /// .vdb directly (formats/scene_vdb_direct.h), report. Returns the exit code.
