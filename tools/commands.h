@@ -13,6 +13,11 @@ class App;
 
 namespace voxcli {
 
+/// Returned by a command of the light bake module (vox-bake.so) when the full
+/// module (vox-cmds.so) must run the command line instead; tools/main.cpp then
+/// loads it. Not an exit code.
+inline constexpr int kDeferToFullModule = -100;
+
 struct Command {
   CLI::App* app = nullptr;
   std::function<int()> run;  // returns an exit code; may throw vox::Error

@@ -19,7 +19,6 @@
 #include "tools/commands.h"
 #include "tools/dispatch.h"
 #include "tools/verify_bijection.h"
-#include "tools/voxelize_mesh.h"
 
 namespace {
 

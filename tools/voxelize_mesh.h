@@ -42,9 +42,6 @@ struct VoxelizeOptions {
   CommonOptions common;
 };
 
-/// Returned by the light module's command when the full module must run it.
-inline constexpr int kDeferToFullModule = -100;
-
 /// True when `s` ends with `suffix` (lower case), ignoring the case of `s`.
 bool endsWithLower(const std::string& s, const std::string& suffix);
 
