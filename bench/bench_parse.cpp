@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "formats/gltf_reader.h"
-#include "formats/mesh_input.h"
+#include "formats/mesh/gltf_reader.h"
+#include "formats/mesh/mesh_input.h"
 
 namespace {
 

@@ -2,9 +2,10 @@
 // the brute-force reference on the 128^3 demo hamlet, one thread.
 #include <benchmark/benchmark.h>
 
-#include "libvox/demo_hamlet.h"
-#include "libvox/render.h"
-#include "libvox/render_sources.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/render/render.h"
+#include "formats/pagefile/pagefile_ray_grid.h"
+#include "libvox/scene/render_scene.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "libvox/voxelize.h"
+#include "libvox/scene/voxelize_scene.h"
 
 namespace {
 

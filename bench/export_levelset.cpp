@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "formats/scene_vdb.h"
-#include "libvox/scene_grids.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/scene/scene_grids.h"
 
 int main(int argc, char** argv) {
   if (argc < 3) {

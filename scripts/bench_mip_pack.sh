@@ -121,7 +121,7 @@ for r in rows:
     p(f"* {r['scene']}: " + ", ".join(f"{ph['name']} {ph['seconds']:.3f}" for ph in r["pack_phases"]))
 p("\n## Layouts: bytes per occupied voxel\n")
 p("`vox pack-chunks --layout L` of each scene (level 0 only), C = 16 with the default 4 KiB")
-p("alignment and C = 8 with 64-byte alignment (formats/PAGEFILE.md). \"file\" counts the whole")
+p("alignment and C = 8 with 64-byte alignment (formats/pagefile/PAGEFILE.md). \"file\" counts the whole")
 p(".vpk (header, index, metadata, alignment padding); \"payload\" only the chunk payloads. svo")
 p("payloads include the mip bricks of the inner nodes (C = 16 and 32); columns payloads the mip")
 p("ladder. Pack time is the chunking alone (`pack_seconds` of `--report`), one run.\n")

@@ -9,11 +9,11 @@ seconds=${2:-60}
 out=build-fuzz
 mkdir -p "$out/corpus-$name"
 command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
-srcs="tests/fuzz/fuzz_$name.cpp formats/mesh_input.cpp formats/obj_reader.cpp formats/stl_reader.cpp formats/ply_reader.cpp formats/file_util.cpp libvox/mesh.cpp"
+srcs="tests/fuzz/fuzz_$name.cpp formats/mesh/mesh_input.cpp formats/mesh/obj_reader.cpp formats/mesh/stl_reader.cpp formats/mesh/ply_reader.cpp formats/core/file_util.cpp libvox/mesh/mesh.cpp"
 # glTF is not fuzzed here (tinygltf's JSON parser is not ours); a stub keeps mesh_input linking.
 cat > "$out/gltf_stub.cpp" <<'STUB'
-#include "formats/gltf_reader.h"
-#include "libvox/error.h"
+#include "formats/mesh/gltf_reader.h"
+#include "libvox/core/error.h"
 namespace vox {
 Mesh readGltf(const std::string& path, const MeshReadOptions&, std::vector<std::string>&) {
   throwBadInput(path + ": glTF is not part of this fuzz build");

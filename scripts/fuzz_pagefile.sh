@@ -11,8 +11,8 @@ out=${FUZZ_DIR:-build-fuzz}
 corpus=$out/corpus-pagefile
 mkdir -p "$corpus"
 command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. tests/fuzz/fuzz_pagefile.cpp formats/pagefile.cpp \
-  libvox/crc32c.cpp -o "$out/fuzz_pagefile"
+clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp \
+  libvox/core/crc32c.cpp -o "$out/fuzz_pagefile"
 vox=${BUILD_DIR:-build}/bin/vox
 if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
   tmp=$(mktemp -d)

@@ -6,11 +6,11 @@
 #include <random>
 #include <set>
 
-#include "libvox/atlas_mapping.h"
-#include "libvox/bijection_proof.h"
-#include "libvox/bitmap_packing.h"
-#include "libvox/summary_bytes.h"
-#include "libvox/texel_formats.h"
+#include "libvox/core/atlas_mapping.h"
+#include "libvox/core/bijection_proof.h"
+#include "libvox/core/bitmap_packing.h"
+#include "libvox/core/summary_bytes.h"
+#include "libvox/core/texel_formats.h"
 #include "test_util.h"
 
 using namespace vox;

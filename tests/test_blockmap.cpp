@@ -1,7 +1,7 @@
 // Seed 002 map.json import: placement, dims, surface flags, and every bad input.
 #include <gtest/gtest.h>
 
-#include "formats/blockmap_json.h"
+#include "formats/vdb/blockmap_json.h"
 #include "test_util.h"
 
 using namespace vox;

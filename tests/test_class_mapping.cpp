@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "formats/classes_json.h"
+#include "formats/mesh/classes_json.h"
 #include "test_util.h"
 
 using namespace vox;

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "libvox/crc32c.h"
-#include "libvox/morton.h"
+#include "libvox/core/crc32c.h"
+#include "libvox/core/morton.h"
 
 namespace {
 

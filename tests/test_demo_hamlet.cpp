@@ -5,8 +5,8 @@
 #include <map>
 #include <set>
 
-#include "formats/scene_vdb.h"
-#include "libvox/demo_hamlet.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/scene/demo_hamlet.h"
 #include "test_util.h"
 
 using namespace vox;

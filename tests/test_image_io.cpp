@@ -6,8 +6,8 @@
 #include <fstream>
 #include <Imath/half.h>
 
-#include "formats/file_util.h"
-#include "formats/image.h"
+#include "formats/core/file_util.h"
+#include "formats/image/image.h"
 #include "test_util.h"
 
 using namespace vox;

@@ -6,8 +6,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "formats/image.h"
-#include "formats/mesh_input.h"
+#include "formats/image/image.h"
+#include "formats/mesh/mesh_input.h"
 #include "test_util.h"
 
 using namespace vox;

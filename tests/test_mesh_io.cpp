@@ -1,4 +1,4 @@
-// Mesh readers (formats/mesh_input.h): every feature of issue 4's input list and
+// Mesh readers (formats/mesh/mesh_input.h): every feature of issue 4's input list and
 // the malformed inputs of DESIGN.md section 10, on small files written here, plus
 // the third-party files of ../shared/data when present (skipped with a message
 // otherwise). Complements test_mesh_input.cpp.
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/mesh_input.h"
+#include "formats/mesh/mesh_input.h"
 #include "test_util.h"
 
 #ifndef VOX_SHARED_DATA_DIR

@@ -3,10 +3,10 @@
 #include <map>
 #include <tuple>
 
-#include "formats/pyramid_vdb.h"
-#include "formats/scene_vdb.h"
-#include "libvox/demo_hamlet.h"
-#include "libvox/mip.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/scene/mip.h"
 #include "test_util.h"
 
 namespace {

@@ -5,13 +5,13 @@
 #include <memory>
 #include <tuple>
 
-#include "formats/pagefile.h"
-#include "libvox/atlas_content.h"
-#include "libvox/demo_hamlet.h"
-#include "libvox/mip.h"
-#include "libvox/morton.h"
-#include "libvox/pack_chunks.h"
-#include "libvox/summary_bytes.h"
+#include "formats/pagefile/pagefile.h"
+#include "libvox/core/atlas_content.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/scene/mip.h"
+#include "libvox/core/morton.h"
+#include "formats/pagefile/pack_chunks.h"
+#include "libvox/core/summary_bytes.h"
 #include "test_util.h"
 
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "libvox/placement.h"
+#include "libvox/mesh/placement.h"
 #include "test_util.h"
 
 using namespace vox;

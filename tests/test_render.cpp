@@ -7,13 +7,14 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "formats/camera_json.h"
-#include "libvox/camera.h"
-#include "libvox/ray_grid.h"
-#include "libvox/raycast.h"
-#include "libvox/render.h"
-#include "libvox/render_sources.h"
-#include "libvox/demo_hamlet.h"
+#include "formats/core/camera_json.h"
+#include "libvox/render/camera.h"
+#include "libvox/render/ray_grid.h"
+#include "libvox/render/raycast.h"
+#include "libvox/render/render.h"
+#include "formats/pagefile/pagefile_ray_grid.h"
+#include "libvox/scene/render_scene.h"
+#include "libvox/scene/demo_hamlet.h"
 #include "test_util.h"
 
 namespace {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <openvdb/io/File.h>
 
-#include "formats/scene_vdb.h"
-#include "libvox/scene.h"
-#include "libvox/scene_grids.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/scene/scene.h"
+#include "libvox/scene/scene_grids.h"
 #include "test_util.h"
 
 using namespace vox;

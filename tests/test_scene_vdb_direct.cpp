@@ -1,4 +1,4 @@
-// The direct scene writer (formats/scene_vdb_direct.h) against OpenVDB's own:
+// The direct scene writer (formats/scene/scene_vdb_direct.h) against OpenVDB's own:
 // the same scene written both ways must give the same bytes, except the
 // 36-character UUID and the `file_delayed_load` grid metadata OpenVDB adds to
 // non-bool grids (an optional index for delayed loading, which readers drop),
@@ -9,9 +9,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "formats/scene_vdb.h"
-#include "formats/scene_vdb_direct.h"
-#include "libvox/voxel_blocks.h"
+#include "formats/vdb/scene_vdb.h"
+#include "formats/scene/scene_vdb_direct.h"
+#include "libvox/mesh/voxel_blocks.h"
 #include "test_util.h"
 
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "libvox/sha256.h"
+#include "libvox/core/sha256.h"
 
 TEST(Sha256, KnownVectors) {
   auto hex = [](const std::string& s) {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "libvox/error.h"
+#include "libvox/core/error.h"
 
 namespace voxtest {
 

@@ -5,9 +5,9 @@
 #include <openvdb/io/File.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
-#include "formats/file_util.h"
-#include "formats/vdb_grid_input.h"
-#include "libvox/scene_grids.h"
+#include "formats/core/file_util.h"
+#include "formats/vdb/vdb_grid_input.h"
+#include "libvox/scene/scene_grids.h"
 #include "test_util.h"
 
 using namespace vox;

@@ -8,9 +8,9 @@
 #include <random>
 #include <set>
 
-#include "libvox/voxelize.h"
-#include "libvox/voxelize_check.h"
-#include "libvox/voxelize_sdf.h"
+#include "libvox/scene/voxelize_scene.h"
+#include "libvox/scene/voxelize_check.h"
+#include "libvox/scene/voxelize_sdf.h"
 #include "test_util.h"
 
 using namespace vox;

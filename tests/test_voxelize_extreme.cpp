@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "libvox/placement.h"
-#include "libvox/voxelize.h"
-#include "libvox/voxelize_check.h"
+#include "libvox/mesh/placement.h"
+#include "libvox/scene/voxelize_scene.h"
+#include "libvox/scene/voxelize_check.h"
 #include "test_util.h"
 
 using namespace vox;

@@ -497,11 +497,11 @@ OBJ
     cp out.txt tinfo.json
     jcheck tinfo.json "assert d['layout']=='$layout' and d['channels']==['occupancy','summary','color','surface']"
   done
-  # A reader written from formats/PAGEFILE.md alone (no vox code) decodes the same voxels
+  # A reader written from formats/pagefile/PAGEFILE.md alone (no vox code) decodes the same voxels
   # (summary, colour, surface at every level) from every layout and chunk size.
   cat > keep_specreader.py <<'PY'
 import struct, sys
-# A page file reader written from formats/PAGEFILE.md alone: decodes every chunk of
+# A page file reader written from formats/pagefile/PAGEFILE.md alone: decodes every chunk of
 # any layout into {(level, x, y, z): (summary, colour, surface)}.
 def read(path):
     b = open(path, 'rb').read()

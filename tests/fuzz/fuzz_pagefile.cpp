@@ -1,4 +1,4 @@
-// libFuzzer target for the page file reader (formats/pagefile.h), every layout
+// libFuzzer target for the page file reader (formats/pagefile/pagefile.h), every layout
 // (bricks, svo, columns): any input must either open and verify, or throw
 // vox::Error; crashes, reads past the end (ASan), hangs and other exceptions
 // are bugs.
@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "formats/pagefile.h"
-#include "libvox/error.h"
+#include "formats/pagefile/pagefile.h"
+#include "libvox/core/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "formats/mesh_input.h"
-#include "libvox/error.h"
+#include "formats/mesh/mesh_input.h"
+#include "libvox/core/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<std::string> warnings;

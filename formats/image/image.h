@@ -1,0 +1,67 @@
+// Images as vox writes and reads them: atlases, bitmaps, renders.
+//
+// PNG through libpng and EXR through OpenEXR directly, not OpenImageIO: Debian's
+// OpenImageIO costs ~350 ms at every process start (DESIGN section 13), and
+// these two libraries cover every format the tool writes.
+//
+// Conventions: row 0 is the top of the image; channels are interleaved;
+// samples are native-endian in `pixels`; text entries become PNG tEXt chunks or
+// EXR string attributes, in the order given (so files are byte-identical for
+// identical inputs: no timestamps are written).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vox {
+
+enum class SampleType { U8, U16, U32, F16, F32 };
+
+const char* sampleTypeName(SampleType t);  // "uint8", "uint16", "uint32", "half", "float"
+size_t sampleBytes(SampleType t);
+
+struct Image {
+  uint32_t width = 0, height = 0;
+  uint32_t channels = 4;  // 1 (gray / R), 2, 3 (RGB) or 4 (RGBA)
+  SampleType type = SampleType::U8;
+  std::vector<uint8_t> pixels;  // width * height * channels * sampleBytes(type)
+  std::vector<std::pair<std::string, std::string>> text;
+
+  Image() = default;
+  Image(uint32_t w, uint32_t h, uint32_t c, SampleType t)
+      : width(w), height(h), channels(c), type(t), pixels(size_t(w) * h * c * sampleBytes(t), 0) {}
+  size_t rowBytes() const { return size_t(width) * channels * sampleBytes(type); }
+  template <typename T>
+  T* row(uint32_t y) { return reinterpret_cast<T*>(pixels.data() + y * rowBytes()); }
+  template <typename T>
+  const T* row(uint32_t y) const { return reinterpret_cast<const T*>(pixels.data() + y * rowBytes()); }
+  /// Value of a text entry, or "" if absent.
+  std::string textValue(const std::string& key) const;
+};
+
+/// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
+/// `zlibLevel` 0..9 (6 is libpng's and OpenImageIO's default). Throws vox::Error (Io).
+void writePng(const Image& image, const std::string& path, int zlibLevel = 6);
+/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
+/// deflated in up to 16 row slices on `threads` threads (formats/image/image_png_parallel.cpp).
+/// The bytes depend on the image only, not on `threads`; they differ from
+/// writePng's (one deflate stream) but decode to the same pixels.
+void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);
+/// Reads 8/16-bit gray/GA/RGB/RGBA PNGs (palette and < 8-bit images are expanded
+/// to 8 bits). Throws vox::Error (BadInput) naming the file.
+Image readPng(const std::string& path);
+
+enum class ExrCompression { None, Zip, Zips, Piz, Rle };
+/// EXR: U32 (UINT), F16 (HALF) or F32 (FLOAT), 1..4 channels named R, G, B, A
+/// (1 channel: R only; 2: R, G). Throws vox::Error (Io).
+void writeExr(const Image& image, const std::string& path, ExrCompression compression = ExrCompression::Zip);
+/// Reads an EXR written by writeExr (scanline, channels R[G[B[A]]] of one type).
+Image readExr(const std::string& path);
+
+/// True if the file starts with the PNG / EXR magic number.
+bool isPngFile(const std::string& path);
+bool isExrFile(const std::string& path);
+
+}  // namespace vox

@@ -1,0 +1,94 @@
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
+#include <ImfThreading.h>
+
+#include "formats/image/image.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+Imf::PixelType pixelType(SampleType t, const std::string& path) {
+  switch (t) {
+    case SampleType::U32: return Imf::UINT;
+    case SampleType::F16: return Imf::HALF;
+    case SampleType::F32: return Imf::FLOAT;
+    default: throw Error(ErrorKind::Internal, path + ": EXR holds uint32, half or float samples");
+  }
+}
+
+const char* const kChannelNames[4] = {"R", "G", "B", "A"};
+
+}  // namespace
+
+void writeExr(const Image& image, const std::string& path, ExrCompression compression) {
+  const Imf::PixelType type = pixelType(image.type, path);
+  if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)
+    throw Error(ErrorKind::Internal, path + ": bad image shape for EXR");
+  const Imf::Compression c[] = {Imf::NO_COMPRESSION, Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION,
+                                Imf::PIZ_COMPRESSION, Imf::RLE_COMPRESSION};
+  try {
+    Imf::Header header(int(image.width), int(image.height));
+    header.compression() = c[int(compression)];
+    for (uint32_t ch = 0; ch < image.channels; ++ch) header.channels().insert(kChannelNames[ch], Imf::Channel(type));
+    for (const auto& [k, v] : image.text) header.insert(k, Imf::StringAttribute(v));
+    Imf::FrameBuffer fb;
+    const size_t sb = sampleBytes(image.type);
+    for (uint32_t ch = 0; ch < image.channels; ++ch)
+      fb.insert(kChannelNames[ch],
+                Imf::Slice(type, reinterpret_cast<char*>(const_cast<uint8_t*>(image.pixels.data())) + ch * sb,
+                           image.channels * sb, image.rowBytes()));
+    Imf::OutputFile out(path.c_str(), header);
+    out.setFrameBuffer(fb);
+    out.writePixels(int(image.height));
+  } catch (const std::exception& e) {
+    throwIo(path + ": EXR write failed: " + e.what());
+  }
+}
+
+Image readExr(const std::string& path) {
+  if (!isExrFile(path)) throwBadInput(path + ": not an OpenEXR file (wrong magic number or unreadable)");
+  Image image;
+  try {
+    Imf::InputFile in(path.c_str());
+    const Imf::Header& h = in.header();
+    const Imath::Box2i dw = h.dataWindow();
+    image.width = uint32_t(dw.max.x - dw.min.x + 1);
+    image.height = uint32_t(dw.max.y - dw.min.y + 1);
+    image.channels = 0;
+    Imf::PixelType type = Imf::HALF;
+    for (uint32_t ch = 0; ch < 4; ++ch) {
+      const Imf::Channel* c = h.channels().findChannel(kChannelNames[ch]);
+      if (!c) break;
+      if (ch == 0) type = c->type;
+      else if (c->type != type) throwBadInput(path + ": channels of different types are not supported");
+      ++image.channels;
+    }
+    if (image.channels == 0) throwBadInput(path + ": no R channel");
+    image.type = type == Imf::UINT ? SampleType::U32 : type == Imf::HALF ? SampleType::F16 : SampleType::F32;
+    image.pixels.assign(image.rowBytes() * image.height, 0);
+    const size_t sb = sampleBytes(image.type);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(image.pixels.data()) -
+                 (size_t(dw.min.x) * image.channels * sb + size_t(dw.min.y) * image.rowBytes());
+    for (uint32_t ch = 0; ch < image.channels; ++ch)
+      fb.insert(kChannelNames[ch], Imf::Slice(type, base + ch * sb, image.channels * sb, image.rowBytes()));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    for (auto it = h.begin(); it != h.end(); ++it)
+      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+        image.text.emplace_back(it.name(), s->value());
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throwBadInput(path + ": corrupt or truncated EXR: " + e.what());
+  }
+  return image;
+}
+
+}  // namespace vox

@@ -1,0 +1,150 @@
+// A PNG writer that deflates slices of the image in parallel (pigz's scheme).
+//
+// Why not libpng: libpng drives one zlib stream, so a 1920x1080 RGBA16 render
+// spends ~0.2 s in deflate on one core while the other idles. Here the
+// filtered scanlines are cut into a fixed number of row slices; each is
+// compressed as an independent raw deflate stream (Z_FULL_FLUSH, byte aligned,
+// no final bit) and the slices are concatenated under one zlib header with the
+// combined Adler-32. Any inflater reads it as one ordinary stream. The cut
+// depends only on the image height, never on the thread count, so the bytes
+// are identical at any --threads. Scanlines use the SUB filter, as writePng.
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <thread>
+#include <atomic>
+
+#include "formats/image/image.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+void put32(std::vector<uint8_t>& out, uint32_t v) {
+  for (int s = 24; s >= 0; s -= 8) out.push_back(uint8_t(v >> s));
+}
+
+void chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, size_t size) {
+  put32(out, uint32_t(size));
+  const size_t start = out.size();
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data, data + size);
+  const uint32_t crc = uint32_t(crc32(0, out.data() + start, uInt(out.size() - start)));
+  put32(out, crc);
+}
+
+}  // namespace
+
+void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads) {
+  if (image.type != SampleType::U8 && image.type != SampleType::U16)
+    throw Error(ErrorKind::Internal, "writePngParallel: PNG holds 8 or 16-bit samples only");
+  if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)
+    throw Error(ErrorKind::Internal, "writePngParallel: bad image shape");
+  const size_t sb = sampleBytes(image.type), bpp = image.channels * sb, rowBytes = image.width * bpp;
+  const uint32_t H = image.height;
+  // Slices of at least 64 rows, at most 16: enough for any core count we run on.
+  const uint32_t slices = std::max<uint32_t>(1, std::min<uint32_t>(16, H / 64));
+  std::vector<std::vector<uint8_t>> packed(slices);
+  std::vector<uLong> adler(slices), inputBytes(slices);
+  std::vector<std::exception_ptr> errors(slices);
+  std::atomic<uint32_t> next{0};
+  auto worker = [&] {
+    for (uint32_t s; (s = next.fetch_add(1)) < slices;) {
+      try {
+        const uint32_t y0 = uint32_t(uint64_t(H) * s / slices), y1 = uint32_t(uint64_t(H) * (s + 1) / slices);
+        // Filtered scanlines: filter byte 1 (SUB), samples big-endian.
+        std::vector<uint8_t> raw(size_t(y1 - y0) * (rowBytes + 1));
+        uint8_t* o = raw.data();
+        std::vector<uint8_t> be(rowBytes);
+        for (uint32_t y = y0; y < y1; ++y) {
+          const uint8_t* src = image.pixels.data() + size_t(y) * rowBytes;
+          if (sb == 2) {
+            for (size_t i = 0; i < rowBytes; i += 2) {
+              be[i] = src[i + 1];
+              be[i + 1] = src[i];
+            }
+            src = be.data();
+          }
+          *o++ = 1;
+          for (size_t i = 0; i < rowBytes; ++i) o[i] = uint8_t(src[i] - (i >= bpp ? src[i - bpp] : 0));
+          o += rowBytes;
+        }
+        adler[s] = adler32(adler32(0, nullptr, 0), raw.data(), uInt(raw.size()));
+        inputBytes[s] = uLong(raw.size());
+        z_stream zs{};
+        if (deflateInit2(&zs, zlibLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+          throw Error(ErrorKind::Internal, "deflateInit2 failed");
+        std::vector<uint8_t>& out = packed[s];
+        out.resize(deflateBound(&zs, uLong(raw.size())) + 16);
+        zs.next_in = raw.data();
+        zs.avail_in = uInt(raw.size());
+        zs.next_out = out.data();
+        zs.avail_out = uInt(out.size());
+        const int r = deflate(&zs, s + 1 == slices ? Z_FINISH : Z_FULL_FLUSH);
+        const bool ok = s + 1 == slices ? r == Z_STREAM_END : (r == Z_OK && zs.avail_in == 0);
+        out.resize(out.size() - zs.avail_out);
+        deflateEnd(&zs);
+        if (!ok) throw Error(ErrorKind::Internal, "deflate failed on a PNG slice");
+      } catch (...) {
+        errors[s] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < std::min<unsigned>(std::max(1u, threads), slices); ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+
+  uLong a = adler[0];
+  for (uint32_t s = 1; s < slices; ++s) a = adler32_combine(a, adler[s], z_off_t(inputBytes[s]));
+  std::vector<uint8_t> z;
+  const uint8_t cmf = 0x78;
+  const uint8_t flevel = zlibLevel <= 1 ? 0 : zlibLevel <= 5 ? 1 : zlibLevel == 6 || zlibLevel < 0 ? 2 : 3;
+  uint8_t flg = uint8_t(flevel << 6);
+  flg = uint8_t(flg + (31 - (cmf * 256 + flg) % 31) % 31);
+  size_t total = 6;
+  for (const auto& p : packed) total += p.size();
+  z.reserve(total);
+  z.push_back(cmf);
+  z.push_back(flg);
+  for (const auto& p : packed) z.insert(z.end(), p.begin(), p.end());
+  put32(z, uint32_t(a));
+
+  std::vector<uint8_t> file;
+  file.reserve(z.size() + 1024);
+  const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  file.insert(file.end(), signature, signature + 8);
+  std::vector<uint8_t> ihdr;
+  put32(ihdr, image.width);
+  put32(ihdr, image.height);
+  static const uint8_t colorType[5] = {0, 0, 4, 2, 6};
+  ihdr.push_back(uint8_t(sb * 8));
+  ihdr.push_back(colorType[image.channels]);
+  ihdr.push_back(0);
+  ihdr.push_back(0);
+  ihdr.push_back(0);
+  chunk(file, "IHDR", ihdr.data(), ihdr.size());
+  for (const auto& [key, value] : image.text) {
+    std::vector<uint8_t> t(key.begin(), key.end());
+    t.push_back(0);
+    t.insert(t.end(), value.begin(), value.end());
+    chunk(file, "tEXt", t.data(), t.size());
+  }
+  const size_t kIdatMax = size_t(1) << 22;
+  for (size_t off = 0; off < z.size(); off += kIdatMax)
+    chunk(file, "IDAT", z.data() + off, std::min(kIdatMax, z.size() - off));
+  chunk(file, "IEND", nullptr, 0);
+
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throwIo(path + ": cannot open for writing: " + std::strerror(errno));
+  const bool ok = std::fwrite(file.data(), 1, file.size(), f) == file.size();
+  if (std::fclose(f) != 0 || !ok) throwIo(path + ": write failed (disk full?)");
+}
+
+}  // namespace vox

@@ -1,0 +1,351 @@
+#include "formats/mesh/gltf_reader.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+using Mat4 = std::array<double, 16>;  // column-major, like glTF
+
+Mat4 identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
+
+Mat4 mul(const Mat4& a, const Mat4& b) {
+  Mat4 r{};
+  for (int c = 0; c < 4; ++c)
+    for (int rI = 0; rI < 4; ++rI) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[k * 4 + rI] * b[c * 4 + k];
+      r[c * 4 + rI] = s;
+    }
+  return r;
+}
+
+Mat4 localMatrix(const tinygltf::Node& n) {
+  if (n.matrix.size() == 16) {
+    Mat4 m;
+    for (int i = 0; i < 16; ++i) m[i] = n.matrix[i];
+    return m;
+  }
+  Mat4 t = identity(), r = identity(), s = identity();
+  if (n.translation.size() == 3) t[12] = n.translation[0], t[13] = n.translation[1], t[14] = n.translation[2];
+  if (n.rotation.size() == 4) {
+    const double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+    r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+         2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+         2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+         0,                       0,                       0,                       1};
+  }
+  if (n.scale.size() == 3) s[0] = n.scale[0], s[5] = n.scale[1], s[10] = n.scale[2];
+  return mul(t, mul(r, s));
+}
+
+class Accessors {
+ public:
+  Accessors(const tinygltf::Model& m, const std::string& name) : m_(m), name_(name) {}
+
+  /// Every element of accessor `index` as up to 4 doubles (normalized when the accessor says so).
+  std::vector<std::array<double, 4>> read(int index, const char* role) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size())
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") does not exist");
+    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
+    const int comps = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    const int csize = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
+    if (comps < 1 || comps > 4 || csize <= 0)
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has an unsupported type");
+    // A count the file cannot hold is refused before anything is allocated: an
+    // accessor with a bufferView needs count elements inside it; one without
+    // (all zeros plus sparse values) is capped at 2^31 elements.
+    const uint64_t maxCount = a.bufferView >= 0 && size_t(a.bufferView) < m_.bufferViews.size()
+                                  ? uint64_t(m_.bufferViews[size_t(a.bufferView)].byteLength) / uint64_t(csize * comps)
+                                  : uint64_t(1) << 31;
+    if (uint64_t(a.count) > maxCount)
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has count " + std::to_string(a.count) +
+                    ", more than its bufferView can hold (" + std::to_string(maxCount) + ")");
+    if (a.sparse.isSparse && (a.sparse.count < 0 || uint64_t(a.sparse.count) > uint64_t(a.count)))
+      throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has sparse count " +
+                    std::to_string(a.sparse.count) + " for " + std::to_string(a.count) + " elements");
+    std::vector<std::array<double, 4>> out(a.count, std::array<double, 4>{0, 0, 0, 0});
+    if (a.bufferView >= 0) readView(a.bufferView, a.byteOffset, a.count, a.componentType, comps, a.normalized, 0, out,
+                                    index, role, nullptr);
+    if (a.sparse.isSparse) {
+      std::vector<std::array<double, 4>> idx(size_t(a.sparse.count)), vals(size_t(a.sparse.count));
+      readView(a.sparse.indices.bufferView, a.sparse.indices.byteOffset, size_t(a.sparse.count),
+               a.sparse.indices.componentType, 1, false, 0, idx, index, role, "sparse indices");
+      readView(a.sparse.values.bufferView, a.sparse.values.byteOffset, size_t(a.sparse.count), a.componentType, comps,
+               a.normalized, 0, vals, index, role, "sparse values");
+      for (size_t i = 0; i < idx.size(); ++i) {
+        const double k = idx[i][0];
+        if (k < 0 || k >= double(a.count))
+          throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") sparse index " +
+                        std::to_string(int64_t(k)) + " is past its " + std::to_string(a.count) + " elements");
+        out[size_t(k)] = vals[i];
+      }
+    }
+    return out;
+  }
+
+ private:
+  void readView(int viewIndex, size_t offset, size_t count, int componentType, int comps, bool normalized, int,
+                std::vector<std::array<double, 4>>& out, int accessor, const char* role, const char* part) const {
+    const std::string who = name_ + ": accessor " + std::to_string(accessor) + " (" + role + ")" +
+                            (part ? std::string(" ") + part : std::string());
+    if (viewIndex < 0 || size_t(viewIndex) >= m_.bufferViews.size()) throwBadInput(who + " has no valid bufferView");
+    const tinygltf::BufferView& v = m_.bufferViews[size_t(viewIndex)];
+    if (v.buffer < 0 || size_t(v.buffer) >= m_.buffers.size()) throwBadInput(who + ": bufferView has no valid buffer");
+    const std::vector<unsigned char>& buf = m_.buffers[size_t(v.buffer)].data;
+    const int csize = tinygltf::GetComponentSizeInBytes(uint32_t(componentType));
+    const size_t elem = size_t(csize) * size_t(comps);
+    const size_t stride = v.byteStride ? v.byteStride : elem;
+    const size_t start = v.byteOffset + offset;
+    if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
+      throwBadInput(who + ": bufferView " + std::to_string(viewIndex) + " overruns its buffer (" +
+                    std::to_string(buf.size()) + " bytes)");
+    // count and stride are now bounded by real buffer sizes, so the products below cannot overflow.
+    if (count > v.byteLength || stride > 4096) throwBadInput(who + " reads past the end of its bufferView");
+    if (count > 0 && (start + (count - 1) * stride + elem > buf.size() || start + (count - 1) * stride + elem > v.byteOffset + v.byteLength))
+      throwBadInput(who + " reads past the end of its buffer");
+    for (size_t i = 0; i < count; ++i) {
+      const unsigned char* p = buf.data() + start + i * stride;
+      for (int c = 0; c < comps; ++c) {
+        const unsigned char* q = p + size_t(c) * size_t(csize);
+        double x = 0;
+        switch (componentType) {
+          case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t t; std::memcpy(&t, q, 1); x = normalized ? std::max(t / 127.0, -1.0) : t; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { uint8_t t = *q; x = normalized ? t / 255.0 : t; break; }
+          case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t t; std::memcpy(&t, q, 2); x = normalized ? std::max(t / 32767.0, -1.0) : t; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t t; std::memcpy(&t, q, 2); x = normalized ? t / 65535.0 : t; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t t; std::memcpy(&t, q, 4); x = t; break; }
+          case TINYGLTF_COMPONENT_TYPE_FLOAT: { float t; std::memcpy(&t, q, 4); x = t; break; }
+          default: throwBadInput(who + " has an unsupported component type " + std::to_string(componentType));
+        }
+        out[i][size_t(c)] = x;
+      }
+    }
+  }
+  const tinygltf::Model& m_;
+  const std::string& name_;
+};
+
+MeshTexture::Wrap wrapOf(int mode) {
+  if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return MeshTexture::Wrap::ClampToEdge;
+  if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return MeshTexture::Wrap::MirroredRepeat;
+  return MeshTexture::Wrap::Repeat;
+}
+
+}  // namespace
+
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  std::string lower = path;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  std::error_code existsError;
+  if (!std::filesystem::exists(path, existsError)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  const bool ok = lower.size() >= 4 && lower.substr(lower.size() - 4) == ".glb"
+                      ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                      : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  for (const std::string& ext : model.extensionsRequired)
+    if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
+      throwBadInput(path + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
+                    "decompress it first (e.g. gltf-transform copy)");
+  if (!ok) {
+    std::string why = (err.empty() ? warn : err).substr(0, 300);
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
+    throwBadInput(path + ": cannot read the glTF file: " + why);
+  }
+  if (!warn.empty()) warnings.push_back(path + ": " + warn.substr(0, 300));
+
+  Mesh mesh;
+  mesh.filesRead.push_back(path);
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const tinygltf::Buffer& b : model.buffers)
+    if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / b.uri).string());
+  for (const tinygltf::Image& im : model.images)
+    if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / im.uri).string());
+
+  // Materials and textures.
+  std::vector<int> textureOfImage(model.textures.size(), -1);
+  for (size_t i = 0; i < model.materials.size(); ++i) {
+    const tinygltf::Material& src = model.materials[i];
+    MeshMaterial m;
+    m.name = src.name;
+    const auto& f = src.pbrMetallicRoughness.baseColorFactor;
+    for (size_t k = 0; k < 4 && k < f.size(); ++k) m.baseColorFactor[k] = float(f[k]);
+    const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
+    if (ti >= 0 && size_t(ti) < model.textures.size()) {
+      if (textureOfImage[size_t(ti)] < 0) {
+        const tinygltf::Texture& tex = model.textures[size_t(ti)];
+        if (tex.source >= 0 && size_t(tex.source) < model.images.size()) {
+          const tinygltf::Image& im = model.images[size_t(tex.source)];
+          if (im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
+              im.image.size() == size_t(im.width) * size_t(im.height) * 4) {
+            MeshTexture t;
+            t.width = uint32_t(im.width);
+            t.height = uint32_t(im.height);
+            t.rgba = im.image;
+            t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
+            if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
+              const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
+              t.wrapS = wrapOf(s.wrapS);
+              t.wrapT = wrapOf(s.wrapT);
+              t.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+            }
+            mesh.textures.push_back(std::move(t));
+            textureOfImage[size_t(ti)] = int(mesh.textures.size() - 1);
+          } else {
+            warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
+          }
+        }
+      }
+      m.texture = textureOfImage[size_t(ti)];
+      m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
+    }
+    mesh.materials.push_back(m);
+  }
+  const uint32_t defaultMaterial = uint32_t(mesh.materials.size());
+  mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
+
+  Accessors acc(model, path);
+  std::vector<uint8_t> visited(model.nodes.size(), 0);
+  size_t invalidPositions = 0;
+  std::string firstInvalid;
+  // Walk the node hierarchy.
+  std::function<void(int, const Mat4&, const std::string&, int)> visit = [&](int ni, const Mat4& parent,
+                                                                            const std::string& parentPath, int depth) {
+    if (ni < 0 || size_t(ni) >= model.nodes.size() || depth > 256) throwBadInput(path + ": node " + std::to_string(ni) + " is invalid or the hierarchy is cyclic");
+    // glTF nodes have at most one parent: a node reached twice is a cycle or a
+    // shared child (which could also multiply the work exponentially).
+    if (visited[size_t(ni)]++)
+      throwBadInput(path + ": node " + std::to_string(ni) + " is reached twice in the node hierarchy (a cycle, or a node "
+                    "with two parents, which glTF forbids); fix the file's \"children\" lists");
+    const tinygltf::Node& node = model.nodes[size_t(ni)];
+    const Mat4 world = mul(parent, localMatrix(node));
+    const std::string nodePath = parentPath.empty() ? node.name : parentPath + "/" + node.name;
+    if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size()) {
+      const tinygltf::Mesh& gm = model.meshes[size_t(node.mesh)];
+      mesh.parts.push_back({nodePath, gm.name});
+      const uint32_t part = uint32_t(mesh.parts.size() - 1);
+      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+        const tinygltf::Primitive& prim = gm.primitives[pi];
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+          warnings.push_back(path + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has mode " +
+                             std::to_string(mode) + " (points or lines); skipped");
+          continue;
+        }
+        auto posIt = prim.attributes.find("POSITION");
+        if (posIt == prim.attributes.end()) {
+          warnings.push_back(path + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has no POSITION; skipped");
+          continue;
+        }
+        const auto pos = acc.read(posIt->second, "POSITION");
+        size_t bad = 0;
+        for (const auto& p : pos)
+          if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++bad;
+        if (bad) {
+          invalidPositions += bad;
+          if (firstInvalid.empty())
+            firstInvalid = "accessor " + std::to_string(posIt->second) + " (POSITION) has " + std::to_string(bad) + " NaN or infinite values";
+        }
+        const uint32_t base = uint32_t(mesh.positions.size());
+        for (const auto& p : pos) {
+          std::array<double, 3> w;
+          for (int r = 0; r < 3; ++r) w[size_t(r)] = world[size_t(r)] * p[0] + world[size_t(4 + r)] * p[1] + world[size_t(8 + r)] * p[2] + world[size_t(12 + r)];
+          mesh.positions.push_back(w);
+        }
+        auto attr = [&](const char* n) -> std::vector<std::array<double, 4>> {
+          auto it = prim.attributes.find(n);
+          return it == prim.attributes.end() ? std::vector<std::array<double, 4>>{} : acc.read(it->second, n);
+        };
+        const auto uv0 = attr("TEXCOORD_0"), uv1 = attr("TEXCOORD_1");
+        auto colIt = prim.attributes.find("COLOR_0");
+        std::vector<std::array<double, 4>> col;
+        int colComps = 0;
+        if (colIt != prim.attributes.end()) {
+          col = acc.read(colIt->second, "COLOR_0");
+          colComps = tinygltf::GetNumComponentsInType(uint32_t(model.accessors[size_t(colIt->second)].type));
+        }
+        auto fill2 = [&](std::vector<std::array<float, 2>>& dst, const std::vector<std::array<double, 4>>& src) {
+          if (src.empty() && dst.empty()) return;
+          dst.resize(base, {0, 0});
+          for (size_t i = 0; i < pos.size(); ++i)
+            dst.push_back(i < src.size() ? std::array<float, 2>{float(src[i][0]), float(src[i][1])} : std::array<float, 2>{0, 0});
+        };
+        fill2(mesh.uv0, uv0);
+        fill2(mesh.uv1, uv1);
+        if (!col.empty() || !mesh.colors.empty()) {
+          mesh.colors.resize(base, {1, 1, 1, 1});
+          for (size_t i = 0; i < pos.size(); ++i)
+            mesh.colors.push_back(i < col.size() ? std::array<float, 4>{float(col[i][0]), float(col[i][1]), float(col[i][2]),
+                                                                        colComps == 4 ? float(col[i][3]) : 1.0f}
+                                                 : std::array<float, 4>{1, 1, 1, 1});
+        }
+        std::vector<uint32_t> idx;
+        if (prim.indices >= 0) {
+          for (const auto& v : acc.read(prim.indices, "indices")) {
+            if (v[0] < 0 || v[0] >= double(pos.size()))
+              throwBadInput(path + ": accessor " + std::to_string(prim.indices) + " (indices) refers to vertex " +
+                            std::to_string(int64_t(v[0])) + " of " + std::to_string(pos.size()));
+            idx.push_back(uint32_t(v[0]));
+          }
+        } else {
+          for (uint32_t i = 0; i < pos.size(); ++i) idx.push_back(i);
+        }
+        const uint32_t material = prim.material >= 0 && size_t(prim.material) < model.materials.size() ? uint32_t(prim.material) : defaultMaterial;
+        // glTF: a node whose world matrix has a negative determinant mirrors the
+        // mesh, and its triangles wind clockwise; keep every output triangle
+        // counter-clockwise (the solid fill relies on consistent orientation).
+        const double det3 = world[0] * (world[5] * world[10] - world[9] * world[6]) -
+                            world[4] * (world[1] * world[10] - world[9] * world[2]) +
+                            world[8] * (world[1] * world[6] - world[5] * world[2]);
+        const bool mirrored = det3 < 0;
+        auto addTri = [&](uint32_t a, uint32_t b, uint32_t c) {
+          if (mirrored) std::swap(b, c);
+          mesh.triangles.push_back({base + a, base + b, base + c});
+          mesh.triangleMaterial.push_back(material);
+          mesh.trianglePart.push_back(part);
+        };
+        if (mode == TINYGLTF_MODE_TRIANGLES)
+          for (size_t i = 0; i + 2 < idx.size(); i += 3) addTri(idx[i], idx[i + 1], idx[i + 2]);
+        else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+          for (size_t i = 0; i + 2 < idx.size(); ++i)
+            (i % 2 == 0) ? addTri(idx[i], idx[i + 1], idx[i + 2]) : addTri(idx[i + 1], idx[i], idx[i + 2]);
+        else
+          for (size_t i = 1; i + 1 < idx.size(); ++i) addTri(idx[0], idx[i], idx[i + 1]);
+      }
+    }
+    for (int child : node.children) visit(child, world, nodePath, depth + 1);
+  };
+  std::vector<int> roots;
+  const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
+  if (sceneIndex >= 0 && size_t(sceneIndex) < model.scenes.size()) {
+    roots = model.scenes[size_t(sceneIndex)].nodes;
+  } else {
+    std::vector<char> isChild(model.nodes.size(), 0);
+    for (const auto& n : model.nodes)
+      for (int c : n.children)
+        if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = 1;
+    for (size_t i = 0; i < model.nodes.size(); ++i)
+      if (!isChild[i]) roots.push_back(int(i));
+  }
+  for (int r : roots) visit(r, identity(), "", 0);
+  if (mesh.parts.empty()) mesh.parts.push_back({"", std::filesystem::path(path).filename().string()});
+  if (invalidPositions && !options.dropInvalid)
+    throwBadInput(path + ": " + firstInvalid + "; fix the file or pass --drop-invalid to drop their triangles");
+  checkFinite(mesh, path, options, warnings);
+  if (!mesh.uv0.empty()) mesh.uv0.resize(mesh.positions.size(), {0, 0});
+  if (!mesh.uv1.empty()) mesh.uv1.resize(mesh.positions.size(), {0, 0});
+  if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), {1, 1, 1, 1});
+  return mesh;
+}
+
+}  // namespace vox

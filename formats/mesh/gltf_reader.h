@@ -1,0 +1,28 @@
+// glTF 2.0 (.gltf with external or data-URI buffers and images, and .glb) to a
+// vox::Mesh, through tinygltf for the container and our own accessor reader
+// (byteStride, normalized integers, sparse accessors, KHR_mesh_quantization).
+//
+// * The default scene (else scene 0, else every root node), node transforms
+//   (matrix or TRS) composed down the hierarchy, world-space positions.
+// * Primitives in modes TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN, indexed or
+//   not; other modes are skipped with a warning.
+// * Materials: baseColorFactor, baseColorTexture (its image decoded to RGBA8,
+//   its sampler's wrap modes and mag filter, its texCoord set); COLOR_0
+//   (vec3/vec4, float or normalized) multiplies in.
+// * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
+// * Compressed meshes (KHR_draco_mesh_compression, EXT_meshopt_compression)
+//   are refused with the extension's name.
+// * NaN or infinite positions: refused naming the accessor and the count, or
+//   dropped with --drop-invalid.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "formats/mesh/mesh_input.h"
+
+namespace vox {
+
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+
+}  // namespace vox

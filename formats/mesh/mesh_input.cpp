@@ -1,0 +1,72 @@
+#include "formats/mesh/mesh_input.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "formats/core/file_util.h"
+#include "formats/mesh/gltf_reader.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+std::string lowerExtension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+}  // namespace
+
+bool isMeshFile(const std::string& path) {
+  const std::string e = lowerExtension(path);
+  return e == ".obj" || e == ".ply" || e == ".stl" || e == ".gltf" || e == ".glb";
+}
+
+void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+  std::vector<char> invalid(mesh.positions.size(), 0);
+  size_t count = 0, first = 0;
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    for (double c : mesh.positions[i])
+      if (!std::isfinite(c)) {
+        if (!count) first = i;
+        if (!invalid[i]) ++count;
+        invalid[i] = 1;
+      }
+  if (!count) return;
+  if (!options.dropInvalid)
+    throwBadInput(name + ": " + std::to_string(count) + " vertices have NaN or infinite coordinates (the first is vertex " +
+                  std::to_string(first) + "); fix the file or pass --drop-invalid to drop their triangles");
+  size_t kept = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    if (invalid[tri[0]] || invalid[tri[1]] || invalid[tri[2]]) continue;
+    mesh.triangles[kept] = tri;
+    if (!mesh.triangleMaterial.empty()) mesh.triangleMaterial[kept] = mesh.triangleMaterial[t];
+    if (!mesh.trianglePart.empty()) mesh.trianglePart[kept] = mesh.trianglePart[t];
+    ++kept;
+  }
+  warnings.push_back(name + ": dropped " + std::to_string(mesh.triangles.size() - kept) + " triangles touching " +
+                     std::to_string(count) + " vertices with NaN or infinite coordinates");
+  mesh.triangles.resize(kept);
+  if (!mesh.triangleMaterial.empty()) mesh.triangleMaterial.resize(kept);
+  if (!mesh.trianglePart.empty()) mesh.trianglePart.resize(kept);
+  // The vertices stay (unreferenced) so indices remain valid; make them finite.
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    if (invalid[i]) mesh.positions[i] = {0, 0, 0};
+}
+
+Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+  const std::string e = lowerExtension(path);
+  if (e == ".gltf" || e == ".glb") return readGltf(path, options, warnings);
+  const FileView bytes(path);
+  Mesh mesh;
+  if (e == ".obj")
+    mesh = parseObj(bytes.data(), bytes.size(), path, options, warnings, std::filesystem::path(path).parent_path().string());
+  else if (e == ".stl") mesh = parseStl(bytes.data(), bytes.size(), path, options, warnings);
+  else if (e == ".ply") mesh = parsePly(bytes.data(), bytes.size(), path, options, warnings);
+  else throwBadInput(path + ": unknown mesh extension '" + e + "' (vox reads .obj .ply .stl .gltf .glb)");
+  mesh.filesRead.insert(mesh.filesRead.begin(), path);
+  return mesh;
+}
+
+}  // namespace vox

@@ -1,0 +1,49 @@
+// Mesh files -> vox::Mesh. Every reader records the files it read (for
+// --depfile), converts sRGB-encoded colours to linear, and throws vox::Error
+// (BadInput) naming the file and the element (line, face, vertex, accessor).
+//
+//   .obj  with .mtl (usemtl, Kd, map_Kd; polygons fan-triangulated, negative indices)
+//   .ply  ASCII and binary (both endiannesses), vertex colours, any index types
+//   .stl  ASCII and binary
+//   .gltf / .glb   see formats/mesh/gltf_reader.h
+// Extensions are matched case-insensitively.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "libvox/mesh/mesh.h"
+
+namespace vox {
+
+struct MeshReadOptions {
+  /// Drop triangles that touch a vertex with a NaN or infinite coordinate
+  /// (reported in `warnings`) instead of refusing the file.
+  bool dropInvalid = false;
+  /// OBJ: an `mtllib` file or a `map_Kd` texture that does not exist is
+  /// reported in `warnings` (materials keep their names, untextured) instead of
+  /// refusing the file. Off by default: a missing file is an error naming it.
+  bool ignoreMissingMaterials = false;
+};
+
+/// Reads any supported mesh file by extension. Non-fatal notes (skipped
+/// primitives, dropped triangles) are appended to `warnings`.
+Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+
+/// True for the extensions readMeshFile accepts.
+bool isMeshFile(const std::string& path);
+
+// Parsers over bytes in memory (the file readers and the fuzz targets use them).
+Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings, const std::string& baseDir = "");
+Mesh parseStl(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings);
+Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings);
+
+/// Removes triangles touching non-finite vertices when options.dropInvalid, or
+/// throws naming `where(vertex)` and the count otherwise.
+void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& options,
+                 std::vector<std::string>& warnings);
+
+}  // namespace vox

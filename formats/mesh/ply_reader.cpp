@@ -1,0 +1,254 @@
+// PLY: ASCII and binary (little and big endian), any scalar types, vertex
+// colours (8-bit sRGB-encoded or float), faces as index lists of any type,
+// polygons fan-triangulated; other elements are skipped.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include "formats/mesh/mesh_input.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+bool parseType(const std::string& s, Type& t) {
+  static const std::pair<const char*, Type> names[] = {
+      {"char", Type::I8},   {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
+      {"short", Type::I16}, {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
+      {"int", Type::I32},   {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
+      {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
+  for (const auto& [n, v] : names)
+    if (s == n) return t = v, true;
+  return false;
+}
+
+size_t typeSize(Type t) {
+  switch (t) {
+    case Type::I8: case Type::U8: return 1;
+    case Type::I16: case Type::U16: return 2;
+    case Type::I32: case Type::U32: case Type::F32: return 4;
+    case Type::F64: return 8;
+  }
+  return 0;
+}
+
+struct Property {
+  std::string name;
+  Type type = Type::F32;
+  bool list = false;
+  Type countType = Type::U8;
+};
+
+struct Element {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<Property> props;
+};
+
+/// The fewest body bytes one value of `p` can take (ASCII: a digit; binary:
+/// its size, or the count's size for a list, which may be empty).
+uint64_t minBodyBytes(const Property& p, int format) {
+  if (format == 0) return 1;
+  return typeSize(p.list ? p.countType : p.type);
+}
+
+float srgbByteToLinear(double c) {
+  const double x = c / 255.0;
+  return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+class Reader {
+ public:
+  Reader(const char* d, size_t n, std::string name, int format) : p_(d), end_(d + n), name_(std::move(name)), format_(format) {}
+  size_t remaining() const { return size_t(end_ - p_); }
+  /// The element being read, for messages (built only when something is wrong).
+  void at(const std::string* element, uint64_t index) {
+    element_ = element;
+    index_ = index;
+  }
+  std::string what() const { return "element '" + *element_ + "' " + std::to_string(index_); }
+  // Reads one scalar as double. format: 0 ascii, 1 little, 2 big endian.
+  double scalar(Type t) {
+    if (format_ == 0) {
+      while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
+      double v = 0;
+      // from_chars rejects a leading '+', which some writers emit.
+      const char* b = p_ < end_ && *p_ == '+' ? p_ + 1 : p_;
+      auto [ptr, ec] = std::from_chars(b, end_, v);
+      if (ec != std::errc())
+        throwBadInput(name_ + ": " + what() + ": " +
+                      (b >= end_ ? "the file ends early (truncated?)" : "expected a number in the ASCII body"));
+      p_ = ptr;
+      return v;
+    }
+    const size_t n = typeSize(t);
+    if (size_t(end_ - p_) < n) throwBadInput(name_ + ": " + what() + ": the file ends early (truncated?)");
+    unsigned char b[8];
+    std::memcpy(b, p_, n);
+    p_ += n;
+    if (format_ == 2) std::reverse(b, b + n);
+    switch (t) {
+      case Type::I8: return double(int8_t(b[0]));
+      case Type::U8: return double(b[0]);
+      case Type::I16: { int16_t v; std::memcpy(&v, b, 2); return v; }
+      case Type::U16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
+      case Type::I32: { int32_t v; std::memcpy(&v, b, 4); return v; }
+      case Type::U32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
+      case Type::F32: { float v; std::memcpy(&v, b, 4); return v; }
+      case Type::F64: { double v; std::memcpy(&v, b, 8); return v; }
+    }
+    return 0;
+  }
+ private:
+  const char* p_;
+  const char* end_;
+  std::string name_;
+  int format_;
+  const std::string* element_ = nullptr;
+  uint64_t index_ = 0;
+};
+
+}  // namespace
+
+Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings) {
+  // Header.
+  // The header ends at the first line that is "end_header" (a comment may
+  // contain those words too).
+  const std::string_view all(data, size);
+  size_t headerEnd = std::string_view::npos;
+  for (size_t ls = 0; ls < size;) {
+    size_t le = all.find('\n', ls);
+    if (le == std::string_view::npos) le = size;
+    std::string_view l = all.substr(ls, le - ls);
+    while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) l.remove_suffix(1);
+    if (l == "end_header") {
+      headerEnd = ls;
+      break;
+    }
+    ls = le + 1;
+  }
+  if (size < 3 || std::strncmp(data, "ply", 3) != 0 || headerEnd == std::string_view::npos)
+    throwBadInput(name + ": not a PLY file (no 'ply' magic or no 'end_header' line)");
+  std::istringstream header(std::string(data, headerEnd));
+  std::string line;
+  int format = -1;
+  std::vector<Element> elements;
+  size_t lineNo = 0;
+  while (std::getline(header, line)) {
+    ++lineNo;
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "format") {
+      std::string f;
+      ls >> f;
+      format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
+      if (format < 0) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown PLY format '" + f + "'");
+    } else if (key == "element") {
+      Element e;
+      ls >> e.name >> e.count;
+      if (!ls) throwBadInput(name + ":" + std::to_string(lineNo) + ": malformed element line");
+      elements.push_back(e);
+    } else if (key == "property") {
+      if (elements.empty()) throwBadInput(name + ":" + std::to_string(lineNo) + ": property before any element");
+      Property p;
+      std::string t;
+      ls >> t;
+      if (t == "list") {
+        std::string ct, it;
+        ls >> ct >> it >> p.name;
+        if (!parseType(ct, p.countType) || !parseType(it, p.type))
+          throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown list types '" + ct + " " + it + "'");
+        p.list = true;
+      } else {
+        ls >> p.name;
+        if (!parseType(t, p.type)) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown property type '" + t + "'");
+      }
+      elements.back().props.push_back(p);
+    }
+  }
+  if (format < 0) throwBadInput(name + ": the PLY header has no 'format' line");
+  size_t bodyStart = headerEnd + 10;
+  while (bodyStart < size && data[bodyStart] != '\n') ++bodyStart;
+  ++bodyStart;
+  Reader r(data + std::min(bodyStart, size), size - std::min(bodyStart, size), name, format);
+
+  Mesh mesh;
+  mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
+  mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
+  for (const Element& e : elements) {
+    const bool isVertex = e.name == "vertex", isFace = e.name == "face";
+    if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
+    int ix = -1, iy = -1, iz = -1, ir = -1, ig = -1, ib = -1, ia = -1, iface = -1;
+    for (size_t k = 0; k < e.props.size(); ++k) {
+      const std::string& n = e.props[k].name;
+      if (n == "x") ix = int(k);
+      if (n == "y") iy = int(k);
+      if (n == "z") iz = int(k);
+      if (n == "red" || n == "r") ir = int(k);
+      if (n == "green" || n == "g") ig = int(k);
+      if (n == "blue" || n == "b") ib = int(k);
+      if (n == "alpha" || n == "a") ia = int(k);
+      if ((n == "vertex_indices" || n == "vertex_index") && e.props[k].list) iface = int(k);
+    }
+    if (isVertex && (ix < 0 || iy < 0 || iz < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
+    if (e.props.empty()) continue;  // an element without properties has no bytes in the body
+    // Every item takes at least one byte per scalar property (and per list
+    // count): refuse counts the rest of the file cannot hold before looping.
+    uint64_t minBytes = 0;
+    for (const Property& p : e.props) minBytes += minBodyBytes(p, format);
+    if (minBytes && e.count > r.remaining() / minBytes)
+      throwBadInput(name + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items but only " +
+                    std::to_string(r.remaining()) + " bytes follow the header (truncated, or a wrong count?)");
+    std::vector<double> vals(e.props.size());
+    std::vector<uint32_t> poly;
+    for (uint64_t i = 0; i < e.count; ++i) {
+      r.at(&e.name, i);
+      for (size_t k = 0; k < e.props.size(); ++k) {
+        const Property& p = e.props[k];
+        if (!p.list) {
+          vals[k] = r.scalar(p.type);
+          continue;
+        }
+        const double count = r.scalar(p.countType);
+        if (!(count >= 0 && count <= 1e6))
+          throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
+        poly.clear();
+        for (int j = 0; j < int(count); ++j) {
+          const double v = r.scalar(p.type);
+          if (isFace && int(k) == iface) {
+            if (v < 0 || v >= double(mesh.positions.size()))
+              throwBadInput(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(v)) +
+                            " but there are " + std::to_string(mesh.positions.size()));
+            poly.push_back(uint32_t(v));
+          }
+        }
+        if (isFace && int(k) == iface) {
+          for (size_t j = 1; j + 1 < poly.size(); ++j) mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
+        }
+      }
+      if (isVertex) {
+        mesh.positions.push_back({vals[size_t(ix)], vals[size_t(iy)], vals[size_t(iz)]});
+        if (ir >= 0 && ig >= 0 && ib >= 0) {
+          const bool floats = e.props[size_t(ir)].type == Type::F32 || e.props[size_t(ir)].type == Type::F64;
+          auto lin = [&](double c) { return floats ? float(c) : srgbByteToLinear(c); };
+          mesh.colors.push_back({lin(vals[size_t(ir)]), lin(vals[size_t(ig)]), lin(vals[size_t(ib)]),
+                                 ia >= 0 ? float(floats ? vals[size_t(ia)] : vals[size_t(ia)] / 255.0) : 1.0f});
+        }
+      }
+    }
+  }
+  mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
+  mesh.trianglePart.assign(mesh.triangles.size(), 0);
+  checkFinite(mesh, name, options, warnings);
+  return mesh;
+}
+
+}  // namespace vox

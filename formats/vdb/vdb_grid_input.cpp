@@ -1,0 +1,130 @@
+#include "formats/vdb/vdb_grid_input.h"
+
+#include <openvdb/io/File.h>
+#include <openvdb/tools/Interpolation.h>
+
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+#include "formats/vdb/vdb_structure.h"
+#include "libvox/core/error.h"
+#include "libvox/mesh/placement.h"
+#include "libvox/scene/scene_grids.h"
+#include "libvox/core/sha256.h"
+#include "libvox/mesh/voxelize.h"
+
+namespace vox {
+
+Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) {
+  ensureOpenVdbInitialized();
+  if ((o.resolution == 0) == (o.voxelSize <= 0))
+    throwUsage(path + ": give exactly one of --res N or --voxel-size S for a .vdb input");
+  const VdbFrame frame = checkVdbStructure(path);  // refuses truncated files before OpenVDB reads them
+  openvdb::FloatGrid::Ptr grid;
+  std::string available;
+  try {
+    openvdb::io::File file(path);
+    file.open(false);
+    for (const VdbGridFrame& g : frame.grids) {
+      available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
+      const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
+      if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
+        openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
+        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
+      }
+    }
+    file.close();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throwBadInput(path + ": cannot read the OpenVDB file: " + std::string(e.what()).substr(0, 160));
+  }
+  if (!grid)
+    throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float grid") : "no grid named '" + o.gridName + "'") +
+                  "; grids in the file: " + (available.empty() ? "none" : available));
+  const std::string name = grid->getName().empty() ? "inside" : grid->getName();
+  const bool levelSet = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+  if (!levelSet && !o.threshold)
+    throwUsage(path + ": grid '" + name + "' is not a level set (a fog volume?); pass --threshold T to take the voxels "
+               "with value >= T as inside");
+  if (grid->activeVoxelCount() == 0) throwBadInput(path + ": grid '" + name + "' has no active voxels");
+
+  // Index box of the active values that are inside (for level sets the narrow
+  // band's inner half; deep interior is bounded by it), then its world box.
+  const double thr = o.threshold.value_or(0.0);
+  openvdb::CoordBBox ibox;
+  for (auto it = grid->cbeginValueOn(); it; ++it)
+    if (levelSet ? *it <= 0.0f : double(*it) >= thr) ibox.expand(it.getBoundingBox());
+  if (ibox.empty())
+    throwBadInput(path + ": grid '" + name + "' has no voxel inside (" +
+                  (levelSet ? std::string("no value <= 0") : "no value >= " + std::to_string(thr)) + ")");
+  openvdb::Vec3d wmin(std::numeric_limits<double>::max()), wmax(-std::numeric_limits<double>::max());
+  for (int c = 0; c < 8; ++c) {
+    const openvdb::Vec3d ip(c & 1 ? ibox.max().x() + 0.5 : ibox.min().x() - 0.5,
+                            c & 2 ? ibox.max().y() + 0.5 : ibox.min().y() - 0.5,
+                            c & 4 ? ibox.max().z() + 0.5 : ibox.min().z() - 0.5);
+    const openvdb::Vec3d wp = grid->indexToWorld(ip);
+    wmin = openvdb::math::minComponent(wmin, wp);
+    wmax = openvdb::math::maxComponent(wmax, wp);
+  }
+  SceneHeader header;
+  PlacementOptions place;
+  place.resolution = o.resolution;
+  place.voxelSize = o.voxelSize;
+  placeGrid({wmin.x(), wmin.y(), wmin.z()}, {wmax.x(), wmax.y(), wmax.z()}, place, header);
+  const Dims dims = header.dims;
+  const double vs = header.voxelSize;
+  const uint64_t count = dims.count();
+  if (count > (uint64_t(1) << 34)) throwUsage(path + ": a " + toString(dims) + " grid is too large; lower --res");
+
+  // Inside test at every output voxel centre, slabs of w across threads.
+  std::vector<std::atomic<uint64_t>> inside((count + 63) / 64);
+  const unsigned threads = std::max(1u, std::min<unsigned>(o.threads, dims.z));
+  std::atomic<uint32_t> slices{0};
+  auto work = [&](unsigned t) {
+    // GridSampler keeps a reference to the accessor: it must outlive the sampler.
+    const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
+    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+        accessor, grid->transform());
+    for (uint32_t w = dims.z * t / threads; w < dims.z * (t + 1) / threads; ++w) {
+      for (uint32_t v = 0; v < dims.y; ++v)
+        for (uint32_t u = 0; u < dims.x; ++u) {
+          const openvdb::Vec3d p(wmin.x() + (u + 0.5) * vs, wmin.y() + (v + 0.5) * vs, wmin.z() + (w + 0.5) * vs);
+          const float value = sampler.wsSample(p);
+          if (levelSet ? value <= 0.0f : double(value) >= thr) {
+            const uint64_t i = (uint64_t(w) * dims.y + v) * dims.x + u;
+            inside[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed);
+          }
+        }
+      if (o.progress) o.progress(double(++slices) / dims.z);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& th : pool) th.join();
+
+  header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
+  uint64_t bytes = 0;
+  const std::string sha = sha256File(path, &bytes);
+  header.sources.push_back({path, "vdb", sha, bytes});
+  auto in = [&](int64_t u, int64_t v, int64_t w) {
+    if (u < 0 || v < 0 || w < 0 || u >= dims.x || v >= dims.y || w >= dims.z) return false;
+    const uint64_t i = (uint64_t(w) * dims.y + uint64_t(v)) * dims.x + uint64_t(u);
+    return ((inside[i >> 6].load(std::memory_order_relaxed) >> (i & 63)) & 1) != 0;
+  };
+  SceneBuilder builder(header);
+  for (uint32_t w = 0; w < dims.z; ++w)
+    for (uint32_t v = 0; v < dims.y; ++v)
+      for (uint32_t u = 0; u < dims.x; ++u) {
+        if (!in(u, v, w)) continue;
+        const bool surface = !in(int64_t(u) - 1, v, w) || !in(u + 1, v, w) || !in(u, int64_t(v) - 1, w) ||
+                             !in(u, v + 1, w) || !in(u, v, int64_t(w) - 1) || !in(u, v, w + 1);
+        builder.addVotes({int32_t(u), int32_t(v), int32_t(w)}, 1, kInteriorVotes, surface);
+      }
+  return std::move(builder).build();
+}
+
+}  // namespace vox

@@ -1,0 +1,101 @@
+#include "libvox/core/atlas_mapping.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "libvox/core/error.h"
+
+namespace vox {
+
+AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
+  if (d.x == 0 || d.y == 0 || d.z == 0) throwUsage("atlas dims must be >= 1 on every axis, got " + toString(d));
+  if (maxSide == 0) throwUsage("--max-side must be >= 1");
+  if (d.x > maxSide) throwUsage("a tile is " + std::to_string(d.x) + " texels wide (X), more than the maximum side " +
+                                std::to_string(maxSide) + "; raise --max-side");
+  if (d.y > maxSide) throwUsage("a tile is " + std::to_string(d.y) + " texels high (Y), more than the maximum side " +
+                                std::to_string(maxSide) + "; raise --max-side");
+  const uint32_t maxT = std::min<uint64_t>(d.z, maxSide / d.x);  // T * X <= maxSide, and no empty columns
+  const uint32_t maxR = maxSide / d.y;
+  AtlasLayout L;
+  L.dims = d;
+  L.maxSide = maxSide;
+  auto finish = [&](uint32_t T) {
+    L.tilesPerRow = T;
+    L.tileRows = uint32_t((uint64_t(d.z) + T - 1) / T);
+    L.rowsPerLayer = std::min(L.tileRows, maxR);
+    L.layers = (L.tileRows + L.rowsPerLayer - 1) / L.rowsPerLayer;
+    L.width = T * d.x;
+    L.height = L.rowsPerLayer * d.y;
+    return L;
+  };
+  if (forcedT) {
+    if (forcedT > maxSide / d.x)
+      throwUsage("--tiles-per-row " + std::to_string(forcedT) + " makes the atlas " +
+                 std::to_string(uint64_t(forcedT) * d.x) + " texels wide, more than the maximum side " +
+                 std::to_string(maxSide));
+    return finish(forcedT);
+  }
+  uint32_t best = 0;
+  uint64_t bestArea = 0, bestSkew = 0;
+  for (uint32_t T = 1; T <= maxT; ++T) {
+    const uint64_t rows = (uint64_t(d.z) + T - 1) / T;
+    if (rows > maxR) continue;  // needs more than one layer
+    const uint64_t w = uint64_t(T) * d.x, h = rows * d.y;
+    const uint64_t area = w * h, skew = w > h ? w - h : h - w;
+    if (!best || area < bestArea || (area == bestArea && skew < bestSkew)) best = T, bestArea = area, bestSkew = skew;
+  }
+  return finish(best ? best : maxT);
+}
+
+std::string AtlasLayout::toJson() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "{\"dims\":[%u,%u,%u],\"tiles_per_row\":%u,\"rows_per_layer\":%u,\"layers\":%u,\"width\":%u,"
+                "\"height\":%u,\"max_side\":%u}",
+                dims.x, dims.y, dims.z, tilesPerRow, rowsPerLayer, layers, width, height, maxSide);
+  return buf;
+}
+
+AtlasLayout AtlasLayout::fromJson(const std::string& json, const std::string& context) {
+  // A fixed, flat format (written by toJson), parsed without a JSON library so
+  // the light core stays dependency-free.
+  auto field = [&](const char* name) -> const char* {
+    const std::string key = std::string("\"") + name + "\":";
+    const size_t at = json.find(key);
+    if (at == std::string::npos) throwBadInput(context + ": atlas layout lacks '" + name + "'");
+    return json.c_str() + at + key.size();
+  };
+  auto number = [&](const char*& p, const char* name) {
+    char* end = nullptr;
+    const unsigned long v = std::strtoul(p, &end, 10);
+    if (end == p || v > 0xffffffffUL) throwBadInput(context + ": atlas layout field '" + name + "' is not a number");
+    p = end;
+    return uint32_t(v);
+  };
+  const char* p = field("dims");
+  if (*p++ != '[') throwBadInput(context + ": atlas layout 'dims' must be [X,Y,Z]");
+  Dims d;
+  d.x = number(p, "dims");
+  if (*p++ != ',') throwBadInput(context + ": atlas layout 'dims' must be [X,Y,Z]");
+  d.y = number(p, "dims");
+  if (*p++ != ',') throwBadInput(context + ": atlas layout 'dims' must be [X,Y,Z]");
+  d.z = number(p, "dims");
+  auto get = [&](const char* name) {
+    const char* q = field(name);
+    return number(q, name);
+  };
+  const uint32_t T = get("tiles_per_row"), maxSide = get("max_side");
+  AtlasLayout L;
+  try {
+    L = make(d, T, maxSide);
+  } catch (const Error& e) {
+    throwBadInput(context + ": inconsistent atlas layout: " + e.what());
+  }
+  if (L.rowsPerLayer != get("rows_per_layer") || L.layers != get("layers") || L.width != get("width") ||
+      L.height != get("height"))
+    throwBadInput(context + ": inconsistent atlas layout (its sizes do not follow from dims, tiles_per_row, max_side)");
+  return L;
+}
+
+}  // namespace vox

@@ -1,0 +1,72 @@
+// What describes a scene and one of its voxels, without the scene model:
+// the header (dims, placement, class table, sources), per-class votes and the
+// view of one voxel. Light: the mesh bake, the direct scene writer and the
+// atlas contents use these without linking OpenVDB (libvox/scene/scene.h is the
+// scene model that stores them).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "libvox/core/classes.h"
+#include "libvox/core/types.h"
+
+namespace vox {
+
+/// A file the scene was made from, for provenance and `vox info`.
+struct SceneSource {
+  std::string path;    // as given on the command line, or "demo:hamlet"
+  std::string kind;    // "mesh", "vdb", "blockmap", "demo"
+  std::string sha256;  // hex digest of the file's bytes; empty for built-in scenes
+  uint64_t bytes = 0;
+  bool operator==(const SceneSource&) const = default;
+};
+
+/// How a scene made from a seed 002 map.json sits in its block world; renderers
+/// use it to line up seed 002 cameras.
+struct BlockWorldPlacement {
+  double worldScale = 1.0;
+  std::array<uint32_t, 3> gridSize{64, 48, 64};
+  bool operator==(const BlockWorldPlacement&) const = default;
+};
+
+struct SceneHeader {
+  Dims dims;                             // every axis >= 1
+  double voxelSize = 1.0;                // world units per voxel edge, > 0
+  std::array<double, 3> origin{0, 0, 0};  // world min corner of voxel (0,0,0)
+  ClassTable classes;
+  std::vector<SceneSource> sources;
+  int mipLevel = 0;                      // 0 = full resolution; level n has voxels 2^n wide
+  std::optional<BlockWorldPlacement> blockWorld;
+  bool operator==(const SceneHeader&) const = default;
+};
+
+struct ClassVotes {
+  uint8_t classId = 0;
+  uint32_t votes = 0;
+  bool operator==(const ClassVotes&) const = default;
+};
+
+/// Largest vote count one class can hold in one voxel (stored as int32 in the .vdb
+/// so that every VDB reader shows it as a non-negative integer). Builders saturate.
+inline constexpr uint32_t kMaxVotesPerClass = 0x7fffffffu;
+
+/// One occupied voxel as seen by Scene::forEachVoxel. `votes` is sorted by class
+/// id and only holds classes with votes > 0; it is valid during the callback only.
+struct VoxelView {
+  Coord3 at;
+  bool surface = false;
+  std::optional<RgbLinear> color;
+  std::span<const ClassVotes> votes;
+  uint64_t totalVotes() const {
+    uint64_t t = 0;
+    for (const ClassVotes& c : votes) t += c.votes;
+    return t;
+  }
+};
+
+}  // namespace vox

@@ -1,0 +1,82 @@
+#include "libvox/mesh/class_mapping.h"
+
+#include <fnmatch.h>
+
+#include <cmath>
+
+#include "libvox/core/error.h"
+
+namespace vox {
+
+bool globMatch(const std::string& pattern, const std::string& text) {
+  return fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
+}
+
+namespace {
+uint8_t linearToSrgb8(float c) {
+  c = std::min(1.0f, std::max(0.0f, c));
+  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+  return uint8_t(std::lround(s * 255.0f));
+}
+}  // namespace
+
+ClassMapping classPerMaterial(const Mesh& mesh, const std::string& meshName) {
+  ClassMapping m;
+  if (mesh.materials.size() > size_t(kMaxClassId))
+    throwBadInput(meshName + ": " + std::to_string(mesh.materials.size()) +
+                  " materials, but a scene holds at most 255 classes; map them with --classes FILE.json");
+  for (size_t i = 0; i < mesh.materials.size(); ++i) {
+    const MeshMaterial& mat = mesh.materials[i];
+    ClassInfo c;
+    c.id = uint8_t(i + 1);
+    c.name = mat.name.empty() ? "material " + std::to_string(i) : mat.name;
+    // Two materials may share a name: keep class names unique.
+    if (m.table.findByName(c.name)) c.name += " #" + std::to_string(i);
+    c.color = {linearToSrgb8(mat.baseColorFactor[0]), linearToSrgb8(mat.baseColorFactor[1]),
+               linearToSrgb8(mat.baseColorFactor[2])};
+    m.table.add(c, meshName);
+  }
+  return m;
+}
+
+std::vector<uint8_t> assignClasses(const Mesh& mesh, const ClassMapping& mapping) {
+  std::vector<uint8_t> out(mesh.triangles.size(), 0);
+  const bool perMaterial = mapping.rules.empty() && !mapping.defaultClass;
+  // Decide once per (material, part) pair: meshes have few of them.
+  std::vector<std::vector<int>> memo;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uint32_t mat = mesh.triangleMaterial.empty() ? 0 : mesh.triangleMaterial[t];
+    const uint32_t part = mesh.trianglePart.empty() ? 0 : mesh.trianglePart[t];
+    if (perMaterial) {
+      out[t] = uint8_t(mat + 1);
+      continue;
+    }
+    if (memo.size() <= mat) memo.resize(mat + 1);
+    if (memo[mat].size() <= part) memo[mat].resize(part + 1, -1);
+    int& cls = memo[mat][part];
+    if (cls < 0) {
+      const std::string matName = mat < mesh.materials.size() ? mesh.materials[mat].name : "";
+      const std::string meshName = part < mesh.parts.size() ? mesh.parts[part].meshName : "";
+      const std::string nodeName = part < mesh.parts.size() ? mesh.parts[part].nodeName : "";
+      cls = 0;
+      for (const ClassRule& r : mapping.rules) {
+        const bool hit = (r.field == ClassRule::Field::Any || r.field == ClassRule::Field::Material) && globMatch(r.pattern, matName)
+                      ? true
+                      : ((r.field == ClassRule::Field::Any || r.field == ClassRule::Field::Mesh) && globMatch(r.pattern, meshName)) ||
+                            ((r.field == ClassRule::Field::Any || r.field == ClassRule::Field::Node) && globMatch(r.pattern, nodeName));
+        if (hit) {
+          cls = r.classId;
+          break;
+        }
+      }
+      if (cls == 0 && mapping.defaultClass) cls = *mapping.defaultClass;
+      if (cls == 0)
+        throwBadInput("triangle " + std::to_string(t) + " (material '" + matName + "', mesh '" + meshName + "', node '" +
+                      nodeName + "') matches no class rule; add a rule or a \"default\" class to the --classes file");
+    }
+    out[t] = uint8_t(cls);
+  }
+  return out;
+}
+
+}  // namespace vox

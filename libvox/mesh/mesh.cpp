@@ -1,0 +1,43 @@
+#include "libvox/mesh/mesh.h"
+
+namespace vox {
+
+bool Mesh::hasColor() const {
+  if (!colors.empty()) return true;
+  for (const MeshMaterial& m : materials) {
+    if (m.texture >= 0) return true;
+    if (m.baseColorFactor[0] != 1 || m.baseColorFactor[1] != 1 || m.baseColorFactor[2] != 1) return true;
+  }
+  return false;
+}
+
+void Mesh::append(const Mesh& other) {
+  const uint32_t vbase = uint32_t(positions.size());
+  const uint32_t mbase = uint32_t(materials.size());
+  const uint32_t pbase = uint32_t(parts.size());
+  const int tbase = int(textures.size());
+  const size_t oldVerts = positions.size();
+  positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+  for (const auto& t : other.triangles) triangles.push_back({t[0] + vbase, t[1] + vbase, t[2] + vbase});
+  for (uint32_t m : other.triangleMaterial) triangleMaterial.push_back(m + mbase);
+  for (uint32_t p : other.trianglePart) trianglePart.push_back(p + pbase);
+  // Per-vertex arrays stay parallel to positions: pad whichever side lacks them.
+  auto mergeAttr = [&](auto& mine, const auto& theirs, auto fill) {
+    if (mine.empty() && theirs.empty()) return;
+    mine.resize(oldVerts, fill);
+    if (theirs.empty()) mine.resize(positions.size(), fill);
+    else mine.insert(mine.end(), theirs.begin(), theirs.end());
+  };
+  mergeAttr(uv0, other.uv0, std::array<float, 2>{0, 0});
+  mergeAttr(uv1, other.uv1, std::array<float, 2>{0, 0});
+  mergeAttr(colors, other.colors, std::array<float, 4>{1, 1, 1, 1});
+  for (MeshMaterial m : other.materials) {
+    if (m.texture >= 0) m.texture += tbase;
+    materials.push_back(m);
+  }
+  textures.insert(textures.end(), other.textures.begin(), other.textures.end());
+  parts.insert(parts.end(), other.parts.begin(), other.parts.end());
+  filesRead.insert(filesRead.end(), other.filesRead.begin(), other.filesRead.end());
+}
+
+}  // namespace vox

@@ -1,0 +1,232 @@
+#include "libvox/mesh/voxel_blocks.h"
+
+#include <algorithm>
+
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
+
+uint64_t blockKey(int32_t x, int32_t y, int32_t z) {
+  auto part = [](int32_t c) { return uint64_t(uint32_t((c >> kBlockLog2) + (kCoordLimit >> kBlockLog2)) & 0x1fffff); };
+  return (part(x) << 42) | (part(y) << 21) | part(z);
+}
+
+bool representable(Coord3 c) {
+  auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
+  return ok(c.u) && ok(c.v) && ok(c.w);
+}
+
+ClassBlock& classOf(VoxelBlock& b, uint8_t classId) {
+  return (!b.classes.empty() && b.classes.back()->classId == classId) ? *b.classes.back() : classBlock(b, classId);
+}
+
+}  // namespace
+
+ClassBlock& classBlock(VoxelBlock& block, uint8_t classId) {
+  auto at = std::lower_bound(block.classes.begin(), block.classes.end(), classId,
+                             [](const std::unique_ptr<ClassBlock>& c, uint8_t id) { return c->classId < id; });
+  if (at == block.classes.end() || (*at)->classId != classId) {
+    auto cb = std::make_unique<ClassBlock>();
+    cb->classId = classId;
+    at = block.classes.insert(at, std::move(cb));
+  }
+  return **at;
+}
+
+const ClassBlock* findClassBlock(const VoxelBlock& block, uint8_t classId) {
+  for (const auto& cb : block.classes)
+    if (cb->classId == classId) return cb.get();
+  return nullptr;
+}
+
+void materializeRuns(VoxelBlock& b) {
+  if (!b.hasRuns()) return;
+  ClassBlock& cb = classBlock(b, b.runClass);
+  for (int k = 0; k < kBlockWords; ++k)
+    for (uint64_t bits = b.runMask[size_t(k)]; bits; bits &= bits - 1) {
+      const size_t i = size_t(k * 64 + __builtin_ctzll(bits));
+      cb.votes[i] = saturatingVotes(cb.votes[i], b.runVotes);
+    }
+  b.runMask = {};
+  b.runClass = 0;
+  b.runVotes = 0;
+}
+
+VoxelBlocks::VoxelBlocks() = default;
+VoxelBlocks::VoxelBlocks(VoxelBlocks&&) noexcept = default;
+VoxelBlocks& VoxelBlocks::operator=(VoxelBlocks&&) noexcept = default;
+VoxelBlocks::~VoxelBlocks() = default;
+
+VoxelBlock& VoxelBlocks::block(int32_t x, int32_t y, int32_t z) {
+  const uint64_t key = blockKey(x, y, z);
+  if (key == lastKey_) return *last_;
+  auto& slot = blocks_[key];
+  if (!slot) {
+    slot = std::make_unique<VoxelBlock>();
+    slot->origin = {x & ~(kBlockDim - 1), y & ~(kBlockDim - 1), z & ~(kBlockDim - 1)};
+  }
+  lastKey_ = key;
+  last_ = slot.get();
+  return *last_;
+}
+
+void VoxelBlocks::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
+  if (votes == 0) return;
+  if (!representable(c)) {
+    outOfRange_ = true;
+    return;
+  }
+  VoxelBlock& b = block(c.u, c.v, c.w);
+  const int i = blockOffset(c.u, c.v, c.w);
+  b.occupied[i >> 6] |= uint64_t(1) << (i & 63);
+  if (surface) b.surface[i >> 6] |= uint64_t(1) << (i & 63);
+  ClassBlock& cb = classOf(b, classId);
+  cb.votes[i] = saturatingVotes(cb.votes[i], votes);
+}
+
+void VoxelBlocks::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface) {
+  if (votes == 0 || length == 0) return;
+  const Coord3 last{start.u, start.v, int32_t(int64_t(start.w) + length - 1)};
+  if (!representable(start) || !representable(last)) {
+    outOfRange_ = true;
+    return;
+  }
+  for (int32_t w = start.w; w <= last.w;) {
+    // One block at a time: the run's part inside it shares the block.
+    const int32_t blockEnd = std::min(last.w, (w | (kBlockDim - 1)));
+    VoxelBlock& b = block(start.u, start.v, w);
+    if (!surface) {
+      // The voxels of one (x, y) in a block are 8 consecutive bits of one word.
+      const int first = blockOffset(start.u, start.v, w), count = blockEnd - w + 1;
+      const uint64_t bits = (count == 64 ? ~uint64_t(0) : ((uint64_t(1) << count) - 1)) << (first & 63);
+      uint64_t& word = b.runMask[size_t(first >> 6)];
+      const bool empty = !b.hasRuns();
+      if (empty || (b.runClass == classId && b.runVotes == votes && !(word & bits))) {
+        b.runClass = classId;
+        b.runVotes = votes;
+        word |= bits;
+        b.occupied[size_t(first >> 6)] |= bits;
+        w = blockEnd + 1;
+        continue;
+      }
+      materializeRuns(b);  // another class or count, or votes that add up: plain form
+    }
+    ClassBlock& cb = classOf(b, classId);
+    for (int32_t z = w; z <= blockEnd; ++z) {
+      const int i = blockOffset(start.u, start.v, z);
+      b.occupied[i >> 6] |= uint64_t(1) << (i & 63);
+      if (surface) b.surface[i >> 6] |= uint64_t(1) << (i & 63);
+      cb.votes[i] = saturatingVotes(cb.votes[i], votes);
+    }
+    w = blockEnd + 1;
+  }
+}
+
+void VoxelBlocks::setColor(Coord3 c, RgbLinear color) {
+  if (!representable(c)) {
+    outOfRange_ = true;
+    return;
+  }
+  VoxelBlock& b = block(c.u, c.v, c.w);
+  const int i = blockOffset(c.u, c.v, c.w);
+  if (!b.color) b.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
+  (*b.color)[i] = {color.r, color.g, color.b};
+  b.colored[i >> 6] |= uint64_t(1) << (i & 63);
+}
+
+void VoxelBlocks::merge(VoxelBlocks&& other) {
+  outOfRange_ = outOfRange_ || other.outOfRange_;
+  for (auto& [key, theirs] : other.blocks_) {
+    auto& slot = blocks_[key];
+    if (!slot) {
+      slot = std::move(theirs);
+      continue;
+    }
+    VoxelBlock& mine = *slot;
+    if (theirs->hasRuns()) {
+      // Their runs join ours when they match (same class and count, disjoint
+      // voxels); otherwise they become plain votes, summed below.
+      bool overlap = false;
+      for (int k = 0; k < kBlockWords; ++k) overlap = overlap || (mine.runMask[size_t(k)] & theirs->runMask[size_t(k)]);
+      if (!mine.hasRuns() || (mine.runClass == theirs->runClass && mine.runVotes == theirs->runVotes && !overlap)) {
+        for (int k = 0; k < kBlockWords; ++k) mine.runMask[size_t(k)] |= theirs->runMask[size_t(k)];
+        mine.runClass = theirs->runClass;
+        mine.runVotes = theirs->runVotes;
+      } else {
+        materializeRuns(*theirs);
+      }
+    }
+    for (int k = 0; k < kBlockWords; ++k) {
+      mine.occupied[k] |= theirs->occupied[k];
+      mine.surface[k] |= theirs->surface[k];
+    }
+    for (auto& cb : theirs->classes) {
+      ClassBlock& dst = classBlock(mine, cb->classId);
+      for (int i = 0; i < kBlockVoxels; ++i) dst.votes[i] = saturatingVotes(dst.votes[i], cb->votes[i]);
+    }
+
+    if (theirs->color) {
+      if (!mine.color) mine.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
+      for (int i = 0; i < kBlockVoxels; ++i)
+        if (((theirs->colored[i >> 6] >> (i & 63)) & 1) && !((mine.colored[i >> 6] >> (i & 63)) & 1)) {
+          (*mine.color)[i] = (*theirs->color)[i];
+          mine.colored[i >> 6] |= uint64_t(1) << (i & 63);
+        }
+    }
+  }
+  other.blocks_.clear();
+  other.lastKey_ = ~uint64_t(0);
+  other.last_ = nullptr;
+  lastKey_ = ~uint64_t(0);
+  last_ = nullptr;
+}
+
+std::vector<VoxelBlock*> VoxelBlocks::sortedBlocks(BlockOrder less) {
+  std::vector<VoxelBlock*> out;
+  out.reserve(blocks_.size());
+  for (auto& [key, b] : blocks_) out.push_back(b.get());
+  if (!less) less = [](const VoxelBlock* a, const VoxelBlock* b) { return a->origin < b->origin; };
+  std::sort(out.begin(), out.end(), less);
+  return out;
+}
+
+void VoxelBlocks::validate(const Dims& d, const ClassTable& classes) {
+  if (d.x == 0 || d.y == 0 || d.z == 0)
+    throw Error(ErrorKind::Internal, "scene dims must be >= 1 on every axis, got " + toString(d));
+  if (outOfRange_) throw Error(ErrorKind::Internal, "a voxel lies outside the scene domain " + toString(d));
+  const uint32_t dim[3] = {d.x, d.y, d.z};
+  for (const auto& [key, b] : blocks_) {
+    const auto& o = b->origin;
+    for (int k = 0; k < 3; ++k)
+      if (o[k] < 0 || uint32_t(o[k] + kBlockDim - 1) >= dim[k]) {
+        // The block straddles or leaves the domain: check its voxels one by one.
+        for (int i = 0; i < kBlockVoxels; ++i) {
+          if (!((b->occupied[i >> 6] >> (i & 63)) & 1)) continue;
+          const int32_t x = o[0] + (i >> 6), y = o[1] + ((i >> 3) & 7), z = o[2] + (i & 7);
+          if (x < 0 || y < 0 || z < 0 || uint32_t(x) >= d.x || uint32_t(y) >= d.y || uint32_t(z) >= d.z)
+            throw Error(ErrorKind::Internal,
+                        "voxel " + toString(Coord3{x, y, z}) + " lies outside the scene domain " + toString(d));
+        }
+        break;
+      }
+    if (b->hasRuns() && !classes.find(b->runClass))
+      throw Error(ErrorKind::Internal,
+                  "class id " + std::to_string(b->runClass) + " has votes but is not in the class table");
+    for (const auto& cb : b->classes)
+      if (!classes.find(cb->classId))
+        throw Error(ErrorKind::Internal,
+                    "class id " + std::to_string(cb->classId) + " has votes but is not in the class table");
+  }
+}
+
+void VoxelBlocks::release(VoxelBlock& block) {
+  block.classes.clear();
+  block.classes.shrink_to_fit();
+  block.color.reset();
+}
+
+}  // namespace vox

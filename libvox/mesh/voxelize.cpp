@@ -1,0 +1,758 @@
+#include "libvox/mesh/voxelize.h"
+
+#include <algorithm>
+#include <bit>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <unordered_map>
+
+#include "libvox/core/error.h"
+#include "libvox/mesh/voxel_blocks.h"
+
+namespace vox {
+
+namespace {
+
+using i64 = int64_t;
+using i128 = __int128;
+using Vec3i = std::array<i64, 3>;
+
+constexpr i64 kS = i64(1) << kSubvoxelBits;  // lattice steps per voxel
+constexpr double kMaxGrid = double(1 << 20);   // refuse vertices farther than this (voxels)
+
+i128 abs128(i128 x) { return x < 0 ? -x : x; }
+
+// ---------------------------------------------------------------- exact SAT
+
+// Coordinates doubled and relative to the box centre, so the box is [-kS, kS]^3.
+bool satDoubled(const Vec3i p[3]) {
+  const i64 h = kS;
+  for (int i = 0; i < 3; ++i) {
+    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
+    if (mn > h || mx < -h) return false;
+  }
+  const i128 e[3][3] = {{i128(p[1][0]) - p[0][0], i128(p[1][1]) - p[0][1], i128(p[1][2]) - p[0][2]},
+                        {i128(p[2][0]) - p[1][0], i128(p[2][1]) - p[1][1], i128(p[2][2]) - p[1][2]},
+                        {i128(p[0][0]) - p[2][0], i128(p[0][1]) - p[2][1], i128(p[0][2]) - p[2][2]}};
+  // Triangle normal.
+  const i128 n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
+                     e[0][0] * e[2][1] - e[0][1] * e[2][0]};
+  {
+    const i128 d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
+    const i128 r = i128(h) * (abs128(n[0]) + abs128(n[1]) + abs128(n[2]));
+    if (abs128(d) > r) return false;
+  }
+  // Edge x box-axis: axis = e_j x unit_i.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      i128 a[3] = {0, 0, 0};
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      // e x unit_i has components: [i] = 0, [i1] = e[i2], [i2] = -e[i1].
+      a[i1] = e[j][i2];
+      a[i2] = -e[j][i1];
+      i128 mn = 0, mx = 0;
+      for (int k = 0; k < 3; ++k) {
+        const i128 proj = a[i1] * p[k][i1] + a[i2] * p[k][i2];
+        if (k == 0 || proj < mn) mn = proj;
+        if (k == 0 || proj > mx) mx = proj;
+      }
+      const i128 r = i128(h) * (abs128(a[i1]) + abs128(a[i2]));
+      if (mn > r || mx < -r) return false;
+    }
+  return true;
+}
+
+// ---------------------------------------------------------------- clipping (double)
+
+struct Poly {
+  int n = 0;
+  double p[12][3];  // a triangle clipped by 6 planes has at most 9 vertices
+};
+
+void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
+  Poly tmp;
+  // Clip against lo (keep >= lo), then hi (keep <= hi).
+  auto clip = [axis](const Poly& src, Poly& dst, double bound, bool keepAbove) {
+    dst.n = 0;
+    for (int i = 0; i < src.n; ++i) {
+      const double* a = src.p[i];
+      const double* b = src.p[(i + 1) % src.n];
+      const double da = keepAbove ? a[axis] - bound : bound - a[axis];
+      const double db = keepAbove ? b[axis] - bound : bound - b[axis];
+      if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
+      if ((da >= 0) != (db >= 0)) {
+        const double t = da / (da - db);
+        double* q = dst.p[dst.n++];
+        for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
+        q[axis] = bound;
+      }
+    }
+  };
+  clip(in, tmp, lo, true);
+  clip(tmp, out, hi, false);
+}
+
+/// `in` clipped to [lo, hi] along `axis`: `in` itself when it already lies
+/// inside (clipAxis would copy it unchanged, vertex for vertex), else the
+/// clipped polygon in `out`. Most triangle pieces at the usual resolutions sit
+/// inside one slab, so this skips most of the clipping work.
+const Poly& clipAxisView(const Poly& in, Poly& out, int axis, double lo, double hi) {
+  if (in.n > 0) {
+    double mn = in.p[0][axis], mx = mn;
+    for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
+    if (mn >= lo && mx <= hi) return in;
+  }
+  clipAxis(in, out, axis, lo, hi);
+  return out;
+}
+
+double polyArea(const Poly& P) {
+  if (P.n < 3) return 0;
+  double s[3] = {0, 0, 0};
+  for (int i = 1; i + 1 < P.n; ++i) {
+    const double* a = P.p[0];
+    const double* b = P.p[i];
+    const double* c = P.p[i + 1];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    s[0] += u[1] * v[2] - u[2] * v[1];
+    s[1] += u[2] * v[0] - u[0] * v[2];
+    s[2] += u[0] * v[1] - u[1] * v[0];
+  }
+  return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+}
+
+void polyRange(const Poly& P, int axis, double& lo, double& hi) {
+  lo = hi = P.p[0][axis];
+  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
+}
+
+// ---------------------------------------------------------------- helpers
+
+i64 floorDiv(i128 a, i128 b) {  // b > 0
+  i128 q = a / b;
+  if ((a % b != 0) && (a < 0)) --q;
+  return i64(q);
+}
+
+struct ColorSum {
+  uint64_t r = 0, g = 0, b = 0, w = 0;
+};
+
+uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
+  return (uint64_t(uint32_t(u)) << 42) | (uint64_t(uint32_t(v)) << 21) | uint64_t(uint32_t(w));
+}
+
+struct Snapped {
+  std::vector<Vec3i> pos;  // lattice coordinates
+};
+
+/// Range of voxels whose closed interval [k, k+1] touches [lo, hi] (lattice units).
+void touchRange(i64 lo, i64 hi, int32_t dim, int32_t& first, int32_t& last) {
+  // Voxel k touches iff k*S <= hi and (k+1)*S >= lo.
+  const i64 f = floorDiv(i128(lo) - 1, kS) + 0;  // largest k with (k+1)*S < lo is floor((lo-1)/S) - 1
+  first = int32_t(std::max<i64>(0, f));
+  if ((i128(first) + 1) * kS < lo) ++first;
+  last = int32_t(std::min<i64>(dim - 1, floorDiv(hi, kS)));
+}
+
+}  // namespace
+
+int64_t snapToLattice(double g) { return i64(std::llround(g * double(kS))); }
+
+namespace {
+
+// The same separating-axis test in double precision, used as a filter: it
+// answers only when every axis is decided by a margin far above the rounding
+// error (1e-9 of the magnitudes involved, against ~1e-15 actual), and returns
+// -1 otherwise so the exact test decides. Inputs are exact (integers < 2^40).
+int satFiltered(const Vec3i p[3]) {
+  const double h = double(kS);
+  double q[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) q[k][i] = double(p[k][i]);
+  const double e[3][3] = {{q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]},
+                          {q[2][0] - q[1][0], q[2][1] - q[1][1], q[2][2] - q[1][2]},
+                          {q[0][0] - q[2][0], q[0][1] - q[2][1], q[0][2] - q[2][2]}};
+  bool ambiguous = false;
+  const double n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
+                       e[0][0] * e[2][1] - e[0][1] * e[2][0]};
+  {
+    const double d = n[0] * q[0][0] + n[1] * q[0][1] + n[2] * q[0][2];
+    const double r = h * (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
+    const double mag = (std::abs(e[0][1] * e[2][2]) + std::abs(e[0][2] * e[2][1])) * std::abs(q[0][0]) +
+                       (std::abs(e[0][2] * e[2][0]) + std::abs(e[0][0] * e[2][2])) * std::abs(q[0][1]) +
+                       (std::abs(e[0][0] * e[2][1]) + std::abs(e[0][1] * e[2][0])) * std::abs(q[0][2]) + r;
+    const double err = 1e-9 * mag;
+    if (std::abs(d) - r > err) return 0;
+    if (std::abs(d) - r > -err) ambiguous = true;
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      const double a1 = e[j][i2], a2 = -e[j][i1];
+      double mn = 0, mx = 0, mag = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double proj = a1 * q[k][i1] + a2 * q[k][i2];
+        mag = std::max(mag, std::abs(a1 * q[k][i1]) + std::abs(a2 * q[k][i2]));
+        if (k == 0 || proj < mn) mn = proj;
+        if (k == 0 || proj > mx) mx = proj;
+      }
+      const double r = h * (std::abs(a1) + std::abs(a2));
+      const double err = 1e-9 * (mag + r);
+      if (mn - r > err || -r - mx > err) return 0;
+      if (mn - r > -err || -r - mx > -err) ambiguous = true;
+    }
+  return ambiguous ? -1 : 1;
+}
+
+}  // namespace
+
+bool triangleTouchesVoxel(const std::array<int64_t, 3> tri[3], int32_t u, int32_t v, int32_t w) {
+  const i64 c[3] = {(2 * i64(u) + 1) * kS, (2 * i64(v) + 1) * kS, (2 * i64(w) + 1) * kS};
+  Vec3i p[3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) p[k][i] = 2 * tri[k][i] - c[i];
+  // Box axes first: exact, cheap, and they reject most candidates.
+  for (int i = 0; i < 3; ++i) {
+    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
+    if (mn > kS || mx < -kS) return false;
+  }
+  const int quick = satFiltered(p);
+  return quick >= 0 ? quick == 1 : satDoubled(p);
+}
+
+namespace {
+
+// ---------------------------------------------------------------- surface pass
+
+struct BoxBits;
+
+struct SurfaceWork {
+  const Mesh& mesh;
+  const std::vector<uint8_t>& triClass;
+  const Snapped& snapped;
+  Dims dims;
+  bool color;
+  BoxBits* surfaceBits;  // solid mode: marks surface voxels inside the mesh's box
+};
+
+void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w);
+
+struct SurfaceOut {
+  VoxelBlocks blocks;
+  std::unordered_map<uint64_t, ColorSum> colors;
+};
+
+float srgbToLinear(uint8_t c) {
+  static const auto lut = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double x = i / 255.0;
+      t[i] = float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return lut[c];
+}
+
+double wrapCoord(double x, MeshTexture::Wrap mode) {
+  switch (mode) {
+    case MeshTexture::Wrap::ClampToEdge: return std::clamp(x, 0.0, 1.0);
+    case MeshTexture::Wrap::MirroredRepeat: {
+      double f = std::fmod(std::abs(x), 2.0);
+      return f > 1.0 ? 2.0 - f : f;
+    }
+    default: return x - std::floor(x);
+  }
+}
+
+/// Linear RGBA of a texture at (s, t) in glTF conventions (t = 0 at the top row),
+/// bilinear unless the sampler asks for nearest.
+std::array<float, 4> sampleTexture(const MeshTexture& tex, double s, double t) {
+  if (tex.width == 0 || tex.height == 0) return {1, 1, 1, 1};
+  const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
+  auto texel = [&](int64_t ix, int64_t iy) {
+    auto wrapI = [](int64_t i, uint32_t n, MeshTexture::Wrap m) -> uint32_t {
+      if (m == MeshTexture::Wrap::Repeat) return uint32_t(((i % n) + n) % n);
+      return uint32_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
+    };
+    const uint8_t* p = &tex.rgba[(size_t(wrapI(iy, tex.height, tex.wrapT)) * tex.width + wrapI(ix, tex.width, tex.wrapS)) * 4];
+    return std::array<float, 4>{srgbToLinear(p[0]), srgbToLinear(p[1]), srgbToLinear(p[2]), p[3] / 255.0f};
+  };
+  if (tex.nearest) return texel(int64_t(std::floor(x + 0.5)), int64_t(std::floor(y + 0.5)));
+  const int64_t x0 = int64_t(std::floor(x)), y0 = int64_t(std::floor(y));
+  const float fx = float(x - double(x0)), fy = float(y - double(y0));
+  const auto a = texel(x0, y0), b = texel(x0 + 1, y0), c = texel(x0, y0 + 1), d = texel(x0 + 1, y0 + 1);
+  std::array<float, 4> r;
+  for (int k = 0; k < 4; ++k)
+    r[k] = (a[k] * (1 - fx) + b[k] * fx) * (1 - fy) + (c[k] * (1 - fx) + d[k] * fx) * fy;
+  return r;
+}
+
+/// Linear colour of triangle t at barycentric (l0, l1, l2): base colour factor x
+/// vertex colour x texture, each interpolated/sampled at that point.
+std::array<float, 4> surfaceColor(const Mesh& m, size_t t, double l0, double l1, double l2) {
+  std::array<float, 4> c{1, 1, 1, 1};
+  const MeshMaterial* mat = nullptr;
+  if (!m.triangleMaterial.empty() && m.triangleMaterial[t] < m.materials.size()) mat = &m.materials[m.triangleMaterial[t]];
+  if (mat) c = mat->baseColorFactor;
+  const auto& tri = m.triangles[t];
+  if (!m.colors.empty())
+    for (int k = 0; k < 4; ++k)
+      c[k] *= float(l0 * m.colors[tri[0]][k] + l1 * m.colors[tri[1]][k] + l2 * m.colors[tri[2]][k]);
+  if (mat && mat->texture >= 0 && size_t(mat->texture) < m.textures.size()) {
+    const auto& uv = mat->texCoordSet == 1 ? m.uv1 : m.uv0;
+    if (!uv.empty()) {
+      const double s = l0 * uv[tri[0]][0] + l1 * uv[tri[1]][0] + l2 * uv[tri[2]][0];
+      const double tt = l0 * uv[tri[0]][1] + l1 * uv[tri[1]][1] + l2 * uv[tri[2]][1];
+      const auto tex = sampleTexture(m.textures[size_t(mat->texture)], s, tt);
+      for (int k = 0; k < 4; ++k) c[k] *= tex[k];
+    }
+  }
+  return c;
+}
+
+/// Barycentric coordinates of the vertex average of polygon `P` in triangle (a, b, c).
+void barycentric(const Poly& P, const double a[3], const double b[3], const double c[3], double& l0, double& l1,
+                 double& l2) {
+  double p[3] = {0, 0, 0};
+  for (int i = 0; i < P.n; ++i)
+    for (int k = 0; k < 3; ++k) p[k] += P.p[i][k] / P.n;
+  const double v0[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v1[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]},
+               v2[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+  const double d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0), d21 = dot(v2, v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0)) {  // degenerate triangle: use its centroid
+    l0 = l1 = l2 = 1.0 / 3.0;
+    return;
+  }
+  l1 = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+  l2 = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - l1);
+  l0 = 1.0 - l1 - l2;
+}
+
+void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
+  const auto& tri = W.mesh.triangles[t];
+  std::array<int64_t, 3> q[3];
+  for (int k = 0; k < 3; ++k) q[k] = W.snapped.pos[tri[k]];
+  i64 lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = std::min({q[0][i], q[1][i], q[2][i]});
+    hi[i] = std::max({q[0][i], q[1][i], q[2][i]});
+  }
+  int32_t first[3], last[3];
+  const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
+  for (int i = 0; i < 3; ++i) {
+    touchRange(lo[i], hi[i], dimv[i], first[i], last[i]);
+    if (first[i] > last[i]) return;
+  }
+  const uint8_t cls = W.triClass[t];
+
+  Poly P;
+  P.n = 3;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
+  const double eps = 1e-6;  // candidate search margin; exact SAT decides
+
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
+    Poly pieceStorage;
+    const Poly& piece = clipAxisView(*exactUV, pieceStorage, 2, w, w + 1.0);  // the part inside the voxel
+    const double area = polyArea(piece);
+    // A piece of clearly positive area proves the intersection (double rounding
+    // cannot make 1e-9 voxel^2 out of nothing); touching or missing voxels, where
+    // the area is ~0, are decided by the exact test.
+    if (!(area > 1e-9) && !triangleTouchesVoxel(q, u, v, w)) return;
+    const double units = std::round(area * double(kS));
+    const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
+    out.blocks.addVotes({u, v, w}, cls, votes, true);
+    if (W.surfaceBits) markSurface(*W.surfaceBits, u, v, w);
+    if (W.color) {
+      // Colour at the piece's centre (the triangle's centroid if clipping lost it).
+      double l0 = 1.0 / 3, l1 = 1.0 / 3, l2 = 1.0 / 3;
+      if (piece.n > 0) barycentric(piece, P.p[0], P.p[1], P.p[2], l0, l1, l2);
+      const std::array<float, 4> rgba = surfaceColor(W.mesh, t, l0, l1, l2);
+      ColorSum& s = out.colors[voxelKey(u, v, w)];
+      auto q16 = [](float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
+      s.r += votes * q16(rgba[0]);
+      s.g += votes * q16(rgba[1]);
+      s.b += votes * q16(rgba[2]);
+      s.w += votes;
+    }
+  };
+
+  for (int32_t u = first[0]; u <= last[0]; ++u) {
+    Poly PuStorage, PueStorage;
+    const Poly& Pue = clipAxisView(P, PueStorage, 0, u - eps, u + 1 + eps);
+    if (Pue.n == 0) continue;
+    const Poly& Pu = clipAxisView(P, PuStorage, 0, u, u + 1.0);
+    double ylo, yhi;
+    polyRange(Pue, 1, ylo, yhi);
+    // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
+    // (a piece starting inside a voxel does not touch the one below).
+    const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
+    const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
+    for (int32_t v = v0; v <= v1; ++v) {
+      Poly PuveStorage, PuvStorage;
+      const Poly& Puve = clipAxisView(Pue, PuveStorage, 1, v - eps, v + 1 + eps);
+      if (Puve.n == 0) continue;
+      const Poly& Puv = clipAxisView(Pu, PuvStorage, 1, v, v + 1.0);
+      double zlo, zhi;
+      polyRange(Puve, 2, zlo, zhi);
+      const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
+      const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
+      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, &Puv);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- solid pass
+
+struct Crossing {
+  uint64_t column;  // b * extentC + c within the bbox
+  int32_t start;    // first voxel along the ray whose centre lies beyond the crossing
+  int8_t delta;     // +1 entering (normal against the ray), -1 leaving
+  uint8_t cls;
+  bool operator<(const Crossing& o) const {
+    return std::tie(column, start, delta, cls) < std::tie(o.column, o.start, o.delta, o.cls);
+  }
+};
+
+/// Does the edge a->b own the points on it (top-left rule for CCW triangles)?
+bool ownsEdge(i64 ax, i64 ay, i64 bx, i64 by) {
+  const i64 dx = bx - ax, dy = by - ay;
+  return dy > 0 || (dy == 0 && dx < 0);
+}
+
+i64 ceilDiv(i128 a, i128 b) { return -floorDiv(-a, b); }
+
+/// Crossings of rays along `axis` (through voxel centres, in the +axis
+/// direction) with one triangle, for rays whose columns lie in [lo, hi].
+void crossTriangle(const Vec3i q[3], int axis, uint8_t cls, const int32_t lo[3], const int32_t hi[3],
+                   std::vector<Crossing>& out) {
+  const int a = axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+  // Doubled coordinates: voxel centres sit at odd multiples of kS.
+  i64 P[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) P[k][i] = 2 * q[k][i];
+  i128 area2 = i128(P[1][b] - P[0][b]) * (P[2][c] - P[0][c]) - i128(P[1][c] - P[0][c]) * (P[2][b] - P[0][b]);
+  if (area2 == 0) return;  // contains the ray direction: no crossing
+  // (b, c, a) is right-handed, so area2 has the sign of the normal's component
+  // along +a: positive means the ray leaves the solid there (outward normals).
+  const int8_t delta = area2 > 0 ? -1 : +1;
+  int idx[3] = {0, 1, 2};
+  if (area2 < 0) std::swap(idx[1], idx[2]), area2 = -area2;
+  const i64* V[3] = {P[idx[0]], P[idx[1]], P[idx[2]]};
+  const i64 bmin = std::min({V[0][b], V[1][b], V[2][b]}), bmax = std::max({V[0][b], V[1][b], V[2][b]});
+  const i64 cmin = std::min({V[0][c], V[1][c], V[2][c]}), cmax = std::max({V[0][c], V[1][c], V[2][c]});
+  // Voxel k's centre along an axis is (2k + 1) kS.
+  const i64 kb0 = std::max<i64>(lo[b], ceilDiv(i128(bmin) - kS, 2 * kS));
+  const i64 kb1 = std::min<i64>(hi[b], floorDiv(i128(bmax) - kS, 2 * kS));
+  const i64 kc0 = std::max<i64>(lo[c], ceilDiv(i128(cmin) - kS, 2 * kS));
+  const i64 kc1 = std::min<i64>(hi[c], floorDiv(i128(cmax) - kS, 2 * kS));
+  const bool own[3] = {ownsEdge(V[0][b], V[0][c], V[1][b], V[1][c]), ownsEdge(V[1][b], V[1][c], V[2][b], V[2][c]),
+                       ownsEdge(V[2][b], V[2][c], V[0][b], V[0][c])};
+  const i64 extentC = i64(hi[c]) - lo[c] + 1;
+  for (i64 kb = kb0; kb <= kb1; ++kb)
+    for (i64 kc = kc0; kc <= kc1; ++kc) {
+      const i64 Qb = (2 * kb + 1) * kS, Qc = (2 * kc + 1) * kS;
+      i128 E[3];
+      bool inside = true;
+      for (int e = 0; e < 3 && inside; ++e) {
+        const i64* A = V[e];
+        const i64* B = V[(e + 1) % 3];
+        E[e] = i128(B[b] - A[b]) * (Qc - A[c]) - i128(B[c] - A[c]) * (Qb - A[b]);
+        inside = E[e] > 0 || (E[e] == 0 && own[e]);
+      }
+      if (!inside) continue;
+      // Height along a at Q, as num / area2 (barycentric weights E / area2).
+      const i128 num = E[1] * V[0][a] + E[2] * V[1][a] + E[0] * V[2][a];
+      i64 start = floorDiv(num - i128(kS) * area2, i128(2 * kS) * area2) + 1;
+      start = std::clamp<i64>(start, lo[a], i64(hi[a]) + 1);
+      out.push_back({uint64_t((kb - lo[b]) * extentC + (kc - lo[c])), int32_t(start), delta, cls});
+    }
+}
+
+/// A bit per voxel of the mesh's bounding box [lo, hi], x-major, z fastest.
+struct BoxBits {
+  int32_t lo[3], ext[3];
+  std::vector<std::atomic<uint64_t>> words;
+  BoxBits(const int32_t l[3], const int32_t h[3]) {
+    uint64_t n = 1;
+    for (int i = 0; i < 3; ++i) lo[i] = l[i], ext[i] = h[i] - l[i] + 1, n *= uint64_t(ext[i]);
+    words = std::vector<std::atomic<uint64_t>>((n + 63) / 64 + 1);  // +1: get64 reads one word ahead
+  }
+  uint64_t index(int32_t x, int32_t y, int32_t z) const {
+    return (uint64_t(x - lo[0]) * ext[1] + uint64_t(y - lo[1])) * ext[2] + uint64_t(z - lo[2]);
+  }
+  void set(uint64_t i) { words[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed); }
+  bool get(uint64_t i) const { return (words[i >> 6].load(std::memory_order_relaxed) >> (i & 63)) & 1; }
+  /// Bits i .. i+63 (bit 0 = i).
+  uint64_t get64(uint64_t i) const {
+    const uint64_t k = i >> 6, sh = i & 63;
+    const uint64_t a = words[k].load(std::memory_order_relaxed) >> sh;
+    return sh ? a | (words[k + 1].load(std::memory_order_relaxed) << (64 - sh)) : a;
+  }
+};
+
+// The inside flags of one axis's rays, in BoxBits' layout (z fastest), written
+// by one thread: plain words, and runs along z set a word at a time. (Setting
+// one atomic bit per voxel was a third of a solid voxelization.)
+struct PlainBits {
+  int32_t lo[3], ext[3];
+  std::vector<uint64_t> words;
+  PlainBits(const int32_t l[3], const int32_t h[3]) {
+    uint64_t n = 1;
+    for (int i = 0; i < 3; ++i) lo[i] = l[i], ext[i] = h[i] - l[i] + 1, n *= uint64_t(ext[i]);
+    words.assign((n + 63) / 64 + 1, 0);
+  }
+  uint64_t index(int32_t x, int32_t y, int32_t z) const {
+    return (uint64_t(x - lo[0]) * ext[1] + uint64_t(y - lo[1])) * ext[2] + uint64_t(z - lo[2]);
+  }
+  void set(uint64_t i) { words[i >> 6] |= uint64_t(1) << (i & 63); }
+  void setRange(uint64_t from, uint64_t to) {  // bits [from, to)
+    while (from < to) {
+      const uint64_t bit = from & 63, n = std::min<uint64_t>(64 - bit, to - from);
+      words[from >> 6] |= (n == 64 ? ~uint64_t(0) : ((uint64_t(1) << n) - 1)) << bit;
+      from += n;
+    }
+  }
+  uint64_t get64(uint64_t i) const {
+    const uint64_t k = i >> 6, sh = i & 63;
+    return sh ? (words[k] >> sh) | (words[k + 1] << (64 - sh)) : words[k];
+  }
+};
+
+void markSurface(BoxBits& bits, int32_t u, int32_t v, int32_t w) { bits.set(bits.index(u, v, w)); }
+
+/// Does a crossing that changes the winding number from `before` by `delta`
+/// enter a part? It does when it raises |winding|, so that parts with inverted
+/// winding (whose rays see -1 on entry) are entered too.
+bool enters(int before, int delta) { return std::abs(before + delta) > std::abs(before); }
+
+/// The class of the part enclosing voxel `k` of a column: the last crossing at
+/// or before it that enters a part; nullopt when the column has none.
+std::optional<uint8_t> enclosingClass(const std::vector<Crossing>& sorted, uint64_t column, int32_t k) {
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), Crossing{column, INT32_MIN, -128, 0});
+  std::optional<uint8_t> cls;
+  int winding = 0;
+  for (; it != sorted.end() && it->column == column && it->start <= k; ++it) {
+    if (enters(winding, it->delta)) cls = it->cls;
+    winding += it->delta;
+  }
+  return cls;
+}
+
+template <typename Fn>
+void parallelFor(size_t n, unsigned threads, Fn&& fn) {  // fn(begin, end, threadIndex)
+  threads = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, n))));
+  if (threads == 1) return fn(size_t(0), n, 0u);
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] { fn(n * t / threads, n * (t + 1) / threads, t); });
+  for (std::thread& th : pool) th.join();
+}
+
+}  // namespace
+
+VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                               const SceneHeader& header, const VoxelizeSettings& settings) {
+  if (triangleClass.size() != mesh.triangles.size())
+    throw Error(ErrorKind::Internal, "voxelizeMesh: one class per triangle expected");
+  const Dims dims = header.dims;
+  const unsigned threads = std::max(1u, settings.threads);
+  const size_t nTri = mesh.triangles.size();
+
+  // Snap every vertex to the 2^-16 voxel lattice in grid space.
+  Snapped snapped;
+  snapped.pos.resize(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double g = (mesh.positions[i][k] - header.origin[k]) / header.voxelSize;
+      if (!std::isfinite(g))
+        throwBadInput("vertex " + std::to_string(i) + " has a non-finite coordinate; use --drop-invalid");
+      if (std::abs(g) > kMaxGrid)
+        throwBadInput("vertex " + std::to_string(i) + " lies " + std::to_string(std::llround(std::abs(g))) +
+                      " voxels from the grid (limit 2^20); crop the scene with --bounds");
+      snapped.pos[i][k] = snapToLattice(g);
+    }
+
+  // Solid mode works inside the mesh's bounding box (in voxels, clamped to the domain).
+  const bool solid = settings.fill == FillMode::Solid && nTri > 0;
+  int32_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  std::unique_ptr<BoxBits> surfaceBits;
+  if (solid) {
+    const int32_t dimv[3] = {int32_t(dims.x), int32_t(dims.y), int32_t(dims.z)};
+    bool empty = false;
+    uint64_t volume = 1;
+    for (int i = 0; i < 3; ++i) {
+      i64 mn = snapped.pos[mesh.triangles[0][0]][i], mx = mn;
+      for (const auto& tri : mesh.triangles)
+        for (uint32_t vi : tri) mn = std::min(mn, snapped.pos[vi][i]), mx = std::max(mx, snapped.pos[vi][i]);
+      touchRange(mn, mx, dimv[i], lo[i], hi[i]);
+      if (lo[i] > hi[i]) empty = true;
+      else volume *= uint64_t(hi[i] - lo[i] + 1);
+    }
+    if (!empty && volume > (uint64_t(1) << 34))
+      throwUsage("solid fill of a " + std::to_string(volume) + "-voxel bounding box needs about " +
+                 std::to_string(volume / (uint64_t(1) << 31)) +
+                 " GiB of working memory; lower --res or use --fill surface");
+    if (!empty) surfaceBits = std::make_unique<BoxBits>(lo, hi);
+  }
+
+  const bool color = mesh.hasColor();
+  const SurfaceWork work{mesh, triangleClass, snapped, dims, color, surfaceBits.get()};
+  std::atomic<size_t> done{0};
+  const double surfaceShare = surfaceBits ? 0.5 : 1.0;
+  auto report = [&](double fraction) {
+    if (settings.progress) settings.progress(std::min(1.0, fraction));
+  };
+
+  // Surface pass: triangles split across threads; integer sums merge exactly.
+  std::vector<std::unique_ptr<SurfaceOut>> parts(threads);
+  for (auto& p : parts) p = std::make_unique<SurfaceOut>();
+  parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
+    for (size_t i = b; i < e; ++i) {
+      surfaceTriangle(work, i, *parts[t]);
+      if ((i - b) % 4096 == 4095) report(surfaceShare * double(done += 4096) / double(nTri));
+    }
+  });
+  for (unsigned t = 1; t < threads; ++t) {
+    parts[0]->blocks.merge(std::move(parts[t]->blocks));
+    for (const auto& [k, c] : parts[t]->colors) {
+      ColorSum& s = parts[0]->colors[k];
+      s.r += c.r, s.g += c.g, s.b += c.b, s.w += c.w;
+    }
+  }
+  VoxelBlocks& builder = parts[0]->blocks;
+  for (const auto& [k, c] : parts[0]->colors) {
+    if (c.w == 0) continue;
+    const Coord3 at{int32_t(k >> 42), int32_t((k >> 21) & 0x1fffff), int32_t(k & 0x1fffff)};
+    const double d = double(c.w) * 65535.0;
+    builder.setColor(at, {float(double(c.r) / d), float(double(c.g) / d), float(double(c.b) / d)});
+  }
+
+  if (surfaceBits) {
+    // Winding numbers along +x, +y, +z rays through every voxel centre of the box.
+    std::vector<std::vector<Crossing>> crossings(3);
+    std::vector<std::unique_ptr<PlainBits>> inside(3);
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<std::vector<Crossing>> perThread(threads);
+      parallelFor(nTri, threads, [&](size_t b, size_t e, unsigned t) {
+        for (size_t i = b; i < e; ++i) {
+          const auto& tri = mesh.triangles[i];
+          const Vec3i q[3] = {snapped.pos[tri[0]], snapped.pos[tri[1]], snapped.pos[tri[2]]};
+          crossTriangle(q, axis, triangleClass[i], lo, hi, perThread[t]);
+        }
+      });
+      std::vector<Crossing>& all = crossings[axis];
+      for (auto& v : perThread) all.insert(all.end(), v.begin(), v.end());
+    }
+    // Sort and fill the three axes side by side (each writes only its own bits).
+    parallelFor(3, threads, [&](size_t axisBegin, size_t axisEnd, unsigned) {
+    for (int axis = int(axisBegin); axis < int(axisEnd); ++axis) {
+      std::vector<Crossing>& all = crossings[size_t(axis)];
+      std::sort(all.begin(), all.end());  // a total order: the same result for any split
+      auto bits = std::make_unique<PlainBits>(lo, hi);
+      const int a = axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+      const uint64_t extentC = uint64_t(hi[c] - lo[c] + 1);
+      for (size_t i = 0; i < all.size();) {
+        const uint64_t column = all[i].column;
+        int32_t xyz[3];
+        xyz[b] = int32_t(column / extentC) + lo[b];
+        xyz[c] = int32_t(column % extentC) + lo[c];
+        int winding = 0;
+        for (; i < all.size() && all[i].column == column; ++i) {
+          winding += all[i].delta;
+          const int32_t to = (i + 1 < all.size() && all[i + 1].column == column) ? all[i + 1].start : hi[a] + 1;
+          if (winding == 0) continue;
+          if (a == 2) {  // contiguous along z
+            if (to > all[i].start) {
+              xyz[2] = all[i].start;
+              const uint64_t first = bits->index(xyz[0], xyz[1], xyz[2]);
+              bits->setRange(first, first + uint64_t(to - all[i].start));
+            }
+            continue;
+          }
+          for (int32_t k = all[i].start; k < to; ++k) {
+            xyz[a] = k;
+            bits->set(bits->index(xyz[0], xyz[1], xyz[2]));
+          }
+        }
+      }
+      inside[size_t(axis)] = std::move(bits);
+    }
+    });
+    report(surfaceShare + 0.45);
+    // Interior voxels: inside for at least 2 of the 3 rays and not on the surface.
+    const uint64_t extX = uint64_t(hi[0] - lo[0] + 1);
+    std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+    for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
+    const std::vector<Crossing>& zCross = crossings[2];
+    const uint64_t extY = uint64_t(hi[1] - lo[1] + 1);
+    parallelFor(extX, threads, [&](size_t xb, size_t xe, unsigned t) {
+      for (int32_t x = lo[0] + int32_t(xb); x < lo[0] + int32_t(xe); ++x)
+        for (int32_t y = lo[1]; y <= hi[1]; ++y) {
+          // Walk this +z column's crossings alongside z: the class of the last
+          // entering crossing at or below each voxel is the enclosing part's.
+          const uint64_t column = uint64_t(x - lo[0]) * extY + uint64_t(y - lo[1]);
+          auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
+          std::optional<uint8_t> columnClass;
+          int columnWinding = 0;
+          // 64 voxels of the column at a time: inside for at least 2 of the 3
+          // rays and not on the surface; each run of such voxels up to the next
+          // +z crossing (where the enclosing class may change) is one addRun.
+          const uint64_t base = surfaceBits->index(x, y, lo[2]);
+          const int32_t n = hi[2] - lo[2] + 1;
+          for (int32_t z0 = 0; z0 < n; z0 += 64) {
+            const int32_t m = std::min(64, n - z0);
+            const uint64_t w0 = inside[0]->get64(base + uint64_t(z0)), w1 = inside[1]->get64(base + uint64_t(z0)),
+                           w2 = inside[2]->get64(base + uint64_t(z0));
+            uint64_t todo = ((w0 & w1) | (w0 & w2) | (w1 & w2)) & ~surfaceBits->get64(base + uint64_t(z0)) &
+                            (m == 64 ? ~uint64_t(0) : (uint64_t(1) << m) - 1);
+            while (todo) {
+              const int bit = std::countr_zero(todo);
+              const int32_t z = lo[2] + z0 + bit;
+              while (cur != zCross.end() && cur->column == column && cur->start <= z) {
+                if (enters(columnWinding, cur->delta)) columnClass = cur->cls;
+                columnWinding += cur->delta;
+                ++cur;
+              }
+              const int ones = std::countr_one(todo >> bit);
+              int32_t end = z + ones;
+              if (cur != zCross.end() && cur->column == column) end = std::min(end, cur->start);
+              if (columnClass) {
+                interior[t]->addRun({x, y, z}, uint32_t(end - z), *columnClass, kInteriorVotes, false);
+              } else {
+                // Rare: no entering crossing below along +z; ask the +x, then +y rays, voxel by voxel.
+                for (int32_t zz = z; zz < end; ++zz) {
+                  std::optional<uint8_t> cls;
+                  const int32_t xyz[3] = {x, y, zz};
+                  for (int axis : {0, 1}) {
+                    if (cls) break;
+                    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+                    const uint64_t col =
+                        uint64_t(xyz[b] - lo[b]) * uint64_t(hi[c] - lo[c] + 1) + uint64_t(xyz[c] - lo[c]);
+                    cls = enclosingClass(crossings[size_t(axis)], col, xyz[axis]);
+                  }
+                  interior[t]->addRun({x, y, zz}, 1, cls ? *cls : triangleClass[0], kInteriorVotes, false);
+                }
+              }
+              const int len = end - z;
+              todo &= len >= 64 ? 0 : ~(((uint64_t(1) << len) - 1) << bit);
+            }
+          }
+        }
+    });
+    for (auto& b : interior) builder.merge(std::move(*b));
+  }
+  report(1.0);
+  return std::move(builder);
+}
+
+}  // namespace vox

@@ -1,0 +1,83 @@
+// Mesh -> scene voxelization, exact and deterministic.
+//
+// Spaces: the mesh is in world units; the scene's placement (SceneHeader origin
+// and voxelSize) defines grid space g = (world - origin) / voxelSize, where voxel
+// (u, v, w) covers the closed box [u, u+1] x [v, v+1] x [w, w+1].
+//
+// Exactness: vertices are snapped to a lattice of 2^-16 voxel (kSubvoxelBits) in
+// grid space, then every decision is made with exact integer arithmetic on the
+// snapped triangles (64-bit coordinates, 128-bit products). So results do not
+// depend on evaluation order or thread count, shared edges and vertices give
+// identical decisions on both sides (watertight), and vertices that lie exactly
+// on voxel faces, edges or corners are treated exactly. Vertices farther than
+// 2^20 voxels from the grid are refused (vox::Error BadInput): pass --bounds.
+//
+// Surface fill: a voxel is occupied exactly when its closed box intersects a
+// (snapped) triangle: the separating-axis test with the 13 axes of a
+// triangle/box pair, evaluated exactly. Degenerate triangles (zero area) occupy
+// the voxels their segment or point touches.
+//
+// Votes: a voxel gets, for each class, the area of that class's triangles inside
+// its box in units of 2^-16 voxel faces (voxelSize^2 / 65536), rounded to the
+// nearest integer, and at least 1 for every triangle that touches it (so a
+// voxel touched only along an edge still counts). Integer sums make the result
+// independent of the thread count.
+//
+// Solid fill: surface voxels plus the voxels whose centre is inside the mesh.
+// Inside is decided per voxel centre by the winding number along three
+// axis-parallel rays (+x, +y, +z) through it, computed exactly from the signed
+// crossings of each ray with the triangles (a top-left rule makes rays through
+// shared edges and vertices count each crossing once). A centre is inside when
+// at least two of the three rays see a non-zero winding number: non-zero handles
+// inverted winding, nested and overlapping parts; the 2-of-3 vote repairs most
+// cracks and holes in open meshes (a hole only misleads the rays that pass
+// through it). Interior voxels get kInteriorVotes votes for the class of the
+// triangle whose crossing last entered a part along +z (the part that encloses
+// them; a crossing enters when it raises |winding number|, so parts with
+// inverted winding are entered too), no colour, and surface flag false.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "libvox/mesh/mesh.h"
+#include "libvox/core/progress.h"
+#include "libvox/core/scene_header.h"
+#include "libvox/mesh/voxel_blocks.h"
+
+namespace vox {
+
+inline constexpr int kSubvoxelBits = 16;
+inline constexpr uint32_t kInteriorVotes = 65536;  // one full voxel face of area
+
+enum class FillMode { Surface, Solid };
+
+struct VoxelizeSettings {
+  FillMode fill = FillMode::Surface;
+  unsigned threads = 1;  // 1 = serial; the result does not depend on it
+  ProgressFn progress;
+};
+
+/// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,
+/// placement, class table); libvox/scene/voxelize_scene.h turns them into a
+/// Scene, formats/scene/scene_vdb_direct.h writes them straight to a file.
+/// `triangleClass[i]` is the class id (in header.classes) of triangle i.
+/// Colour: when the mesh has colour, each surface voxel gets the vote-weighted
+/// (area-weighted) average over the triangle pieces inside it of base colour
+/// factor x vertex colour x texture (linear light; 8-bit sRGB texels decoded
+/// exactly), evaluated at the centre of each piece (bilinear texture sampling
+/// with the material's wrap modes, or nearest when the sampler says so).
+/// Sums are integers, so colours do not depend on the thread count. Not yet validated
+/// against the header: VoxelBlocks::validate() or SceneBuilder::build() does it.
+VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                               const SceneHeader& header, const VoxelizeSettings& settings);
+
+/// Exact closed-box / triangle intersection on snapped grid coordinates (in
+/// units of 2^-kSubvoxelBits voxel), exposed for tests and the brute-force
+/// oracle. The box is voxel (u, v, w).
+bool triangleTouchesVoxel(const std::array<int64_t, 3> tri[3], int32_t u, int32_t v, int32_t w);
+
+/// Snaps a grid-space coordinate to the lattice (round to nearest, ties away from 0).
+int64_t snapToLattice(double g);
+
+}  // namespace vox

@@ -1,0 +1,120 @@
+// render-canonical's kernels: cast one exact ray per pixel centre into a
+// RayGrid and turn the hits into images (DESIGN section 8, seeds 000 and 002).
+//
+// Spaces: cameras are in world space; the grid maps world p to grid space
+// (p - origin) / voxelSize (voxel (u, v, w) = [u, u+1] x [v, v+1] x [w, w+1]).
+// Depths are world distances from the eye along the ray.
+//
+// Threading: castView splits rows over `threads` workers (0 = all cores);
+// every pixel is computed independently, so the result does not depend on the
+// thread count. Images are byte-identical at any --threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "libvox/render/camera.h"
+#include "libvox/core/classes.h"
+#include "libvox/render/ray_grid.h"
+#include "libvox/render/raycast.h"
+
+namespace vox {
+
+/// Where the grid sits in world space (SceneHeader's origin and voxelSize).
+struct GridFrame {
+  std::array<double, 3> origin{0, 0, 0};
+  double voxelSize = 1.0;
+};
+
+/// One pixel's hit. `faceAxis` -1 means the ray started inside the voxel.
+struct PixelHit {
+  int32_t u = 0, v = 0, w = 0;
+  float depth = 0;  // world distance along the ray
+  int8_t faceAxis = -1, faceSign = 0;
+  bool hit = false;
+};
+
+struct ViewHits {
+  uint32_t width = 0, height = 0;
+  std::vector<PixelHit> pixels;  // row-major, row 0 at the top
+  uint64_t hitCount = 0;
+  uint64_t steps = 0;  // DDA events over all rays
+};
+
+/// The grid-space rays of a camera's pixels, with the per-column and per-row
+/// terms computed once: ray(x, y) starts at the eye, (eye - origin) / voxelSize,
+/// along the camera's direction through the pixel centre (Camera::pixelRay's
+/// formula, not normalised) times 1 / voxelSize. Every caster and checker
+/// builds its rays here, so they trace bit-identical rays. Immutable after
+/// construction: thread-safe.
+class PixelRays {
+ public:
+  PixelRays(const Camera& camera, const GridFrame& frame);
+  Ray ray(uint32_t x, uint32_t y) const {
+    const double cx = column_[x], cy = row_[y];
+    Ray r;
+    r.origin = origin_;
+    for (int a = 0; a < 3; ++a)
+      r.dir[size_t(a)] = (m_[size_t(a)] * cx + m_[size_t(a) + 4] * cy - m_[size_t(a) + 8]) * invVoxelSize_;
+    return r;
+  }
+  /// World distance along `ray` (one of ours) for the ray parameter t.
+  double worldDistance(const Ray& ray, double t) const;
+
+ private:
+  std::array<double, 3> origin_{};
+  Mat4d m_{};  // camera -> world
+  double invVoxelSize_ = 1, voxelSize_ = 1;
+  std::vector<double> column_, row_;  // camera-space x and y of each pixel centre at z = -1
+};
+
+/// The grid-space ray of pixel (x, y) (PixelRays, for one-off use).
+Ray gridRay(const Camera& camera, const GridFrame& frame, uint32_t x, uint32_t y);
+
+/// Casts every pixel of `camera`. `progress` (may be empty) gets fractions.
+ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& camera, unsigned threads,
+                  const std::function<void(double)>& progress = {});
+
+/// Comparison of a view against the brute-force reference on a sample of pixels.
+struct ViewCheck {
+  uint64_t pixelsChecked = 0;
+  uint64_t pixelsDiffering = 0;
+  struct Mismatch {
+    uint32_t x = 0, y = 0;
+    PixelHit got;
+    RayHit expected;
+  };
+  std::vector<Mismatch> first;  // up to 10, in pixel order
+};
+
+/// Checks `hits` against castRayBruteForce over `occupied` on every `stride`-th
+/// pixel (row-major order; stride 1 = all pixels). A pixel differs when the hit
+/// flag or the voxel differs.
+ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
+                    const Camera& camera, uint64_t stride, unsigned threads);
+
+/// Canonical pixel values: RGB = (u, v, w), alpha = full scale on a hit, all
+/// zero on a miss. The narrowest exact sample type holding every coordinate of
+/// `dims` (max axis - 1 <= 255: 8 bits, <= 65535: 16 bits, else 32 bits).
+int canonicalBits(const Dims& dims);
+
+/// Seed 002's terrain shading of one face: `base` (linear 0..1 RGB, the block's
+/// palette colour for that face) times ambient (sky/horizon by normal y) plus
+/// the sun's diffuse term; result not clamped.
+std::array<double, 3> terrainShade(const std::array<double, 3>& base, const std::array<int, 3>& normal);
+/// Seed 002's clear colour (sky blue).
+inline constexpr std::array<double, 3> kSkyColor{0.53, 0.81, 0.92};
+
+/// The palette colour of class `info` for a face with outward normal `normal`:
+/// top for +y, bottom for -y, side otherwise (seed 002), from the class's face
+/// palette, or its display colour when it has none; 8-bit values / 255.
+std::array<double, 3> facePaletteColor(const ClassInfo* info, const std::array<int, 3>& normal);
+
+/// The outward normal of a hit: its entry face, or, when the ray started inside
+/// the voxel, the face facing the ray's dominant axis.
+std::array<int, 3> hitNormal(const PixelHit& hit, const Vec3d& rayDirection);
+
+}  // namespace vox

@@ -1,0 +1,32 @@
+// The built-in demo scene: a procedural hamlet like seed 000's (ground slab, a
+// diagonal path, four hollow buildings, eight trees, a well), so the whole
+// pipeline runs with nothing to download.
+//
+// Geometry is defined on a 256-unit design cube (x, z horizontal, y up, like the
+// block world of seed 002) and sampled at voxel centres, so any resolution gives
+// the same hamlet. Classes are seed 002's block palette (vox::blockPalette()).
+// Votes vary per voxel (a coordinate hash, never a random generator), so the
+// summary bytes conf, obs and mrg take many values; boundaries between materials
+// get mixed votes. Surface voxels are occupied voxels with an empty 6-neighbour
+// (outside the domain counts as empty). The scene carries no colour.
+#pragma once
+
+#include <cstdint>
+
+#include "libvox/core/progress.h"
+#include "libvox/scene/scene.h"
+
+namespace vox {
+
+struct HamletOptions {
+  uint32_t resolution = 256;  // voxels per axis; the scene is resolution^3, >= 1
+  unsigned threads = 1;       // 1 = serial; the result does not depend on it
+  ProgressFn progress;        // optional, called with the fraction of slices done
+};
+
+/// Builds the hamlet. World placement: voxel size 1 / resolution * 25.6, so the
+/// hamlet is 25.6 world units (metres) across at any resolution, origin at
+/// (-12.8, 0, -12.8) (centred on x and z, ground at y = 0).
+Scene buildHamlet(const HamletOptions& options);
+
+}  // namespace vox

@@ -1,0 +1,176 @@
+#include "tools/cli/cli.h"
+
+#include "tools/cli/dispatch.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "libvox/core/error.h"
+#include "libvox/core/version.h"
+
+namespace voxcli {
+
+// Every parallel loop (voxbake's and OpenVDB's) runs on TBB: cap them at --threads.
+struct ThreadLimit {
+  explicit ThreadLimit(unsigned n) : control(tbb::global_control::max_allowed_parallelism, n) {}
+  tbb::global_control control;
+};
+
+void addCommonOptions(CLI::App& cmd, CommonOptions& o) {
+  cmd.add_option("--report", o.reportPath, "Write phase timings, counts and error metrics as JSON")
+      ->type_name("FILE.json");
+  cmd.add_option("--depfile", o.depfilePath, "Write a Make rule listing every input read")->type_name("FILE");
+  cmd.add_option("--threads", o.threads, "Worker threads (0 = all cores); outputs do not depend on it")
+      ->type_name("N");
+  cmd.add_flag("--progress", o.progress, "Draw progress bars even when stderr is not a terminal");
+  cmd.add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
+}
+
+namespace {
+std::mutex gStderrMutex;
+}
+
+ProgressBar::ProgressBar(std::string label, bool enabled) : label_(std::move(label)), enabled_(enabled) {}
+ProgressBar::~ProgressBar() { done(); }
+
+void ProgressBar::update(double fraction) {
+  if (!enabled_ || finished_) return;
+  const int permille = int(std::clamp(fraction, 0.0, 1.0) * 1000);
+  std::lock_guard<std::mutex> lock(gStderrMutex);
+  if (permille / 10 == lastPermille_ / 10) return;
+  lastPermille_ = permille;
+  const int width = 30, filled = permille * width / 1000;
+  std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_.c_str(), std::string(filled, '#').c_str(),
+               std::string(width - filled, ' ').c_str(), permille / 10);
+  std::fflush(stderr);
+}
+
+void ProgressBar::done() {
+  if (!enabled_ || finished_) return;
+  update(1.0);
+  finished_ = true;
+  std::lock_guard<std::mutex> lock(gStderrMutex);
+  std::fputc('\n', stderr);
+}
+
+Run::Run(std::string command, const CommonOptions& options) : command_(std::move(command)), options_(options) {
+  const std::vector<std::string>& argv = invocation();
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  threads_ = options.threads == 0 ? cores : options.threads;
+  limit_ = std::make_unique<ThreadLimit>(threads_);
+  start_ = phaseStart_ = std::chrono::steady_clock::now();
+  report_ = {{"tool", "vox"},         {"version", vox::kToolVersion}, {"command", command_},
+             {"argv", argv},          {"threads", threads_},          {"phases", nlohmann::json::array()},
+             {"counts", nlohmann::json::object()}, {"error", nlohmann::json::object()}};
+}
+
+Run::~Run() = default;  // uncommitted AtomicOutputs remove their temporary files
+
+void Run::endPhase() {
+  if (phaseName_.empty()) return;
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - phaseStart_).count();
+  report_["phases"].push_back({{"name", phaseName_}, {"seconds", s}});
+  phaseName_.clear();
+}
+
+void Run::phase(const std::string& name) {
+  endPhase();
+  phaseName_ = name;
+  phaseStart_ = std::chrono::steady_clock::now();
+}
+
+void Run::input(const std::string& path) {
+  if (std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end()) inputs_.push_back(path);
+}
+
+std::string Run::output(const std::string& finalPath) {
+  // Fail before the work, with the name the user gave, if the output cannot be created.
+  const std::filesystem::path p(finalPath);
+  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' does not exist");
+  if (access(dir.c_str(), W_OK) != 0)
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' is not writable");
+  if (std::filesystem::is_directory(p, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: it is a directory");
+  outputs_.emplace_back(finalPath);
+  return outputs_.back().tempPath();
+}
+
+std::unique_ptr<ProgressBar> Run::progress(const std::string& label) const {
+  const bool enabled = !options_.quiet && (options_.progress || isatty(STDERR_FILENO));
+  return std::make_unique<ProgressBar>(label, enabled);
+}
+
+void Run::note(const std::string& message) const {
+  if (options_.quiet) return;
+  std::lock_guard<std::mutex> lock(gStderrMutex);
+  std::cerr << "vox " << command_ << ": " << message << "\n";
+}
+
+std::string makeEscape(const std::string& path) {
+  std::string out;
+  for (char c : path) {
+    if (c == ' ' || c == '#') out += '\\';
+    if (c == '$') out += '$';
+    out += c;
+  }
+  return out;
+}
+
+int Run::finish(int code) {
+  endPhase();
+  for (vox::AtomicOutput& o : outputs_) o.commit();
+  std::vector<vox::AtomicOutput> sidecars;
+  if (!options_.depfilePath.empty()) {
+    std::string rule;
+    for (size_t i = 0; i < outputs_.size(); ++i) rule += (i ? " " : "") + makeEscape(outputs_[i].finalPath());
+    if (outputs_.empty()) rule += makeEscape(options_.depfilePath);
+    rule += ":";
+    for (const std::string& in : inputs_) rule += " \\\n  " + makeEscape(in);
+    rule += "\n";
+    sidecars.emplace_back(options_.depfilePath);
+    vox::writeFileBytes(sidecars.back().tempPath(), rule);
+  }
+  if (!options_.reportPath.empty()) {
+    report_["exit_code"] = code;
+    report_["total_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    report_["inputs"] = inputs_;
+    nlohmann::json outs = nlohmann::json::array();
+    for (const vox::AtomicOutput& o : outputs_) outs.push_back(o.finalPath());
+    report_["outputs"] = outs;
+    sidecars.emplace_back(options_.reportPath);
+    vox::writeFileBytes(sidecars.back().tempPath(), report_.dump(2) + "\n");
+  }
+  for (vox::AtomicOutput& s : sidecars) s.commit();
+  return code;
+}
+
+std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& option) {
+  std::array<uint32_t, 3> out{};
+  size_t pos = 0;
+  for (int i = 0; i < 3; ++i) {
+    size_t end = text.find(',', pos);
+    if ((i < 2) != (end != std::string::npos))
+      throw vox::Error(vox::ErrorKind::Usage, option + " expects X,Y,Z (three positive integers), got '" + text + "'");
+    std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+    char* stop = nullptr;
+    unsigned long v = part.empty() ? 0 : std::strtoul(part.c_str(), &stop, 10);
+    if (part.empty() || *stop != '\0' || v == 0 || v > 0xffffffffUL || part[0] == '-')
+      throw vox::Error(vox::ErrorKind::Usage, option + " expects X,Y,Z (three positive integers), got '" + text + "'");
+    out[i] = uint32_t(v);
+    pos = end + 1;
+  }
+  return out;
+}
+
+}  // namespace voxcli

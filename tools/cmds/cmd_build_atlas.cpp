@@ -1,0 +1,235 @@
+// vox build-atlas SCENE -o DIR: the scene's atlases and occupancy bitmaps at
+// their voxel<->texel addresses (DESIGN sections 4-5), and only what is asked.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <thread>
+
+#include "formats/image/image.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/core/atlas_content.h"
+#include "libvox/core/bitmap_packing.h"
+#include "libvox/core/error.h"
+#include "libvox/core/summary_bytes.h"
+#include "libvox/core/texel_formats.h"
+#include "libvox/core/version.h"
+#include "tools/cmds/atlas_files.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+
+namespace voxcli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BuildAtlasOptions {
+  std::string scene, outDir, stem;
+  bool summary = false, occupancy = false, occupancy2 = false, identity = false, color = false, votes = false,
+       all = false;
+  std::string identityFormat;
+  uint32_t tilesPerRow = 0, maxSide = 16384;
+  int compression = 6;
+  CommonOptions common;
+};
+
+/// One output file: an image per (content, class, layer).
+struct Output {
+  AtlasImageInfo info;
+  vox::Image image;
+  std::string path, tempPath;
+  bool exr = false;
+};
+
+int runBuildAtlas(const BuildAtlasOptions& o) {
+  Run run("build-atlas", o.common);
+  std::error_code ec;
+  fs::create_directories(o.outDir, ec);
+  if (!fs::is_directory(o.outDir)) throw vox::Error(vox::ErrorKind::Io, o.outDir + ": cannot create the output directory");
+
+  run.phase("read");
+  run.input(o.scene);
+  const vox::Scene scene = vox::readSceneVdb(o.scene);
+  const vox::SceneHeader& h = scene.header();
+
+  // What to write: the flags given, or summary + occupancy.
+  const bool any = o.summary || o.occupancy || o.occupancy2 || o.identity || o.color || o.votes || o.all;
+  const bool wSummary = o.all || o.summary || !any, wOcc = o.all || o.occupancy || !any;
+  const bool wOcc2 = o.all || o.occupancy2, wIdentity = o.all || o.identity, wVotes = o.all || o.votes;
+  const bool wColor = (o.all && scene.hasColor()) || o.color;
+  if (o.color && !scene.hasColor())
+    throw vox::Error(vox::ErrorKind::Usage, o.scene + ": the scene has no colour, so there is no colour atlas to write");
+
+  const vox::AtlasLayout L = vox::AtlasLayout::make(h.dims, o.tilesPerRow, o.maxSide);
+  const uint64_t maxCoord = uint64_t(h.dims.maxAxis()) - 1;
+  vox::TexelFormat idFormat = vox::narrowestExactFormat(maxCoord);
+  if (!o.identityFormat.empty()) {
+    const auto f = vox::parseTexelFormat(o.identityFormat);
+    if (!f) throw vox::Error(vox::ErrorKind::Usage, "--format " + o.identityFormat + ": expected rgba8, rgba16, rgba32ui, rgba16f or rgba32f");
+    if (maxCoord > vox::documentedMaxExact(*f))
+      throw vox::Error(vox::ErrorKind::Usage,
+                       "--format " + o.identityFormat + " cannot hold coordinate " +
+                           std::to_string(vox::documentedMaxExact(*f) + 1) + " of " + vox::toString(h.dims) +
+                           " exactly; " + vox::texelFormatName(vox::narrowestExactFormat(maxCoord)) + " would");
+    idFormat = *f;
+  }
+  const vox::SceneStats stats = scene.stats();
+  const std::string stem = o.stem.empty() ? fs::path(o.scene).stem().string() : o.stem;
+
+  std::vector<Output> outs;
+  auto add = [&](vox::AtlasContent content, const std::string& format, uint32_t channels, vox::SampleType type,
+                 bool exr, uint8_t classId, uint32_t width) {
+    for (uint32_t layer = 0; layer < L.layers; ++layer) {
+      Output out;
+      out.info = {L, content, format, layer, classId, o.scene};
+      out.image = vox::Image(width, L.height, channels, type);
+      out.exr = exr;
+      std::string name = stem + "." + vox::atlasContentName(content);
+      if (content == vox::AtlasContent::Votes) name += "." + std::to_string(classId);
+      if (L.layers > 1) name += ".layer" + std::to_string(layer);
+      out.path = (fs::path(o.outDir) / (name + (exr ? ".exr" : ".png"))).string();
+      out.image.text = {{kAtlasTextKey, atlasInfoJson(out.info).dump()}, {"Software", vox::versionString()}};
+      out.tempPath = run.output(out.path);
+      outs.push_back(std::move(out));
+    }
+  };
+  if (wSummary) add(vox::AtlasContent::Summary, "rgba8", 4, vox::SampleType::U8, false, 0, L.width);
+  if (wIdentity) {
+    const vox::SampleType t = idFormat == vox::TexelFormat::Rgba8    ? vox::SampleType::U8
+                              : idFormat == vox::TexelFormat::Rgba16 ? vox::SampleType::U16
+                              : idFormat == vox::TexelFormat::Rgba32ui ? vox::SampleType::U32
+                              : idFormat == vox::TexelFormat::Rgba16f  ? vox::SampleType::F16
+                                                                       : vox::SampleType::F32;
+    add(vox::AtlasContent::Identity, vox::texelFormatName(idFormat), 4, t,
+        t != vox::SampleType::U8 && t != vox::SampleType::U16, 0, L.width);
+  }
+  if (wColor) add(vox::AtlasContent::Color, "rgba8", 4, vox::SampleType::U8, false, 0, L.width);
+  if (wVotes) {
+    std::array<uint32_t, 256> maxVotesOf{};
+    scene.forEachVoxel([&](const vox::VoxelView& v) {
+      for (const vox::ClassVotes& c : v.votes) maxVotesOf[c.classId] = std::max(maxVotesOf[c.classId], c.votes);
+    });
+    for (const auto& pc : stats.perClass) {
+      // Narrowest exact single channel for this class's largest count.
+      const uint32_t maxVotes = maxVotesOf[pc.classId];
+      if (maxVotes <= 255) add(vox::AtlasContent::Votes, "r8", 1, vox::SampleType::U8, false, pc.classId, L.width);
+      else if (maxVotes <= 65535) add(vox::AtlasContent::Votes, "r16", 1, vox::SampleType::U16, false, pc.classId, L.width);
+      else add(vox::AtlasContent::Votes, "r32ui", 1, vox::SampleType::U32, true, pc.classId, L.width);
+    }
+  }
+  std::optional<vox::OccupancyBitmap> bits1, bits2;
+  if (wOcc) {
+    bits1.emplace(L, 1);
+    add(vox::AtlasContent::Occupancy, "bitmap", 1, vox::SampleType::U8, false, 0, bits1->rowBytes());
+  }
+  if (wOcc2) {
+    bits2.emplace(L, 2);
+    add(vox::AtlasContent::Occupancy2, "bitmap", 1, vox::SampleType::U8, false, 0, bits2->rowBytes());
+  }
+
+  // Fill: one pass over the occupied voxels; empty texels stay 0.
+  run.phase("fill");
+  auto progress = run.progress("atlas");
+  const double total = double(std::max<uint64_t>(1, stats.occupied));
+  uint64_t done = 0;
+  scene.forEachVoxel([&](const vox::VoxelView& v) {
+    const vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+    for (Output& out : outs) {
+      if (out.info.layer != t.layer) continue;
+      vox::Image& img = out.image;
+      const size_t px = size_t(t.y) * img.width + t.x;
+      switch (out.info.content) {
+        case vox::AtlasContent::Occupancy:
+        case vox::AtlasContent::Occupancy2: continue;  // bitmaps are packed below
+        default: break;
+      }
+      const std::array<uint64_t, 4> val = vox::atlasTexel(out.info.content, &v, idFormat, out.info.classId);
+      for (uint32_t c = 0; c < img.channels; ++c) {
+        const size_t i = px * img.channels + c;
+        switch (img.type) {
+          case vox::SampleType::U8: img.pixels[i] = uint8_t(val[c]); break;
+          case vox::SampleType::U16: reinterpret_cast<uint16_t*>(img.pixels.data())[i] = uint16_t(val[c]); break;
+          case vox::SampleType::U32: reinterpret_cast<uint32_t*>(img.pixels.data())[i] = uint32_t(val[c]); break;
+          case vox::SampleType::F16:
+            reinterpret_cast<uint16_t*>(img.pixels.data())[i] = vox::floatToHalf(float(val[c]));
+            break;
+          case vox::SampleType::F32: reinterpret_cast<float*>(img.pixels.data())[i] = float(val[c]); break;
+        }
+      }
+    }
+    if (bits1) bits1->setOccupied(t);
+    if (bits2) bits2->setOccupied(t);
+    if ((++done & 0xffff) == 0) progress->update(double(done) / total);
+  });
+  progress->done();
+  for (Output& out : outs) {
+    if (out.info.content == vox::AtlasContent::Occupancy) out.image.pixels = bits1->layerBytes(out.info.layer);
+    if (out.info.content == vox::AtlasContent::Occupancy2) out.image.pixels = bits2->layerBytes(out.info.layer);
+  }
+
+  // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not depend on it.
+  run.phase("write");
+  std::vector<std::exception_ptr> errors(outs.size());
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t i; (i = next++) < outs.size();) {
+      try {
+        if (outs[i].exr) vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
+        else vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < std::min<unsigned>(run.threads(), unsigned(outs.size())); ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+
+  // Sidecar: the layout and every file, for engines that do not read PNG text chunks.
+  nlohmann::json side = {{"scene", o.scene}, {"layout", nlohmann::json::parse(L.toJson())}, {"files", nlohmann::json::array()}};
+  for (const Output& out : outs) {
+    nlohmann::json f = atlasInfoJson(out.info);
+    f.erase("layout");
+    f.erase("scene");
+    f["file"] = fs::path(out.path).filename().string();
+    side["files"].push_back(f);
+  }
+  const std::string sidePath = (fs::path(o.outDir) / (stem + ".atlas.json")).string();
+  vox::writeFileBytes(run.output(sidePath), side.dump(2) + "\n");
+
+  run.counts() = {{"occupied_voxels", stats.occupied}, {"files", outs.size() + 1}, {"layers", L.layers},
+                  {"atlas", {L.width, L.height}}};
+  run.note("wrote " + std::to_string(outs.size() + 1) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
+           std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
+  return run.finish();
+}
+
+}  // namespace
+
+Command registerBuildAtlas(CLI::App& root) {
+  auto o = std::make_shared<BuildAtlasOptions>();
+  CLI::App* cmd = root.add_subcommand("build-atlas", "Write a scene's atlases and occupancy bitmaps (PNG/EXR)");
+  cmd->footer(
+      "Without content flags: --summary and --occupancy. Files are DIR/STEM.CONTENT[.CLASS][.layerN].png|exr\n"
+      "plus DIR/STEM.atlas.json; every image also carries its layout in a \"vox:atlas\" text entry.");
+  cmd->add_option("scene", o->scene, "Scene (.vdb)")->required();
+  cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing)")->required();
+  cmd->add_option("--stem", o->stem, "File name stem (default: the scene's)");
+  cmd->add_flag("--summary", o->summary, "Summary atlas RGBA8 (cls, conf, obs, mrg)");
+  cmd->add_flag("--occupancy", o->occupancy, "1-bit occupancy bitmap (8 voxels per byte along x)");
+  cmd->add_flag("--occupancy2", o->occupancy2, "2-bit occupied + touched bitmap (touched bits 0)");
+  cmd->add_flag("--identity", o->identity, "Identity atlas RGB = (u, v, w) (computable; off by default)");
+  cmd->add_flag("--color", o->color, "Colour atlas RGBA8 sRGB (scenes with colour)");
+  cmd->add_flag("--votes", o->votes, "One vote layer per class present (narrowest exact: R8, R16 PNG or R32UI EXR)");
+  cmd->add_flag("--all", o->all, "Every content that applies to the scene");
+  cmd->add_option("--format", o->identityFormat, "Identity atlas format (default: narrowest exact)");
+  cmd->add_option("--tiles-per-row", o->tilesPerRow, "Tiles per atlas row (default: smallest, squarest)");
+  cmd->add_option("--max-side", o->maxSide, "Largest texture side; further tile rows go to layers")->capture_default_str();
+  cmd->add_option("--compression", o->compression, "PNG zlib level 0-9")->check(CLI::Range(0, 9))->capture_default_str();
+  addCommonOptions(*cmd, o->common);
+  return {cmd, [o] { return runBuildAtlas(*o); }};
+}
+
+}  // namespace voxcli

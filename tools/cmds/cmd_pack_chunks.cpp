@@ -1,0 +1,174 @@
+// vox pack-chunks SCENE.vdb -o PAGES.vpk: the scene (and its mips) cut into C^3
+// chunks in one page file (formats/pagefile/PAGEFILE.md); --verify FILE.vpk checks one.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "formats/core/file_util.h"
+#include "formats/pagefile/pagefile.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/core/error.h"
+#include "libvox/scene/mip.h"
+#include "formats/pagefile/pack_chunks.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+
+namespace voxcli {
+
+namespace {
+
+struct PackOptions {
+  std::string input;
+  std::string output;
+  std::string verify;
+  uint32_t chunk = 16;
+  uint32_t align = 4096;
+  std::string layout = "bricks";
+  bool mips = false;
+  int levels = 0;
+  std::string occupancy = "any";
+  CommonOptions common;
+};
+
+int runVerify(const PackOptions& o) {
+  Run run("pack-chunks", o.common);
+  run.input(o.verify);
+  run.phase("open");
+  vox::pagefile::Reader r = vox::pagefile::Reader::open(o.verify);  // header/index errors: exit 3
+  run.phase("verify");
+  uint64_t voxels = 0;
+  try {
+    voxels = r.verify();
+  } catch (const vox::Error& e) {
+    std::cerr << "vox pack-chunks: verify failed: " << e.what() << "\n";
+    run.counts()["verified"] = false;
+    return run.finish(kExitCheckFailed);
+  }
+  run.counts()["verified"] = true;
+  run.counts()["chunks"] = r.entries().size();
+  run.counts()["voxels"] = voxels;
+  run.note(o.verify + ": ok, " + std::to_string(r.entries().size()) + " chunks, " + std::to_string(voxels) +
+           " voxels, every CRC32C and bound checked");
+  return run.finish();
+}
+
+int runPack(const PackOptions& o) {
+  if (!o.verify.empty()) {
+    if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
+    return runVerify(o);
+  }
+  if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
+  vox::PackSettings s;
+  s.chunkSide = o.chunk;
+  s.alignment = o.align;
+  if (o.layout == "bricks") s.layout = vox::pagefile::Layout::Bricks;
+  else if (o.layout == "svo") s.layout = vox::pagefile::Layout::Svo;
+  else if (o.layout == "columns") s.layout = vox::pagefile::Layout::Columns;
+  else vox::throwUsage("--layout " + o.layout + ": expected bricks, svo or columns");
+  vox::MipOccupancy mode = vox::MipOccupancy::Any;
+  if (o.occupancy == "majority") mode = vox::MipOccupancy::Majority;
+  else if (o.occupancy != "any") vox::throwUsage("--occupancy " + o.occupancy + ": expected any or majority");
+  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
+
+  Run run("pack-chunks", o.common);
+  const std::string temp = run.output(o.output);
+  s.threads = run.threads();
+  run.phase("read");
+  run.input(o.input);
+  if (!std::filesystem::exists(o.input)) throw vox::Error(vox::ErrorKind::BadInput, o.input + ": no such file");
+  std::vector<vox::Scene> levels;
+  bool fromPyramid = false;
+  if (o.mips && vox::isPyramidVdb(o.input) && o.levels == 0) {
+    levels = vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
+    fromPyramid = true;
+  } else {
+    levels.push_back(vox::readSceneVdb(o.input));
+  }
+  if (o.mips && !fromPyramid) {
+    run.phase("mip");
+    vox::MipSettings ms;
+    ms.occupancy = mode;
+    ms.levels = o.levels;
+    ms.threads = run.threads();
+    for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
+  }
+  if (o.mips) s.mipOccupancy = fromPyramid ? "from " + o.input : o.occupancy;
+  run.phase("pack");
+  std::vector<const vox::Scene*> ptrs;
+  for (const vox::Scene& l : levels) ptrs.push_back(&l);
+  const auto t0 = std::chrono::steady_clock::now();
+  vox::PackResult res;
+  try {
+    res = vox::packChunks(ptrs, s);
+  } catch (const vox::Error& e) {
+    if (e.kind != vox::ErrorKind::Usage) throw;
+    throw vox::Error(e.kind, o.input + ": " + e.what());  // a scene the layout cannot hold: name the file
+  }
+  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.phase("write");
+  {
+    std::FILE* f = std::fopen(temp.c_str(), "wb");
+    if (!f) vox::throwIo(o.output + ": cannot write");
+    const bool ok = std::fwrite(res.bytes.data(), 1, res.bytes.size(), f) == res.bytes.size();
+    if (std::fclose(f) != 0 || !ok) vox::throwIo(o.output + ": cannot write (disk full?)");
+  }
+  uint64_t voxels = 0, chunks = 0;
+  nlohmann::json lv = nlohmann::json::array();
+  for (const auto& l : res.levels) {
+    voxels += l.voxels;
+    chunks += l.chunks;
+    lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
+                  {"payload_bytes", l.payloadBytes}});
+  }
+  const int64_t sceneBytes = vox::fileSizeOrMinusOne(o.input);
+  run.counts() = {{"layout", o.layout},
+                  {"chunk", o.chunk},
+                  {"align", o.align},
+                  {"levels", lv},
+                  {"chunks", chunks},
+                  {"voxels", voxels},
+                  {"file_bytes", res.bytes.size()},
+                  {"scene_file_bytes", sceneBytes},
+                  {"bytes_per_voxel", voxels ? double(res.bytes.size()) / double(voxels) : 0.0},
+                  {"pack_seconds", packSecs},
+                  {"pack_mb_per_s", packSecs > 0 ? double(res.bytes.size()) / 1e6 / packSecs : 0.0}};
+  char bpv[32];
+  std::snprintf(bpv, sizeof bpv, "%.2f", voxels ? double(res.bytes.size()) / double(voxels) : 0.0);
+  run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
+           " chunks of " + std::to_string(o.chunk) + "^3, " + std::to_string(voxels) + " voxels, " +
+           std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
+  return run.finish();
+}
+
+}  // namespace
+
+Command registerPackChunks(CLI::App& root) {
+  auto opts = std::make_shared<PackOptions>();
+  CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
+  cmd->footer(
+      "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
+      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n"
+      "  bricks   occupancy bitmap, then summary bytes, sRGB8 colour and surface bits of the\n"
+      "           occupied voxels in rank order (default)\n"
+      "  svo      pointerless octree of 64-bit nodes over 8^3 bricks, mip bricks at inner nodes\n"
+      "  columns  z-innermost u32 solid and surface masks per column, mip ladder, summary bytes,\n"
+      "           colour offsets and colours of surface voxels\n"
+      "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
+      "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
+      "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
+  cmd->add_option("input", opts->input, "Scene or pyramid (.vdb)");
+  cmd->add_option("-o,--output", opts->output, "Page file to write (.vpk)");
+  cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
+  cmd->add_option("--chunk", opts->chunk, "Chunk side C: 8, 16 or 32")->capture_default_str();
+  cmd->add_option("--align", opts->align, "Payload alignment in bytes (power of two, 8..65536)")->capture_default_str();
+  cmd->add_option("--layout", opts->layout, "bricks, svo or columns")->capture_default_str();
+  cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
+  cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
+  cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")->capture_default_str();
+  addCommonOptions(*cmd, opts->common);
+  return {cmd, [opts] { return runPack(*opts); }};
+}
+
+}  // namespace voxcli

@@ -1,0 +1,123 @@
+// vox voxelize: inputs (the built-in demo scene, seed 002 block maps) -> scene.vdb.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+
+#include "formats/vdb/blockmap_json.h"
+#include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_grid_input.h"
+#include "libvox/scene/voxelize_scene.h"
+#include "libvox/scene/voxelize_check.h"
+#include "libvox/scene/voxelize_sdf.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/core/error.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+#include "tools/bake/voxelize_mesh.h"
+
+namespace voxcli {
+
+namespace {
+
+// Meshes with --method sdf or --check need OpenVDB (meshToVolume, the scene
+// queries of the checks); everything else takes the direct path, here too.
+int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  if (isLightBake(o)) return runMeshesDirect(o, run, outputTemp);
+  PreparedMeshes p = prepareMeshes(o, run);
+  const vox::Mesh& mesh = p.mesh;
+  run.phase("voxelize");
+  auto bar = run.progress("voxelize");
+  const vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
+  vox::Scene scene = o.method == "sdf" ? vox::voxelizeMeshSdf(mesh, p.triangleClass, p.header, settings)
+                                       : vox::voxelizeMesh(mesh, p.triangleClass, p.header, settings);
+  bar->done();
+  run.phase("write");
+  vox::writeSceneVdb(scene, outputTemp);
+  if (o.check) {
+    run.phase("check");
+    if (settings.fill == vox::FillMode::Surface) {
+      const vox::SurfaceCheck c = vox::checkSurface(mesh, scene, 200000);
+      run.error()["surface"] = {{"triangles_checked", c.trianglesChecked}, {"oracle_voxels", c.oracleVoxels},
+                                {"missed", c.missed}, {"extra", c.extra ? nlohmann::json(*c.extra) : nlohmann::json(nullptr)}};
+    } else {
+      // The winding-number reference costs (samples x triangles): keep it near 1e8 evaluations.
+      const uint64_t samples = std::clamp<uint64_t>(uint64_t(1e8) / std::max<size_t>(1, mesh.triangles.size()), 500, 20000);
+      const vox::SolidCheck c = vox::checkSolid(mesh, scene, samples);
+      run.error()["solid"] = {{"mesh_volume", c.meshVolume}, {"voxel_volume", c.voxelVolume},
+                              {"relative_volume_error", c.relativeVolumeError}, {"samples", c.samples}, {"iou", c.iou}};
+    }
+  }
+  return finishMeshBake(o, run, p, scene.occupiedCount(), scene.surfaceCount(), scene.classesPresent().size());
+}
+
+int runVoxelize(const VoxelizeOptions& o) {
+  checkVoxelizeOptions(o);
+  const bool allMeshes = allInputsAreMeshes(o);
+  const std::string& input = o.inputs[0];
+  Run run("voxelize", o.common);
+  const std::string outputTemp = run.output(o.output);  // checks the destination before the work
+  std::optional<vox::Scene> scene;
+  if (allMeshes) {
+    return runMeshes(o, run, outputTemp);
+  } else if (input.rfind("demo:", 0) == 0) {
+    if (input != "demo:hamlet")
+      throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
+    run.phase("generate");
+    vox::HamletOptions h;
+    h.resolution = o.resolution ? o.resolution : 256;
+    h.threads = run.threads();
+    auto bar = run.progress("hamlet");
+    h.progress = [&bar](double f) { bar->update(f); };
+    scene = vox::buildHamlet(h);
+    bar->done();
+  } else if (endsWithLower(input, ".json")) {
+    if (o.resolution)
+      throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
+    run.phase("parse");
+    run.input(input);
+    vox::BlockMapOptions b;
+    b.gridSize = parseTriple(o.gridSize, "--grid-size");
+    scene = vox::readBlockMap(input, b);
+  } else if (endsWithLower(input, ".vdb")) {
+    run.phase("resample");
+    run.input(input);
+    vox::VdbGridInputOptions v;
+    v.gridName = o.gridName;
+    v.threshold = o.threshold;
+    v.voxelSize = o.voxelSize;
+    v.resolution = o.voxelSize > 0 ? o.resolution : (o.resolution ? o.resolution : 256);
+    v.threads = run.threads();
+    auto bar = run.progress("resample");
+    v.progress = [&bar](double f) { bar->update(f); };
+    scene = vox::readVdbGridAsScene(input, v);
+    bar->done();
+  } else {
+    if (!std::filesystem::exists(input))
+      throw vox::Error(vox::ErrorKind::BadInput, input + ": no such file");
+    throw vox::Error(vox::ErrorKind::BadInput,
+                     input + ": unsupported input; vox voxelize reads meshes (.obj .ply .stl .gltf .glb), demo:hamlet, "
+                             "seed 002 block maps (*.json) and OpenVDB grids (*.vdb)");
+  }
+  run.phase("write");
+  vox::writeSceneVdb(*scene, outputTemp);
+  const uint64_t occupied = scene->occupiedCount();
+  const vox::Dims d = scene->header().dims;
+  run.counts()["dims"] = {d.x, d.y, d.z};
+  run.counts()["occupied_voxels"] = occupied;
+  run.counts()["surface_voxels"] = scene->surfaceCount();
+  run.counts()["classes_present"] = scene->classesPresent().size();
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) +
+           " occupied voxels, " + std::to_string(scene->classesPresent().size()) + " classes");
+  return run.finish();
+}
+
+}  // namespace
+
+Command registerVoxelize(CLI::App& root) {
+  auto opts = std::make_shared<VoxelizeOptions>();
+  CLI::App* cmd = addVoxelizeCommand(root, *opts);
+  return {cmd, [opts] { return runVoxelize(*opts); }};
+}
+
+}  // namespace voxcli

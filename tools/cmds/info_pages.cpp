@@ -1,0 +1,125 @@
+#include "tools/cmds/info_pages.h"
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "formats/pagefile/pagefile.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "libvox/core/error.h"
+#include "tools/cli/cli.h"
+
+namespace voxcli {
+
+int infoPageFile(const std::string& path, bool asJson) {
+  const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
+  const vox::pagefile::Header& h = r.header();
+  nlohmann::json meta;
+  try {
+    meta = nlohmann::json::parse(r.metaJson());
+  } catch (const nlohmann::json::exception& e) {
+    throw vox::Error(vox::ErrorKind::BadInput, path + ": metadata: not valid JSON: " + e.what());
+  }
+  nlohmann::json j;
+  j["file"] = path;
+  j["kind"] = "pagefile";
+  j["version"] = vox::pagefile::kVersion;
+  j["layout"] = vox::pagefile::layoutName(h.layout);
+  j["chunk"] = h.chunkSide();
+  j["align"] = 1u << h.alignLog2;
+  j["dims"] = h.dims;
+  j["voxel_size"] = h.voxelSize;
+  j["origin"] = h.origin;
+  j["channels"] = nlohmann::json::array({"occupancy", "summary"});
+  if (h.flags & vox::pagefile::kFlagColor) j["channels"].push_back("color");
+  if (h.flags & vox::pagefile::kFlagSurface) j["channels"].push_back("surface");
+  j["file_bytes"] = h.fileBytes;
+  j["header_bytes"] = vox::pagefile::kHeaderBytes;
+  j["index_bytes"] = h.chunkCount * vox::pagefile::kIndexEntryBytes;
+  j["meta_bytes"] = h.metaBytes;
+  uint64_t voxels = 0, payload = 0;
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < h.levelCount; ++l) {
+    const auto [a, b] = r.levelRange(l);
+    uint64_t v = 0, bytes = 0, full = 0;
+    for (size_t i = a; i < b; ++i) {
+      v += r.entries()[i].occupied;
+      bytes += r.entries()[i].size;
+      full += (r.entries()[i].flags & vox::pagefile::kChunkFull) ? 1 : 0;
+    }
+    voxels += v;
+    payload += bytes;
+    const auto d = h.levelDims(l);
+    levels.push_back({{"level", l}, {"dims", d}, {"voxel_size", h.voxelSize * double(uint64_t(1) << l)},
+                      {"chunks", b - a}, {"full_chunks", full}, {"voxels", v}, {"payload_bytes", bytes},
+                      {"bytes_per_voxel", v ? double(bytes) / double(v) : 0.0}});
+  }
+  j["chunks"] = h.chunkCount;
+  j["voxels"] = voxels;
+  j["payload_bytes"] = payload;
+  j["bytes_per_voxel"] = voxels ? double(h.fileBytes) / double(voxels) : 0.0;
+  j["levels"] = levels;
+  j["classes"] = meta.value("classes", nlohmann::json::array());
+  j["sources"] = meta.value("sources", nlohmann::json::array());
+  if (meta.contains("mip_occupancy")) j["mip_occupancy"] = meta["mip_occupancy"];
+  if (asJson) {
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::ostringstream o;
+  char line[256];
+  o << path << ": voxbake page file (version " << vox::pagefile::kVersion << ", " << j["layout"].get<std::string>()
+    << " layout)\n";
+  o << "  chunks        " << h.chunkCount << " of " << h.chunkSide() << "^3, payloads aligned to " << (1u << h.alignLog2)
+    << " bytes\n";
+  o << "  dims          " << h.dims[0] << " x " << h.dims[1] << " x " << h.dims[2] << ", voxel size " << h.voxelSize
+    << "\n";
+  std::string ch;
+  for (const auto& c : j["channels"]) ch += (ch.empty() ? "" : ", ") + c.get<std::string>();
+  o << "  channels      " << ch << "\n";
+  std::snprintf(line, sizeof line, "%.2f", j["bytes_per_voxel"].get<double>());
+  o << "  size          " << h.fileBytes << " bytes for " << voxels << " occupied voxels (" << line
+    << " bytes per voxel; payloads " << payload << ")\n";
+  o << "  classes       " << j["classes"].size() << "\n";
+  std::snprintf(line, sizeof line, "    %5s  %-16s %10s %8s %12s %14s %9s\n", "level", "dims", "voxel size", "chunks",
+                "voxels", "payload bytes", "B/voxel");
+  o << line;
+  for (const auto& l : levels) {
+    const std::string dims = std::to_string(l["dims"][0].get<uint32_t>()) + "x" + std::to_string(l["dims"][1].get<uint32_t>()) +
+                             "x" + std::to_string(l["dims"][2].get<uint32_t>());
+    std::snprintf(line, sizeof line, "    %5d  %-16s %10g %8llu %12llu %14llu %9.2f\n", l["level"].get<int>(), dims.c_str(),
+                  l["voxel_size"].get<double>(), (unsigned long long)l["chunks"].get<uint64_t>(),
+                  (unsigned long long)l["voxels"].get<uint64_t>(), (unsigned long long)l["payload_bytes"].get<uint64_t>(),
+                  l["bytes_per_voxel"].get<double>());
+    o << line;
+  }
+  std::cout << o.str();
+  return kExitOk;
+}
+
+nlohmann::json pyramidInfoJson(const std::string& path) {
+  const std::string text = vox::readPyramidMetadata(path);
+  if (text.empty()) return nullptr;
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw vox::Error(vox::ErrorKind::BadInput, path + ": metadata 'vox:pyramid': not valid JSON: " + e.what());
+  }
+}
+
+std::string pyramidInfoText(const nlohmann::json& p) {
+  std::ostringstream o;
+  const auto& levels = p.value("levels", nlohmann::json::array());
+  o << "  pyramid       " << levels.size() << " levels above level 0 (occupancy "
+    << p.value("occupancy", std::string("?")) << "; grids mipN.*)\n";
+  char line[160];
+  for (const auto& l : levels) {
+    std::snprintf(line, sizeof line, "    level %-3d  %u x %u x %u, voxel size %g, %llu occupied\n", l.value("level", 0),
+                  l["dims"][0].get<uint32_t>(), l["dims"][1].get<uint32_t>(), l["dims"][2].get<uint32_t>(),
+                  l.value("voxel_size", 0.0), (unsigned long long)l.value("occupied", uint64_t(0)));
+    o << line;
+  }
+  return o.str();
+}
+
+}  // namespace voxcli

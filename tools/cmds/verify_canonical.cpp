@@ -1,0 +1,211 @@
+// vox verify-bijection --canonical IMG --scene S [camera]: checks a canonical
+// render the way idiff checks an image. Every pixel must decode: a hit pixel
+// (alpha at full scale) to an occupied voxel of the scene, a miss pixel to
+// (0, 0, 0, 0). With a camera (the image's own "vox:canonical" camera, or
+// --camera/--eye...), every pixel must also be the voxel the exact caster finds,
+// and a sample of pixels (all of them within --check-budget) the voxel a
+// brute-force ray finds. Reports counts and the first offenders with their
+// coordinates and both values; exit 1 when anything differs.
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "formats/image/image.h"
+#include "libvox/core/error.h"
+#include "libvox/render/render.h"
+#include "tools/cmds/render_input.h"
+#include "tools/cli/verify_bijection.h"
+
+namespace voxcli {
+
+namespace {
+
+struct Decoded {
+  bool valid = true;  // alpha is 0 or full scale, and a miss has RGB 0
+  bool hit = false;
+  uint64_t r = 0, g = 0, b = 0, a = 0;
+};
+
+std::string voxelText(const vox::Coord3& c) { return vox::toString(c); }
+
+}  // namespace
+
+int runCanonicalCheck(const VerifyBijectionOptions& o) {
+  Run run("verify-bijection", o.common);
+  run.phase("read");
+  run.input(o.canonical);
+  vox::Image img;
+  if (vox::isPngFile(o.canonical)) img = vox::readPng(o.canonical);
+  else if (vox::isExrFile(o.canonical)) img = vox::readExr(o.canonical);
+  else vox::throwBadInput(o.canonical + ": not a PNG or EXR image");
+  if (img.channels != 4 || !(img.type == vox::SampleType::U8 || img.type == vox::SampleType::U16 ||
+                             img.type == vox::SampleType::U32))
+    vox::throwBadInput(o.canonical + ": a canonical image is RGBA with 8, 16 or 32-bit unsigned samples; this one has " +
+                       std::to_string(img.channels) + " channel(s) of " + vox::sampleTypeName(img.type));
+  nlohmann::json meta;
+  if (const std::string m = img.textValue("vox:canonical"); !m.empty()) {
+    try {
+      meta = nlohmann::json::parse(m);
+    } catch (const nlohmann::json::parse_error&) {
+      vox::throwBadInput(o.canonical + ": its \"vox:canonical\" entry is not valid JSON");
+    }
+  }
+  const int level = meta.is_object() && meta.contains("level") && meta["level"].is_number_integer() ? meta["level"].get<int>() : 0;
+  run.input(o.scene);
+  const RenderInput in = loadRenderInput(o.scene, level, /*needSummaries=*/false);
+  if (meta.is_object() && meta.contains("dims")) {
+    const nlohmann::json want = {in.dims.x, in.dims.y, in.dims.z};
+    if (meta["dims"] != want)
+      vox::throwBadInput(o.canonical + ": rendered from a " + meta["dims"].dump() + " grid, but " + o.scene + " is " +
+                         want.dump());
+  }
+
+  // The camera: given on the command line, else the image's own.
+  std::optional<vox::Camera> camera;
+  std::string cameraFrom;
+  if (o.camera.given()) {
+    std::vector<vox::CameraView> views = resolveCameras(o.camera, img.width, img.height);
+    if (views.size() != 1)
+      vox::throwUsage("--camera " + o.camera.cameraFile + " holds " + std::to_string(views.size()) +
+                      " views; pick the one the image was rendered from with --view INDEX");
+    camera = views[0].camera;
+    cameraFrom = "command line";
+  } else if (meta.is_object() && meta.contains("camera")) {
+    const nlohmann::json& c = meta["camera"];
+    auto mat = [&](const char* key) {
+      vox::Mat4d m{};
+      if (!c.contains(key) || !c[key].is_array() || c[key].size() != 16)
+        vox::throwBadInput(o.canonical + ": \"vox:canonical\" camera." + key + " must be 16 numbers");
+      for (size_t i = 0; i < 16; ++i) m[i] = c[key][i].get<double>();
+      return m;
+    };
+    camera = vox::Camera::make(mat("viewMatrix"), mat("projectionMatrix"), img.width, img.height,
+                               o.canonical + ": \"vox:canonical\" camera");
+    cameraFrom = "image metadata";
+  }
+  if (camera && (camera->width != img.width || camera->height != img.height))
+    vox::throwUsage("the camera renders " + std::to_string(camera->width) + " x " + std::to_string(camera->height) +
+                    " pixels but " + o.canonical + " is " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                    "; give --size " + std::to_string(img.width) + "x" + std::to_string(img.height));
+
+  run.phase("decode");
+  const uint64_t full = img.type == vox::SampleType::U8 ? 0xff : img.type == vox::SampleType::U16 ? 0xffff : 0xffffffffull;
+  const size_t n = size_t(img.width) * img.height;
+  auto sample = [&](size_t i, int c) -> uint64_t {
+    const size_t k = i * 4 + size_t(c);
+    switch (img.type) {
+      case vox::SampleType::U8: return img.pixels[k];
+      case vox::SampleType::U16: return reinterpret_cast<const uint16_t*>(img.pixels.data())[k];
+      default: return reinterpret_cast<const uint32_t*>(img.pixels.data())[k];
+    }
+  };
+  struct Failure {
+    uint32_t x, y;
+    std::string what;
+  };
+  std::vector<Failure> failures;
+  uint64_t failureCount = 0, hitPixels = 0, decodeFailures = 0;
+  auto fail = [&](size_t i, std::string what) {
+    ++failureCount;
+    if (failures.size() < 10) failures.push_back({uint32_t(i % img.width), uint32_t(i / img.width), std::move(what)});
+  };
+  std::vector<vox::PixelHit> decoded(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint64_t r = sample(i, 0), g = sample(i, 1), b = sample(i, 2), a = sample(i, 3);
+    if (a == 0) {
+      if (r || g || b) {
+        ++decodeFailures;
+        fail(i, "miss pixel (alpha 0) with RGB (" + std::to_string(r) + ", " + std::to_string(g) + ", " + std::to_string(b) + ")");
+      }
+      continue;
+    }
+    if (a != full) {
+      ++decodeFailures;
+      fail(i, "alpha " + std::to_string(a) + " is neither 0 (miss) nor " + std::to_string(full) + " (hit)");
+      continue;
+    }
+    ++hitPixels;
+    const vox::Coord3 c{int32_t(r), int32_t(g), int32_t(b)};
+    if (r >= in.dims.x || g >= in.dims.y || b >= in.dims.z) {
+      ++decodeFailures;
+      fail(i, "decodes to voxel (" + std::to_string(r) + ", " + std::to_string(g) + ", " + std::to_string(b) +
+                  "), outside the " + vox::toString(in.dims) + " grid");
+      continue;
+    }
+    if (!in.grid->occupied(c.u, c.v, c.w)) {
+      ++decodeFailures;
+      fail(i, "decodes to voxel " + voxelText(c) + ", which is empty in " + o.scene);
+      continue;
+    }
+    decoded[i] = {c.u, c.v, c.w, 0, -1, 0, true};
+  }
+
+  uint64_t castDiffer = 0, bruteChecked = 0, bruteDiffer = 0;
+  if (camera) {
+    run.phase("cast");
+    const vox::ViewHits ours = vox::castView(*in.grid, in.frame, *camera, run.threads());
+    for (size_t i = 0; i < n; ++i) {
+      const vox::PixelHit& p = ours.pixels[i];
+      const vox::PixelHit& d = decoded[i];
+      const bool same = p.hit == d.hit && (!p.hit || (p.u == d.u && p.v == d.v && p.w == d.w));
+      if (same) continue;
+      ++castDiffer;
+      fail(i, std::string("image has ") + (d.hit ? voxelText({d.u, d.v, d.w}) : "a miss") + ", the ray hits " +
+                  (p.hit ? voxelText({p.u, p.v, p.w}) : "nothing"));
+    }
+    run.phase("brute force");
+    std::vector<vox::Coord3> occupied;
+    occupied.reserve(size_t(in.grid->occupiedCount()));
+    in.grid->forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
+    const double cost = double(n) * double(std::max<size_t>(1, occupied.size()));
+    const uint64_t stride = std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, o.checkBudget))));
+    vox::ViewHits image;
+    image.width = img.width;
+    image.height = img.height;
+    image.pixels = decoded;
+    const vox::ViewCheck c = vox::checkView(image, occupied, in.frame, *camera, stride, run.threads());
+    bruteChecked = c.pixelsChecked;
+    bruteDiffer = c.pixelsDiffering;
+    for (const auto& m : c.first) {
+      if (failures.size() >= 10) break;
+      failures.push_back({m.x, m.y,
+                          std::string("image has ") + (m.got.hit ? voxelText({m.got.u, m.got.v, m.got.w}) : "a miss") +
+                              ", the brute-force ray hits " + (m.expected.hit ? voxelText(m.expected.voxel) : "nothing")});
+    }
+  }
+
+  const bool ok = decodeFailures == 0 && castDiffer == 0 && bruteDiffer == 0;
+  nlohmann::json j = {{"image", o.canonical},
+                      {"scene", o.scene},
+                      {"pixels", n},
+                      {"hit_pixels", hitPixels},
+                      {"decode_failures", decodeFailures},
+                      {"camera", camera ? nlohmann::json(cameraFrom) : nlohmann::json(nullptr)},
+                      {"ok", ok}};
+  if (camera) {
+    j["pixels_differing_from_ray"] = castDiffer;
+    j["brute_force_pixels_checked"] = bruteChecked;
+    j["brute_force_pixels_differing"] = bruteDiffer;
+  }
+  nlohmann::json fj = nlohmann::json::array();
+  for (const Failure& f : failures) fj.push_back({{"pixel", {f.x, f.y}}, {"what", f.what}});
+  j["first_failures"] = fj;
+  run.counts() = {{"pixels", n}, {"hit_pixels", hitPixels}};
+  run.error() = j;
+  if (o.json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << o.canonical << ": " << n << " pixels, " << hitPixels << " hits; " << decodeFailures
+              << " do not decode to an occupied voxel of " << o.scene << "\n";
+    if (camera)
+      std::cout << "  camera from the " << cameraFrom << ": " << castDiffer << " pixels differ from the exact ray, "
+                << bruteDiffer << " of " << bruteChecked << " differ from the brute-force ray\n";
+    else
+      std::cout << "  no camera (the image has none and none was given): decoding checked only\n";
+    for (const Failure& f : failures) std::cout << "  pixel (" << f.x << ", " << f.y << "): " << f.what << "\n";
+    std::cout << (ok ? "OK" : "FAILED") << "\n";
+  }
+  return run.finish(ok ? kExitOk : kExitCheckFailed);
+}
+
+}  // namespace voxcli
