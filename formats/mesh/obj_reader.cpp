@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "formats/core/file_util.h"
+#include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/error.h"
 
@@ -48,11 +49,6 @@ struct Cursor {
 
 [[noreturn]] void bad(const std::string& name, size_t line, const std::string& what) {
   throwBadInput(name + ":" + std::to_string(line) + ": " + what);
-}
-
-/// sRGB-encoded [0, 1] to linear (the sRGB transfer function).
-float srgbUnitToLinear(double c) {
-  return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
 }
 
 double number(Cursor& c, const std::string& name, const char* what) {
@@ -249,7 +245,7 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
         for (int k = 0; k < n; ++k)
           if (!(extra[k] >= 0 && extra[k] <= 1))
             bad(name, c.line, "vertex colour component " + std::to_string(extra[k]) + " is outside [0, 1]");
-        for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbUnitToLinear(extra[k]);
+        for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbToLinear(extra[k]);
         if (n == 4) color[3] = float(extra[3]);
         anyVertexColor = true;
       }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "formats/mesh/mesh_input.h"
+#include "libvox/core/color.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -56,11 +57,6 @@ struct Element {
 uint64_t minBodyBytes(const Property& p, int format) {
   if (format == 0) return 1;
   return typeSize(p.list ? p.countType : p.type);
-}
-
-float srgbByteToLinear(double c) {
-  const double x = c / 255.0;
-  return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
 }
 
 class Reader {
@@ -238,7 +234,7 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
         mesh.positions.push_back({vals[size_t(ix)], vals[size_t(iy)], vals[size_t(iz)]});
         if (ir >= 0 && ig >= 0 && ib >= 0) {
           const bool floats = e.props[size_t(ir)].type == Type::F32 || e.props[size_t(ir)].type == Type::F64;
-          auto lin = [&](double c) { return floats ? float(c) : srgbByteToLinear(c); };
+          auto lin = [&](double c) { return floats ? float(c) : srgbToLinear(c / 255.0); };
           mesh.colors.push_back({lin(vals[size_t(ir)]), lin(vals[size_t(ig)]), lin(vals[size_t(ib)]),
                                  ia >= 0 ? float(floats ? vals[size_t(ia)] : vals[size_t(ia)] / 255.0) : 1.0f});
         }

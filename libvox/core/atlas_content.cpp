@@ -1,4 +1,5 @@
 #include "libvox/core/atlas_content.h"
+#include "libvox/core/color.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,12 +25,6 @@ std::optional<AtlasContent> parseAtlasContent(const std::string& n) {
                          AtlasContent::Occupancy, AtlasContent::Occupancy2})
     if (n == atlasContentName(c)) return c;
   return std::nullopt;
-}
-
-uint8_t linearToSrgb8(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(double(c), 1.0 / 2.4) - 0.055;
-  return uint8_t(std::lround(s * 255.0));
 }
 
 std::array<uint64_t, 4> atlasTexel(AtlasContent content, const VoxelView* v, TexelFormat identityFormat,

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "libvox/core/color.h"  // linearToSrgb8, for the colour atlas
 #include "libvox/core/scene_header.h"
 #include "libvox/core/texel_formats.h"
 
@@ -31,8 +32,5 @@ std::optional<AtlasContent> parseAtlasContent(const std::string& name);
 /// For Votes, `classId` selects the class.
 std::array<uint64_t, 4> atlasTexel(AtlasContent content, const VoxelView* voxel, TexelFormat identityFormat,
                                    uint8_t classId = 0);
-
-/// 8-bit sRGB encoding of a linear value in [0, 1] (round to nearest).
-uint8_t linearToSrgb8(float linear);
 
 }  // namespace vox

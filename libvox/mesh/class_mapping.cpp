@@ -1,4 +1,5 @@
 #include "libvox/mesh/class_mapping.h"
+#include "libvox/core/color.h"
 
 #include <fnmatch.h>
 
@@ -11,14 +12,6 @@ namespace vox {
 bool globMatch(const std::string& pattern, const std::string& text) {
   return fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
 }
-
-namespace {
-uint8_t linearToSrgb8(float c) {
-  c = std::min(1.0f, std::max(0.0f, c));
-  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-  return uint8_t(std::lround(s * 255.0f));
-}
-}  // namespace
 
 ClassMapping classPerMaterial(const Mesh& mesh, const std::string& meshName) {
   ClassMapping m;

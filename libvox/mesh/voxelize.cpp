@@ -1,4 +1,5 @@
 #include "libvox/mesh/voxelize.h"
+#include "libvox/core/color.h"
 
 #include <algorithm>
 #include <bit>
@@ -248,17 +249,6 @@ struct SurfaceOut {
   std::unordered_map<uint64_t, ColorSum> colors;
 };
 
-float srgbToLinear(uint8_t c) {
-  static const auto lut = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const double x = i / 255.0;
-      t[i] = float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
-    }
-    return t;
-  }();
-  return lut[c];
-}
 
 double wrapCoord(double x, MeshTexture::Wrap mode) {
   switch (mode) {
@@ -282,7 +272,7 @@ std::array<float, 4> sampleTexture(const MeshTexture& tex, double s, double t) {
       return uint32_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
     };
     const uint8_t* p = &tex.rgba[(size_t(wrapI(iy, tex.height, tex.wrapT)) * tex.width + wrapI(ix, tex.width, tex.wrapS)) * 4];
-    return std::array<float, 4>{srgbToLinear(p[0]), srgbToLinear(p[1]), srgbToLinear(p[2]), p[3] / 255.0f};
+    return std::array<float, 4>{srgb8ToLinear(p[0]), srgb8ToLinear(p[1]), srgb8ToLinear(p[2]), p[3] / 255.0f};
   };
   if (tex.nearest) return texel(int64_t(std::floor(x + 0.5)), int64_t(std::floor(y + 0.5)));
   const int64_t x0 = int64_t(std::floor(x)), y0 = int64_t(std::floor(y));

@@ -21,6 +21,42 @@ int exitCodeFor(vox::ErrorKind kind) {
 }
 }  // namespace
 
+const char* optionFor(vox::Setting s) {
+  switch (s) {
+    case vox::Setting::None: return "";
+    case vox::Setting::Resolution: return "--res";
+    case vox::Setting::VoxelSize: return "--voxel-size";
+    case vox::Setting::Bounds: return "--bounds";
+    case vox::Setting::Padding: return "--pad";
+    case vox::Setting::FillMode: return "--fill";
+    case vox::Setting::DropInvalid: return "--drop-invalid";
+    case vox::Setting::IgnoreMissingMaterials: return "--ignore-missing-materials";
+    case vox::Setting::ClassRules: return "--classes";
+    case vox::Setting::GridThreshold: return "--threshold";
+    case vox::Setting::GridName: return "--grid";
+    case vox::Setting::BlockWorldGrid: return "--grid-size";
+    case vox::Setting::MipLevels: return "--levels";
+    case vox::Setting::ChunkSide: return "--chunk";
+    case vox::Setting::PageAlignment: return "--align";
+    case vox::Setting::PageLayout: return "--layout";
+    case vox::Setting::AtlasFormat: return "--format";
+    case vox::Setting::AtlasMaxSide: return "--max-side";
+    case vox::Setting::AtlasTilesPerRow: return "--tiles-per-row";
+    case vox::Setting::CameraPose: return "--eye/--target/--up";
+    case vox::Setting::CameraUp: return "--up";
+    case vox::Setting::FieldOfView: return "--fov";
+    case vox::Setting::ImageSize: return "--size";
+    case vox::Setting::RenderLevel: return "--level";
+  }
+  return "";
+}
+
+std::string messageFor(const vox::Error& e) {
+  std::string m = e.what();
+  if (e.setting != vox::Setting::None) m += std::string(" (") + optionFor(e.setting) + ")";
+  return m;
+}
+
 namespace {
 std::vector<std::string> gInvocation;
 }
@@ -47,7 +83,7 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
     try {
       return c.run();
     } catch (const vox::Error& e) {
-      std::cerr << "vox " << name << ": error: " << e.what() << "\n";
+      std::cerr << "vox " << name << ": error: " << messageFor(e) << "\n";
       return exitCodeFor(e.kind);
     } catch (const std::bad_alloc&) {
       std::cerr << "vox " << name << ": error: out of memory\n";
