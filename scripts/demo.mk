@@ -19,7 +19,7 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
 	@echo
 	@echo "  hamlet.vdb         the built-in hamlet, $(RES)^3 voxels, 7 classes (open it with vdb_print or Houdini)"
 	@echo "  hamlet.info.txt    vox info of it; hamlet.report.json: phase timings and counts"
-	@echo "  village.vdb        a seed 002 block map ($(MAP)) as a scene"
+	@echo "  village.vdb        a block map ($(MAP)) as a scene"
 	@echo "  atlas/             hamlet atlases: summary RGBA8, identity, per-class votes, 1/2-bit bitmaps (PNG)"
 	@echo "  atlas/hamlet.verify.txt  every atlas checked texel by texel against the scene"
 	@echo "  bijection.txt      proof of the $(RES)^3 voxel<->texel mapping"

@@ -1,6 +1,6 @@
 #!/bin/sh
 # One command from a fresh Debian 12 machine to the demo bake: installs the
-# dependencies, builds, bakes the built-in hamlet (and a seed 002 block map)
+# dependencies, builds, bakes the built-in hamlet (and a block map)
 # through every subcommand that exists, and prints where the outputs are.
 # OUT=dir changes the output directory (default ./out); RES=N the resolution.
 set -eu

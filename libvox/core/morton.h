@@ -1,7 +1,7 @@
 // Morton (Z-order) keys of 3D chunk coordinates: 21 bits per axis interleaved,
 // x in bit 0, y in bit 1, z in bit 2, then x in bit 3, ... (so a key is < 2^63).
 // Used by page files to sort chunks so that neighbours in space are near in
-// the file (seed 001).
+// the file (as sparse-voxel-octree renderers order their bricks).
 #pragma once
 
 #include <array>

@@ -19,7 +19,7 @@ namespace {
 // Runs `body` in an arena of `workers` threads (the calling thread included).
 template <typename Body>
 void inArena(unsigned workers, Body&& body) {
-  tbb::task_arena arena(int(workers));
+  tbb::task_arena arena(static_cast<int>(workers));
   arena.execute(body);
 }
 }  // namespace

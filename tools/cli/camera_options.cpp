@@ -46,7 +46,7 @@ void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
   cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll)")->capture_default_str();
   cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->capture_default_str();
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default 512x512, or the camera file's)");
-  cmd.add_option("--camera", o.cameraFile, "Camera JSON, or seed 002 metadata.json (views[] with matrices)");
+  cmd.add_option("--camera", o.cameraFile, "Camera JSON, or a block-map metadata.json (views[] with matrices)");
   cmd.add_option("--view", o.view, "With --camera: render only views[INDEX] (default: every view)");
 }
 

@@ -17,7 +17,7 @@ struct CameraOptions {
   std::string eye, target, up = "0,1,0";
   double fov = 60;
   std::string size;        // "WIDTHxHEIGHT"
-  std::string cameraFile;  // camera JSON or seed 002 metadata.json
+  std::string cameraFile;  // camera JSON or a block-map metadata.json
   int view = -1;           // with --camera: one view (default: all)
 
   bool given() const { return !eye.empty() || !target.empty() || !cameraFile.empty(); }

@@ -1,4 +1,4 @@
-// The CLI conventions every `vox` subcommand shares (DESIGN section 12), in one
+// The CLI conventions every `vox` subcommand shares (README "Conventions of every command"), in one
 // place: exit codes, common options, atomic outputs, --report, --depfile,
 // --threads, progress on stderr, --quiet.
 //

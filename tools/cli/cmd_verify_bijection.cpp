@@ -1,7 +1,7 @@
 // vox verify-bijection: proves the atlas mapping for a layout (--dims/--res),
 // measures what a texel format holds exactly (--format), and checks a built
 // atlas against its scene (--atlas with --scene). The first two run in the
-// launcher without OpenVDB (DESIGN section 13); --atlas runs in the module.
+// launcher without OpenVDB (docs/startup.md); --atlas runs in the module.
 #include "tools/cli/verify_bijection.h"
 
 #include <CLI/CLI.hpp>

@@ -3,7 +3,7 @@
 // for `vox voxelize`, which defers to vox-cmds.so (every command, links
 // OpenVDB) when the command line needs it. So `vox --version` starts in about a
 // millisecond and a mesh bake does not pay the ~45 ms and ~33 MB that loading
-// OpenVDB and its dependencies costs (DESIGN section 13, docs/startup.md).
+// OpenVDB and its dependencies costs (docs/startup.md).
 #include <dlfcn.h>
 #include <limits.h>
 #include <unistd.h>
