@@ -25,8 +25,8 @@ if [ "${1:-}" = --compare ]; then
       *.vdb) "$vox" diff "$a/$f" "$b/$f" >/dev/null 2>&1 && continue ;;
     esac
     echo "differs: $f"; bad=1
-  done < <(cd "$a" && find . -type f ! -name '*.report.json' ! -name '*.d' ! -name '*.log' | sort)
-  extra=$(cd "$b" && find . -type f ! -name '*.report.json' ! -name '*.d' ! -name '*.log' | sort | while read -r f; do [ -e "$a/$f" ] || echo "$f"; done)
+  done < <(cd "$a" && find . -type f ! -name '*.report.json' ! -name '*.d' ! -name '*.log' ! -path './in/*' | sort)
+  extra=$(cd "$b" && find . -type f ! -name '*.report.json' ! -name '*.d' ! -name '*.log' ! -path './in/*' | sort | while read -r f; do [ -e "$a/$f" ] || echo "$f"; done)
   [ -n "$extra" ] && { echo "only in $b: $extra"; bad=1; }
   echo "compared $n files: $([ $bad = 0 ] && echo identical || echo DIFFERENT)"
   exit $bad
@@ -34,8 +34,10 @@ fi
 
 vox=$(realpath "$1") out=$2
 here=$(cd "$(dirname "$0")/.." && pwd)
-data=${VOX_DATA:-$here/../shared/data}
+data=$(realpath -m "${VOX_DATA:-$here/../shared/data}")  # one spelling, whichever checkout runs
 rm -rf "$out"; mkdir -p "$out"; cd "$out" || exit 4
+# Inputs by relative path: scenes record their sources' paths.
+mkdir -p in && cp "$here/scripts/demo/village_map.json" "$here/scripts/demo/village_cameras.json" in/
 log=run.log
 run() { echo "+ $*" >>"$log"; "$vox" "$@" >>"$log" 2>&1 || echo "exit $? from: vox $*" | tee -a "$log" >&2; }
 cam="--eye 20,15,20 --target 0,2,0 --fov 40 --size 160x90"
@@ -43,7 +45,7 @@ cam="--eye 20,15,20 --target 0,2,0 --fov 40 --size 160x90"
 # Scenes
 run voxelize demo:hamlet --res 64 -o hamlet64.vdb
 run voxelize demo:hamlet --res 256 -o hamlet256.vdb
-run voxelize "$here/scripts/demo/village_map.json" -o village.vdb
+run voxelize in/village_map.json -o village.vdb
 meshes=()
 if [ -d "$data" ]; then
   run voxelize "$data/cuda_voxelizer/bunny.OBJ" --res 128 -o bunny.vdb
@@ -89,7 +91,7 @@ modes=canonical,class,shaded,depth,normal
 run render-canonical hamlet256.vdb -o r_hamlet.png $cam --mode $modes --touched r_hamlet.touched.json --touched-bitmap r_hamlet.tb.png
 run render-canonical hamlet64.vdb -o r_far.png --eye 100000,70000,80000 --target 0,1,0 --fov 0.004 --size 40x30
 run render-canonical hamlet64.vdb -o r_in.png --eye 0.05,1.0,0.05 --target 5,1,3 --fov 100 --size 40x30 --mode $modes
-run render-canonical village.vdb -o r_village.png --camera "$here/scripts/demo/village_cameras.json" --mode $modes
+run render-canonical village.vdb -o r_village.png --camera in/village_cameras.json --mode $modes
 for layout in bricks svo columns; do
   run render-canonical hamlet64_$layout.vpk -o r_pages_$layout.png $cam --mode $modes
   run render-canonical hamlet64_$layout.vpk --level 1 -o r_pages_l1_$layout.png $cam
