@@ -11,8 +11,14 @@ out=${FUZZ_DIR:-build-fuzz}
 corpus=$out/corpus-pagefile
 mkdir -p "$corpus"
 command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp \
-  libvox/core/crc32c.cpp -o "$out/fuzz_pagefile"
+# The container, every layout (encoders included: a layout is one file) and the
+# metadata reader, with what they use from libvox/core and formats/scene.
+clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. \
+  tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp formats/pagefile/layouts.cpp \
+  formats/pagefile/bricks_layout.cpp formats/pagefile/svo_layout.cpp formats/pagefile/columns_layout.cpp \
+  formats/pagefile/pagefile_meta.cpp formats/scene/scene_meta.cpp \
+  libvox/core/crc32c.cpp libvox/core/summary_bytes.cpp libvox/core/color.cpp libvox/core/classes.cpp \
+  -o "$out/fuzz_pagefile"
 vox=${BUILD_DIR:-build}/bin/vox
 if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
   tmp=$(mktemp -d)

@@ -4,14 +4,19 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "formats/core/file_util.h"
+#include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/mip.h"
-#include "formats/pagefile/pack_chunks.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 
@@ -23,14 +28,58 @@ struct PackOptions {
   std::string input;
   std::string output;
   std::string verify;
-  uint32_t chunk = 16;
-  uint32_t align = 4096;
-  std::string layout = "bricks";
+  vox::PackSettings pack;  // --chunk, --align, --layout; defaults from the library
   bool mips = false;
   int levels = 0;
-  std::string occupancy = "any";
+  vox::MipOccupancy occupancy = vox::MipSettings{}.occupancy;
   CommonOptions common;
 };
+
+// A CLI11 transformer for an enum option given by name: "svo" becomes the
+// enum's value; anything else is refused listing the names.
+template <typename Enum>
+CLI::Validator namedValue(std::vector<std::pair<std::string, Enum>> choices, const std::string& nameList) {
+  return CLI::Validator(
+      [choices, nameList](std::string& value) -> std::string {
+        for (const auto& [name, e] : choices)
+          if (value == name) {
+            value = std::to_string(static_cast<std::underlying_type_t<Enum>>(e));
+            return {};
+          }
+        return "'" + value + "': expected " + nameList;
+      },
+      "");
+}
+
+std::vector<std::pair<std::string, vox::pagefile::Layout>> layoutChoices() {
+  std::vector<std::pair<std::string, vox::pagefile::Layout>> out;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
+  return out;
+}
+
+// The help's list of layouts, from the layout table: name, then its summary
+// wrapped under it.
+std::string layoutHelp() {
+  std::string out;
+  const vox::pagefile::Layout byDefault = vox::PackSettings{}.layout;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) {
+    std::string line = "  " + std::string(l.name);
+    line.resize(11, ' ');
+    std::string text = std::string(l.summary) + (l.id == byDefault ? " (default)" : "");
+    size_t at = 0;
+    while (at < text.size()) {
+      size_t take = text.size() - at;
+      if (take > 86) {  // break at the last space that fits
+        const size_t space = text.rfind(' ', at + 86);
+        take = space != std::string::npos && space > at ? space - at : 86;
+      }
+      out += line + text.substr(at, take) + "\n";
+      at += take + 1;
+      line = std::string(11, ' ');
+    }
+  }
+  return out;
+}
 
 int runVerify(const PackOptions& o) {
   Run run("pack-chunks", o.common);
@@ -60,16 +109,7 @@ int runPack(const PackOptions& o) {
     return runVerify(o);
   }
   if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
-  vox::PackSettings s;
-  s.chunkSide = o.chunk;
-  s.alignment = o.align;
-  if (o.layout == "bricks") s.layout = vox::pagefile::Layout::Bricks;
-  else if (o.layout == "svo") s.layout = vox::pagefile::Layout::Svo;
-  else if (o.layout == "columns") s.layout = vox::pagefile::Layout::Columns;
-  else vox::throwUsage("--layout " + o.layout + ": expected bricks, svo or columns");
-  vox::MipOccupancy mode = vox::MipOccupancy::Any;
-  if (o.occupancy == "majority") mode = vox::MipOccupancy::Majority;
-  else if (o.occupancy != "any") vox::throwUsage("--occupancy " + o.occupancy + ": expected any or majority");
+  vox::PackSettings s = o.pack;
   if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
 
   Run run("pack-chunks", o.common);
@@ -89,12 +129,12 @@ int runPack(const PackOptions& o) {
   if (o.mips && !fromPyramid) {
     run.phase("mip");
     vox::MipSettings ms;
-    ms.occupancy = mode;
+    ms.occupancy = o.occupancy;
     ms.levels = o.levels;
     ms.threads = run.threads();
     for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
   }
-  if (o.mips) s.mipOccupancy = fromPyramid ? "from " + o.input : o.occupancy;
+  if (o.mips) s.mipOccupancy = fromPyramid ? "from " + o.input : vox::mipOccupancyName(o.occupancy);
   run.phase("pack");
   std::vector<const vox::Scene*> ptrs;
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
@@ -104,7 +144,7 @@ int runPack(const PackOptions& o) {
     res = vox::packChunks(ptrs, s);
   } catch (const vox::Error& e) {
     if (e.kind != vox::ErrorKind::Usage) throw;
-    throw vox::Error(e.kind, o.input + ": " + e.what());  // a scene the layout cannot hold: name the file
+    throw vox::Error(e.kind, o.input + ": " + e.what(), e.setting);  // a scene the layout cannot hold: name the file
   }
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
@@ -123,9 +163,9 @@ int runPack(const PackOptions& o) {
                   {"payload_bytes", l.payloadBytes}});
   }
   const int64_t sceneBytes = vox::fileSizeOrMinusOne(o.input);
-  run.counts() = {{"layout", o.layout},
-                  {"chunk", o.chunk},
-                  {"align", o.align},
+  run.counts() = {{"layout", vox::pagefile::layoutName(s.layout)},
+                  {"chunk", s.chunkSide},
+                  {"align", s.alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
@@ -137,7 +177,7 @@ int runPack(const PackOptions& o) {
   char bpv[32];
   std::snprintf(bpv, sizeof bpv, "%.2f", voxels ? double(res.bytes.size()) / double(voxels) : 0.0);
   run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
-           " chunks of " + std::to_string(o.chunk) + "^3, " + std::to_string(voxels) + " voxels, " +
+           " chunks of " + std::to_string(s.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
            std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
   return run.finish();
 }
@@ -149,24 +189,28 @@ Command registerPackChunks(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
   cmd->footer(
       "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
-      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n"
-      "  bricks   occupancy bitmap, then summary bytes, sRGB8 colour and surface bits of the\n"
-      "           occupied voxels in rank order (default)\n"
-      "  svo      pointerless octree of 64-bit nodes over 8^3 bricks, mip bricks at inner nodes\n"
-      "  columns  z-innermost u32 solid and surface masks per column, mip ladder, summary bytes,\n"
-      "           colour offsets and colours of surface voxels\n"
+      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
+      layoutHelp() +
       "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
       "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
   cmd->add_option("input", opts->input, "Scene or pyramid (.vdb)");
   cmd->add_option("-o,--output", opts->output, "Page file to write (.vpk)");
   cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
-  cmd->add_option("--chunk", opts->chunk, "Chunk side C: 8, 16 or 32")->capture_default_str();
-  cmd->add_option("--align", opts->align, "Payload alignment in bytes (power of two, 8..65536)")->capture_default_str();
-  cmd->add_option("--layout", opts->layout, "bricks, svo or columns")->capture_default_str();
+  cmd->add_option("--chunk", opts->pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
+  cmd->add_option("--align", opts->pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
+      ->capture_default_str();
+  cmd->add_option("--layout", opts->pack.layout, vox::pagefile::layoutNameList())
+      ->transform(namedValue(layoutChoices(), vox::pagefile::layoutNameList()))
+      ->default_str(vox::pagefile::layoutName(opts->pack.layout));
   cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
-  cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")->capture_default_str();
+  cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")
+      ->transform(namedValue<vox::MipOccupancy>({{vox::mipOccupancyName(vox::MipOccupancy::Any), vox::MipOccupancy::Any},
+                                                 {vox::mipOccupancyName(vox::MipOccupancy::Majority),
+                                                  vox::MipOccupancy::Majority}},
+                                                "any or majority"))
+      ->default_str(vox::mipOccupancyName(opts->occupancy));
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runPack(*opts); }};
 }

@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_meta.h"
+#include "formats/scene/scene_meta.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
@@ -14,12 +16,7 @@ namespace voxcli {
 int infoPageFile(const std::string& path, bool asJson) {
   const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
   const vox::pagefile::Header& h = r.header();
-  nlohmann::json meta;
-  try {
-    meta = nlohmann::json::parse(r.metaJson());
-  } catch (const nlohmann::json::exception& e) {
-    throw vox::Error(vox::ErrorKind::BadInput, path + ": metadata: not valid JSON: " + e.what());
-  }
+  const vox::pagefile::PageMeta meta = vox::pagefile::readPageMeta(r.metaJson(), path);
   nlohmann::json j;
   j["file"] = path;
   j["kind"] = "pagefile";
@@ -59,9 +56,9 @@ int infoPageFile(const std::string& path, bool asJson) {
   j["payload_bytes"] = payload;
   j["bytes_per_voxel"] = voxels ? double(h.fileBytes) / double(voxels) : 0.0;
   j["levels"] = levels;
-  j["classes"] = meta.value("classes", nlohmann::json::array());
-  j["sources"] = meta.value("sources", nlohmann::json::array());
-  if (meta.contains("mip_occupancy")) j["mip_occupancy"] = meta["mip_occupancy"];
+  j["classes"] = nlohmann::json::parse(vox::classTableJson(meta.classes));
+  j["sources"] = nlohmann::json::parse(vox::sourcesJson(meta.sources));
+  if (!meta.mipOccupancy.empty()) j["mip_occupancy"] = meta.mipOccupancy;
   if (asJson) {
     std::cout << j.dump(2) << "\n";
     return kExitOk;
