@@ -87,33 +87,38 @@ class ChunkGatherer {
     }
   }
 
-  // The voxels of chunk `cc`, leaf by leaf (8^3 leaves of the scene's trees).
-  const ChunkVoxels& gather(const std::array<uint32_t, 3>& cc) {
+  // The voxels of the chunk at chunk coordinates `chunk`, leaf by leaf (the
+  // 8^3 leaves of the scene's trees).
+  const ChunkVoxels& gather(const std::array<uint32_t, 3>& chunk) {
     const uint32_t C = sc_.side, leavesPerAxis = C / 8;
     std::fill(sc_.bits.begin(), sc_.bits.end(), 0);
     sc_.votes.clear();
     sc_.count = 0;
     for (uint32_t a = 0; a < leavesPerAxis; ++a)
       for (uint32_t b = 0; b < leavesPerAxis; ++b)
-        for (uint32_t c = 0; c < leavesPerAxis; ++c)
-          gatherLeaf(openvdb::Coord(int(cc[0] * C + 8 * a), int(cc[1] * C + 8 * b), int(cc[2] * C + 8 * c)),
-                     {8 * a, 8 * b, 8 * c});
+        for (uint32_t c = 0; c < leavesPerAxis; ++c) {
+          const std::array<uint32_t, 3> leafLocal{8 * a, 8 * b, 8 * c};
+          const openvdb::Coord leafIndex(int(chunk[0] * C + leafLocal[0]), int(chunk[1] * C + leafLocal[1]),
+                                         int(chunk[2] * C + leafLocal[2]));
+          gatherLeaf(leafIndex, leafLocal);
+        }
     return sc_;
   }
 
  private:
-  // One 8^3 leaf at scene voxel `lo`, chunk-local voxel `at`.
-  void gatherLeaf(const openvdb::Coord& lo, const std::array<uint32_t, 3>& at) {
-    const BoolLeaf* occ = g_.occupancy->tree().probeConstLeaf(lo);
+  // One 8^3 leaf whose first voxel is `leafIndex` in the scene's index space
+  // and `leafLocal` in the chunk.
+  void gatherLeaf(const openvdb::Coord& leafIndex, const std::array<uint32_t, 3>& leafLocal) {
+    const BoolLeaf* occ = g_.occupancy->tree().probeConstLeaf(leafIndex);
     if (!occ) return;
     const size_t nClasses = g_.votes.size();
-    for (size_t k = 0; k < nClasses; ++k) voteLeaves_[k] = g_.votes[k].grid->tree().probeConstLeaf(lo);
-    const ColorLeaf* col = g_.color ? g_.color->tree().probeConstLeaf(lo) : nullptr;
+    for (size_t k = 0; k < nClasses; ++k) voteLeaves_[k] = g_.votes[k].grid->tree().probeConstLeaf(leafIndex);
+    const ColorLeaf* col = g_.color ? g_.color->tree().probeConstLeaf(leafIndex) : nullptr;
     const uint32_t C = sc_.side;
     for (auto it = occ->cbeginValueOn(); it; ++it) {
-      const openvdb::Index off = it.pos();
-      const uint32_t x = at[0] + (off >> 6), y = at[1] + ((off >> 3) & 7), z = at[2] + (off & 7);
-      const uint32_t k = x + C * (y + C * z);
+      const openvdb::Index off = it.pos();  // x-major within the leaf (OpenVDB's order)
+      const uint32_t x = leafLocal[0] + (off >> 6), y = leafLocal[1] + ((off >> 3) & 7), z = leafLocal[2] + (off & 7);
+      const uint32_t k = x + C * (y + C * z);  // chunk-local index
       sc_.bits[k >> 6] |= uint64_t(1) << (k & 63);
       ++sc_.count;
       votes_.clear();

@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "formats/core/file_util.h"
@@ -19,6 +17,7 @@
 #include "libvox/scene/mip.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -35,25 +34,16 @@ struct PackOptions {
   CommonOptions common;
 };
 
-// A CLI11 transformer for an enum option given by name: "svo" becomes the
-// enum's value; anything else is refused listing the names.
-template <typename Enum>
-CLI::Validator namedValue(std::vector<std::pair<std::string, Enum>> choices, const std::string& nameList) {
-  return CLI::Validator(
-      [choices, nameList](std::string& value) -> std::string {
-        for (const auto& [name, e] : choices)
-          if (value == name) {
-            value = std::to_string(static_cast<std::underlying_type_t<Enum>>(e));
-            return {};
-          }
-        return "'" + value + "': expected " + nameList;
-      },
-      "");
+// --layout's names, from the layout table.
+EnumNames<vox::pagefile::Layout> layoutNames() {
+  EnumNames<vox::pagefile::Layout> out;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
+  return out;
 }
 
-std::vector<std::pair<std::string, vox::pagefile::Layout>> layoutChoices() {
-  std::vector<std::pair<std::string, vox::pagefile::Layout>> out;
-  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
+EnumNames<vox::MipOccupancy> occupancyNames() {
+  EnumNames<vox::MipOccupancy> out;
+  for (vox::MipOccupancy m : {vox::MipOccupancy::Any, vox::MipOccupancy::Majority}) out.push_back({vox::mipOccupancyName(m), m});
   return out;
 }
 
@@ -200,17 +190,10 @@ Command registerPackChunks(CLI::App& root) {
   cmd->add_option("--chunk", opts->pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
   cmd->add_option("--align", opts->pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
       ->capture_default_str();
-  cmd->add_option("--layout", opts->pack.layout, vox::pagefile::layoutNameList())
-      ->transform(namedValue(layoutChoices(), vox::pagefile::layoutNameList()))
-      ->default_str(vox::pagefile::layoutName(opts->pack.layout));
+  addEnumOption(*cmd, "--layout", opts->pack.layout, layoutNames(), "Payload layout (below)");
   cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
-  cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")
-      ->transform(namedValue<vox::MipOccupancy>({{vox::mipOccupancyName(vox::MipOccupancy::Any), vox::MipOccupancy::Any},
-                                                 {vox::mipOccupancyName(vox::MipOccupancy::Majority),
-                                                  vox::MipOccupancy::Majority}},
-                                                "any or majority"))
-      ->default_str(vox::mipOccupancyName(opts->occupancy));
+  addEnumOption(*cmd, "--occupancy", opts->occupancy, occupancyNames(), "With --mips: how a coarser voxel is occupied");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runPack(*opts); }};
 }
