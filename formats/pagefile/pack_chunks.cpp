@@ -97,18 +97,18 @@ class ChunkGatherer {
     for (uint32_t a = 0; a < leavesPerAxis; ++a)
       for (uint32_t b = 0; b < leavesPerAxis; ++b)
         for (uint32_t c = 0; c < leavesPerAxis; ++c) {
-          const std::array<uint32_t, 3> leafLocal{8 * a, 8 * b, 8 * c};
-          const openvdb::Coord leafIndex(int(chunk[0] * C + leafLocal[0]), int(chunk[1] * C + leafLocal[1]),
-                                         int(chunk[2] * C + leafLocal[2]));
-          gatherLeaf(leafIndex, leafLocal);
+          const std::array<uint32_t, 3> leafChunkLocal{8 * a, 8 * b, 8 * c};
+          const openvdb::Coord leafIndex(int(chunk[0] * C + leafChunkLocal[0]), int(chunk[1] * C + leafChunkLocal[1]),
+                                         int(chunk[2] * C + leafChunkLocal[2]));
+          gatherLeaf(leafIndex, leafChunkLocal);
         }
     return sc_;
   }
 
  private:
   // One 8^3 leaf whose first voxel is `leafIndex` in the scene's index space
-  // and `leafLocal` in the chunk.
-  void gatherLeaf(const openvdb::Coord& leafIndex, const std::array<uint32_t, 3>& leafLocal) {
+  // and `leafChunkLocal` in the chunk.
+  void gatherLeaf(const openvdb::Coord& leafIndex, const std::array<uint32_t, 3>& leafChunkLocal) {
     const BoolLeaf* occ = g_.occupancy->tree().probeConstLeaf(leafIndex);
     if (!occ) return;
     const size_t nClasses = g_.votes.size();
@@ -117,7 +117,7 @@ class ChunkGatherer {
     const uint32_t C = sc_.side;
     for (auto it = occ->cbeginValueOn(); it; ++it) {
       const openvdb::Index off = it.pos();  // x-major within the leaf (OpenVDB's order)
-      const uint32_t x = leafLocal[0] + (off >> 6), y = leafLocal[1] + ((off >> 3) & 7), z = leafLocal[2] + (off & 7);
+      const uint32_t x = leafChunkLocal[0] + (off >> 6), y = leafChunkLocal[1] + ((off >> 3) & 7), z = leafChunkLocal[2] + (off & 7);
       const uint32_t k = x + C * (y + C * z);  // chunk-local index
       sc_.bits[k >> 6] |= uint64_t(1) << (k & 63);
       ++sc_.count;
