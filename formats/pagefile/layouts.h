@@ -73,7 +73,7 @@ struct ChunkPayload {
 /// A layout: its name, its size rules, its encoder and its decoder.
 struct LayoutCodec {
   Layout id;
-  const char* name;     // in messages, `vox info` and `--layout`: "bricks"
+  const char* name;     // in messages, `vox info` and the CLI: "bricks"
   const char* summary;  // one line for help texts
   /// The encoder reads ChunkVoxels::votes and ::linear (packChunks fills them only then).
   bool encoderNeedsVotes;

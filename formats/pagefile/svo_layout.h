@@ -2,8 +2,9 @@
 // (formats/pagefile/PAGEFILE.md, "Payload, `svo` layout"): per chunk a
 // pointerless octree of 64-bit nodes over 8^3 bricks, breadth first; every node
 // owns one brick of the brick pool (leaves: the chunk's voxels; inner nodes: a
-// mip brick, the node's region reduced to 8^3 the way `vox mip --occupancy any`
-// reduces a scene), then the per-voxel data of the bricks' occupied voxels.
+// mip brick, the node's region reduced to 8^3 as a mip pyramid with `Any`
+// occupancy reduces a scene, libvox/scene/mip.h), then the per-voxel data of
+// the bricks' occupied voxels.
 // Its encoder, decoder and size rule; the table in layouts.cpp registers them.
 #pragma once
 
