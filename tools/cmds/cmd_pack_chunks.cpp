@@ -93,57 +93,52 @@ int runVerify(const PackOptions& o) {
   return run.finish();
 }
 
-int runPack(const PackOptions& o) {
-  if (!o.verify.empty()) {
-    if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
-    return runVerify(o);
-  }
-  if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
-  vox::PackSettings s = o.pack;
-  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
-
-  Run run("pack-chunks", o.common);
-  const std::string temp = run.output(o.output);
-  s.threads = run.threads();
+// The levels to pack: the scene, or the pyramid `vox mip` stored, or the scene
+// and the mips built here. Sets `pack.mipOccupancy` to what the metadata records.
+std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSettings& pack) {
   run.phase("read");
   run.input(o.input);
   if (!std::filesystem::exists(o.input)) throw vox::Error(vox::ErrorKind::BadInput, o.input + ": no such file");
   std::vector<vox::Scene> levels;
-  bool fromPyramid = false;
   if (o.mips && vox::isPyramidVdb(o.input) && o.levels == 0) {
-    levels = vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
-    fromPyramid = true;
-  } else {
-    levels.push_back(vox::readSceneVdb(o.input));
+    pack.mipOccupancy = "from " + o.input;
+    return vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
   }
-  if (o.mips && !fromPyramid) {
-    run.phase("mip");
-    vox::MipSettings ms;
-    ms.occupancy = o.occupancy;
-    ms.levels = o.levels;
-    ms.threads = run.threads();
-    for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
-  }
-  if (o.mips) s.mipOccupancy = fromPyramid ? "from " + o.input : vox::mipOccupancyName(o.occupancy);
-  run.phase("pack");
+  levels.push_back(vox::readSceneVdb(o.input));
+  if (!o.mips) return levels;
+  run.phase("mip");
+  vox::MipSettings ms;
+  ms.occupancy = o.occupancy;
+  ms.levels = o.levels;
+  ms.threads = run.threads();
+  for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
+  pack.mipOccupancy = vox::mipOccupancyName(o.occupancy);
+  return levels;
+}
+
+// packChunks, naming the input when the layout cannot hold the scene.
+vox::PackResult packLevels(const std::vector<vox::Scene>& levels, const vox::PackSettings& pack,
+                           const std::string& input) {
   std::vector<const vox::Scene*> ptrs;
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
-  const auto t0 = std::chrono::steady_clock::now();
-  vox::PackResult res;
   try {
-    res = vox::packChunks(ptrs, s);
+    return vox::packChunks(ptrs, pack);
   } catch (const vox::Error& e) {
     if (e.kind != vox::ErrorKind::Usage) throw;
-    throw vox::Error(e.kind, o.input + ": " + e.what(), e.setting);  // a scene the layout cannot hold: name the file
+    throw vox::Error(e.kind, input + ": " + e.what(), e.setting);
   }
-  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  run.phase("write");
-  {
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) vox::throwIo(o.output + ": cannot write");
-    const bool ok = std::fwrite(res.bytes.data(), 1, res.bytes.size(), f) == res.bytes.size();
-    if (std::fclose(f) != 0 || !ok) vox::throwIo(o.output + ": cannot write (disk full?)");
-  }
+}
+
+void writeBytes(const std::vector<uint8_t>& bytes, const std::string& temp, const std::string& output) {
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  if (!f) vox::throwIo(output + ": cannot write");
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if (std::fclose(f) != 0 || !ok) vox::throwIo(output + ": cannot write (disk full?)");
+}
+
+// The report's counts and the summary line.
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
+                Run& run) {
   uint64_t voxels = 0, chunks = 0;
   nlohmann::json lv = nlohmann::json::array();
   for (const auto& l : res.levels) {
@@ -152,23 +147,45 @@ int runPack(const PackOptions& o) {
     lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
                   {"payload_bytes", l.payloadBytes}});
   }
-  const int64_t sceneBytes = vox::fileSizeOrMinusOne(o.input);
-  run.counts() = {{"layout", vox::pagefile::layoutName(s.layout)},
-                  {"chunk", s.chunkSide},
-                  {"align", s.alignment},
+  const double bytesPerVoxel = voxels ? double(res.bytes.size()) / double(voxels) : 0.0;
+  run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
+                  {"chunk", pack.chunkSide},
+                  {"align", pack.alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
                   {"file_bytes", res.bytes.size()},
-                  {"scene_file_bytes", sceneBytes},
-                  {"bytes_per_voxel", voxels ? double(res.bytes.size()) / double(voxels) : 0.0},
+                  {"scene_file_bytes", vox::fileSizeOrMinusOne(o.input)},
+                  {"bytes_per_voxel", bytesPerVoxel},
                   {"pack_seconds", packSecs},
                   {"pack_mb_per_s", packSecs > 0 ? double(res.bytes.size()) / 1e6 / packSecs : 0.0}};
   char bpv[32];
-  std::snprintf(bpv, sizeof bpv, "%.2f", voxels ? double(res.bytes.size()) / double(voxels) : 0.0);
-  run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
-           " chunks of " + std::to_string(s.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
+  std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
+  run.note("wrote " + o.output + ": " + std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) +
+           " chunks of " + std::to_string(pack.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
            std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
+}
+
+int runPack(const PackOptions& o) {
+  if (!o.verify.empty()) {
+    if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
+    return runVerify(o);
+  }
+  if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
+  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
+
+  Run run("pack-chunks", o.common);
+  const std::string temp = run.output(o.output);
+  vox::PackSettings pack = o.pack;
+  pack.threads = run.threads();
+  const std::vector<vox::Scene> levels = readLevels(o, run, pack);
+  run.phase("pack");
+  const auto t0 = std::chrono::steady_clock::now();
+  const vox::PackResult res = packLevels(levels, pack, o.input);
+  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.phase("write");
+  writeBytes(res.bytes, temp, o.output);
+  reportPack(o, pack, res, packSecs, run);
   return run.finish();
 }
 
