@@ -4,7 +4,6 @@
 
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/render/render.h"
-#include "formats/pagefile/pagefile_ray_grid.h"
 #include "libvox/scene/render_scene.h"
 
 namespace {
