@@ -10,7 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <map>
+#include <optional>
 
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
@@ -353,17 +353,22 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
   return run.finish(check.differing ? kExitCheckFailed : kExitOk);
 }
 
-// "canonical" -> RenderMode::Canonical, ..., for CLI11's transformer.
-std::map<std::string, vox::RenderMode> renderModesByName() {
-  std::map<std::string, vox::RenderMode> byName;
-  for (vox::RenderMode m : vox::kRenderModes) byName[vox::renderModeName(m)] = m;
-  return byName;
-}
-
 std::string renderModeList() {
   std::string list;
   for (vox::RenderMode m : vox::kRenderModes) list += (list.empty() ? "" : ", ") + std::string(vox::renderModeName(m));
   return list;
+}
+
+// CLI11 reads an enum as its underlying integer: this turns each name of the
+// comma list into that number (and refuses numbers, which are not names).
+CLI::Validator renderModeNames() {
+  auto toNumber = [](std::string& input) -> std::string {
+    const std::optional<vox::RenderMode> mode = vox::renderModeNamed(input);
+    if (!mode) return "'" + input + "' is not one of " + renderModeList();
+    input = std::to_string(static_cast<int>(*mode));
+    return {};
+  };
+  return CLI::Validator(toNumber, "", "");
 }
 
 }  // namespace
@@ -379,7 +384,8 @@ Command registerRenderCanonical(CLI::App& root) {
   cmd->add_option("-o,--output", o->output, "Image to write (.png; .exr for depth and 32-bit canonical)");
   cmd->add_option("--mode", o->modes, "Comma list of " + renderModeList())
       ->delimiter(',')
-      ->transform(CLI::CheckedTransformer(renderModesByName()).description(""))
+      ->transform(renderModeNames())
+      ->type_name("LIST")
       ->default_str(vox::renderModeName(o->modes.front()));
   addCameraOptions(*cmd, o->camera);
   cmd->add_option("--touched", o->touched, "Write the chunks (and voxel counts) hit by any ray, as JSON");
