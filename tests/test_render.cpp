@@ -397,6 +397,13 @@ TEST(Camera, LookAtErrorsNameTheSettingNotAnOption) {
   EXPECT_EQ(settingOf([] { vox::Camera::lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60, 0, 8); }), vox::Setting::ImageSize);
 }
 
+TEST(Render, CheckStrideKeepsTheBruteForceWithinItsBudget) {
+  EXPECT_EQ(vox::checkStride(6144, 15512, vox::kDefaultCheckBudget), 1u);  // every pixel
+  EXPECT_EQ(vox::checkStride(1000, 1000, 1e5), 10u);
+  EXPECT_EQ(vox::checkStride(1000, 1001, 1e5), 11u);                     // rounded up
+  EXPECT_EQ(vox::checkStride(1000, 0, 0), 1000u);                        // no voxels still costs a test per ray
+}
+
 TEST(Render, CanonicalFormatIsTheNarrowestExactOne) {
   EXPECT_EQ(vox::canonicalBits({1, 1, 1}), 8);
   EXPECT_EQ(vox::canonicalBits({256, 3, 256}), 8);       // coordinates 0..255
@@ -444,8 +451,7 @@ TEST(Render, DemoViewEqualsBruteForceAndIsThreadIndependent) {
   const RayGrid grid = vox::rayGridFromScene(scene);
   EXPECT_EQ(grid.occupiedCount(), scene.occupiedCount());
   const vox::GridFrame frame{scene.header().origin, scene.header().voxelSize};
-  std::vector<Coord3> occupied;
-  grid.forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
+  const std::vector<Coord3> occupied = grid.occupiedVoxels();
   // A general view, an axis-aligned one from straight above (rays in grid
   // planes), and one from inside the scene.
   const std::vector<vox::Camera> cams = {

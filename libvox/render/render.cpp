@@ -69,6 +69,11 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   return out;
 }
 
+uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget) {
+  const double cost = double(pixels) * double(std::max<uint64_t>(1, occupied));
+  return std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, budget))));
+}
+
 ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
                     const Camera& camera, uint64_t stride, unsigned threads) {
   if (stride == 0) stride = 1;

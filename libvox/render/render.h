@@ -91,6 +91,13 @@ struct ViewCheck {
   std::vector<Mismatch> first;  // up to 10, in pixel order
 };
 
+/// The check's default budget: ray-voxel tests per view.
+inline constexpr double kDefaultCheckBudget = 2e9;
+
+/// The pixel stride that keeps a check of `pixels` rays against `occupied`
+/// voxels within `budget` ray-voxel tests (1 = every pixel).
+uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget);
+
 /// Checks `hits` against castRayBruteForce over `occupied` on every `stride`-th
 /// pixel (row-major order; stride 1 = all pixels). A pixel differs when the hit
 /// flag or the voxel differs.

@@ -6,7 +6,6 @@
 // and a sample of pixels (all of them within --check-budget) the voxel a
 // brute-force ray finds. Reports counts and the first offenders with their
 // coordinates and both values; exit 1 when anything differs.
-#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -121,11 +120,8 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
                   (p.hit ? voxelText({p.u, p.v, p.w}) : "nothing"));
     }
     run.phase("brute force");
-    std::vector<vox::Coord3> occupied;
-    occupied.reserve(size_t(in.grid->occupiedCount()));
-    in.grid->forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
-    const double cost = double(n) * double(std::max<size_t>(1, occupied.size()));
-    const uint64_t stride = std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, o.checkBudget))));
+    const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
+    const uint64_t stride = vox::checkStride(n, occupied.size(), o.checkBudget);
     vox::ViewHits image;
     image.width = img.width;
     image.height = img.height;
