@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_fields.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -10,36 +11,20 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void bad(const std::string& name, const std::string& what) {
-  throwBadInput(name + ": its \"" + kRenderMetaKey + "\" entry " + what);
-}
-
-const json& member(const json& object, const char* key, const std::string& name) {
-  if (!object.contains(key)) bad(name, std::string("has no \"") + key + "\"");
-  return object[key];
-}
-
-double number(const json& j, const std::string& name, const std::string& where) {
-  if (!j.is_number()) bad(name, where + " must be a number");
-  return j.get<double>();
-}
-
-int64_t integer(const json& j, const std::string& name, const std::string& where) {
-  if (!j.is_number_integer()) bad(name, where + " must be an integer");
-  return j.get<int64_t>();
-}
+std::string context(const std::string& name) { return name + ": its \"" + kRenderMetaKey + "\" entry"; }
 
 template <size_t N>
-std::array<double, N> numbers(const json& j, const std::string& name, const std::string& where) {
-  if (!j.is_array() || j.size() != N) bad(name, where + " must be " + std::to_string(N) + " numbers");
+std::array<double, N> numbers(const json& j, const std::string& where, const std::string& element) {
+  if (!j.is_array() || j.size() != N) throwBadInput(where + ": " + element + " must be " + std::to_string(N) + " numbers");
   std::array<double, N> out;
-  for (size_t i = 0; i < N; ++i) out[i] = number(j[i], name, where + "[" + std::to_string(i) + "]");
+  for (size_t i = 0; i < N; ++i) out[i] = jsonNumber(j[i], where, element + "[" + std::to_string(i) + "]");
   return out;
 }
 
-uint32_t extent(const json& j, const std::string& name, const std::string& where) {
-  const int64_t v = integer(j, name, where);
-  if (v < 1 || v > int64_t(UINT32_MAX)) bad(name, where + " must be a positive 32-bit integer");
+uint32_t imageSide(const json& j, const std::string& where, const std::string& element) {
+  const int64_t v = jsonInteger(j, where, element);
+  if (v < 1 || v > int64_t(kMaxImageSide))
+    throwBadInput(where + ": " + element + " must be 1.." + std::to_string(kMaxImageSide));
   return uint32_t(v);
 }
 
@@ -61,45 +46,37 @@ std::string renderMetaJson(const RenderMeta& m) {
 }
 
 RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {
+  const std::string where = context(name);
   json j;
   try {
     j = json::parse(text);
   } catch (const json::parse_error&) {
-    bad(name, "is not valid JSON");
+    throwBadInput(where + " is not valid JSON");
   }
-  if (!j.is_object()) bad(name, "is not a JSON object");
+  if (!j.is_object()) throwBadInput(where + " is not a JSON object");
   RenderMeta m;
-  const json& mode = member(j, "mode", name);
-  const std::optional<RenderMode> parsedMode = mode.is_string() ? renderModeNamed(mode.get<std::string>()) : std::nullopt;
-  if (!parsedMode) bad(name, "mode must be one of canonical, class, shaded, depth, normal");
-  m.mode = *parsedMode;
-  const json& scene = member(j, "scene", name);
-  if (!scene.is_string()) bad(name, "scene must be a string");
-  m.scene = scene.get<std::string>();
-  const json& dims = member(j, "dims", name);
-  if (!dims.is_array() || dims.size() != 3) bad(name, "dims must be 3 integers");
-  m.dims = {extent(dims[0], name, "dims[0]"), extent(dims[1], name, "dims[1]"), extent(dims[2], name, "dims[2]")};
-  m.origin = numbers<3>(member(j, "origin", name), name, "origin");
-  m.voxelSize = number(member(j, "voxel_size", name), name, "voxel_size");
-  m.view = int(integer(member(j, "view", name), name, "view"));
-  const json& camera = member(j, "camera", name);
-  if (!camera.is_object()) bad(name, "camera must be an object");
-  m.viewMatrix = numbers<16>(member(camera, "viewMatrix", name), name, "camera.viewMatrix");
-  m.projectionMatrix = numbers<16>(member(camera, "projectionMatrix", name), name, "camera.projectionMatrix");
-  const json& size = member(camera, "imageSize", name);
-  if (!size.is_object()) bad(name, "camera.imageSize must be {\"width\": W, \"height\": H}");
-  m.width = extent(member(size, "width", name), name, "camera.imageSize.width");
-  m.height = extent(member(size, "height", name), name, "camera.imageSize.height");
+  const std::optional<RenderMode> mode = renderModeNamed(jsonString(jsonMember(j, "mode", where), where, "mode"));
+  if (!mode) throwBadInput(where + ": mode must be one of canonical, class, shaded, depth, normal");
+  m.mode = *mode;
+  m.scene = jsonString(jsonMember(j, "scene", where), where, "scene");
+  m.dims = jsonDims(jsonMember(j, "dims", where), where, "dims");
+  m.origin = numbers<3>(jsonMember(j, "origin", where), where, "origin");
+  m.voxelSize = jsonNumber(jsonMember(j, "voxel_size", where), where, "voxel_size");
+  m.view = int(jsonInteger(jsonMember(j, "view", where), where, "view"));
+  const json& camera = jsonMember(j, "camera", where);
+  if (!camera.is_object()) throwBadInput(where + ": camera must be an object");
+  m.viewMatrix = numbers<16>(jsonMember(camera, "viewMatrix", where), where, "camera.viewMatrix");
+  m.projectionMatrix = numbers<16>(jsonMember(camera, "projectionMatrix", where), where, "camera.projectionMatrix");
+  const json& size = jsonMember(camera, "imageSize", where);
+  if (!size.is_object()) throwBadInput(where + ": camera.imageSize must be {\"width\": W, \"height\": H}");
+  m.width = imageSide(jsonMember(size, "width", where), where, "camera.imageSize.width");
+  m.height = imageSide(jsonMember(size, "height", where), where, "camera.imageSize.height");
   if (j.contains("bits")) {
-    const int64_t bits = integer(j["bits"], name, "bits");
-    if (bits != 8 && bits != 16 && bits != 32) bad(name, "bits must be 8, 16 or 32");
+    const int64_t bits = jsonInteger(j["bits"], where, "bits");
+    if (bits != 8 && bits != 16 && bits != 32) throwBadInput(where + ": bits must be 8, 16 or 32");
     m.bits = int(bits);
   }
-  if (j.contains("level")) {
-    const int64_t level = integer(j["level"], name, "level");
-    if (level < 0) bad(name, "level must not be negative");
-    m.level = int(level);
-  }
+  if (j.contains("level")) m.level = int(jsonUnsigned(j["level"], where, "level"));
   return m;
 }
 
