@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "libvox/render/render.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 
@@ -17,7 +18,7 @@ struct VerifyBijectionOptions {
   std::string atlas, scene;
   std::string canonical;       // --canonical IMG: a render-canonical image to check against --scene
   CameraOptions camera;        // with --canonical: the camera to re-cast (default: the image's own)
-  double checkBudget = 2e9;    // ray-voxel tests the brute force may spend
+  double checkBudget = vox::kDefaultCheckBudget;  // ray-voxel tests the brute force may spend
   bool json = false;
   CommonOptions common;
 };
