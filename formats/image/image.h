@@ -1,7 +1,7 @@
 // Images as vox writes and reads them: atlases, bitmaps, renders.
 //
 // PNG through libpng and EXR through OpenEXR directly, not OpenImageIO: Debian's
-// OpenImageIO costs ~350 ms at every process start (DESIGN section 13), and
+// OpenImageIO costs ~350 ms at every process start (docs/startup.md), and
 // these two libraries cover every format the tool writes.
 //
 // Conventions: row 0 is the top of the image; channels are interleaved;

@@ -9,13 +9,13 @@
 #include <filesystem>
 #include <iostream>
 
+#include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
 #include "libvox/core/atlas_content.h"
 #include "libvox/core/bitmap_packing.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
 #include "libvox/core/version.h"
-#include "tools/cmds/atlas_files.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
@@ -335,10 +335,10 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
     }
     const fs::path p(o.touchedBitmap);
     for (uint32_t layer = 0; layer < L.layers; ++layer) {
-      AtlasImageInfo info{L, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
+      const vox::AtlasImageInfo info{L, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
       vox::Image img(bitmap.rowBytes(), L.height, 1, vox::SampleType::U8);
       img.pixels = bitmap.layerBytes(layer);
-      img.text = {{kAtlasTextKey, atlasInfoJson(info).dump()}, {"Software", vox::versionString()}};
+      img.text = vox::atlasImageText(info);
       const std::string path =
           L.layers == 1 ? o.touchedBitmap
                         : ((p.parent_path() / p.stem()).string() + ".layer" + std::to_string(layer) + ".png");
