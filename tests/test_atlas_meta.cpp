@@ -97,7 +97,8 @@ TEST(AtlasMeta, RefusesEachMalformedEntry) {
     EXPECT_TRUE(refused(withKey(votes, key, nullptr), {"a.png", key})) << key;
   EXPECT_TRUE(refused(withKey(votes, "content", "depth"), {"a.png", "unknown atlas content", "depth"}));
   EXPECT_TRUE(refused(withKey(votes, "content", 3), {"a.png", "malformed"}));
-  EXPECT_TRUE(refused(withKey(votes, "layer", -1), {"a.png", "malformed"}));
+  EXPECT_TRUE(refused(withKey(votes, "layer", -1), {"a.png", "\"layer\""}));
+  EXPECT_TRUE(refused(withKey(votes, "layer", 0.5), {"a.png", "\"layer\""}));
   EXPECT_TRUE(refused(withKey(votes, "layer", 1), {"a.png", "layer 1", "1 layers"}));
   EXPECT_TRUE(refused(withKey(votes, "class_id", 256), {"a.png", "class_id"}));
   EXPECT_TRUE(refused(withKey(votes, "scene", 5), {"a.png", "malformed"}));

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
 #include <tuple>
 
 #include "formats/vdb/pyramid_vdb.h"

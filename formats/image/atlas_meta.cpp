@@ -23,7 +23,10 @@ AtlasImageInfo infoFromObject(const json& j, const std::string& context) {
     if (!content) throwBadInput(context + ": unknown atlas content " + j.at("content").dump());
     info.content = *content;
     info.format = j.at("format").get<std::string>();
-    info.layer = j.at("layer").get<uint32_t>();
+    const json& layer = j.at("layer");
+    if (!layer.is_number_unsigned() || layer.get<uint64_t>() > UINT32_MAX)
+      throwBadInput(context + ": \"layer\" must be an integer 0..2^32-1");
+    info.layer = layer.get<uint32_t>();
     const int64_t classId = j.value("class_id", int64_t(0));
     if (classId < 0 || classId > kMaxClassId) throwBadInput(context + ": \"class_id\" must be 0..255");
     info.classId = uint8_t(classId);
