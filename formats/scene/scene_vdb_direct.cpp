@@ -448,9 +448,9 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
   // The grids writeSceneVdb writes for the scene SceneBuilder::build() makes
   // from these blocks: occupancy, votes.<id> by id, color.
   std::vector<GridPlan> grids;
-  GridPlan occ{"occupancy", GridKind::Bool, 0, {}, {}};
+  GridPlan occ{kOccupancyGridName, GridKind::Bool, 0, {}, {}};
   std::map<uint8_t, GridPlan> votes;
-  GridPlan color{"color", GridKind::Vec3s, 0, {}, {}};
+  GridPlan color{kColorGridName, GridKind::Vec3s, 0, {}, {}};
   DirectWriteSummary summary;
   for (const VoxelBlock* b : sorted) {
     occ.leaves.push_back(b);
@@ -464,7 +464,7 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
     if (b->hasRuns() && b->runVotes && std::find(ids.begin(), ids.end(), b->runClass) == ids.end()) ids.push_back(b->runClass);
     for (uint8_t id : ids) {
       GridPlan& g = votes[id];
-      if (g.name.empty()) g = {"votes." + std::to_string(id), GridKind::Int32, id, {}, {}};
+      if (g.name.empty()) g = {voteGridName(id), GridKind::Int32, id, {}, {}};
       g.leaves.push_back(b);
       g.votes.push_back(findClassBlock(*b, id));
     }

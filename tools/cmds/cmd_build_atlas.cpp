@@ -30,7 +30,7 @@ struct BuildAtlasOptions {
   vox::TexelFormat identityFormat = vox::TexelFormat::Rgba8;
   CLI::Option* identityFormatOption = nullptr;  // given: identityFormat; else the narrowest exact format
   uint32_t tilesPerRow = 0, maxSide = vox::kDefaultAtlasMaxSide;
-  int compression = 6;
+  int compression = vox::kDefaultPngZlibLevel;
   CommonOptions common;
 };
 
