@@ -12,6 +12,7 @@
 #include <iostream>
 #include <optional>
 
+#include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "formats/image/touched_json.h"
@@ -24,7 +25,6 @@
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
-#include "tools/cmds/atlas_files.h"
 #include "tools/cmds/render_input.h"
 
 namespace fs = std::filesystem;
@@ -273,10 +273,10 @@ void writeTouchedBitmap(Run& run, const std::string& path, const RenderInput& in
   vox::OccupancyBitmap bitmap = vox::touchedBitmap(*in.grid, touched, layout);
   const fs::path p(path);
   for (uint32_t layer = 0; layer < layout.layers; ++layer) {
-    AtlasImageInfo info{layout, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
+    const vox::AtlasImageInfo info{layout, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
     vox::Image img(bitmap.rowBytes(), layout.height, 1, vox::SampleType::U8);
     img.pixels = bitmap.layerBytes(layer);
-    img.text = {{kAtlasTextKey, atlasInfoJson(info).dump()}, {"Software", vox::versionString()}};
+    img.text = vox::atlasImageText(info);
     const std::string layerPath =
         layout.layers == 1 ? path : ((p.parent_path() / p.stem()).string() + ".layer" + std::to_string(layer) + ".png");
     vox::writePng(img, run.output(layerPath), compression);
