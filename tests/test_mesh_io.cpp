@@ -1,5 +1,5 @@
 // Mesh readers (formats/mesh/mesh_input.h): every feature of issue 4's input list and
-// the malformed inputs of DESIGN.md section 10, on small files written here, plus
+// malformed and extreme inputs, on small files written here, plus
 // the third-party files of ../shared/data when present (skipped with a message
 // otherwise). Complements test_mesh_input.cpp.
 #include <gtest/gtest.h>

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "libvox/render/render.h"
+#include "libvox/core/atlas_mapping.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 
@@ -13,7 +14,7 @@ struct VerifyBijectionOptions {
   std::string dims;
   uint32_t res = 0;
   uint32_t tilesPerRow = 0;
-  uint32_t maxSide = 16384;
+  uint32_t maxSide = vox::kDefaultAtlasMaxSide;
   std::string format;
   std::string atlas, scene;
   std::string canonical;       // --canonical IMG: a render-canonical image to check against --scene

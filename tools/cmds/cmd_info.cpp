@@ -10,6 +10,7 @@
 #include "formats/core/file_util.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
+#include "formats/image/render_meta.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
 #include "formats/vdb/scene_vdb.h"
@@ -239,7 +240,7 @@ int runInfo(const InfoOptions& o) {
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
-    if (!img.textValue("vox:canonical").empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
+    if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
     return infoAtlas(o);
   }
   if (vox::pagefile::looksLikePageFile(o.file)) return infoPageFile(o.file, o.json);
