@@ -1,4 +1,4 @@
-// Extreme but valid inputs (DESIGN section 10): each has a stated expectation.
+// Extreme but valid inputs: each has a stated expectation.
 #include <gtest/gtest.h>
 
 #include <cmath>
