@@ -342,7 +342,7 @@ std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>&
   if (volume > (uint64_t(1) << 34))
     throwUsage("solid fill of a " + std::to_string(volume) + "-voxel bounding box needs about " +
                    std::to_string(volume / (uint64_t(1) << 31)) +
-                   " GiB of working memory; use fewer, larger voxels (or fill only the surface)",
+                   " GiB of working memory; fill only the surface, or use fewer, larger voxels",
                Setting::VoxelSpacing);
   return VoxelBox(lo, hi);
 }
