@@ -124,3 +124,11 @@ TEST(ImageIo, CorruptFilesAreBadInput) {
   }
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readPng(dir.file("none.png")); }, ErrorKind::BadInput, {"none.png"}));
 }
+
+TEST(FileUtil, OutputNameMapsTemporariesToTheirOutput) {
+  vox::AtomicOutput out("dir/scene.vdb");
+  EXPECT_EQ(vox::outputName(out.tempPath()), "dir/scene.vdb");
+  EXPECT_EQ(vox::outputName("dir/scene.vdb"), "dir/scene.vdb");
+  EXPECT_EQ(vox::outputName(".hidden.tmp"), ".hidden.tmp");
+  EXPECT_EQ(vox::outputName("a/.x.tmp12.y"), "a/.x.tmp12.y");
+}

@@ -647,15 +647,15 @@ TEST(PageFileMeta, RefusesBadMetadataNamingTheFileAndKey) {
   EXPECT_TRUE(refused("{", {"x.vpk: metadata is not valid JSON"}));
   EXPECT_TRUE(refused("[]", {"x.vpk: metadata must be a JSON object"}));
   EXPECT_TRUE(refused(R"({"format":"voxbake-scene"})", {"x.vpk: metadata 'format'", "voxbake-pages"}));
-  EXPECT_TRUE(refused(R"({"classes":{}})", {"'classes' must be an array"}));
-  EXPECT_TRUE(refused(R"({"classes":[{"id":0,"name":"a","color":[1,2,3]}]})", {"'classes' entry 0: id must be 1..255"}));
-  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a"}]})", {"'classes' entry 0 needs id, name and color"}));
-  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,300]}]})", {"'classes' entry 0.color", "0..255"}));
+  EXPECT_TRUE(refused(R"({"classes":{}})", {"x.vpk: metadata 'classes' must be a JSON array"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":0,"name":"a","color":[1,2,3]}]})", {"x.vpk: metadata 'classes'[0] has id 0; ids are 1..255"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a"}]})", {"x.vpk: metadata 'classes'[0] needs a \"color\""}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,300]}]})", {"x.vpk: metadata 'classes'[0] \"color\"", "0..255"}));
   EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,3],"top":[1,2,3]}]})",
-                      {"'classes' entry 0 needs all of top, bottom and side or none"}));
+                      {"x.vpk: metadata 'classes'[0] needs all of \"top\", \"bottom\" and \"side\" or none"}));
   EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,3]},{"id":1,"name":"b","color":[1,2,3]}]})",
                       {"x.vpk: metadata 'classes'"}));
-  EXPECT_TRUE(refused(R"({"sources":[{"path":1}]})", {"x.vpk: metadata is malformed"}));
+  EXPECT_TRUE(refused(R"({"sources":[{"path":1}]})", {"x.vpk: metadata 'sources'[0] needs a string \"path\""}));
   EXPECT_TRUE(refused(R"({"levels":[{"level":0,"dims":[1,2]}]})", {"x.vpk: metadata is malformed"}));
   // Unknown keys are ignored; absent keys give empty values.
   EXPECT_EQ(vox::pagefile::readPageMeta(R"({"future":1})", "x.vpk"), vox::pagefile::PageMeta{});

@@ -38,11 +38,54 @@ AtomicOutput::~AtomicOutput() {
   if (!committed_) std::remove(temp_.c_str());
 }
 
-void AtomicOutput::commit() {
+std::string outputName(const std::string& path) {
+  const fs::path p(path);
+  const std::string name = p.filename().string();
+  // The temporary's name: "." + final name + ".tmp" + pid + "." + counter.
+  const size_t tmp = name.rfind(".tmp");
+  if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos || tmp < 2) return path;
+  const std::string tail = name.substr(tmp + 4);
+  const size_t dot = tail.find('.');
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+  };
+  if (dot == std::string::npos || !digits(tail.substr(0, dot)) || !digits(tail.substr(dot + 1))) return path;
+  return (p.parent_path() / name.substr(1, tmp - 1)).string();
+}
+
+void AtomicOutput::sync() const {
+  if (committed_) return;
+  const int fd = ::open(temp_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throwIo(final_ + ": the output was not written: " + std::strerror(errno));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0) throwIo(final_ + ": cannot write the output: " + std::strerror(err));
+}
+
+void AtomicOutput::renameIntoPlace() {
   if (committed_) return;
   if (std::rename(temp_.c_str(), final_.c_str()) != 0)
     throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
   committed_ = true;
+  // The rename itself reaches the disk with the directory (best effort: some
+  // file systems refuse fsync on directories, and the data is already safe).
+  const std::string dir = fs::path(final_).parent_path().string();
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+void AtomicOutput::commit() {
+  sync();
+  renameIntoPlace();
+}
+
+void commitAll(std::vector<AtomicOutput*> outputs) {
+  for (const AtomicOutput* o : outputs) o->sync();
+  for (AtomicOutput* o : outputs) o->renameIntoPlace();
 }
 
 std::string readFileBytes(const std::string& path) {
@@ -90,12 +133,29 @@ FileView::~FileView() {
   if (mapped_) ::munmap(mapped_, size_);
 }
 
-void writeFileBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throwIo(path + ": cannot create the file: " + std::strerror(errno));
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  out.close();
-  if (!out) throwIo(path + ": write failed (disk full?)");
+void writeFileBytes(const std::string& path, const std::string& bytes, const std::string& nameForMessages) {
+  writeFileBytes(path, bytes.data(), bytes.size(), nameForMessages);
+}
+
+void writeFileBytes(const std::string& path, const void* data, size_t size, const std::string& nameForMessages) {
+  const std::string name = nameForMessages.empty() ? outputName(path) : nameForMessages;
+  // POSIX calls rather than a stream: the system's reason reaches the message.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throwIo(name + ": cannot create the file: " + std::strerror(errno));
+  const char* p = static_cast<const char*>(data);
+  size_t left = size;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throwIo(name + ": cannot write the file: " + std::strerror(err));
+    }
+    p += n;
+    left -= size_t(n);
+  }
+  if (::close(fd) != 0) throwIo(name + ": cannot write the file: " + std::strerror(errno));
 }
 
 int64_t fileSizeOrMinusOne(const std::string& path) {

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace vox {
 
@@ -10,6 +11,12 @@ namespace vox {
 /// renamed over the destination by commit(), so a failed run never leaves a
 /// partial file that `make` would take for done. Destroying an uncommitted
 /// AtomicOutput removes the temporary file.
+///
+/// A run with several outputs commits them together (commitAll): every
+/// temporary file is flushed to disk first (fsync: a full disk or an I/O error
+/// that the writes did not report surfaces here), and only when all of them are
+/// safe are they renamed into place. So a failure leaves every existing output
+/// untouched and no temporary file behind.
 class AtomicOutput {
  public:
   explicit AtomicOutput(std::string finalPath);
@@ -19,14 +26,28 @@ class AtomicOutput {
 
   const std::string& finalPath() const { return final_; }
   const std::string& tempPath() const { return temp_; }
-  /// Renames the temporary file to the final path. Throws vox::Error (Io) when
-  /// the temporary file is missing or the rename fails.
+  /// Flushes the temporary file to disk (fsync). Throws vox::Error (Io) naming
+  /// the final path and the system's reason ("No space left on device").
+  void sync() const;
+  /// sync(), then renames the temporary file to the final path and flushes the
+  /// directory entry. Throws vox::Error (Io) when the temporary file is missing,
+  /// cannot be flushed, or the rename fails.
   void commit();
+  /// Renames without syncing again: for commitAll, which synced every file first.
+  void renameIntoPlace();
 
  private:
   std::string final_, temp_;
   bool committed_ = false;
 };
+
+/// The name a user knows a file by: for an AtomicOutput's temporary file
+/// ("dir/.NAME.tmpPID.N") the final output's ("dir/NAME"), else `path`. For messages.
+std::string outputName(const std::string& path);
+
+/// Commits outputs together: syncs every one first, then renames them all.
+/// Nothing is renamed unless every file reached the disk.
+void commitAll(std::vector<AtomicOutput*> outputs);
 
 /// Reads a whole file. Throws vox::Error (BadInput) naming the file if it is
 /// missing or unreadable.
@@ -53,7 +74,10 @@ class FileView {
 };
 
 /// Writes `bytes` to `path` (not atomic by itself; use with AtomicOutput).
-void writeFileBytes(const std::string& path, const std::string& bytes);
+/// Throws vox::Error (Io) with the system's reason when a write fails, naming
+/// `nameForMessages` (the final output's name when `path` is a temporary) or `path`.
+void writeFileBytes(const std::string& path, const std::string& bytes, const std::string& nameForMessages = "");
+void writeFileBytes(const std::string& path, const void* data, size_t size, const std::string& nameForMessages = "");
 
 /// Size in bytes, or -1 when the file does not exist.
 int64_t fileSizeOrMinusOne(const std::string& path);

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <memory>
 
+#include "formats/core/file_util.h"
 #include "formats/image/image.h"
 #include "libvox/core/error.h"
 
@@ -146,7 +147,7 @@ void writePng(const Image& image, const std::string& path, int zlibLevel) {
                               int(texts.size()), rows.data(), image.type == SampleType::U16);
   png_destroy_write_struct(&png, &info);
   if (!ok) throwIo(path + ": PNG write failed: " + message);
-  if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throwIo(path + ": write failed (disk full?)");
+  if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throwIo(outputName(path) + ": cannot write the file: " + std::strerror(errno));
 }
 
 Image readPng(const std::string& path) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "formats/core/file_util.h"
 #include "formats/image/image.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
@@ -127,10 +128,7 @@ void writePngParallel(const Image& image, const std::string& path, int zlibLevel
     chunk(file, "IDAT", z.data() + off, std::min(kIdatMax, z.size() - off));
   chunk(file, "IEND", nullptr, 0);
 
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throwIo(path + ": cannot open for writing: " + std::strerror(errno));
-  const bool ok = std::fwrite(file.data(), 1, file.size(), f) == file.size();
-  if (std::fclose(f) != 0 || !ok) throwIo(path + ": write failed (disk full?)");
+  writeFileBytes(path, file.data(), file.size());
 }
 
 }  // namespace vox

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 
+#include "formats/core/file_util.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
@@ -94,7 +95,15 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
     file.write(grids, meta);
     file.close();
   } catch (const std::exception& e) {
-    throwIo(path + ": cannot write the " + what + ": " + e.what());
+    throwIo(outputName(path) + ": cannot write the " + what + ": " + e.what());
+  }
+  // OpenVDB writes through a std::ofstream whose failures it does not check: on
+  // a full disk it returns normally and leaves a truncated file. Walking the
+  // file's framing (every grid must end inside the file) catches that.
+  try {
+    checkVdbStructure(path);
+  } catch (const Error&) {
+    throwIo(outputName(path) + ": the " + what + " was not written completely (the file on disk ends early; is the disk full?)");
   }
 }
 

@@ -111,8 +111,8 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
 }
 
 VdbFrame checkVdbStructure(const std::string& path) {
-  const std::string bytes = readFileBytes(path);
-  return checkVdbStructure(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
+  const FileView file(path);  // mapped: the walk touches only the framing
+  return checkVdbStructure(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path);
 }
 
 }  // namespace vox

@@ -713,6 +713,32 @@ EOF
   no_outputs
   cd ..
   ;;
+disk_full)
+  # A write that fails (here: a file-size limit with SIGXFSZ ignored, so writes
+  # return EFBIG as they return ENOSPC on a full disk) is exit 4 with the
+  # system's reason, leaves an existing output untouched and no temporary file.
+  # Every kind of writer: OpenVDB (demo, pyramid), the direct scene writer,
+  # page files, atlases, renders, and the report.
+  limited() { ( trap '' XFSZ; ulimit -f 48; exec "$@" ); }   # 48 KiB
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 32 -o keep_old.vdb
+  cp keep_old.vdb keep_copy.vdb
+  expect_exit 4 limited "$vox" voxelize demo:hamlet --res 128 -o keep_old.vdb
+  expect_stderr "not written completely"
+  cmp -s keep_old.vdb keep_copy.vdb || fail "a failed write replaced the existing scene"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 128 -o keep_h.vdb
+  expect_exit 4 limited "$vox" mip keep_h.vdb -o p.vdb
+  expect_exit 4 limited "$vox" pack-chunks keep_h.vdb -o p.vpk --mips
+  expect_stderr "File too large"
+  expect_exit 4 limited "$vox" build-atlas keep_h.vdb -o atl --identity
+  expect_exit 4 limited "$vox" render-canonical keep_h.vdb -o r.png --eye 20,15,20 --target 0,2,0 --size 800x600 --mode canonical,depth
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > keep_tri.stl
+  expect_exit 4 limited "$vox" voxelize keep_tri.stl --res 512 --fill solid -o m.vdb
+  # A report that cannot be written fails the run before any output is committed.
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 16 -o small.vdb --report no_such_dir/r.json
+  [ -e small.vdb ] && fail "the scene was committed although its report failed"
+  if [ -d atl ]; then [ -z "$(ls -A atl)" ] || fail "build-atlas left files behind: $(ls -A atl)"; rmdir atl; fi
+  no_outputs
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 

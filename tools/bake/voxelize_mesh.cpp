@@ -74,10 +74,14 @@ void tuneAllocatorForBake() {
   if (to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
+}  // namespace
+
 const EnumNames<vox::FillMode>& fillModeNames() {
   static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
   return names;
 }
+
+namespace {
 
 const EnumNames<VoxelizeMethod>& methodNames() {
   static const EnumNames<VoxelizeMethod> names{{"exact", VoxelizeMethod::Exact}, {"sdf", VoxelizeMethod::Sdf}};

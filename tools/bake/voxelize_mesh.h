@@ -20,6 +20,7 @@
 #include "libvox/mesh/voxelize.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -36,7 +37,7 @@ struct VoxelizeOptions {
   std::vector<std::string> inputs;
   std::string output;
   uint32_t resolution = 0;  // voxels on the longest side; 0 = not given (kDefaultResolution)
-  std::string gridSize = "64,48,64";  // block maps: the world grid X,Y,Z
+  std::string gridSize = voxcli::formatTriple(vox::kDefaultBlockWorldGrid);  // block maps: the world grid X,Y,Z
   double voxelSize = 0;               // world units per voxel; 0 = not given (use the resolution)
   std::string gridName;
   std::optional<double> threshold;
@@ -89,6 +90,9 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 /// The mesh bake without OpenVDB: prepare, voxelize into blocks, write the
 /// .vdb directly (formats/scene/scene_vdb_direct.h), report. Returns the exit code.
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp);
+
+/// --fill's names (surface | solid), shared with `vox mip --source-fill`.
+const EnumNames<vox::FillMode>& fillModeNames();
 
 /// The light module's registration of `voxelize`.
 Command registerVoxelizeLight(CLI::App& root);

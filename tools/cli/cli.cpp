@@ -129,8 +129,10 @@ std::string makeEscape(const std::string& path) {
 
 int Run::finish(int code) {
   endPhase();
-  for (vox::AtomicOutput& o : outputs_) o.commit();
+  // The depfile and the report are written first and committed with the
+  // outputs: all of a run's files land together, or none does.
   std::vector<vox::AtomicOutput> sidecars;
+  sidecars.reserve(2);
   if (!options_.depfilePath.empty()) {
     std::string rule;
     for (size_t i = 0; i < outputs_.size(); ++i) rule += (i ? " " : "") + makeEscape(outputs_[i].finalPath());
@@ -151,8 +153,15 @@ int Run::finish(int code) {
     sidecars.emplace_back(options_.reportPath);
     vox::writeFileBytes(sidecars.back().tempPath(), report_.dump(2) + "\n");
   }
-  for (vox::AtomicOutput& s : sidecars) s.commit();
+  std::vector<vox::AtomicOutput*> all;
+  for (vox::AtomicOutput& o : outputs_) all.push_back(&o);
+  for (vox::AtomicOutput& s : sidecars) all.push_back(&s);
+  vox::commitAll(std::move(all));
   return code;
+}
+
+std::string formatTriple(const std::array<uint32_t, 3>& v) {
+  return std::to_string(v[0]) + "," + std::to_string(v[1]) + "," + std::to_string(v[2]);
 }
 
 std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& option) {

@@ -83,8 +83,9 @@ class Run {
   /// A message on stderr ("vox CMD: ..."), suppressed by --quiet.
   void note(const std::string& message) const;
 
-  /// Commits every output (rename), then writes the depfile and the report
-  /// (atomically too). Returns `code` for convenience.
+  /// Writes the depfile and the report beside the outputs, then commits every
+  /// file of the run together (vox::commitAll: all reach the disk before any is
+  /// renamed into place). Returns `code` for convenience.
   int finish(int code = kExitOk);
 
  private:
@@ -102,6 +103,8 @@ class Run {
 
 /// Parses "X,Y,Z" into three positive integers; throws vox::Error (Usage).
 std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& option);
+/// "X,Y,Z": the text parseTriple reads, for defaults shown in help.
+std::string formatTriple(const std::array<uint32_t, 3>& values);
 
 /// Escapes a path for a Make rule (spaces, '#', '$').
 std::string makeEscape(const std::string& path);

@@ -16,6 +16,7 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
+#include "tools/cmds/option_names.h"
 
 namespace voxcli {
 
@@ -31,18 +32,6 @@ struct MipOptions {
   vox::FillMode sourceFill = vox::FillMode::Surface;
   CommonOptions common;
 };
-
-const EnumNames<vox::MipOccupancy>& occupancyNames() {
-  static const EnumNames<vox::MipOccupancy> names{
-      {vox::mipOccupancyName(vox::MipOccupancy::Any), vox::MipOccupancy::Any},
-      {vox::mipOccupancyName(vox::MipOccupancy::Majority), vox::MipOccupancy::Majority}};
-  return names;
-}
-
-const EnumNames<vox::FillMode>& sourceFillNames() {
-  static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
-  return names;
-}
 
 /// STEM.vdb -> STEM.mipN.vdb
 std::string splitName(const std::string& output, int level) {
@@ -166,7 +155,7 @@ int runMip(const MipOptions& o) {
         vs.fill = o.sourceFill;
         vs.threads = run.threads();
         const vox::Scene ref = vox::voxelizeMesh(*mesh, vox::assignClasses(*mesh, mapping), rh, vs);
-        record(meshName + " (" + nameOf(sourceFillNames(), o.sourceFill) + ")", vox::compareWithReference(level, ref));
+        record(meshName + " (" + nameOf(fillModeNames(), o.sourceFill) + ")", vox::compareWithReference(level, ref));
       }
     }
     for (size_t i = 0; i < refScenes.size(); ++i)
@@ -216,10 +205,10 @@ Command registerMip(CLI::App& root) {
   cmd->add_option("-o,--output", opts->output, "Pyramid file (*.vdb), or the stem with --split")->required();
   cmd->add_option("--levels", opts->levels,
                   "Levels to build (default 0 = until one voxel, or until a level holds at most one voxel)");
-  addEnumOption(*cmd, "--occupancy", opts->occupancy, occupancyNames(), "any (conservative) or majority (for display)");
+  addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "any (conservative) or majority (for display)");
   cmd->add_flag("--split", opts->split, "One scene file per level (OUT.mip1.vdb, OUT.mip2.vdb, ...)");
   cmd->add_option("--source", opts->sources, "Reference for the error report: demo:hamlet, a mesh or scene .vdb files");
-  addEnumOption(*cmd, "--source-fill", opts->sourceFill, sourceFillNames(), "Mesh source: surface or solid");
+  addEnumOption(*cmd, "--source-fill", opts->sourceFill, fillModeNames(), "Mesh source: surface or solid");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runMip(*opts); }};
 }

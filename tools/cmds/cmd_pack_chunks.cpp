@@ -18,6 +18,7 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
+#include "tools/cmds/option_names.h"
 
 namespace voxcli {
 
@@ -38,12 +39,6 @@ struct PackOptions {
 EnumNames<vox::pagefile::Layout> layoutNames() {
   EnumNames<vox::pagefile::Layout> out;
   for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
-  return out;
-}
-
-EnumNames<vox::MipOccupancy> occupancyNames() {
-  EnumNames<vox::MipOccupancy> out;
-  for (vox::MipOccupancy m : {vox::MipOccupancy::Any, vox::MipOccupancy::Majority}) out.push_back({vox::mipOccupancyName(m), m});
   return out;
 }
 
@@ -130,10 +125,7 @@ vox::PackResult packLevels(const std::vector<vox::Scene>& levels, const vox::Pac
 }
 
 void writeBytes(const std::vector<uint8_t>& bytes, const std::string& temp, const std::string& output) {
-  std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (!f) vox::throwIo(output + ": cannot write");
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  if (std::fclose(f) != 0 || !ok) vox::throwIo(output + ": cannot write (disk full?)");
+  vox::writeFileBytes(temp, bytes.data(), bytes.size(), output);
 }
 
 // The report's counts and the summary line.
@@ -210,7 +202,7 @@ Command registerPackChunks(CLI::App& root) {
   addEnumOption(*cmd, "--layout", opts->pack.layout, layoutNames(), "Payload layout (below)");
   cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
-  addEnumOption(*cmd, "--occupancy", opts->occupancy, occupancyNames(), "With --mips: how a coarser voxel is occupied");
+  addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "With --mips: how a coarser voxel is occupied");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runPack(*opts); }};
 }
