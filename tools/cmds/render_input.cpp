@@ -22,7 +22,8 @@ vox::Rgb8 rgb(const nlohmann::json& j, const std::string& where, const std::stri
   return c;
 }
 
-// The class table a page file's metadata JSON carries (formats/pagefile/PAGEFILE.md).
+}  // namespace
+
 vox::ClassTable pageClasses(const vox::pagefile::Reader& r) {
   vox::ClassTable t;
   nlohmann::json meta;
@@ -53,8 +54,6 @@ vox::ClassTable pageClasses(const vox::pagefile::Reader& r) {
   }
   return t;
 }
-
-}  // namespace
 
 std::vector<vox::SummaryTexel> RenderInput::summaries(std::span<const vox::Coord3> voxels) const {
   if (scene) return vox::sceneSummaries(*scene, voxels);

@@ -1,0 +1,172 @@
+// The exporters' files read back by other code: glTF through tinygltf (an
+// independent parser), byte layouts against their specs.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cstring>
+
+#include "formats/export/gltf_writer.h"
+#include "libvox/core/block_mesh.h"
+#include "test_util.h"
+
+namespace {
+
+vox::ClassTable paletteTable() {
+  vox::ClassTable t;
+  t.add({1, "Grass", {87, 173, 92}, vox::FacePalette{{87, 173, 92}, {102, 77, 41}, {115, 148, 77}}});
+  t.add({3, "Stone", {148, 153, 163}, std::nullopt});
+  return t;
+}
+
+// Two blocks of different classes side by side, and one apart.
+vox::BlockMesh smallMesh() {
+  vox::ClassVolume vol({{0, 0, 0}, {7, 7, 7}}, false);
+  vox::ClassVolume::Brick b = vol.makeBrick({0, 0, 0});
+  b.classes[size_t(vox::ClassVolume::voxelIndex(0, 0, 0))] = 1;
+  b.classes[size_t(vox::ClassVolume::voxelIndex(1, 0, 0))] = 3;
+  b.classes[size_t(vox::ClassVolume::voxelIndex(5, 5, 5))] = 1;
+  vol.add(std::move(b));
+  vol.finish();
+  return vox::meshVisibleFaces(vol, paletteTable(), {});
+}
+
+template <typename T>
+std::vector<T> accessorValues(const tinygltf::Model& m, int accessor, size_t components) {
+  const tinygltf::Accessor& a = m.accessors[size_t(accessor)];
+  const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
+  const size_t stride = v.byteStride ? v.byteStride : components * sizeof(T);
+  std::vector<T> out;
+  const uint8_t* base = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+  for (size_t i = 0; i < a.count; ++i)
+    for (size_t c = 0; c < components; ++c) {
+      T x;
+      std::memcpy(&x, base + i * stride + c * sizeof(T), sizeof(T));
+      out.push_back(x);
+    }
+  return out;
+}
+
+tinygltf::Model load(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool ok = path.ends_with(".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                         : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  EXPECT_TRUE(ok) << err;
+  EXPECT_EQ(warn, "");
+  return model;
+}
+
+vox::GltfScene sceneOf(const vox::BlockMesh& mesh, bool indexed) {
+  vox::GltfScene s;
+  s.name = "small";
+  s.generator = "test";
+  s.frame = {{-8.0, 0.0, -8.0}, 2.0};
+  s.indexed = indexed;
+  s.materials = {{"blocks", std::nullopt}};
+  s.primitives = {{mesh.quads, 0}};
+  return s;
+}
+
+TEST(GltfWriter, GlbReadsBackAsTheRenderersVertexStream) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  ASSERT_EQ(mesh.quads.size(), 16u);
+  const vox::GltfScene scene = sceneOf(mesh, false);
+  const vox::GltfWriteResult r = vox::writeGlb(scene, dir.file("a.glb"));
+  EXPECT_EQ(r.vertices, 96u);
+  EXPECT_EQ(r.triangles, 32u);
+  EXPECT_EQ(r.indices, 0u);
+  EXPECT_EQ(r.fileBytes, uint64_t(std::filesystem::file_size(dir.file("a.glb"))));
+  const tinygltf::Model m = load(dir.file("a.glb"));
+  ASSERT_EQ(m.meshes.size(), 1u);
+  ASSERT_EQ(m.meshes[0].primitives.size(), 1u);
+  const tinygltf::Primitive& p = m.meshes[0].primitives[0];
+  EXPECT_EQ(p.indices, -1);
+  EXPECT_EQ(p.mode, TINYGLTF_MODE_TRIANGLES);
+  const auto pos = accessorValues<float>(m, p.attributes.at("POSITION"), 3);
+  const auto nrm = accessorValues<float>(m, p.attributes.at("NORMAL"), 3);
+  const auto col = accessorValues<float>(m, p.attributes.at("COLOR_0"), 3);
+  const auto uv = accessorValues<float>(m, p.attributes.at("TEXCOORD_0"), 2);
+  ASSERT_EQ(pos.size(), 96u * 3);
+  // Six vertices per quad: corners 0,1,2,0,2,3.
+  for (size_t q = 0; q < mesh.quads.size(); ++q) {
+    const auto corners = vox::quadVertices(mesh.quads[q], scene.frame);
+    for (size_t k = 0; k < 6; ++k) {
+      const vox::BlockVertex& v = corners[vox::kQuadTriangles[k]];
+      const size_t i = q * 6 + k;
+      for (size_t a = 0; a < 3; ++a) {
+        ASSERT_EQ(pos[i * 3 + a], v.position[a]);
+        ASSERT_EQ(nrm[i * 3 + a], v.normal[a]);
+        ASSERT_EQ(col[i * 3 + a], v.color[a]);
+      }
+      ASSERT_EQ(uv[i * 2], v.uv[0]);
+      ASSERT_EQ(uv[i * 2 + 1], v.uv[1]);
+    }
+  }
+  // POSITION bounds: blocks (0..1, 0, 0) and (5, 5, 5) at voxel size 2, origin (-8, 0, -8).
+  const tinygltf::Accessor& pa = m.accessors[size_t(p.attributes.at("POSITION"))];
+  EXPECT_EQ(pa.minValues, (std::vector<double>{-8, 0, -8}));
+  EXPECT_EQ(pa.maxValues, (std::vector<double>{4, 12, 4}));
+  EXPECT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].pbrMetallicRoughness.metallicFactor, 0.0);
+}
+
+TEST(GltfWriter, IndexedGltfSharesTheQuadCorners) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  const vox::GltfWriteResult r =
+      vox::writeGltf(sceneOf(mesh, true), dir.file("b.gltf"), dir.file("b.bin"), "b.bin");
+  EXPECT_EQ(r.vertices, 64u);
+  EXPECT_EQ(r.indices, 96u);
+  // 64 vertices * 44 bytes + 96 uint16 indices; 96 vertices * 44 without indices.
+  EXPECT_EQ(r.bufferBytes, 64u * 44 + 96 * 2);
+  EXPECT_EQ(r.unindexedBufferBytes, 96u * 44);
+  EXPECT_EQ(std::filesystem::file_size(dir.file("b.bin")), r.bufferBytes);
+  const tinygltf::Model m = load(dir.file("b.gltf"));
+  const tinygltf::Primitive& p = m.meshes[0].primitives[0];
+  ASSERT_GE(p.indices, 0);
+  EXPECT_EQ(m.accessors[size_t(p.indices)].componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  const auto idx = accessorValues<uint16_t>(m, p.indices, 1);
+  ASSERT_EQ(idx.size(), 96u);
+  for (size_t q = 0; q < 16; ++q)
+    for (size_t k = 0; k < 6; ++k) EXPECT_EQ(idx[q * 6 + k], q * 4 + vox::kQuadTriangles[k]);
+  const auto pos = accessorValues<float>(m, p.attributes.at("POSITION"), 3);
+  const auto corners = vox::quadVertices(mesh.quads[5], {{-8.0, 0.0, -8.0}, 2.0});
+  for (size_t c = 0; c < 4; ++c)
+    for (size_t a = 0; a < 3; ++a) EXPECT_EQ(pos[(5 * 4 + c) * 3 + a], corners[c].position[a]);
+}
+
+TEST(GltfWriter, OnePrimitiveAndMaterialPerClass) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  const auto groups = vox::quadsByClass(mesh);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].size(), 11u);  // Grass: 5 faces + 6 faces
+  EXPECT_EQ(groups[1].size(), 5u);
+  vox::GltfScene s = sceneOf(mesh, false);
+  s.materials = {{"Grass", 1}, {"Stone", 3}};
+  s.primitives = {{groups[0], 0}, {groups[1], 1}};
+  vox::writeGlb(s, dir.file("c.glb"));
+  const tinygltf::Model m = load(dir.file("c.glb"));
+  ASSERT_EQ(m.meshes[0].primitives.size(), 2u);
+  EXPECT_EQ(m.materials[1].name, "Stone");
+  EXPECT_EQ(m.materials[1].extras.Get("vox_class_id").GetNumberAsInt(), 3);
+  EXPECT_EQ(m.accessors[size_t(m.meshes[0].primitives[1].attributes.at("POSITION"))].count, 30u);
+}
+
+TEST(GltfWriter, AnEmptyMeshIsAValidEmptyFile) {
+  voxtest::TempDir dir;
+  vox::GltfScene s;
+  s.name = "empty";
+  vox::writeGlb(s, dir.file("e.glb"));
+  const tinygltf::Model m = load(dir.file("e.glb"));
+  EXPECT_TRUE(m.meshes.empty());
+  EXPECT_TRUE(m.buffers.empty());
+  ASSERT_EQ(m.scenes.size(), 1u);
+  const vox::GltfWriteResult r = vox::writeGltf(s, dir.file("e.gltf"), dir.file("e.bin"), "e.bin");
+  EXPECT_EQ(r.bufferBytes, 0u);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("e.bin")));
+}
+
+}  // namespace

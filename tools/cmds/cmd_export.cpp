@@ -1,0 +1,291 @@
+// vox export INPUT -o OUT: a scene, a pyramid level or a page file level as
+// files other tools open (docs/export.md): glTF block meshes (face-culled as the
+// block renderer builds them, or merged with --greedy).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "formats/export/gltf_writer.h"
+#include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_class_volume.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/core/block_mesh.h"
+#include "libvox/core/error.h"
+#include "libvox/core/version.h"
+#include "libvox/scene/class_volume_scene.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+#include "tools/cmds/render_input.h"
+
+namespace voxcli {
+
+namespace {
+
+enum class ExportFormat { Glb, Gltf };
+
+struct ExportOptions {
+  std::string input;
+  std::string output;
+  std::string format;  // empty: from the output's extension
+  int level = 0;
+  std::string region;  // "umin,vmin,wmin,umax,vmax,wmax", inclusive
+  std::string color = "palette";
+  std::string split = "none";
+  bool dedup = false;
+  bool greedy = false;
+  CommonOptions common;
+};
+
+struct FormatName {
+  ExportFormat format;
+  const char* name;
+  const char* extension;
+};
+constexpr FormatName kFormats[] = {
+    {ExportFormat::Glb, "glb", ".glb"},
+    {ExportFormat::Gltf, "gltf", ".gltf"},
+};
+
+std::string formatList() {
+  std::string s;
+  for (const FormatName& f : kFormats) s += std::string(s.empty() ? "" : ", ") + f.name;
+  return s;
+}
+
+ExportFormat outputFormat(const ExportOptions& o) {
+  for (const FormatName& f : kFormats)
+    if (o.format.empty() ? vox::hasExtension(o.output, f.extension) : o.format == f.name) return f.format;
+  if (!o.format.empty()) vox::throwUsage("--format " + o.format + ": expected one of " + formatList());
+  vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it " + formatList() +
+                  " (by extension: .glb .gltf) or give --format");
+}
+
+bool isGltf(ExportFormat f) { return f == ExportFormat::Glb || f == ExportFormat::Gltf; }
+
+/// The options that only some formats take.
+void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
+  if (o.color != "palette" && o.color != "voxel") vox::throwUsage("--color " + o.color + ": expected palette or voxel");
+  if (o.split != "none" && o.split != "classes") vox::throwUsage("--split " + o.split + ": expected none or classes");
+  if (!isGltf(f) && (o.dedup || o.greedy || o.split != "none"))
+    vox::throwUsage("--dedup, --greedy and --split apply to glTF block meshes (.glb, .gltf)");
+  if (o.level < 0) vox::throwUsage("--level must be >= 0");
+}
+
+std::optional<vox::IndexBox> parseRegion(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::vector<int64_t> v;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = std::min(text.find(',', pos), text.size());
+    const std::string item = text.substr(pos, comma - pos);
+    char* end = nullptr;
+    const long long n = std::strtoll(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < INT32_MIN || n > INT32_MAX)
+      vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
+    v.push_back(n);
+    pos = comma + 1;
+  }
+  if (v.size() != 6) vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
+  vox::IndexBox box{{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])}, {int32_t(v[3]), int32_t(v[4]), int32_t(v[5])}};
+  if (box.empty()) vox::throwUsage("--region " + text + ": each min must be <= its max (the box is inclusive)");
+  return box;
+}
+
+/// What is exported: the blocks of the chosen level inside the region.
+struct ExportInput {
+  std::string kind;  // "scene", "pyramid", "pages"
+  vox::Dims dims;    // of the level
+  vox::GridFrame frame;
+  vox::ClassTable classes;
+  vox::IndexBox box;
+  std::optional<vox::ClassVolume> volume;
+};
+
+vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Dims& dims, const std::string& path) {
+  const vox::IndexBox domain = vox::domainBox(dims);
+  if (!region) return domain;
+  const vox::IndexBox& r = *region;
+  if (r.min.u < 0 || r.min.v < 0 || r.min.w < 0 || r.max.u > domain.max.u || r.max.v > domain.max.v ||
+      r.max.w > domain.max.w)
+    vox::throwBadInput(path + ": the region " + vox::toString(r.min) + " .. " + vox::toString(r.max) +
+                       " is not inside the scene's index box (0, 0, 0) .. " + vox::toString(domain.max));
+  return r;
+}
+
+ExportInput readInput(const ExportOptions& o, bool withColor, Run& run) {
+  run.input(o.input);
+  if (!std::filesystem::exists(o.input)) vox::throwBadInput(o.input + ": no such file");
+  const std::optional<vox::IndexBox> region = parseRegion(o.region);
+  ExportInput in;
+  if (vox::pagefile::looksLikePageFile(o.input)) {
+    in.kind = "pages";
+    const vox::pagefile::Reader reader = vox::pagefile::Reader::open(o.input);
+    const vox::pagefile::Header& h = reader.header();
+    if (o.level >= int(h.levelCount))
+      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input + " holds levels 0.." +
+                      std::to_string(h.levelCount - 1));
+    const auto d = h.levelDims(o.level);
+    in.dims = {d[0], d[1], d[2]};
+    in.frame.origin = h.origin;
+    in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
+    in.classes = pageClasses(reader);
+    in.box = regionIn(region, in.dims, o.input);
+    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
+    return in;
+  }
+  if (!vox::looksLikeVdb(o.input))
+    vox::throwBadInput(o.input + ": not a scene: expected " + vox::describe(vox::FileKind::Vdb) + " or " +
+                       vox::describe(vox::FileKind::PageFile));
+  std::optional<vox::Scene> scene;
+  if (vox::isPyramidVdb(o.input)) {
+    in.kind = "pyramid";
+    std::vector<vox::Scene> levels = vox::readPyramidVdb(o.input);
+    if (o.level >= int(levels.size()))
+      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input + " holds levels 0.." +
+                      std::to_string(levels.size() - 1));
+    scene.emplace(std::move(levels[size_t(o.level)]));
+  } else {
+    in.kind = "scene";
+    if (o.level != 0)
+      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input +
+                      " is a single scene; levels are in pyramids (vox mip) and page files (.vpk)");
+    scene.emplace(vox::readSceneVdb(o.input));
+  }
+  const vox::SceneHeader& h = scene->header();
+  in.dims = h.dims;
+  in.frame.origin = h.origin;
+  in.frame.voxelSize = h.voxelSize;
+  in.classes = h.classes;
+  in.box = regionIn(region, in.dims, o.input);
+  if (withColor && !scene->hasColor())
+    vox::throwBadInput(o.input + ": the scene has no baked colours; export the class palette (--color palette)");
+  in.volume.emplace(vox::classVolumeFromScene(*scene, in.box, withColor, run.threads()));
+  return in;
+}
+
+std::string stemOf(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+nlohmann::json boxJson(const vox::IndexBox& b) {
+  return {{"min", {b.min.u, b.min.v, b.min.w}}, {"max", {b.max.u, b.max.v, b.max.w}}};
+}
+
+/// Meshes the blocks (culled, then merged with --greedy) and writes glTF.
+void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& in, Run& run) {
+  run.phase("mesh");
+  vox::BlockMeshSettings ms;
+  ms.color = o.color == "voxel" ? vox::FaceColor::Voxel : vox::FaceColor::Palette;
+  ms.threads = run.threads();
+  vox::BlockMesh mesh = vox::meshVisibleFaces(*in.volume, in.classes, ms);
+  const uint64_t culledQuads = mesh.quads.size();
+  if (o.greedy) {
+    run.phase("merge");
+    mesh = vox::mergeCoplanarFaces(mesh, run.threads());
+  }
+  run.phase("write");
+  vox::GltfScene scene;
+  scene.name = stemOf(o.input);
+  scene.generator = "voxbake " + vox::versionString() + " vox export";
+  scene.frame = in.frame;
+  scene.indexed = o.dedup;
+  std::vector<std::vector<vox::BlockQuad>> groups;
+  if (o.split == "classes") {
+    groups = vox::quadsByClass(mesh);
+    for (const auto& g : groups) {
+      const vox::ClassInfo* c = in.classes.find(g.front().classId);
+      scene.materials.push_back({c->name, c->id});
+      scene.primitives.push_back({g, scene.materials.size() - 1});
+    }
+  } else if (!mesh.quads.empty()) {
+    scene.materials.push_back({"blocks", std::nullopt});
+    scene.primitives.push_back({mesh.quads, 0});
+  }
+  vox::GltfWriteResult written;
+  if (format == ExportFormat::Glb) {
+    written = vox::writeGlb(scene, run.output(o.output));
+  } else {
+    const std::string bin = (std::filesystem::path(o.output).parent_path() / (stemOf(o.output) + ".bin")).string();
+    const std::string json = run.output(o.output);
+    written = vox::writeGltf(scene, json, mesh.quads.empty() ? "" : run.output(bin), stemOf(o.output) + ".bin");
+  }
+  nlohmann::json& c = run.counts();
+  c["faces"] = mesh.unitFaces;
+  c["quads"] = mesh.quads.size();
+  c["triangles"] = written.triangles;
+  c["vertices"] = written.vertices;
+  c["indices"] = written.indices;
+  c["primitives"] = scene.primitives.size();
+  c["buffer_bytes"] = written.bufferBytes;
+  c["bytes"] = written.fileBytes;
+  if (o.dedup) {
+    c["buffer_bytes_without_dedup"] = written.unindexedBufferBytes;
+    c["dedup_size_cut"] = written.unindexedBufferBytes
+                              ? 1.0 - double(written.bufferBytes) / double(written.unindexedBufferBytes)
+                              : 0.0;
+  }
+  if (o.greedy) {
+    c["culled_triangles"] = 2 * culledQuads;
+    c["greedy_triangle_ratio"] = mesh.quads.empty() ? 1.0 : double(culledQuads) / double(mesh.quads.size());
+  }
+  if (ms.color == vox::FaceColor::Voxel) c["faces_without_voxel_colour"] = mesh.uncoloredFaces;
+  if (mesh.uncoloredFaces)
+    run.note("warning: " + std::to_string(mesh.uncoloredFaces) +
+             " faces belong to voxels without a baked colour; they have their class's palette colour");
+  std::string what = std::to_string(mesh.unitFaces) + " faces, " + std::to_string(written.triangles) + " triangles";
+  if (o.greedy)
+    what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
+            std::to_string(c["greedy_triangle_ratio"].get<double>()).substr(0, 5) + ")";
+  run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
+}
+
+int runExport(const ExportOptions& o) {
+  const ExportFormat format = outputFormat(o);
+  checkOptionsFit(o, format);
+  Run run("export", o.common);
+  run.phase("read");
+  const ExportInput in = readInput(o, o.color == "voxel", run);
+  nlohmann::json& c = run.counts();
+  c["input_kind"] = in.kind;
+  c["level"] = o.level;
+  c["dims"] = {in.dims.x, in.dims.y, in.dims.z};
+  c["region"] = boxJson(in.box);
+  c["voxel_size"] = in.frame.voxelSize;
+  c["voxels"] = in.volume->occupiedCount();
+  if (in.volume->occupiedCount() == 0)
+    run.note("warning: " + o.input + ": no occupied voxel in the region; writing an empty file");
+  if (isGltf(format)) exportGltf(o, format, in, run);
+  return run.finish();
+}
+
+}  // namespace
+
+Command registerExport(CLI::App& root) {
+  auto opts = std::make_shared<ExportOptions>();
+  CLI::App* cmd = root.add_subcommand("export", "Write a scene as files other tools open (glTF block meshes)");
+  cmd->footer(
+      "Formats (by the output's extension, or --format):\n"
+      "  .glb .gltf  the visible block faces as the block renderer builds them: per face its corners in\n"
+      "              drawing order, normal, texture coordinates and the class's top/bottom/side palette\n"
+      "              colour (COLOR_0, linear RGB), at (index + corner) * voxel size + origin; faces\n"
+      "              between two occupied voxels are culled. .gltf writes OUT.bin beside it.\n"
+      "Input: a scene .vdb, a pyramid .vdb (--level N) or a page file .vpk (--level N); --region\n"
+      "limits the export to an index box (outside it counts as empty). docs/export.md.\n"
+      "Example: vox export hamlet.vdb -o hamlet.glb --split classes --report export.json");
+  cmd->add_option("input", opts->input, "Scene or pyramid (.vdb), or page file (.vpk)")->required();
+  cmd->add_option("-o,--output", opts->output, "Output file (.glb .gltf)")->required();
+  cmd->add_option("--format", opts->format, "glb or gltf (default: from the extension)");
+  cmd->add_option("--level", opts->level, "Pyramid or page file level (0 = full resolution)")->capture_default_str();
+  cmd->add_option("--region", opts->region, "Index box umin,vmin,wmin,umax,vmax,wmax (inclusive), default: all");
+  cmd->add_option("--color", opts->color, "Face colours: palette (the class's) or voxel (the baked colour)")
+      ->capture_default_str();
+  cmd->add_option("--split", opts->split, "none (one primitive) or classes (one primitive and material per class)")
+      ->capture_default_str();
+  cmd->add_flag("--dedup", opts->dedup, "Indexed triangles: 4 vertices per face instead of 6");
+  cmd->add_flag("--greedy", opts->greedy, "Merge coplanar faces of one class and colour into rectangles");
+  addCommonOptions(*cmd, opts->common);
+  return {cmd, [opts] { return runExport(*opts); }};
+}
+
+}  // namespace voxcli
