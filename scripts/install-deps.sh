@@ -10,7 +10,10 @@ libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1
 libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev libpng-dev
 libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev
 libgtest-dev libgmock-dev libbenchmark-dev
-libopenvdb-tools hyperfine python3 gnuplot-nox clang"
+libopenvdb-tools hyperfine python3 python3-numpy gnuplot-nox clang"
+# The export tests check vox's files with others' readers from npm
+# (tests/export/setup.sh); any node with npm will do, Debian's if there is none.
+command -v npm >/dev/null 2>&1 || PKGS="$PKGS nodejs npm"
 
 missing=""
 for p in $PKGS; do

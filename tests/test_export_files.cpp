@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 
 #include "formats/export/gltf_writer.h"
 #include "libvox/core/block_mesh.h"
@@ -30,6 +32,14 @@ vox::BlockMesh smallMesh() {
   return vox::meshVisibleFaces(vol, paletteTable(), {});
 }
 
+// With VOX_EXPORT_KEEP_DIR set, written files are copied there for the Khronos
+// validator (tests/export/validate_unit_files.sh, a CTest test).
+void keep(const std::string& path) {
+  if (const char* dir = std::getenv("VOX_EXPORT_KEEP_DIR"))
+    std::filesystem::copy_file(path, std::filesystem::path(dir) / std::filesystem::path(path).filename(),
+                               std::filesystem::copy_options::overwrite_existing);
+}
+
 template <typename T>
 std::vector<T> accessorValues(const tinygltf::Model& m, int accessor, size_t components) {
   const tinygltf::Accessor& a = m.accessors[size_t(accessor)];
@@ -54,6 +64,9 @@ tinygltf::Model load(const std::string& path) {
                                          : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   EXPECT_TRUE(ok) << err;
   EXPECT_EQ(warn, "");
+  keep(path);
+  for (const tinygltf::Buffer& b : model.buffers)
+    if (!b.uri.empty()) keep((std::filesystem::path(path).parent_path() / b.uri).string());
   return model;
 }
 

@@ -1,5 +1,5 @@
 // The six faces of a block as the block-map format's renderer draws them
-// (docs/conventions.md, "The block renderer's mesh"): for each face its outward
+// (docs/export.md, "The block mesh"): for each face its outward
 // normal, the neighbour that hides it, its four corners in drawing order, the
 // texture coordinates of those corners and the palette slot that colours it;
 // and the split of a face's quad into two triangles.

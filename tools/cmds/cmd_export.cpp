@@ -133,6 +133,7 @@ ExportInput readInput(const ExportOptions& o, bool withColor, Run& run) {
     in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
     in.classes = pageClasses(reader);
     in.box = regionIn(region, in.dims, o.input);
+    run.phase("volume");
     in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
     return in;
   }
@@ -162,6 +163,7 @@ ExportInput readInput(const ExportOptions& o, bool withColor, Run& run) {
   in.box = regionIn(region, in.dims, o.input);
   if (withColor && !scene->hasColor())
     vox::throwBadInput(o.input + ": the scene has no baked colours; export the class palette (--color palette)");
+  run.phase("volume");
   in.volume.emplace(vox::classVolumeFromScene(*scene, in.box, withColor, run.threads()));
   return in;
 }
