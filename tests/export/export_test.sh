@@ -73,6 +73,14 @@ gltf)
   expect_exit 0 "$vox" export h.vdb -o h1.glb --threads 1
   expect_exit 0 "$vox" export h.vdb -o h2.glb --threads 2
   cmp -s h1.glb h2.glb || fail "glb differs between --threads 1 and 2"
+  # --greedy: the two Stone faces below, in front and behind merge pairwise: 24 - 3 = 21 quads.
+  expect_exit 0 "$vox" export small.vdb -o greedy.glb --greedy --report rg.json
+  jcheck rg.json "c=d['counts']; assert (c['faces'],c['quads'],c['triangles'],c['culled_triangles'])==(24,21,42,48)"
+  jcheck rg.json "c=d['counts']; assert abs(c['greedy_triangle_ratio']-48/42)<1e-12 and 'merge' in [p['name'] for p in d['phases']]"
+  expect_exit 0 "$vox" export h.vdb -o g1.glb --greedy --dedup --split classes --threads 1 --report rh.json
+  expect_exit 0 "$vox" export h.vdb -o g2.glb --greedy --dedup --split classes --threads 2
+  cmp -s g1.glb g2.glb || fail "greedy glb differs between --threads 1 and 2"
+  jcheck rh.json "c=d['counts']; assert c['greedy_triangle_ratio']>3 and c['faces']>c['quads']"
   validate_gltf
   ;;
 inputs)
