@@ -24,8 +24,9 @@ using vox::ClassVolume;
 using vox::Coord3;
 
 struct Block {
+  Block(Coord3 a, uint8_t c = 1, std::optional<vox::RgbLinear> rgb = std::nullopt) : at(a), cls(c), color(rgb) {}
   Coord3 at;
-  uint8_t cls = 1;
+  uint8_t cls;
   std::optional<vox::RgbLinear> color;
 };
 

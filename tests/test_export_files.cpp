@@ -1,13 +1,19 @@
 // The exporters' files read back by other code: glTF through tinygltf (an
-// independent parser), byte layouts against their specs.
+// independent parser), PLY and MagicaVoxel byte layouts against their specs,
+// and the palette quantiser.
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
+#include "formats/core/file_util.h"
 #include "formats/export/gltf_writer.h"
+#include "formats/export/magicavoxel_writer.h"
+#include "formats/export/ply_writer.h"
+#include "libvox/core/color_quantize.h"
 #include "libvox/core/block_mesh.h"
 #include "test_util.h"
 
@@ -180,6 +186,114 @@ TEST(GltfWriter, AnEmptyMeshIsAValidEmptyFile) {
   const vox::GltfWriteResult r = vox::writeGltf(s, dir.file("e.gltf"), dir.file("e.bin"), "e.bin");
   EXPECT_EQ(r.bufferBytes, 0u);
   EXPECT_FALSE(std::filesystem::exists(dir.file("e.bin")));
+}
+
+}  // namespace
+
+
+namespace {
+
+TEST(ColorQuantize, FewColoursAreExact) {
+  vox::ColorHistogram h{{vox::packRgb({9, 8, 7}), 3}, {vox::packRgb({1, 2, 3}), 1}};
+  const vox::QuantizedPalette p = vox::quantizeColors(h, 255);
+  EXPECT_TRUE(p.exact);
+  ASSERT_EQ(p.colors.size(), 2u);
+  EXPECT_EQ(p.colors[0], (vox::Rgb8{1, 2, 3}));  // ascending 0xRRGGBB
+  EXPECT_EQ(p.slotOf.at(vox::packRgb({9, 8, 7})), 1u);
+  EXPECT_EQ(p.meanError, 0.0);
+}
+
+TEST(ColorQuantize, MedianCutKeepsTheLimitAndMeasuresItsError) {
+  vox::ColorHistogram h;
+  for (int r = 0; r < 256; r += 5)
+    for (int g = 0; g < 256; g += 17) h[vox::packRgb({uint8_t(r), uint8_t(g), 40})] = 1 + uint64_t(r % 3);
+  const vox::QuantizedPalette p = vox::quantizeColors(h, 16);
+  EXPECT_FALSE(p.exact);
+  EXPECT_EQ(p.colors.size(), 16u);
+  // Every colour maps to its nearest entry; the reported errors are those distances.
+  double worst = 0, sum = 0;
+  uint64_t n = 0;
+  for (const auto& [rgb, count] : h) {
+    const vox::Rgb8 c = vox::unpackRgb(rgb);
+    double best = 1e9;
+    for (const vox::Rgb8& e : p.colors)
+      best = std::min(best, std::hypot(double(c.r - e.r), double(c.g - e.g), double(c.b - e.b)));
+    const vox::Rgb8& mine = p.colors[p.slotOf.at(rgb)];
+    EXPECT_DOUBLE_EQ(std::hypot(double(c.r - mine.r), double(c.g - mine.g), double(c.b - mine.b)), best);
+    worst = std::max(worst, best);
+    sum += best * double(count);
+    n += count;
+  }
+  EXPECT_DOUBLE_EQ(p.maxError, worst);
+  EXPECT_NEAR(p.meanError, sum / double(n), 1e-9);
+  EXPECT_LT(p.meanError, 40.0);
+  EXPECT_EQ(vox::quantizeColors(h, 16).colors, p.colors);  // deterministic
+}
+
+vox::ClassVolume oneVoxel(vox::Coord3 at, uint8_t cls, vox::IndexBox box) {
+  vox::ClassVolume vol(box, false);
+  vox::ClassVolume::Brick b = vol.makeBrick({at.u & ~7, at.v & ~7, at.w & ~7});
+  b.classes[size_t(vox::ClassVolume::voxelIndex(at.u & 7, at.v & 7, at.w & 7))] = cls;
+  vol.add(std::move(b));
+  vol.finish();
+  return vol;
+}
+
+uint32_t le32(const std::string& s, size_t at) {
+  return uint32_t(uint8_t(s[at])) | uint32_t(uint8_t(s[at + 1])) << 8 | uint32_t(uint8_t(s[at + 2])) << 16 |
+         uint32_t(uint8_t(s[at + 3])) << 24;
+}
+
+TEST(MagicaVoxelWriter, ChunksFollowTheSpec) {
+  voxtest::TempDir dir;
+  std::array<vox::Rgb8, 255> palette{};
+  palette[2] = {148, 153, 163};
+  const vox::ClassVolume vol = oneVoxel({1, 2, 3}, 3, {{0, 0, 0}, {4, 5, 6}});
+  const vox::MagicaVoxelResult r =
+      vox::writeMagicaVoxel(vol, palette, [](const vox::ClassVolume::Brick&, int) { return uint8_t(3); },
+                            dir.file("a.vox"));
+  const std::string f = vox::readFileBytes(dir.file("a.vox"));
+  ASSERT_EQ(f.size(), r.bytes);
+  EXPECT_EQ(f.substr(0, 4), "VOX ");
+  EXPECT_EQ(le32(f, 4), 150u);
+  EXPECT_EQ(f.substr(8, 4), "MAIN");
+  EXPECT_EQ(le32(f, 12), 0u);
+  EXPECT_EQ(le32(f, 16), f.size() - 20);  // MAIN's children are the rest of the file
+  // SIZE: (u, w, v) extents = (5, 7, 6); XYZI: x = u, y = wmax - w = 3, z = v.
+  EXPECT_EQ(f.substr(20, 4), "SIZE");
+  EXPECT_EQ((std::array<uint32_t, 3>{le32(f, 32), le32(f, 36), le32(f, 40)}), (std::array<uint32_t, 3>{5, 7, 6}));
+  EXPECT_EQ(f.substr(44, 4), "XYZI");
+  EXPECT_EQ(le32(f, 56), 1u);
+  EXPECT_EQ(f.substr(60, 4), std::string("\x01\x03\x02\x03", 4));
+  // Every chunk after MAIN's header: id, content size, children size, walked to the end.
+  std::vector<std::string> ids;
+  for (size_t at = 20; at < f.size(); at += 12 + le32(f, at + 4) + le32(f, at + 8)) ids.push_back(f.substr(at, 4));
+  EXPECT_EQ(ids, (std::vector<std::string>{"SIZE", "XYZI", "nTRN", "nGRP", "nTRN", "nSHP", "RGBA"}));
+  // The palette: entry k is index k + 1.
+  EXPECT_EQ(f.substr(f.size() - 1024 + 8, 4), std::string("\x94\x99\xa3\xff", 4));
+}
+
+TEST(PlyWriter, HeaderAndRecords) {
+  voxtest::TempDir dir;
+  vox::ClassTable t;
+  t.add({5, "Snow", {235, 240, 245}, std::nullopt});
+  const vox::ClassVolume vol = oneVoxel({9, 0, 2}, 5, {{0, 0, 0}, {15, 7, 7}});
+  const vox::PlyWriteResult r =
+      vox::writeVoxelPly(vol, t, vox::FaceColor::Palette, {{1.0, 2.0, 3.0}, 0.5}, dir.file("p.ply"));
+  EXPECT_EQ(r.points, 1u);
+  const std::string f = vox::readFileBytes(dir.file("p.ply"));
+  const size_t body = f.find("end_header\n") + 11;
+  EXPECT_NE(f.find("element vertex 1\n"), std::string::npos);
+  ASSERT_EQ(f.size(), body + 16);
+  float xyz[3];
+  std::memcpy(xyz, f.data() + body, 12);
+  EXPECT_EQ(xyz[0], 1.0f + 9.5f * 0.5f);
+  EXPECT_EQ(xyz[1], 2.0f + 0.25f);
+  EXPECT_EQ(xyz[2], 3.0f + 1.25f);
+  EXPECT_EQ(f.substr(body + 12), std::string("\xeb\xf0\xf5\x05", 4));
+  EXPECT_TRUE(voxtest::throwsVoxError(
+      [&] { vox::writeVoxelPly(vol, vox::ClassTable{}, vox::FaceColor::Palette, {}, dir.file("q.ply")); },
+      vox::ErrorKind::BadInput, {"class 5", "(9, 0, 2)"}));
 }
 
 }  // namespace

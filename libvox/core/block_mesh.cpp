@@ -77,10 +77,7 @@ void meshRows(const ClassVolume& volume, const std::vector<Band>& bands, const F
             const int i = ClassVolume::voxelIndex(x, y, z);
             const uint8_t cls = b.classes[size_t(i)];
             if (!cls) continue;
-            if (!palettes.known[cls])
-              throwBadInput("class " + std::to_string(cls) + " (voxel " +
-                            toString(Coord3{b.origin.u + x, b.origin.v + y, b.origin.w + z}) +
-                            ") has no entry in the class table, so its faces have no colour");
+            if (!palettes.known[cls]) throwClassNotInTable(cls, b.at(i));
             for (int f = 0; f < kBlockFaceCount; ++f) {
               if (neighbourOccupied(bricks, b, x, y, z, f)) continue;
               BlockQuad q;

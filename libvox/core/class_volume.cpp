@@ -99,6 +99,11 @@ const ClassVolume::Brick* ClassVolume::brickAt(Coord3 c) const {
   return it != bricks_.end() && it->origin == o ? &*it : nullptr;
 }
 
+void throwClassNotInTable(uint8_t classId, Coord3 at) {
+  throwBadInput("class " + std::to_string(classId) + " (voxel " + toString(at) +
+                ") has no entry in the class table, so it has no colour");
+}
+
 uint8_t ClassVolume::classAt(Coord3 c) const {
   const Brick* b = brickAt(c);
   if (!b) return 0;

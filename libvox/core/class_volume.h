@@ -45,6 +45,10 @@ class ClassVolume {
     std::array<int32_t, 6> neighbours{-1, -1, -1, -1, -1, -1};
 
     bool hasColor(int i) const { return (colored[size_t(i) >> 6] >> (i & 63)) & 1; }
+    /// Index-space coordinates of voxel i.
+    Coord3 at(int i) const {
+      return {origin.u + i % kBrickSide, origin.v + (i / kBrickSide) % kBrickSide, origin.w + i / (kBrickSide * kBrickSide)};
+    }
     void setColor(int i, RgbLinear c);
   };
 
@@ -79,5 +83,9 @@ class ClassVolume {
   std::vector<Brick> bricks_;
   uint64_t occupied_ = 0;
 };
+
+/// Throws vox::Error (BadInput): voxel `at` has class `classId`, which the
+/// class table lacks, so it cannot be coloured.
+[[noreturn]] void throwClassNotInTable(uint8_t classId, Coord3 at);
 
 }  // namespace vox

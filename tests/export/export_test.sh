@@ -28,6 +28,17 @@ nothing_but() {
   extra=$(ls -A | grep -v -x -F -e out.txt -e err.txt $(printf -- '-e %s ' "$@") || true)
   [ -z "$extra" ] || fail "unexpected files: $extra"
 }
+# Debian's python3 has Debian's numpy (scripts/install-deps.sh); another python3 may not.
+numpy_python=python3
+/usr/bin/python3 -c 'import numpy' 2>/dev/null && numpy_python=/usr/bin/python3
+read_ply() { "$numpy_python" "$here/read_ply.py" "$@"; }
+read_vox() { NODE_PATH="$tools/node_modules" node "$here/read_vox.mjs" "$1"; }
+# A triangle whose vertex colours blend red, green and blue: many distinct voxel colours.
+rgb_triangle() {
+  printf 'v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 0\nf 1 2 3\nf 1 2 4\nf 1 3 4\n' >tri.obj
+  expect_exit 0 "$vox" voxelize tri.obj --res "$1" -o tri.vdb
+  rm tri.obj
+}
 validate_gltf() {
   local files
   files=$(find . -name '*.glb' -o -name '*.gltf' | sort)
@@ -147,6 +158,105 @@ bad_input)
   [ "$(cat keep.glb)" = keep ] || fail "a failed export touched the existing output"
   expect_exit 4 "$vox" export small.vdb -o no/such/dir/x.glb
   nothing_but small.vdb keep.glb notes.txt
+  ;;
+ply)
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb
+  expect_exit 0 "$vox" export small.vdb -o small.ply --report rp.json
+  jcheck rp.json "c=d['counts']; assert c['points']==5 and c['bytes']==len(open('small.ply','rb').read())"
+  read_ply small.ply --points >ply.json || fail "numpy cannot read small.ply"
+  # Centres (index + 0.5) * 2 + (-64, 0, -64); colours are the classes' display colours.
+  jcheck ply.json "assert d['properties']==['x','y','z','red','green','blue','class'] and d['count']==5"
+  jcheck ply.json "assert d['points']==[[-63,1,-63,148,153,163,3],[-63,3,-63,56,102,168,7],[-61,1,-63,148,153,163,3],[-59,1,-63,87,173,92,1],[-57,5,-61,199,173,128,4]], d['points']"
+  # The hamlet: every occupied voxel once, classes counted as vox info counts the winners.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
+  expect_exit 0 "$vox" export h.vdb -o h.ply --threads 2
+  expect_exit 0 "$vox" info --json h.vdb
+  cp out.txt hinfo.json
+  read_ply h.ply >hply.json || fail "numpy cannot read h.ply"
+  python3 -c "
+import json
+i = json.load(open('hinfo.json')); p = json.load(open('hply.json'))
+assert p['count'] == i['occupied'], (p['count'], i['occupied'])
+assert p['classes'] == {str(c['id']): c['mode_voxels'] for c in i['classes'] if c['mode_voxels']}, p['classes']
+lo = [o + (b + 0.5) * i['voxel_size'] for o, b in zip(i['origin'], i['bounds']['min'])]
+assert all(abs(a - b) < 1e-4 for a, b in zip(p['min'], lo)), (p['min'], lo)
+" || fail "h.ply disagrees with vox info"
+  # --color voxel: the baked colour (sRGB); uncoloured voxels keep their class colour.
+  rgb_triangle 16
+  expect_exit 0 "$vox" export tri.vdb -o tri.ply --color voxel --report rc.json
+  read_ply tri.ply --points >tply.json || fail "numpy cannot read tri.ply"
+  jcheck tply.json "assert len(set(tuple(p[3:6]) for p in d['points']))>20"
+  jcheck rc.json "assert d['counts']['voxels_without_colour']==0"
+  ;;
+vox)
+  expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb
+  expect_exit 0 "$vox" export small.vdb -o small.vox --report rv.json
+  jcheck rv.json "c=d['counts']; assert (c['models'],c['points'],c['size'],c['palette'])==(1,5,[4,2,3],'classes')"
+  read_vox small.vox >vox.json || fail "vox-reader cannot read small.vox"
+  # MagicaVoxel (x, y, z) = (u, wmax - w, v) - floor((4, 2, 3) / 2); palette index = class id.
+  jcheck vox.json "assert d['models']==1 and d['voxels']==[[-2,0,-1,3],[-2,0,0,7],[-1,0,-1,3],[0,0,-1,1],[1,-1,1,4]], d['voxels']"
+  jcheck vox.json "p=d['palette']; assert p[0]==[87,173,92,255] and p[2]==[148,153,163,255] and p[6]==[56,102,168,255] and len(p)==256"
+  # Over 256 per axis: 301 x 6 x 271 blocks are 2 x 2 tiles of MagicaVoxel's (x, y) = (u, w):
+  # four models, placed by the scene graph so the voxels land where they belong.
+  printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}, {"position": [300, 0, 0], "blockType": "Grass"}, {"position": [0, 0, 270], "blockType": "Dirt"}, {"position": [300, 5, 270], "blockType": "Sand"}]}' >wide.json
+  expect_exit 0 "$vox" voxelize wide.json --grid-size 400,48,400 -o wide.vdb
+  expect_exit 0 "$vox" export wide.vdb -o wide.vox --report rw.json
+  jcheck rw.json "c=d['counts']; assert (c['models'],c['points'],c['size'])==(4,4,[301,271,6])"
+  read_vox wide.vox >wide_vox.json || fail "vox-reader cannot read wide.vox"
+  jcheck wide_vox.json "assert d['models']==4 and d['voxels']==[[-150,-135,-3,2],[-150,135,-3,3],[150,-135,2,6],[150,135,-3,1]], d['voxels']"
+  # The hamlet: the same voxels and classes as its point cloud.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
+  expect_exit 0 "$vox" export h.vdb -o h.vox
+  expect_exit 0 "$vox" export h.vdb -o h.ply
+  read_vox h.vox >hvox.json && read_ply h.ply --points >hply.json || fail "cannot read the hamlet back"
+  python3 -c "
+import json
+v = json.load(open('hvox.json')); p = json.load(open('hply.json'))
+s, o = 25.6 / 64, (-12.8, 0.0, -12.8)  # the 64^3 hamlet's voxel size and origin; MagicaVoxel centres 64^3 at 32
+want = []
+for x, y, z, r, g, b, c in p['points']:
+    u, vv, w = (round((a - oo) / s - 0.5) for a, oo in zip((x, y, z), o))
+    want.append([u - 32, 63 - w - 32, vv - 32, c])
+assert sorted(want) == v['voxels'], 'voxels differ'
+" || fail "h.vox and h.ply disagree"
+  # Baked colours: exact when at most 255, refused beyond unless quantised (error reported).
+  rgb_triangle 32
+  expect_exit 3 "$vox" export tri.vdb -o tri.vox --color voxel
+  expect_stderr "--quantize"
+  [ ! -e tri.vox ] || fail "a refused .vox was written"
+  expect_exit 0 "$vox" export tri.vdb -o tri.vox --color voxel --quantize --report rq.json
+  jcheck rq.json "c=d['counts']; q=d['error']['quantization']; assert c['distinct_colours']>255 and c['palette_colours']==255 and not q['exact'] and 0<q['mean_srgb8_distance']<12 and q['mean_srgb8_distance']<=q['max_srgb8_distance']<40"
+  read_vox tri.vox >tvox.json || fail "vox-reader cannot read tri.vox"
+  jcheck tvox.json "assert len(d['voxels'])==json.load(open('rq.json'))['counts']['points'] and max(x[3] for x in d['voxels'])<=255"
+  ;;
+vdb)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb
+  expect_exit 0 "$vox" export h.vdb -o fog.vdb --fog --report rf.json
+  expect_exit 0 "$vox" export h.vdb -o ls.vdb --level-set --report rl.json
+  expect_exit 0 "$vox" info --json h.vdb
+  cp out.txt hinfo.json
+  # Bounds: the fog's active voxels are the scene's; the level set's band reaches
+  # half width - 1 = 2 voxels past them on every side.
+  python3 -c "
+import json
+i = json.load(open('hinfo.json')); f = json.load(open('rf.json'))['counts']; l = json.load(open('rl.json'))['counts']
+assert f['active_voxels'] == i['occupied'] and f['active_box'] == i['bounds'], (f, i['bounds'])
+assert l['active_box']['min'] == [m - 2 for m in i['bounds']['min']] and l['active_box']['max'] == [m + 2 for m in i['bounds']['max']], l
+" || fail "exported volume bounds differ from the scene's"
+  vdb_print -l fog.vdb >fog.txt && grep -q 'class: fog volume' fog.txt || fail "vdb_print: fog.vdb is not a fog volume"
+  vdb_print -l ls.vdb >ls.txt && grep -q 'class: level set' ls.txt || fail "vdb_print: ls.vdb is not a level set"
+  # vdb_render draws both: a non-empty image over a black background.
+  for f in fog ls; do
+    vdb_render $f.vdb $f.ppm -res 160x120 -translate 0,15,30 -lookat 0,2,0 -fov 60 -cpus 2 || fail "vdb_render failed on $f.vdb"
+    python3 -c "
+d = open('$f.ppm', 'rb').read().split(b'\\n', 3); px = d[3]
+lit = sum(1 for i in range(0, len(px), 3) if px[i] or px[i + 1] or px[i + 2])
+assert lit > 0.2 * len(px) / 3, lit
+" || fail "vdb_render drew (almost) nothing for $f.vdb"
+  done
+  expect_exit 2 "$vox" export h.vdb -o x.vdb
+  expect_exit 2 "$vox" export h.vdb -o x.vdb --fog --level-set
+  expect_exit 2 "$vox" export h.vdb -o x.glb --fog
   ;;
 *)
   echo "unknown group $group" >&2

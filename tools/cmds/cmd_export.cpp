@@ -1,6 +1,7 @@
 // vox export INPUT -o OUT: a scene, a pyramid level or a page file level as
 // files other tools open (docs/export.md): glTF block meshes (face-culled as the
-// block renderer builds them, or merged with --greedy).
+// block renderer builds them, or merged with --greedy), PLY voxel centres,
+// MagicaVoxel models, OpenVDB fog volumes and level sets for renderers.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
@@ -8,11 +9,16 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/export/gltf_writer.h"
+#include "formats/export/magicavoxel_writer.h"
+#include "formats/export/ply_writer.h"
+#include "formats/export/vdb_volume_writer.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_class_volume.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/block_mesh.h"
+#include "libvox/core/color_quantize.h"
+#include "libvox/core/voxel_colors.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
 #include "libvox/scene/class_volume_scene.h"
@@ -24,7 +30,7 @@ namespace voxcli {
 
 namespace {
 
-enum class ExportFormat { Glb, Gltf };
+enum class ExportFormat { Glb, Gltf, Ply, MagicaVoxel, Vdb };
 
 struct ExportOptions {
   std::string input;
@@ -36,6 +42,9 @@ struct ExportOptions {
   std::string split = "none";
   bool dedup = false;
   bool greedy = false;
+  bool fog = false, levelSet = false;
+  int halfWidth = 3;
+  bool quantize = false;
   CommonOptions common;
 };
 
@@ -47,6 +56,9 @@ struct FormatName {
 constexpr FormatName kFormats[] = {
     {ExportFormat::Glb, "glb", ".glb"},
     {ExportFormat::Gltf, "gltf", ".gltf"},
+    {ExportFormat::Ply, "ply", ".ply"},
+    {ExportFormat::MagicaVoxel, "vox", ".vox"},
+    {ExportFormat::Vdb, "vdb", ".vdb"},
 };
 
 std::string formatList() {
@@ -59,8 +71,8 @@ ExportFormat outputFormat(const ExportOptions& o) {
   for (const FormatName& f : kFormats)
     if (o.format.empty() ? vox::hasExtension(o.output, f.extension) : o.format == f.name) return f.format;
   if (!o.format.empty()) vox::throwUsage("--format " + o.format + ": expected one of " + formatList());
-  vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it " + formatList() +
-                  " (by extension: .glb .gltf) or give --format");
+  vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it .glb .gltf .ply .vox .vdb"
+                  " or give --format (" + formatList() + ")");
 }
 
 bool isGltf(ExportFormat f) { return f == ExportFormat::Glb || f == ExportFormat::Gltf; }
@@ -71,6 +83,14 @@ void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
   if (o.split != "none" && o.split != "classes") vox::throwUsage("--split " + o.split + ": expected none or classes");
   if (!isGltf(f) && (o.dedup || o.greedy || o.split != "none"))
     vox::throwUsage("--dedup, --greedy and --split apply to glTF block meshes (.glb, .gltf)");
+  if (f == ExportFormat::Vdb) {
+    if (o.fog == o.levelSet) vox::throwUsage("a .vdb export is a fog volume or a level set: give --fog or --level-set");
+    if (o.color != "palette") vox::throwUsage("--color: a .vdb volume has no colour");
+  } else if (o.fog || o.levelSet) {
+    vox::throwUsage("--fog and --level-set are .vdb volumes");
+  }
+  if (o.halfWidth < 1 || o.halfWidth > 64) vox::throwUsage("--half-width must be 1..64 voxels");
+  if (o.quantize && f != ExportFormat::MagicaVoxel) vox::throwUsage("--quantize applies to MagicaVoxel palettes (.vox)");
   if (o.level < 0) vox::throwUsage("--level must be >= 0");
 }
 
@@ -242,6 +262,102 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
 }
 
+vox::FaceColor colorMode(const ExportOptions& o) {
+  return o.color == "voxel" ? vox::FaceColor::Voxel : vox::FaceColor::Palette;
+}
+
+void noteUncolored(uint64_t voxels, Run& run) {
+  run.counts()["voxels_without_colour"] = voxels;
+  if (voxels)
+    run.note("warning: " + std::to_string(voxels) +
+             " voxels have no baked colour; they have their class's display colour");
+}
+
+/// Voxel centres with colour and class, binary PLY.
+void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
+  run.phase("write");
+  const vox::PlyWriteResult r =
+      vox::writeVoxelPly(*in.volume, in.classes, colorMode(o), in.frame, run.output(o.output));
+  run.counts()["points"] = r.points;
+  run.counts()["bytes"] = r.bytes;
+  if (colorMode(o) == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
+  run.note("wrote " + o.output + ": " + std::to_string(r.points) + " points, " + std::to_string(r.bytes) + " bytes");
+}
+
+/// MagicaVoxel models; the palette is the class table (index = class id) or
+/// the voxels' colours, quantised to 255 with --quantize.
+void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) {
+  run.phase("palette");
+  std::array<vox::Rgb8, 255> palette{};
+  std::function<uint8_t(const vox::ClassVolume::Brick&, int)> indexOf;
+  vox::QuantizedPalette q;
+  vox::VoxelColors colors(in.classes, vox::FaceColor::Voxel);  // for indexOf
+  nlohmann::json& c = run.counts();
+  if (colorMode(o) == vox::FaceColor::Palette) {
+    std::array<bool, 256> known{};
+    for (const vox::ClassInfo& k : in.classes.classes()) {
+      palette[k.id - 1] = k.color;
+      known[k.id] = true;
+    }
+    indexOf = [known](const vox::ClassVolume::Brick& b, int i) {
+      const uint8_t cls = b.classes[size_t(i)];
+      if (!known[cls]) vox::throwClassNotInTable(cls, b.at(i));
+      return cls;
+    };
+    c["palette"] = "classes";
+  } else {
+    vox::ColorHistogram histogram;
+    vox::VoxelColors counted(in.classes, vox::FaceColor::Voxel);
+    for (const vox::ClassVolume::Brick& b : in.volume->bricks())
+      for (int i = 0; i < vox::ClassVolume::kBrickVoxels; ++i)
+        if (b.classes[size_t(i)]) ++histogram[vox::packRgb(counted(b, i))];
+    noteUncolored(counted.uncolored(), run);
+    if (histogram.size() > palette.size() && !o.quantize)
+      vox::throwBadInput(o.input + ": the voxels have " + std::to_string(histogram.size()) +
+                         " distinct colours and a .vox palette holds 255; quantise them (--quantize) or export "
+                         "the class palette (--color palette)");
+    q = vox::quantizeColors(histogram, palette.size());
+    for (size_t k = 0; k < q.colors.size(); ++k) palette[k] = q.colors[k];
+    indexOf = [&q, &colors](const vox::ClassVolume::Brick& b, int i) {
+      return uint8_t(1 + q.slotOf.at(vox::packRgb(colors(b, i))));
+    };
+    c["palette"] = "colours";
+    c["distinct_colours"] = histogram.size();
+    c["palette_colours"] = q.colors.size();
+    run.error()["quantization"] = {{"exact", q.exact},
+                                   {"mean_srgb8_distance", q.meanError},
+                                   {"max_srgb8_distance", q.maxError}};
+    if (!q.exact)
+      run.note("quantised " + std::to_string(histogram.size()) + " colours to " + std::to_string(q.colors.size()) +
+               ": mean error " + std::to_string(q.meanError) + ", max " + std::to_string(q.maxError) +
+               " (8-bit sRGB units)");
+  }
+  run.phase("write");
+  const vox::MagicaVoxelResult r = vox::writeMagicaVoxel(*in.volume, palette, indexOf, run.output(o.output));
+  c["models"] = r.models;
+  c["points"] = r.voxels;
+  c["size"] = r.size;
+  c["bytes"] = r.bytes;
+  run.note("wrote " + o.output + ": " + std::to_string(r.voxels) + " voxels in " + std::to_string(r.models) +
+           " models, " + std::to_string(r.bytes) + " bytes");
+}
+
+/// A fog volume or a level set of the occupancy, for renderers.
+void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
+  run.phase("write");
+  const vox::VdbVolumeResult r =
+      vox::writeVdbVolume(*in.volume, in.frame, o.fog ? vox::VdbVolumeKind::Fog : vox::VdbVolumeKind::LevelSet,
+                          o.halfWidth, run.output(o.output));
+  nlohmann::json& c = run.counts();
+  c["grid"] = o.fog ? "density" : "surface";
+  c["active_voxels"] = r.activeVoxels;
+  if (r.activeVoxels) c["active_box"] = boxJson(r.activeBox);
+  if (o.levelSet) c["half_width"] = o.halfWidth;
+  c["bytes"] = r.bytes;
+  run.note("wrote " + o.output + ": " + (o.fog ? "fog volume" : "level set") + ", " +
+           std::to_string(r.activeVoxels) + " active voxels");
+}
+
 int runExport(const ExportOptions& o) {
   const ExportFormat format = outputFormat(o);
   checkOptionsFit(o, format);
@@ -257,7 +373,13 @@ int runExport(const ExportOptions& o) {
   c["voxels"] = in.volume->occupiedCount();
   if (in.volume->occupiedCount() == 0)
     run.note("warning: " + o.input + ": no occupied voxel in the region; writing an empty file");
-  if (isGltf(format)) exportGltf(o, format, in, run);
+  switch (format) {
+    case ExportFormat::Glb:
+    case ExportFormat::Gltf: exportGltf(o, format, in, run); break;
+    case ExportFormat::Ply: exportPly(o, in, run); break;
+    case ExportFormat::MagicaVoxel: exportMagicaVoxel(o, in, run); break;
+    case ExportFormat::Vdb: exportVdbVolume(o, in, run); break;
+  }
   return run.finish();
 }
 
@@ -265,7 +387,7 @@ int runExport(const ExportOptions& o) {
 
 Command registerExport(CLI::App& root) {
   auto opts = std::make_shared<ExportOptions>();
-  CLI::App* cmd = root.add_subcommand("export", "Write a scene as files other tools open (glTF block meshes)");
+  CLI::App* cmd = root.add_subcommand("export", "Write a scene as files other tools open (glTF, PLY, MagicaVoxel, OpenVDB)");
   cmd->footer(
       "Formats (by the output's extension, or --format):\n"
       "  .glb .gltf  the visible block faces as the block renderer builds them: per face its corners in\n"
@@ -276,8 +398,8 @@ Command registerExport(CLI::App& root) {
       "limits the export to an index box (outside it counts as empty). docs/export.md.\n"
       "Example: vox export hamlet.vdb -o hamlet.glb --split classes --report export.json");
   cmd->add_option("input", opts->input, "Scene or pyramid (.vdb), or page file (.vpk)")->required();
-  cmd->add_option("-o,--output", opts->output, "Output file (.glb .gltf)")->required();
-  cmd->add_option("--format", opts->format, "glb or gltf (default: from the extension)");
+  cmd->add_option("-o,--output", opts->output, "Output file (.glb .gltf .ply .vox .vdb)")->required();
+  cmd->add_option("--format", opts->format, "glb, gltf, ply, vox or vdb (default: from the extension)");
   cmd->add_option("--level", opts->level, "Pyramid or page file level (0 = full resolution)")->capture_default_str();
   cmd->add_option("--region", opts->region, "Index box umin,vmin,wmin,umax,vmax,wmax (inclusive), default: all");
   cmd->add_option("--color", opts->color, "Face colours: palette (the class's) or voxel (the baked colour)")
@@ -286,6 +408,11 @@ Command registerExport(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--dedup", opts->dedup, "Indexed triangles: 4 vertices per face instead of 6");
   cmd->add_flag("--greedy", opts->greedy, "Merge coplanar faces of one class and colour into rectangles");
+  cmd->add_flag("--fog", opts->fog, ".vdb: a fog volume, density 1 in occupied voxels");
+  cmd->add_flag("--level-set", opts->levelSet, ".vdb: a narrow-band level set of the occupied voxels");
+  cmd->add_option("--half-width", opts->halfWidth, ".vdb --level-set: band half width in voxels")
+      ->capture_default_str();
+  cmd->add_flag("--quantize", opts->quantize, ".vox --color voxel: quantise more than 255 colours (median cut)");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runExport(*opts); }};
 }
