@@ -30,6 +30,9 @@ if [ -f "$mesh" ]; then
   scenes="$scenes mesh1024"
 fi
 
+# Every layout `vox pack-chunks --layout` knows (its help lists the layout table).
+layouts=$("$vox" pack-chunks --help | sed -n 's/.*--layout \([a-z|]*\)=.*/\1/p' | tr '|' ' ')
+export LAYOUTS="$layouts"
 results=$work/results.jsonl
 : > "$results"
 for s in $scenes; do
@@ -45,7 +48,7 @@ for s in $scenes; do
     -n "vox pack-chunks --mips" "$vox pack-chunks $s.vdb -o pm.vpk --mips --threads $threads --quiet" >&2
   "$vox" pack-chunks $s.vdb -o p.vpk --threads "$threads" --quiet --report pack_report_$s.json
   "$vox" pack-chunks $s.vdb -o p8.vpk --chunk 8 --align 64 --threads "$threads" --quiet --report pack8_report_$s.json
-  for layout in bricks svo columns; do
+  for layout in $layouts; do
     "$vox" pack-chunks $s.vdb -o l.vpk --layout $layout --threads "$threads" --quiet --report layout_${layout}16_$s.json
     "$vox" pack-chunks $s.vdb -o l.vpk --layout $layout --chunk 8 --align 64 --threads "$threads" --quiet --report layout_${layout}8_$s.json
     "$vox" pack-chunks --verify l.vpk --quiet
@@ -73,7 +76,7 @@ print(json.dumps({
   "vpk8_bytes": rep8["file_bytes"], "bpv8": rep8["bytes_per_voxel"],
   "layouts": [dict(layout=l, chunk=c, **{k: r[k] for k in ("file_bytes", "voxels", "chunks", "bytes_per_voxel", "pack_seconds")},
                    payload_bytes=sum(x["payload_bytes"] for x in r["levels"]))
-              for l in ("bricks", "svo", "columns") for c in (16, 8)
+              for l in os.environ["LAYOUTS"].split() for c in (16, 8)
               for r in [json.load(open(f"layout_{l}{c}_{s}.json"))["counts"]]],
 }))
 PY

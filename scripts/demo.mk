@@ -12,7 +12,7 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
      $(OUT)/atlas/hamlet.atlas.json $(OUT)/atlas/hamlet.verify.txt $(OUT)/bijection.txt \
      $(OUT)/hamlet_mips.vdb $(OUT)/hamlet.vpk.verify.txt \
      $(OUT)/render/hamlet.canonical.png $(OUT)/render/hamlet.verify.txt $(OUT)/render/pages.verify.txt \
-     $(OUT)/render/village.png
+     $(OUT)/render/village.png $(OUT)/house.vdb $(OUT)/render/house.png
 	@echo
 	@echo "demo outputs in $(OUT)/:"
 	@ls -l $(OUT) | tail -n +2
@@ -28,6 +28,8 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
 	@echo "  render/            hamlet.{canonical,shaded,class,normal}.png, hamlet.depth.exr from one exact pass (checked"
 	@echo "                     pixel by pixel against a brute-force caster), the chunks it touched (hamlet.touched.json),"
 	@echo "                     the same view from the page file, and village.png (the block map, shaded)"
+	@echo "  house.vdb          a mesh with materials (scripts/demo/house.obj) through class rules"
+	@echo "                     (scripts/demo/classes.json: wall, roof, trim), solid; render/house.png shaded"
 
 $(OUT):
 	mkdir -p $(OUT)
@@ -72,6 +74,14 @@ $(OUT)/render/pages.verify.txt: $(OUT)/hamlet.vpk
 $(OUT)/render/village.png: $(OUT)/village.vdb scripts/demo/village_cameras.json
 	mkdir -p $(OUT)/render
 	$(VOX) render-canonical $< -o $@ --camera scripts/demo/village_cameras.json --view 0 --mode shaded --depfile $@.d
+
+$(OUT)/house.vdb: scripts/demo/house.obj scripts/demo/classes.json | $(OUT)
+	$(VOX) voxelize $< --res 64 --fill solid --classes scripts/demo/classes.json -o $@ --depfile $@.d \
+	  --report $(OUT)/house.report.json
+
+$(OUT)/render/house.png: $(OUT)/house.vdb
+	mkdir -p $(OUT)/render
+	$(VOX) render-canonical $< -o $@ --eye 9,7,12 --target 2,2,2.5 --fov 40 --size 640x480 --mode shaded --depfile $@.d
 
 $(OUT)/%.info.txt: $(OUT)/%.vdb
 	$(VOX) info $< > $@.tmp && mv $@.tmp $@

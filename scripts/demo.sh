@@ -5,7 +5,7 @@
 # OUT=dir changes the output directory (default ./out); RES=N the resolution.
 set -eu
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
-scripts/build.sh
+scripts/install-deps.sh demo
+scripts/build.sh -DVOX_BUILD_TESTS=OFF
 OUT=${OUT:-out}
 make -f scripts/demo.mk VOX="$(pwd)/build/bin/vox" OUT="$OUT" RES="${RES:-256}"

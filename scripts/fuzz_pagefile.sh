@@ -11,8 +11,14 @@ out=${FUZZ_DIR:-build-fuzz}
 corpus=$out/corpus-pagefile
 mkdir -p "$corpus"
 command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-get install clang)" >&2; exit 4; }
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp \
-  libvox/core/crc32c.cpp -o "$out/fuzz_pagefile"
+# The container, every layout (formats/pagefile/*_layout.cpp: a layout's encoder
+# and decoder are one file) and the metadata reader, with what they use from
+# libvox/core and formats/scene.
+clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. \
+  tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp formats/pagefile/layouts.cpp \
+  formats/pagefile/*_layout.cpp formats/pagefile/pagefile_meta.cpp formats/scene/scene_meta.cpp \
+  libvox/core/crc32c.cpp libvox/core/summary_bytes.cpp libvox/core/color.cpp libvox/core/classes.cpp \
+  -o "$out/fuzz_pagefile"
 vox=${BUILD_DIR:-build}/bin/vox
 if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
   tmp=$(mktemp -d)
@@ -21,15 +27,18 @@ if [ -x "$vox" ] && [ -z "$(ls -A "$corpus")" ]; then
   "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/h16.vpk" --chunk 16 --align 16 --quiet
   rm -rf "$tmp"
 fi
-# Seeds of the svo and columns layouts (added to an existing corpus too).
-if [ -x "$vox" ] && [ ! -e "$corpus/columns16.vpk" ]; then
+# Seeds of every layout `vox pack-chunks --layout` knows (added to an existing
+# corpus too, for layouts it has no seed of yet).
+if [ -x "$vox" ]; then
+  layouts=$("$vox" pack-chunks --help | sed -n 's/.*--layout \([a-z|]*\)=.*/\1/p' | tr '|' ' ')
   tmp=$(mktemp -d)
-  "$vox" voxelize demo:hamlet --res 12 -o "$tmp/h.vdb" --quiet
-  for layout in svo columns; do
+  for layout in $layouts; do
+    [ -e "$corpus/${layout}32.vpk" ] && continue
+    [ -e "$tmp/h.vdb" ] || "$vox" voxelize demo:hamlet --res 12 -o "$tmp/h.vdb" --quiet
     "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/${layout}8.vpk" --layout $layout --chunk 8 --align 8 --mips --quiet
     "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/${layout}16.vpk" --layout $layout --chunk 16 --align 8 --quiet
+    "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/${layout}32.vpk" --layout $layout --chunk 32 --align 8 --quiet
   done
-  "$vox" pack-chunks "$tmp/h.vdb" -o "$corpus/svo32.vpk" --layout svo --chunk 32 --align 8 --quiet
   rm -rf "$tmp"
 fi
 "$out/fuzz_pagefile" -max_total_time="$seconds" -max_len=65536 -timeout=10 "$corpus"

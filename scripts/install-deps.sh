@@ -1,25 +1,40 @@
 #!/bin/sh
-# Installs every build, test and benchmark dependency of voxbake from Debian 12's
-# packages. Idempotent: packages already present are left alone. Runs as root or
-# through sudo. Set VOX_SKIP_INSTALL=1 to skip (e.g. on a machine you manage).
+# Installs voxbake's dependencies from Debian 12's packages. Idempotent: packages
+# already present are left alone. Runs as root or through sudo. Set
+# VOX_SKIP_INSTALL=1 to skip (e.g. on a machine you manage).
+#
+#   scripts/install-deps.sh demo   what building vox and running the demo bake needs
+#   scripts/install-deps.sh        that, plus the test suite's and benchmarks' tools
+#                                  (GoogleTest, Google Benchmark, OpenVDB and
+#                                  OpenImageIO command-line peers, hyperfine, clang
+#                                  for the fuzzers, gnuplot for the study plot)
 set -eu
 [ "${VOX_SKIP_INSTALL:-0}" = 1 ] && exit 0
+profile=${1:-all}
 
-PKGS="build-essential cmake git pkg-config ccache ninja-build
+# Building vox and running scripts/demo.mk.
+BUILD="build-essential cmake pkg-config ccache ninja-build make
 libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1g-dev
-libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev libpng-dev
-libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev
-libgtest-dev libgmock-dev libbenchmark-dev
-libopenvdb-tools hyperfine python3 python3-numpy gnuplot-nox clang"
+libopenexr-dev libimath-dev libpng-dev
+libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev"
+# The test suite (scripts/test.sh) and the benchmark scripts.
+TEST="libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy
+libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang"
 # The export tests check vox's files with others' readers from npm
 # (tests/export/setup.sh); any node with npm will do, Debian's if there is none.
-command -v npm >/dev/null 2>&1 || PKGS="$PKGS nodejs npm"
+command -v npm >/dev/null 2>&1 || TEST="$TEST nodejs npm"
+
+case $profile in
+  demo) PKGS=$BUILD ;;
+  all) PKGS="$BUILD $TEST" ;;
+  *) echo "install-deps: unknown profile '$profile' (expected demo, or nothing for everything)" >&2; exit 2 ;;
+esac
 
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
-[ -z "$missing" ] && { echo "install-deps: all packages present"; exit 0; }
+[ -z "$missing" ] && { echo "install-deps: all $profile packages present"; exit 0; }
 
 SUDO=""
 if [ "$(id -u)" != 0 ]; then

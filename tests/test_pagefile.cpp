@@ -1,17 +1,28 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <tuple>
 
+#include "formats/pagefile/bricks_layout.h"
+#include "formats/pagefile/columns_layout.h"
+#include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_meta.h"
+#include "formats/pagefile/svo_layout.h"
 #include "libvox/core/atlas_content.h"
+#include "libvox/core/crc32c.h"
+#include "libvox/core/morton.h"
+#include "libvox/core/summary_bytes.h"
+#include "libvox/core/version.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/scene/mip.h"
-#include "libvox/core/morton.h"
-#include "formats/pagefile/pack_chunks.h"
-#include "libvox/core/summary_bytes.h"
 #include "test_util.h"
 
 namespace {
@@ -105,7 +116,15 @@ vox::Scene colouredScene() {
 }
 
 using vox::pagefile::Layout;
-constexpr Layout kLayouts[] = {Layout::Bricks, Layout::Svo, Layout::Columns};
+
+// Every layout of the table: a new layout is round-tripped, truncated and
+// bit-flipped by the tests below without touching them.
+std::vector<Layout> allLayouts() {
+  std::vector<Layout> out;
+  for (const auto& l : vox::pagefile::layoutTable()) out.push_back(l.id);
+  return out;
+}
+const std::vector<Layout> kLayouts = allLayouts();
 
 TEST(PageFile, RoundTripEveryChunkSizeWithMips) {
   const vox::Scene base = colouredScene();
@@ -149,7 +168,7 @@ TEST(PageFile, RoundTripEveryChunkSizeWithMips) {
           EXPECT_EQ(e->size, vox::pagefile::columnsPayloadBytes(C, N, S, true, r.header().flags));
         }
         if (layout == Layout::Svo) {  // every brick full: no bitmap stored
-          const auto bricks = r.svoBricks(size_t(e - r.entries().data()));
+          const auto bricks = vox::pagefile::svoBricks(r, size_t(e - r.entries().data()));
           EXPECT_EQ(e->size, vox::pagefile::svoPayloadBytes(bricks.size(), 0, 512 * bricks.size(), r.header().flags));
           for (const auto& b : bricks) EXPECT_EQ(b.flags & vox::pagefile::kSvoNodeFull, vox::pagefile::kSvoNodeFull);
         }
@@ -222,7 +241,7 @@ TEST(PageFile, SvoMipBricksAreThePyramidLevels) {
     for (size_t i = 0; i < r.entries().size(); ++i) {
       const auto& e = r.entries()[i];
       const auto c = e.chunk();
-      const auto bricks = r.svoBricks(i);
+      const auto bricks = vox::pagefile::svoBricks(r, i);
       ASSERT_FALSE(bricks.empty());
       EXPECT_EQ(bricks[0].level, std::countr_zero(C) - 3);  // the root
       for (const auto& b : bricks) {
@@ -375,7 +394,7 @@ std::vector<vox::pagefile::ChunkBlob> blobsOf(const Reader& r) {
   for (size_t i = 0; i < r.entries().size(); ++i) {
     const auto& e = r.entries()[i];
     const auto p = r.payload(i);
-    blobs.push_back({e.level, e.key, e.occupied, bool(e.flags & 1), std::vector<uint8_t>(p.begin(), p.end())});
+    blobs.push_back({e.level, e.key, e.occupied, bool(e.flags & vox::pagefile::kChunkFull), std::vector<uint8_t>(p.begin(), p.end())});
   }
   return blobs;
 }
@@ -410,12 +429,12 @@ TEST(PageFile, EveryStructuralBitFlipUnderAGoodCrcIsRefused) {
         // Structural ranges [begin, end) of the payload, in bytes.
         std::vector<std::pair<size_t, size_t>> ranges;
         if (layout == Layout::Svo) {
-          const size_t B = u32(0), M = u32(4);
-          ranges.push_back({0, 16 + 16 * B + 64 * M});
+          const size_t B = u32(vox::pagefile::svo_field::kNodeCount), M = u32(vox::pagefile::svo_field::kBitmapCount);
+          ranges.push_back({0, vox::pagefile::kSvoFixedBytes + 16 * B + 64 * M});
         } else {
           const uint32_t N = C * C * C;
           const bool full = blobs[i].full;
-          const size_t masks = 8 + (full ? 0 : N / 8 + vox::pagefile::columnsLadderBytes(C)) + ((h.flags & 2) ? N / 8 : 0);
+          const size_t masks = vox::pagefile::kColumnsFixedBytes + (full ? 0 : N / 8 + vox::pagefile::columnsLadderBytes(C)) + ((h.flags & vox::pagefile::kFlagSurface) ? N / 8 : 0);
           ranges.push_back({0, masks});
           if (h.flags & vox::pagefile::kFlagColor) {
             const size_t off = masks + 4ull * blobs[i].occupied;
@@ -435,6 +454,211 @@ TEST(PageFile, EveryStructuralBitFlipUnderAGoodCrcIsRefused) {
       }
       EXPECT_GT(tried, 100u);
     }
+}
+
+// ------------------------------------------------------------------ the layout table
+
+TEST(PageFileLayouts, TableListsIdsInOrderWithUniqueNames) {
+  const auto table = vox::pagefile::layoutTable();
+  ASSERT_EQ(table.size(), 3u);
+  std::set<std::string> names;
+  for (size_t i = 0; i < table.size(); ++i) {
+    const auto& l = table[i];
+    EXPECT_EQ(uint8_t(l.id), i + 1) << l.name;
+    EXPECT_TRUE(names.insert(l.name).second) << l.name;
+    EXPECT_EQ(vox::pagefile::findLayout(uint8_t(l.id)), &l);
+    EXPECT_EQ(vox::pagefile::findLayout(std::string_view(l.name)), &l);
+    EXPECT_EQ(&vox::pagefile::codecOf(l.id), &l);
+    EXPECT_STREQ(vox::pagefile::layoutName(l.id), l.name);
+    EXPECT_NE(l.encode, nullptr);
+    EXPECT_NE(l.decode, nullptr);
+  }
+  EXPECT_EQ(vox::pagefile::layoutNameList(), "bricks, svo or columns");
+  EXPECT_EQ(vox::pagefile::findLayout(uint8_t(0)), nullptr);
+  EXPECT_EQ(vox::pagefile::findLayout(uint8_t(table.size() + 1)), nullptr);
+  EXPECT_EQ(vox::pagefile::findLayout(std::string_view("octree")), nullptr);
+  EXPECT_STREQ(vox::pagefile::layoutName(Layout(0)), "unknown");
+  EXPECT_TRUE(voxtest::throwsVoxError([] { vox::pagefile::codecOf(Layout(0)); }, vox::ErrorKind::Internal, {"layout"}));
+}
+
+// A header whose layout byte is outside the table is refused, naming the field.
+TEST(PageFileLayouts, UnknownLayoutByteIsRefused) {
+  std::vector<uint8_t> file = smallFile();
+  file[vox::pagefile::header_field::kLayout] = uint8_t(vox::pagefile::layoutTable().size() + 1);
+  const uint32_t crc = vox::crc32c(file.data(), vox::pagefile::header_field::kHeaderCrc);
+  for (int b = 0; b < 4; ++b) file[vox::pagefile::header_field::kHeaderCrc + size_t(b)] = uint8_t(crc >> (8 * b));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(file.data(), file.size(), "u.vpk"); },
+                                      vox::ErrorKind::BadInput, {"u.vpk: header field 'layout': 4, expected 1..3"}));
+}
+
+// The field offsets the writer and the reader share are those PAGEFILE.md gives.
+std::map<std::string, size_t> specOffsets(const std::string& section) {
+  std::ifstream in(std::string(VOX_SOURCE_DIR) + "/formats/pagefile/PAGEFILE.md");
+  std::map<std::string, size_t> out;
+  const std::regex row(R"(^\| (\d+) \| [^|]+ \| `?([a-z0-9_]+)`? \|)");
+  bool inSection = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("## ", 0) == 0) inSection = line.rfind(section, 0) == 0;
+    std::smatch m;
+    if (inSection && std::regex_search(line, m, row)) out[m[2]] = std::stoul(m[1]);
+  }
+  return out;
+}
+
+TEST(PageFileLayouts, FieldOffsetsAreTheSpecs) {
+  namespace hf = vox::pagefile::header_field;
+  namespace ef = vox::pagefile::entry_field;
+  namespace sf = vox::pagefile::svo_field;
+  const std::map<std::string, size_t> header = {
+      {"magic", hf::kMagic}, {"version", hf::kVersion}, {"header_bytes", hf::kHeaderBytes}, {"layout", hf::kLayout},
+      {"chunk_log2", hf::kChunkLog2}, {"level_count", hf::kLevelCount}, {"align_log2", hf::kAlignLog2},
+      {"flags", hf::kFlags}, {"dims", hf::kDims}, {"voxel_size", hf::kVoxelSize}, {"origin", hf::kOrigin},
+      {"chunk_count", hf::kChunkCount}, {"index_offset", hf::kIndexOffset}, {"meta_offset", hf::kMetaOffset},
+      {"meta_bytes", hf::kMetaBytes}, {"payload_offset", hf::kPayloadOffset}, {"file_bytes", hf::kFileBytes},
+      {"meta_crc32c", hf::kMetaCrc}, {"index_crc32c", hf::kIndexCrc}, {"reserved", hf::kReserved},
+      {"header_crc32c", hf::kHeaderCrc}};
+  const std::map<std::string, size_t> entry = {{"level", ef::kLevel},   {"flags", ef::kFlags},   {"reserved", ef::kReserved},
+                                               {"occupied", ef::kOccupied}, {"key", ef::kKey}, {"offset", ef::kOffset},
+                                               {"size", ef::kSize},     {"crc32c", ef::kCrc}};
+  const std::map<std::string, size_t> svo = {{"node_count", sf::kNodeCount}, {"bitmap_count", sf::kBitmapCount},
+                                             {"record_count", sf::kRecordCount}, {"reserved", sf::kReserved},
+                                             {"nodes", vox::pagefile::kSvoFixedBytes}};
+  EXPECT_EQ(specOffsets("## Header"), header);
+  EXPECT_EQ(specOffsets("## Index entry"), entry);
+  EXPECT_EQ(specOffsets("## Payload, `svo` layout"), svo);
+  EXPECT_EQ(hf::kHeaderCrc + 4, vox::pagefile::kHeaderBytes);
+  EXPECT_EQ(ef::kCrc + 4, vox::pagefile::kIndexEntryBytes);
+}
+
+// Settings the library refuses carry the setting to change and name no option.
+TEST(PageFileLayouts, RefusalsNameTheSettingNotTheOption) {
+  const vox::Scene sc = colouredScene();
+  auto settingOf = [&](const vox::PackSettings& p) {
+    try {
+      vox::packChunks({&sc}, p);
+    } catch (const vox::Error& e) {
+      EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+      return e.setting;
+    }
+    return vox::Setting::None;
+  };
+  vox::PackSettings p;
+  p.chunkSide = 64;
+  EXPECT_EQ(settingOf(p), vox::Setting::ChunkSide);
+  p = {};
+  p.alignment = 4;
+  EXPECT_EQ(settingOf(p), vox::Setting::PageAlignment);
+  p = {};
+  p.layout = Layout(9);
+  EXPECT_EQ(settingOf(p), vox::Setting::PageLayout);
+  // The column layout cannot store a coloured interior voxel.
+  vox::SceneHeader h;
+  h.dims = {4, 4, 4};
+  h.classes.add({1, "a", {}, {}});
+  vox::SceneBuilder b(h);
+  b.addVotes({1, 1, 1}, 1, 5, false);
+  b.setColor({1, 1, 1}, {0.5f, 0.5f, 0.5f});
+  const vox::Scene interior = std::move(b).build();
+  p = {};
+  p.layout = Layout::Columns;
+  try {
+    vox::packChunks({&interior}, p);
+    ADD_FAILURE() << "no error";
+  } catch (const vox::Error& e) {
+    EXPECT_EQ(e.setting, vox::Setting::PageLayout);
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
+}
+
+// ------------------------------------------------------------------ metadata
+
+vox::pagefile::PageMeta fullMeta() {
+  vox::pagefile::PageMeta m;
+  m.toolVersion = "1.2.3";
+  m.classes.add({1, "grass", {10, 200, 30}, vox::FacePalette{{1, 2, 3}, {4, 5, 6}, {7, 8, 9}}});
+  m.classes.add({7, "water \"deep\" \u00e9", {0, 0, 255}, {}});
+  m.sources = {{"meshes/a.obj", "mesh", "ab12", 123456789012ull}, {"demo:hamlet", "demo", "", 0}};
+  m.levels = {{0, {37, 20, 33}, 0.25, 12, 3000}, {1, {19, 10, 17}, 0.5, 3, 400}};
+  m.mipOccupancy = "from pyramid.vdb";
+  m.blockWorld = vox::BlockWorldPlacement{0.1, {64, 48, 64}};
+  return m;
+}
+
+TEST(PageFileMeta, WriteThenReadGivesTheSameMeta) {
+  const vox::pagefile::PageMeta m = fullMeta();
+  const std::string text = vox::pagefile::writePageMeta(m);
+  EXPECT_EQ(vox::pagefile::readPageMeta(text, "m.vpk"), m);
+  EXPECT_EQ(vox::pagefile::writePageMeta(vox::pagefile::readPageMeta(text, "m.vpk")), text);
+  // Without mips, block world, classes or sources: the optional keys are absent.
+  vox::pagefile::PageMeta bare;
+  bare.toolVersion = "0";
+  const std::string bareText = vox::pagefile::writePageMeta(bare);
+  EXPECT_EQ(bareText.find("mip_occupancy"), std::string::npos);
+  EXPECT_EQ(bareText.find("block_world"), std::string::npos);
+  EXPECT_EQ(vox::pagefile::readPageMeta(bareText, "b.vpk"), bare);
+}
+
+// The exact text: sorted keys, no whitespace (PAGEFILE.md "Metadata").
+TEST(PageFileMeta, TextIsPinned) {
+  vox::pagefile::PageMeta m;
+  m.toolVersion = "9.9";
+  m.classes.add({1, "a", {10, 20, 30}, {}});
+  m.sources = {{"m.obj", "mesh", "00", 42}};
+  m.levels = {{0, {4, 5, 6}, 0.5, 2, 9}};
+  m.mipOccupancy = "majority";
+  EXPECT_EQ(vox::pagefile::writePageMeta(m),
+            R"({"classes":[{"color":[10,20,30],"id":1,"name":"a"}],"format":"voxbake-pages",)"
+            R"("levels":[{"chunks":2,"dims":[4,5,6],"level":0,"voxel_size":0.5,"voxels":9}],"mip_occupancy":"majority",)"
+            R"("sources":[{"bytes":42,"kind":"mesh","path":"m.obj","sha256":"00"}],"tool_version":"9.9"})");
+}
+
+TEST(PageFileMeta, PackedFilesCarryTheScenesMeta) {
+  const vox::Scene base = colouredScene();
+  const auto mips = vox::buildMipPyramid(base, vox::MipSettings{});
+  std::vector<const vox::Scene*> levels{&base};
+  for (const auto& l : mips) levels.push_back(&l);
+  vox::PackSettings s;
+  s.mipOccupancy = "any";
+  const auto res = vox::packChunks(levels, s);
+  const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "p.vpk");
+  const vox::pagefile::PageMeta m = vox::pagefile::readPageMeta(r.metaJson(), r.name());
+  EXPECT_EQ(m.toolVersion, vox::kToolVersion);
+  EXPECT_EQ(m.classes, base.header().classes);
+  EXPECT_EQ(m.sources, base.header().sources);
+  EXPECT_EQ(m.mipOccupancy, "any");
+  EXPECT_FALSE(m.blockWorld);
+  ASSERT_EQ(m.levels.size(), levels.size());
+  for (size_t l = 0; l < levels.size(); ++l) {
+    const auto [a, b] = r.levelRange(int(l));
+    uint64_t voxels = 0;
+    for (size_t i = a; i < b; ++i) voxels += r.entries()[i].occupied;
+    EXPECT_EQ(m.levels[l].level, l);
+    EXPECT_EQ(m.levels[l].dims, r.header().levelDims(int(l)));
+    EXPECT_EQ(m.levels[l].voxelSize, levels[l]->header().voxelSize);
+    EXPECT_EQ(m.levels[l].chunks, b - a);
+    EXPECT_EQ(m.levels[l].voxels, voxels);
+  }
+}
+
+TEST(PageFileMeta, RefusesBadMetadataNamingTheFileAndKey) {
+  auto refused = [](const std::string& text, std::initializer_list<std::string> needles) {
+    return voxtest::throwsVoxError([&] { vox::pagefile::readPageMeta(text, "x.vpk"); }, vox::ErrorKind::BadInput, needles);
+  };
+  EXPECT_TRUE(refused("{", {"x.vpk: metadata is not valid JSON"}));
+  EXPECT_TRUE(refused("[]", {"x.vpk: metadata must be a JSON object"}));
+  EXPECT_TRUE(refused(R"({"format":"voxbake-scene"})", {"x.vpk: metadata 'format'", "voxbake-pages"}));
+  EXPECT_TRUE(refused(R"({"classes":{}})", {"'classes' must be an array"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":0,"name":"a","color":[1,2,3]}]})", {"'classes' entry 0: id must be 1..255"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a"}]})", {"'classes' entry 0 needs id, name and color"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,300]}]})", {"'classes' entry 0.color", "0..255"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,3],"top":[1,2,3]}]})",
+                      {"'classes' entry 0 needs all of top, bottom and side or none"}));
+  EXPECT_TRUE(refused(R"({"classes":[{"id":1,"name":"a","color":[1,2,3]},{"id":1,"name":"b","color":[1,2,3]}]})",
+                      {"x.vpk: metadata 'classes'"}));
+  EXPECT_TRUE(refused(R"({"sources":[{"path":1}]})", {"x.vpk: metadata is malformed"}));
+  EXPECT_TRUE(refused(R"({"levels":[{"level":0,"dims":[1,2]}]})", {"x.vpk: metadata is malformed"}));
+  // Unknown keys are ignored; absent keys give empty values.
+  EXPECT_EQ(vox::pagefile::readPageMeta(R"({"future":1})", "x.vpk"), vox::pagefile::PageMeta{});
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Cutting a scene (and its mips) into C^3 chunks for a page file
-// (formats/pagefile/PAGEFILE.md; the byte format is formats/pagefile/pagefile.h).
+// (formats/pagefile/PAGEFILE.md; the container is formats/pagefile/pagefile.h,
+// the payload layouts formats/pagefile/layouts.h).
 //
 // Per occupied voxel a chunk carries the summary bytes (cls, conf, obs, mrg of
 // libvox/core/summary_bytes.h), the sRGB8 colour when the scene has colour, and the
@@ -8,7 +9,6 @@
 // file is byte-identical at any thread count.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,12 +18,13 @@
 
 namespace vox {
 
+/// How to pack; the defaults are those of `vox pack-chunks`.
 struct PackSettings {
-  uint32_t chunkSide = 16;  // 8, 16 or 32
-  uint32_t alignment = 4096;  // power of two, 8..65536
+  uint32_t chunkSide = 16;    // 8, 16 or 32 (pagefile::kMinChunkLog2 .. kMaxChunkLog2)
+  uint32_t alignment = 4096;  // power of two, 8..65536 (pagefile::kMinAlignLog2 .. kMaxAlignLog2)
   pagefile::Layout layout = pagefile::Layout::Bricks;
-  unsigned threads = 1;
-  std::string mipOccupancy;  // recorded in the metadata ("any"/"majority"), empty without mips
+  unsigned threads = 1;       // 0: every core; any count gives the same bytes
+  std::string mipOccupancy;   // recorded in the metadata ("any", "majority", "from FILE"), empty without mips
 };
 
 struct PackResult {
@@ -36,37 +37,9 @@ struct PackResult {
 };
 
 /// Packs `levels` (level 0 first, then 1, 2, ... as buildMipPyramid makes them).
-/// Throws vox::Error (Usage) for an unsupported chunk side or alignment, and for
-/// a scene the layout cannot hold (columns: a coloured interior voxel).
+/// Throws vox::Error (Usage, with the Setting to change) for an unsupported
+/// chunk side, alignment or layout, and for a scene the layout cannot hold
+/// (columns: a coloured interior voxel).
 PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& settings);
-
-namespace packdetail {
-
-/// One chunk's voxels, dense, at the chunk-local index k = x + C * (y + C * z)
-/// (the bricks layout's order). Filled by packChunks, encoded by the layouts
-/// (formats/pagefile/pack_svo.h, formats/pagefile/pack_columns.h).
-struct ChunkVoxels {
-  uint32_t side = 0;   // C
-  uint32_t count = 0;  // occupied voxels
-  std::vector<uint64_t> bits;  // C^3 / 64 words, bit k % 64 of word k / 64
-  std::vector<std::array<uint8_t, 4>> summary;  // cls, conf, obs, mrg
-  std::vector<std::array<uint8_t, 4>> color;    // sRGB8 + alpha 255, or 0,0,0,0 without colour
-  std::vector<uint8_t> surface;                 // 1: surface voxel
-  // Only with `withVotes` (the svo layout sums them into its mip bricks):
-  bool withVotes = false;
-  std::vector<uint32_t> voteBegin, voteEnd;  // range of voxel k in `votes`
-  std::vector<ClassVotes> votes;
-  std::vector<std::array<float, 3>> linear;  // linear colour of voxel k when color[k][3] == 255
-
-  bool occupied(uint32_t k) const { return (bits[k >> 6] >> (k & 63)) & 1; }
-};
-
-/// Where a chunk is, for error messages.
-struct ChunkPlace {
-  int level = 0;
-  std::array<uint32_t, 3> chunk{};
-};
-
-}  // namespace packdetail
 
 }  // namespace vox

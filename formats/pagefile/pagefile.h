@@ -1,16 +1,22 @@
 // Page files (`.vpk`): a scene and its mips cut into C^3 chunks, one file,
-// specified in formats/pagefile/PAGEFILE.md. This header has no OpenVDB: the reader is
-// light (mmap, bounds-checked, CRC32C-verified) so streamers and the fuzz
-// target link it alone. Packing a Scene is in formats/pagefile/pack_chunks.h.
+// specified in formats/pagefile/PAGEFILE.md. This is the container: header,
+// index, metadata text and payloads at aligned offsets, written by serialize()
+// and read by Reader. What a payload holds is its layout's business
+// (formats/pagefile/layouts.h); the metadata text is formats/pagefile/pagefile_meta.h;
+// packing a Scene is formats/pagefile/pack_chunks.h.
+//
+// No OpenVDB: the reader is light (mmap, bounds-checked, CRC32C-verified) so
+// streamers and the fuzz target link it (and the layouts) alone.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "formats/pagefile/layouts.h"
 
 namespace vox::pagefile {
 
@@ -19,8 +25,49 @@ inline constexpr uint16_t kVersion = 1;
 inline constexpr uint32_t kHeaderBytes = 128;
 inline constexpr uint32_t kIndexEntryBytes = 32;
 
-enum class Layout : uint8_t { Bricks = 1, Svo = 2, Columns = 3 };
-const char* layoutName(Layout l);  // "bricks", "svo", "columns"
+/// Byte offsets of the header fields (PAGEFILE.md "Header"), for the writer and the reader.
+namespace header_field {
+inline constexpr size_t kMagic = 0;          // 8 bytes "VOXPAGES"
+inline constexpr size_t kVersion = 8;        // u16
+inline constexpr size_t kHeaderBytes = 10;   // u16
+inline constexpr size_t kLayout = 12;        // u8
+inline constexpr size_t kChunkLog2 = 13;     // u8
+inline constexpr size_t kLevelCount = 14;    // u8
+inline constexpr size_t kAlignLog2 = 15;     // u8
+inline constexpr size_t kFlags = 16;         // u32
+inline constexpr size_t kDims = 20;          // 3 x u32
+inline constexpr size_t kVoxelSize = 32;     // f64
+inline constexpr size_t kOrigin = 40;        // 3 x f64
+inline constexpr size_t kChunkCount = 64;    // u64
+inline constexpr size_t kIndexOffset = 72;   // u64
+inline constexpr size_t kMetaOffset = 80;    // u64
+inline constexpr size_t kMetaBytes = 88;     // u64
+inline constexpr size_t kPayloadOffset = 96; // u64
+inline constexpr size_t kFileBytes = 104;    // u64
+inline constexpr size_t kMetaCrc = 112;      // u32
+inline constexpr size_t kIndexCrc = 116;     // u32
+inline constexpr size_t kReserved = 120;     // u32, 0
+inline constexpr size_t kHeaderCrc = 124;    // u32, CRC32C of bytes [0, kHeaderCrc)
+}  // namespace header_field
+
+/// Byte offsets of the fields of an index entry (PAGEFILE.md "Index entry").
+namespace entry_field {
+inline constexpr size_t kLevel = 0;     // u8
+inline constexpr size_t kFlags = 1;     // u8
+inline constexpr size_t kReserved = 2;  // u16, 0
+inline constexpr size_t kOccupied = 4;  // u32
+inline constexpr size_t kKey = 8;       // u64
+inline constexpr size_t kOffset = 16;   // u64
+inline constexpr size_t kSize = 24;     // u32
+inline constexpr size_t kCrc = 28;      // u32
+}  // namespace entry_field
+
+/// Chunk sides C = 1 << chunkLog2 a file may have (8, 16, 32).
+inline constexpr uint8_t kMinChunkLog2 = 3, kMaxChunkLog2 = 5;
+/// Payload alignments 1 << alignLog2 a file may have (8 .. 65536 bytes).
+inline constexpr uint8_t kMinAlignLog2 = 3, kMaxAlignLog2 = 16;
+/// Level-0 dims per axis: 1 .. kMaxDim.
+inline constexpr uint32_t kMaxDim = 1u << 20;
 
 // Header flags: which per-voxel channels the payloads carry.
 inline constexpr uint32_t kFlagColor = 1;    // RGBA8 per occupied voxel
@@ -32,9 +79,9 @@ inline constexpr uint8_t kChunkFull = 1;  // every voxel occupied: no occupancy 
 
 struct Header {
   Layout layout = Layout::Bricks;
-  uint8_t chunkLog2 = 4;  // C = 1 << chunkLog2: 3, 4 or 5
+  uint8_t chunkLog2 = 4;  // C = 1 << chunkLog2: kMinChunkLog2 .. kMaxChunkLog2
   uint8_t levelCount = 1;
-  uint8_t alignLog2 = 12;  // payloads start at multiples of 1 << alignLog2 (3..16)
+  uint8_t alignLog2 = 12;  // payloads start at multiples of 1 << alignLog2 (kMinAlignLog2 .. kMaxAlignLog2)
   uint32_t flags = 0;
   std::array<uint32_t, 3> dims{};  // level 0
   double voxelSize = 1.0;
@@ -66,28 +113,6 @@ struct IndexEntry {
 /// True when the file starts with the page file magic (cheap sniffing).
 bool looksLikePageFile(const std::string& path);
 
-/// Bytes of a bricks-layout payload.
-uint64_t bricksPayloadBytes(uint32_t chunkVoxels, uint32_t occupied, bool full, uint32_t flags);
-
-/// The `svo` layout (PAGEFILE.md): node flags, the brick table's "no bitmap"
-/// slot, the fixed part of a payload.
-inline constexpr uint8_t kSvoNodeFull = 1;   // the node's brick has all 512 voxels (no bitmap stored)
-inline constexpr uint8_t kSvoNodeColor = 2;  // some voxel of the node's brick has a colour
-inline constexpr uint32_t kSvoNoBitmap = 0xFFFFFFFFu;
-inline constexpr uint32_t kSvoFixedBytes = 16;
-/// Bytes of an svo payload with `nodes` nodes (= bricks), `bitmaps` stored
-/// bitmaps and `records` voxel records (leaf and mip voxels).
-uint64_t svoPayloadBytes(uint64_t nodes, uint64_t bitmaps, uint64_t records, uint32_t flags);
-
-/// The `columns` layout (PAGEFILE.md).
-inline constexpr uint32_t kColumnsFixedBytes = 8;
-/// u32 words of a mask of side^3 bits: ceil(side^3 / 32).
-uint32_t columnsLadderWordCount(uint32_t side);
-/// Bytes of the mip ladder of a chunk of side C (levels 1 .. log2 C - 1).
-uint64_t columnsLadderBytes(uint32_t chunkSide);
-/// Bytes of a columns payload.
-uint64_t columnsPayloadBytes(uint32_t chunkSide, uint32_t occupied, uint32_t surfaceCount, bool full, uint32_t flags);
-
 /// A chunk ready to be written (packing fills these, sorted by (level, key)).
 struct ChunkBlob {
   uint8_t level = 0;
@@ -103,23 +128,12 @@ struct ChunkBlob {
 /// Throws vox::Error (Internal) when chunks are not sorted or sizes are wrong.
 std::vector<uint8_t> serialize(Header header, const std::string& metaJson, const std::vector<ChunkBlob>& chunks);
 
-/// One decoded chunk (any layout): occupied voxels in rank order.
+/// One occupied voxel of a decoded chunk (any layout).
 struct DecodedVoxel {
   uint32_t index = 0;  // x + C * (y + C * z), chunk-local
   std::array<uint8_t, 4> summary{};  // cls, conf, obs, mrg
   bool surface = true;
   std::array<uint8_t, 4> color{};  // sRGB8 + alpha (255: has colour, 0: none); zeros without kFlagColor
-};
-
-/// One node of an svo-layout chunk with its decoded brick (Reader::svoBricks).
-struct SvoBrick {
-  uint32_t node = 0;      // index in the node pool (= brick index)
-  uint8_t level = 0;      // 0: a leaf brick (voxels of the chunk); L > 0: a mip brick, voxels 2^L wide
-  uint8_t childMask = 0;  // octants of the brick that hold an occupied voxel (inner nodes: the children)
-  uint8_t flags = 0;      // kSvoNodeFull, kSvoNodeColor
-  uint32_t childPtr = 0;  // inner nodes: first child; leaves: the brick (= node)
-  std::array<uint32_t, 3> origin{};  // chunk-local level-0 voxel at the node's min corner
-  std::vector<DecodedVoxel> voxels;  // index = bx + 8 * (by + 8 * bz) within the brick, ascending
 };
 
 /// A page file opened for reading. Opening checks the header, the index and
@@ -148,15 +162,13 @@ class Reader {
 
   /// The payload bytes of entry i, after checking its CRC32C.
   std::span<const uint8_t> payload(size_t i) const;
-  /// Decodes entry i, any layout, into its occupied voxels in rank order
-  /// (ascending chunk-local index); checks the payload against its masks:
-  /// popcount = occupied, no voxel outside the level's domain, classes 1..255,
-  /// colour alpha 0 or 255, padding bits zero, and the layout's own structure
-  /// (svo: node tree, brick table, mip bricks; columns: masks, ladder, offsets).
+  /// Decodes entry i with the file's layout (LayoutCodec::decode) into its
+  /// occupied voxels in rank order (ascending chunk-local index); checks the
+  /// payload against its masks: popcount = occupied, no voxel outside the
+  /// level's domain, classes 1..255, colour alpha 0 or 255, padding bits zero,
+  /// and the layout's own structure (svo: node tree, brick table, mip bricks;
+  /// columns: masks, ladder, offsets).
   std::vector<DecodedVoxel> decode(size_t i) const;
-  /// svo layout only: every node of entry i with its brick, in node order (the
-  /// same checks as decode()).
-  std::vector<SvoBrick> svoBricks(size_t i) const;
   /// Every payload: CRC and decode(). Returns the number of voxels checked.
   uint64_t verify() const;
 
@@ -166,9 +178,8 @@ class Reader {
  private:
   Reader() = default;
   void parse();
-  std::vector<DecodedVoxel> decodeBricks(size_t i) const;
-  std::vector<DecodedVoxel> decodeSvo(size_t i, std::vector<SvoBrick>* bricks) const;
-  std::vector<DecodedVoxel> decodeColumns(size_t i) const;
+  void parseHeader();
+  void parseIndex();
   std::string name_;
   const uint8_t* data_ = nullptr;
   size_t size_ = 0;

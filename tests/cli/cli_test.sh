@@ -445,7 +445,7 @@ open('keep_bad.vpk','wb').write(b); open('keep_cut.vpk','wb').write(b[:len(b)-7]
   expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --chunk 12
   expect_exit 2 "$vox" pack-chunks h.vdb
   expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --layout octree
-  expect_stderr "bricks, svo or columns"
+  expect_stderr "expected bricks|svo|columns"
   # The svo and columns layouts: byte-identical at --threads 1 and 2, verified, described, every chunk size.
   for layout in svo columns; do
     expect_exit 0 "$vox" pack-chunks h.vdb -o l1.vpk --layout $layout --mips --threads 1 --report l.json

@@ -14,6 +14,7 @@
 #include "formats/export/vdb_volume_writer.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_class_volume.h"
+#include "formats/pagefile/pagefile_meta.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/block_mesh.h"
@@ -24,7 +25,6 @@
 #include "libvox/scene/class_volume_scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
-#include "tools/cmds/render_input.h"
 
 namespace voxcli {
 
@@ -151,7 +151,7 @@ ExportInput readInput(const ExportOptions& o, bool withColor, Run& run) {
     in.dims = {d[0], d[1], d[2]};
     in.frame.origin = h.origin;
     in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
-    in.classes = pageClasses(reader);
+    in.classes = vox::pagefile::readPageMeta(reader.metaJson(), o.input).classes;
     in.box = regionIn(region, in.dims, o.input);
     run.phase("volume");
     in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));

@@ -4,16 +4,20 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "formats/core/file_util.h"
+#include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/mip.h"
-#include "formats/pagefile/pack_chunks.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -23,14 +27,49 @@ struct PackOptions {
   std::string input;
   std::string output;
   std::string verify;
-  uint32_t chunk = 16;
-  uint32_t align = 4096;
-  std::string layout = "bricks";
+  vox::PackSettings pack;  // --chunk, --align, --layout; defaults from the library
   bool mips = false;
   int levels = 0;
-  std::string occupancy = "any";
+  vox::MipOccupancy occupancy = vox::MipSettings{}.occupancy;
   CommonOptions common;
 };
+
+// --layout's names, from the layout table.
+EnumNames<vox::pagefile::Layout> layoutNames() {
+  EnumNames<vox::pagefile::Layout> out;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
+  return out;
+}
+
+EnumNames<vox::MipOccupancy> occupancyNames() {
+  EnumNames<vox::MipOccupancy> out;
+  for (vox::MipOccupancy m : {vox::MipOccupancy::Any, vox::MipOccupancy::Majority}) out.push_back({vox::mipOccupancyName(m), m});
+  return out;
+}
+
+// The help's list of layouts, from the layout table: name, then its summary
+// wrapped under it.
+std::string layoutHelp() {
+  std::string out;
+  const vox::pagefile::Layout byDefault = vox::PackSettings{}.layout;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) {
+    std::string line = "  " + std::string(l.name);
+    line.resize(11, ' ');
+    std::string text = std::string(l.summary) + (l.id == byDefault ? " (default)" : "");
+    size_t at = 0;
+    while (at < text.size()) {
+      size_t take = text.size() - at;
+      if (take > 86) {  // break at the last space that fits
+        const size_t space = text.rfind(' ', at + 86);
+        take = space != std::string::npos && space > at ? space - at : 86;
+      }
+      out += line + text.substr(at, take) + "\n";
+      at += take + 1;
+      line = std::string(11, ' ');
+    }
+  }
+  return out;
+}
 
 int runVerify(const PackOptions& o) {
   Run run("pack-chunks", o.common);
@@ -54,66 +93,52 @@ int runVerify(const PackOptions& o) {
   return run.finish();
 }
 
-int runPack(const PackOptions& o) {
-  if (!o.verify.empty()) {
-    if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
-    return runVerify(o);
-  }
-  if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
-  vox::PackSettings s;
-  s.chunkSide = o.chunk;
-  s.alignment = o.align;
-  if (o.layout == "bricks") s.layout = vox::pagefile::Layout::Bricks;
-  else if (o.layout == "svo") s.layout = vox::pagefile::Layout::Svo;
-  else if (o.layout == "columns") s.layout = vox::pagefile::Layout::Columns;
-  else vox::throwUsage("--layout " + o.layout + ": expected bricks, svo or columns");
-  vox::MipOccupancy mode = vox::MipOccupancy::Any;
-  if (o.occupancy == "majority") mode = vox::MipOccupancy::Majority;
-  else if (o.occupancy != "any") vox::throwUsage("--occupancy " + o.occupancy + ": expected any or majority");
-  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
-
-  Run run("pack-chunks", o.common);
-  const std::string temp = run.output(o.output);
-  s.threads = run.threads();
+// The levels to pack: the scene, or the pyramid `vox mip` stored, or the scene
+// and the mips built here. Sets `pack.mipOccupancy` to what the metadata records.
+std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSettings& pack) {
   run.phase("read");
   run.input(o.input);
   if (!std::filesystem::exists(o.input)) throw vox::Error(vox::ErrorKind::BadInput, o.input + ": no such file");
   std::vector<vox::Scene> levels;
-  bool fromPyramid = false;
   if (o.mips && vox::isPyramidVdb(o.input) && o.levels == 0) {
-    levels = vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
-    fromPyramid = true;
-  } else {
-    levels.push_back(vox::readSceneVdb(o.input));
+    pack.mipOccupancy = "from " + o.input;
+    return vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
   }
-  if (o.mips && !fromPyramid) {
-    run.phase("mip");
-    vox::MipSettings ms;
-    ms.occupancy = mode;
-    ms.levels = o.levels;
-    ms.threads = run.threads();
-    for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
-  }
-  if (o.mips) s.mipOccupancy = fromPyramid ? "from " + o.input : o.occupancy;
-  run.phase("pack");
+  levels.push_back(vox::readSceneVdb(o.input));
+  if (!o.mips) return levels;
+  run.phase("mip");
+  vox::MipSettings ms;
+  ms.occupancy = o.occupancy;
+  ms.levels = o.levels;
+  ms.threads = run.threads();
+  for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
+  pack.mipOccupancy = vox::mipOccupancyName(o.occupancy);
+  return levels;
+}
+
+// packChunks, naming the input when the layout cannot hold the scene.
+vox::PackResult packLevels(const std::vector<vox::Scene>& levels, const vox::PackSettings& pack,
+                           const std::string& input) {
   std::vector<const vox::Scene*> ptrs;
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
-  const auto t0 = std::chrono::steady_clock::now();
-  vox::PackResult res;
   try {
-    res = vox::packChunks(ptrs, s);
+    return vox::packChunks(ptrs, pack);
   } catch (const vox::Error& e) {
     if (e.kind != vox::ErrorKind::Usage) throw;
-    throw vox::Error(e.kind, o.input + ": " + e.what());  // a scene the layout cannot hold: name the file
+    throw vox::Error(e.kind, input + ": " + e.what(), e.setting);
   }
-  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  run.phase("write");
-  {
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) vox::throwIo(o.output + ": cannot write");
-    const bool ok = std::fwrite(res.bytes.data(), 1, res.bytes.size(), f) == res.bytes.size();
-    if (std::fclose(f) != 0 || !ok) vox::throwIo(o.output + ": cannot write (disk full?)");
-  }
+}
+
+void writeBytes(const std::vector<uint8_t>& bytes, const std::string& temp, const std::string& output) {
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  if (!f) vox::throwIo(output + ": cannot write");
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if (std::fclose(f) != 0 || !ok) vox::throwIo(output + ": cannot write (disk full?)");
+}
+
+// The report's counts and the summary line.
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
+                Run& run) {
   uint64_t voxels = 0, chunks = 0;
   nlohmann::json lv = nlohmann::json::array();
   for (const auto& l : res.levels) {
@@ -122,23 +147,45 @@ int runPack(const PackOptions& o) {
     lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
                   {"payload_bytes", l.payloadBytes}});
   }
-  const int64_t sceneBytes = vox::fileSizeOrMinusOne(o.input);
-  run.counts() = {{"layout", o.layout},
-                  {"chunk", o.chunk},
-                  {"align", o.align},
+  const double bytesPerVoxel = voxels ? double(res.bytes.size()) / double(voxels) : 0.0;
+  run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
+                  {"chunk", pack.chunkSide},
+                  {"align", pack.alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
                   {"file_bytes", res.bytes.size()},
-                  {"scene_file_bytes", sceneBytes},
-                  {"bytes_per_voxel", voxels ? double(res.bytes.size()) / double(voxels) : 0.0},
+                  {"scene_file_bytes", vox::fileSizeOrMinusOne(o.input)},
+                  {"bytes_per_voxel", bytesPerVoxel},
                   {"pack_seconds", packSecs},
                   {"pack_mb_per_s", packSecs > 0 ? double(res.bytes.size()) / 1e6 / packSecs : 0.0}};
   char bpv[32];
-  std::snprintf(bpv, sizeof bpv, "%.2f", voxels ? double(res.bytes.size()) / double(voxels) : 0.0);
-  run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
-           " chunks of " + std::to_string(o.chunk) + "^3, " + std::to_string(voxels) + " voxels, " +
+  std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
+  run.note("wrote " + o.output + ": " + std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) +
+           " chunks of " + std::to_string(pack.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
            std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
+}
+
+int runPack(const PackOptions& o) {
+  if (!o.verify.empty()) {
+    if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
+    return runVerify(o);
+  }
+  if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
+  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
+
+  Run run("pack-chunks", o.common);
+  const std::string temp = run.output(o.output);
+  vox::PackSettings pack = o.pack;
+  pack.threads = run.threads();
+  const std::vector<vox::Scene> levels = readLevels(o, run, pack);
+  run.phase("pack");
+  const auto t0 = std::chrono::steady_clock::now();
+  const vox::PackResult res = packLevels(levels, pack, o.input);
+  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.phase("write");
+  writeBytes(res.bytes, temp, o.output);
+  reportPack(o, pack, res, packSecs, run);
   return run.finish();
 }
 
@@ -149,24 +196,21 @@ Command registerPackChunks(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
   cmd->footer(
       "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
-      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n"
-      "  bricks   occupancy bitmap, then summary bytes, sRGB8 colour and surface bits of the\n"
-      "           occupied voxels in rank order (default)\n"
-      "  svo      pointerless octree of 64-bit nodes over 8^3 bricks, mip bricks at inner nodes\n"
-      "  columns  z-innermost u32 solid and surface masks per column, mip ladder, summary bytes,\n"
-      "           colour offsets and colours of surface voxels\n"
+      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
+      layoutHelp() +
       "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
       "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
   cmd->add_option("input", opts->input, "Scene or pyramid (.vdb)");
   cmd->add_option("-o,--output", opts->output, "Page file to write (.vpk)");
   cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
-  cmd->add_option("--chunk", opts->chunk, "Chunk side C: 8, 16 or 32")->capture_default_str();
-  cmd->add_option("--align", opts->align, "Payload alignment in bytes (power of two, 8..65536)")->capture_default_str();
-  cmd->add_option("--layout", opts->layout, "bricks, svo or columns")->capture_default_str();
+  cmd->add_option("--chunk", opts->pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
+  cmd->add_option("--align", opts->pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
+      ->capture_default_str();
+  addEnumOption(*cmd, "--layout", opts->pack.layout, layoutNames(), "Payload layout (below)");
   cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
-  cmd->add_option("--occupancy", opts->occupancy, "With --mips: any or majority")->capture_default_str();
+  addEnumOption(*cmd, "--occupancy", opts->occupancy, occupancyNames(), "With --mips: how a coarser voxel is occupied");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runPack(*opts); }};
 }

@@ -5,21 +5,39 @@
 #include <sstream>
 
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_meta.h"
+#include "formats/scene/scene_meta.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
 
 namespace voxcli {
 
-int infoPageFile(const std::string& path, bool asJson) {
-  const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
+namespace {
+
+// Per level of the index: chunks, full chunks, voxels, payload bytes.
+nlohmann::json levelsJson(const vox::pagefile::Reader& r) {
   const vox::pagefile::Header& h = r.header();
-  nlohmann::json meta;
-  try {
-    meta = nlohmann::json::parse(r.metaJson());
-  } catch (const nlohmann::json::exception& e) {
-    throw vox::Error(vox::ErrorKind::BadInput, path + ": metadata: not valid JSON: " + e.what());
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < h.levelCount; ++l) {
+    const auto [a, b] = r.levelRange(l);
+    uint64_t v = 0, bytes = 0, full = 0;
+    for (size_t i = a; i < b; ++i) {
+      v += r.entries()[i].occupied;
+      bytes += r.entries()[i].size;
+      full += (r.entries()[i].flags & vox::pagefile::kChunkFull) ? 1 : 0;
+    }
+    const auto d = h.levelDims(l);
+    levels.push_back({{"level", l}, {"dims", d}, {"voxel_size", h.voxelSize * double(uint64_t(1) << l)},
+                      {"chunks", b - a}, {"full_chunks", full}, {"voxels", v}, {"payload_bytes", bytes},
+                      {"bytes_per_voxel", v ? double(bytes) / double(v) : 0.0}});
   }
+  return levels;
+}
+
+// What `vox info --json` prints: the header, the index per level, the metadata.
+nlohmann::json pageFileJson(const std::string& path, const vox::pagefile::Reader& r, const vox::pagefile::PageMeta& meta) {
+  const vox::pagefile::Header& h = r.header();
   nlohmann::json j;
   j["file"] = path;
   j["kind"] = "pagefile";
@@ -37,35 +55,26 @@ int infoPageFile(const std::string& path, bool asJson) {
   j["header_bytes"] = vox::pagefile::kHeaderBytes;
   j["index_bytes"] = h.chunkCount * vox::pagefile::kIndexEntryBytes;
   j["meta_bytes"] = h.metaBytes;
+  const nlohmann::json levels = levelsJson(r);
   uint64_t voxels = 0, payload = 0;
-  nlohmann::json levels = nlohmann::json::array();
-  for (int l = 0; l < h.levelCount; ++l) {
-    const auto [a, b] = r.levelRange(l);
-    uint64_t v = 0, bytes = 0, full = 0;
-    for (size_t i = a; i < b; ++i) {
-      v += r.entries()[i].occupied;
-      bytes += r.entries()[i].size;
-      full += (r.entries()[i].flags & vox::pagefile::kChunkFull) ? 1 : 0;
-    }
-    voxels += v;
-    payload += bytes;
-    const auto d = h.levelDims(l);
-    levels.push_back({{"level", l}, {"dims", d}, {"voxel_size", h.voxelSize * double(uint64_t(1) << l)},
-                      {"chunks", b - a}, {"full_chunks", full}, {"voxels", v}, {"payload_bytes", bytes},
-                      {"bytes_per_voxel", v ? double(bytes) / double(v) : 0.0}});
+  for (const auto& l : levels) {
+    voxels += l["voxels"].get<uint64_t>();
+    payload += l["payload_bytes"].get<uint64_t>();
   }
   j["chunks"] = h.chunkCount;
   j["voxels"] = voxels;
   j["payload_bytes"] = payload;
   j["bytes_per_voxel"] = voxels ? double(h.fileBytes) / double(voxels) : 0.0;
   j["levels"] = levels;
-  j["classes"] = meta.value("classes", nlohmann::json::array());
-  j["sources"] = meta.value("sources", nlohmann::json::array());
-  if (meta.contains("mip_occupancy")) j["mip_occupancy"] = meta["mip_occupancy"];
-  if (asJson) {
-    std::cout << j.dump(2) << "\n";
-    return kExitOk;
-  }
+  j["classes"] = nlohmann::json::parse(vox::classTableJson(meta.classes));
+  j["sources"] = nlohmann::json::parse(vox::sourcesJson(meta.sources));
+  if (!meta.mipOccupancy.empty()) j["mip_occupancy"] = meta.mipOccupancy;
+  return j;
+}
+
+// What `vox info` prints, from pageFileJson's result.
+std::string pageFileText(const std::string& path, const vox::pagefile::Header& h, const nlohmann::json& j) {
+  const uint64_t voxels = j["voxels"].get<uint64_t>(), payload = j["payload_bytes"].get<uint64_t>();
   std::ostringstream o;
   char line[256];
   o << path << ": voxbake page file (version " << vox::pagefile::kVersion << ", " << j["layout"].get<std::string>()
@@ -84,7 +93,7 @@ int infoPageFile(const std::string& path, bool asJson) {
   std::snprintf(line, sizeof line, "    %5s  %-16s %10s %8s %12s %14s %9s\n", "level", "dims", "voxel size", "chunks",
                 "voxels", "payload bytes", "B/voxel");
   o << line;
-  for (const auto& l : levels) {
+  for (const auto& l : j["levels"]) {
     const std::string dims = std::to_string(l["dims"][0].get<uint32_t>()) + "x" + std::to_string(l["dims"][1].get<uint32_t>()) +
                              "x" + std::to_string(l["dims"][2].get<uint32_t>());
     std::snprintf(line, sizeof line, "    %5d  %-16s %10g %8llu %12llu %14llu %9.2f\n", l["level"].get<int>(), dims.c_str(),
@@ -93,7 +102,19 @@ int infoPageFile(const std::string& path, bool asJson) {
                   l["bytes_per_voxel"].get<double>());
     o << line;
   }
-  std::cout << o.str();
+  return o.str();
+}
+
+}  // namespace
+
+int infoPageFile(const std::string& path, bool asJson) {
+  const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
+  const vox::pagefile::PageMeta meta = vox::pagefile::readPageMeta(r.metaJson(), path);
+  const nlohmann::json j = pageFileJson(path, r, meta);
+  if (asJson)
+    std::cout << j.dump(2) << "\n";
+  else
+    std::cout << pageFileText(path, r.header(), j);
   return kExitOk;
 }
 

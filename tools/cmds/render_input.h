@@ -30,9 +30,6 @@ struct RenderInput {
   std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const;
 };
 
-/// The class table a page file's metadata JSON carries (formats/pagefile/PAGEFILE.md).
-vox::ClassTable pageClasses(const vox::pagefile::Reader& reader);
-
 /// Loads a scene .vdb or a page file (sniffed by magic); `level` selects a page
 /// file level (scenes: must be 0). Without `needSummaries` a scene's vote
 /// grids are not read (summaries() then returns zeros). Throws vox::Error
