@@ -59,9 +59,11 @@ bool neighbourOccupied(const std::vector<ClassVolume::Brick>& bricks, const Clas
   return bricks[size_t(other)].classes[size_t(ClassVolume::voxelIndex(nx, ny, nz))] != 0;
 }
 
-// The culled quads of voxel rows [rowBegin, rowEnd) (row = band * 8 + y).
-void meshRows(const ClassVolume& volume, const std::vector<Band>& bands, const FacePalettes& palettes,
-              FaceColor colorMode, size_t rowBegin, size_t rowEnd, BlockMesh& out) {
+// Calls emit(brick, voxel index, x, y, z, face) for every visible face of
+// voxel rows [rowBegin, rowEnd) (row = band * 8 + y), in the renderer's order.
+template <typename Emit>
+void visitVisibleFaces(const ClassVolume& volume, const std::vector<Band>& bands, size_t rowBegin, size_t rowEnd,
+                       Emit&& emit) {
   const auto& bricks = volume.bricks();
   for (size_t row = rowBegin; row < rowEnd; ++row) {
     const Band& band = bands[row / kSide];
@@ -73,25 +75,14 @@ void meshRows(const ClassVolume& volume, const std::vector<Band>& bands, const F
       for (int z = 0; z < kSide; ++z)
         for (size_t bi = group; bi < groupEnd; ++bi) {
           const ClassVolume::Brick& b = bricks[bi];
+          uint64_t bytes;  // the 8 class bytes of this row: skip empty rows at once
+          std::memcpy(&bytes, &b.classes[size_t(ClassVolume::voxelIndex(0, y, z))], sizeof bytes);
+          if (!bytes) continue;
           for (int x = 0; x < kSide; ++x) {
             const int i = ClassVolume::voxelIndex(x, y, z);
-            const uint8_t cls = b.classes[size_t(i)];
-            if (!cls) continue;
-            if (!palettes.known[cls]) throwClassNotInTable(cls, b.at(i));
-            for (int f = 0; f < kBlockFaceCount; ++f) {
-              if (neighbourOccupied(bricks, b, x, y, z, f)) continue;
-              BlockQuad q;
-              q.block = {b.origin.u + x, b.origin.v + y, b.origin.w + z};
-              q.face = BlockFace(f);
-              q.classId = cls;
-              if (colorMode == FaceColor::Voxel && b.hasColor(i)) {
-                q.color = b.colors[size_t(i)];
-              } else {
-                q.color = palettes.color[cls][size_t(f)];
-                if (colorMode == FaceColor::Voxel) ++out.uncoloredFaces;
-              }
-              out.quads.push_back(q);
-            }
+            if (!b.classes[size_t(i)]) continue;
+            for (int f = 0; f < kBlockFaceCount; ++f)
+              if (!neighbourOccupied(bricks, b, x, y, z, f)) emit(b, i, x, y, z, f);
           }
         }
       group = groupEnd;
@@ -182,22 +173,40 @@ BlockMesh meshVisibleFaces(const ClassVolume& volume, const ClassTable& classes,
   const FacePalettes palettes(classes);
   const std::vector<Band> bands = bandsOf(volume.bricks());
   const size_t rows = bands.size() * size_t(kSide);
-  // A fixed number of pieces: the concatenation in piece order is the serial
-  // loop's output whatever the split, and the split does not follow --threads.
+  // A fixed number of pieces, each written at its place in one array: the
+  // result is the serial loop's output whatever the split. Counting first
+  // costs a second walk but spares copying (and growing) every quad again.
   const size_t pieces = std::min<size_t>(rows, 64);
-  std::vector<BlockMesh> parts(pieces);
+  std::vector<size_t> offset(pieces + 1, 0);
   parallelPieces(rows, settings.threads, pieces, [&](size_t begin, size_t end, size_t p) {
-    meshRows(volume, bands, palettes, settings.color, begin, end, parts[p]);
+    size_t n = 0;
+    visitVisibleFaces(volume, bands, begin, end, [&](const ClassVolume::Brick& b, int i, int, int, int, int) {
+      if (!palettes.known[b.classes[size_t(i)]]) throwClassNotInTable(b.classes[size_t(i)], b.at(i));
+      ++n;
+    });
+    offset[p + 1] = n;
   });
+  for (size_t p = 0; p < pieces; ++p) offset[p + 1] += offset[p];
   BlockMesh mesh;
-  size_t total = 0;
-  for (const BlockMesh& m : parts) total += m.quads.size();
-  mesh.quads.reserve(total);
-  for (BlockMesh& m : parts) {
-    mesh.quads.insert(mesh.quads.end(), m.quads.begin(), m.quads.end());
-    mesh.uncoloredFaces += m.uncoloredFaces;
-    m.quads = {};
-  }
+  mesh.quads.resize(offset[pieces]);
+  std::vector<uint64_t> uncolored(pieces, 0);
+  parallelPieces(rows, settings.threads, pieces, [&](size_t begin, size_t end, size_t p) {
+    BlockQuad* out = mesh.quads.data() + offset[p];
+    visitVisibleFaces(volume, bands, begin, end, [&](const ClassVolume::Brick& b, int i, int x, int y, int z, int f) {
+      BlockQuad& q = *out++;
+      const uint8_t cls = b.classes[size_t(i)];
+      q.block = {b.origin.u + x, b.origin.v + y, b.origin.w + z};
+      q.face = BlockFace(f);
+      q.classId = cls;
+      if (settings.color == FaceColor::Voxel && b.hasColor(i)) {
+        q.color = b.colors[size_t(i)];
+      } else {
+        q.color = palettes.color[cls][size_t(f)];
+        if (settings.color == FaceColor::Voxel) ++uncolored[p];
+      }
+    });
+  });
+  for (uint64_t n : uncolored) mesh.uncoloredFaces += n;
   mesh.unitFaces = mesh.quads.size();
   return mesh;
 }

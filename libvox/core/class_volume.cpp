@@ -21,13 +21,17 @@ uint32_t clipToBox(ClassVolume::Brick& b, const IndexBox& box) {
   const bool inside = b.origin.u >= box.min.u && b.origin.u + n - 1 <= box.max.u && b.origin.v >= box.min.v &&
                       b.origin.v + n - 1 <= box.max.v && b.origin.w >= box.min.w && b.origin.w + n - 1 <= box.max.w;
   uint32_t kept = 0;
+  if (inside) {
+    for (uint8_t c : b.classes) kept += c != 0;
+    return kept;
+  }
   for (int z = 0; z < n; ++z)
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int i = ClassVolume::voxelIndex(x, y, z);
         if (!b.classes[size_t(i)]) continue;
         const int32_t u = b.origin.u + x, v = b.origin.v + y, w = b.origin.w + z;
-        if (inside || (u >= box.min.u && u <= box.max.u && v >= box.min.v && v <= box.max.v && w >= box.min.w &&
+        if ((u >= box.min.u && u <= box.max.u && v >= box.min.v && v <= box.max.v && w >= box.min.w &&
                        w <= box.max.w)) {
           ++kept;
           continue;

@@ -49,12 +49,8 @@ ClassVolume classVolumeFromScene(const Scene& scene, const IndexBox& box, bool w
         b.classes[size_t(ClassVolume::voxelIndex(c.x(), c.y(), c.z()))] = cg.classId;
       }
     }
-    // Only occupied voxels count (the vote grids are a subset of occupancy).
-    for (openvdb::Index offset = 0; offset < ClassVolume::kBrickVoxels; ++offset)
-      if (!occ.isValueOn(offset)) {
-        const openvdb::Coord c = openvdb::Coord(occ.offsetToLocalCoord(offset));
-        b.classes[size_t(ClassVolume::voxelIndex(c.x(), c.y(), c.z()))] = 0;
-      }
+    // Vote grids are a subset of occupancy (scene_grids.h): every voxel with a
+    // class is occupied, and every occupied voxel has a vote.
     if (withColor && g.color)
       if (const auto* colors = g.color->tree().probeConstLeaf(o))
         for (auto it = colors->cbeginValueOn(); it; ++it) {
