@@ -258,6 +258,63 @@ assert lit > 0.2 * len(px) / 3, lit
   expect_exit 2 "$vox" export h.vdb -o x.vdb --fog --level-set
   expect_exit 2 "$vox" export h.vdb -o x.glb --fog
   ;;
+pixel_match)
+  # The exported .glb drawn by a real rasterizer (headless Chromium, WebGL2 on its
+  # software GPU) with the terrain shader against render-canonical --mode shaded.
+  chromium=$(command -v chromium || command -v chromium-browser || true)
+  [ -n "$chromium" ] || { fail "chromium not found (scripts/install-deps.sh installs it)"; chromium=chromium; }
+  python3 - <<'EOF2'
+import json, math
+# A 24 x 10 x 20 block world: hills of grass over dirt and stone, a pond, a snowy
+# peak, a sand strip and a plank hut, in the block-map format.
+blocks = []
+for x in range(24):
+    for z in range(20):
+        h = 2 + int(3 + 2.5 * math.sin(x / 4.0) * math.cos(z / 5.0))
+        for y in range(h):
+            kind = "Stone" if y < h - 3 else "Dirt" if y < h - 1 else ("Snow" if h >= 7 else "Sand" if x < 3 else "Grass")
+            blocks.append({"position": [x, y, z], "blockType": kind})
+        if h < 4 and 8 <= x < 14: blocks.append({"position": [x, h, z], "blockType": "Water"})
+for x in range(16, 20):
+    for z in range(3, 6):
+        for y in range(6, 8):
+            blocks.append({"position": [x, y, z], "blockType": "Plank"})
+json.dump({"worldScale": 2.0, "blocks": blocks}, open("world.json", "w"))
+def lookat(eye, c, up):
+    z = [eye[i] - c[i] for i in range(3)]; l = math.sqrt(sum(a * a for a in z)); z = [a / l for a in z]
+    x = [up[1]*z[2]-up[2]*z[1], up[2]*z[0]-up[0]*z[2], up[0]*z[1]-up[1]*z[0]]; l = math.sqrt(sum(a * a for a in x)); x = [a / l for a in x]
+    y = [z[1]*x[2]-z[2]*x[1], z[2]*x[0]-z[0]*x[2], z[0]*x[1]-z[1]*x[0]]
+    d = lambda a, b: sum(a[i] * b[i] for i in range(3))
+    return [x[0], y[0], z[0], 0, x[1], y[1], z[1], 0, x[2], y[2], z[2], 0, -d(x, eye), -d(y, eye), -d(z, eye), 1]
+def persp(fovy, aspect, n, f):
+    t = 1 / math.tan(fovy / 2); nf = 1 / (n - f)
+    return [t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, (f + n) * nf, -1, 0, 0, 2 * f * n * nf, 0]
+# World grid 32 x 16 x 32 at scale 2: blocks at x, z = (position - 16) * 2, centre about (-8, 6, -12).
+views = []
+for i, eye in enumerate([[30, 40, 30], [-60, 25, 15], [0, 55, -65]]):
+    views.append({"id": "view_%03d" % i, "index": i, "position": eye, "viewMatrix": lookat(eye, [-8, 6, -12], [0, 1, 0]),
+                  "projectionMatrix": persp(math.radians(60), 400 / 300, 0.1, 500.0)})
+json.dump({"formatVersion": "1.0", "imageSize": {"width": 400, "height": 300}, "viewCount": 3, "views": views},
+          open("metadata.json", "w"))
+EOF2
+  expect_exit 0 "$vox" voxelize world.json --grid-size 32,16,32 -o world.vdb
+  expect_exit 0 "$vox" export world.vdb -o world.glb
+  expect_exit 0 "$vox" export world.vdb -o world_dedup.glb --dedup
+  expect_exit 0 "$vox" render-canonical world.vdb -o ref.png --camera metadata.json --mode shaded,canonical,normal
+  for glb in world world_dedup; do
+    python3 "$here/pixel_match.py" $glb.glb metadata.json ref "$chromium" >$glb.match.jsonl 2>match.err ||
+      fail "$glb.glb does not match render-canonical: $(cat $glb.match.jsonl match.err)"
+    cat $glb.match.jsonl
+    [ "$(grep -c '"pass": true' $glb.match.jsonl)" = 3 ] || fail "$glb.glb: not every view was compared"
+    python3 -c "
+import json
+for line in open('$glb.match.jsonl'):
+    r = json.loads(line); assert r['hits'] > 0.1 * r['pixels'], r
+    assert r['differing_inside_faces'] == [], r  # every differing pixel lies on an edge
+" || fail "$glb.glb: a view shows (almost) no blocks, or differs inside a face"
+  done
+  validate_gltf
+  ;;
 *)
   echo "unknown group $group" >&2
   exit 2

@@ -6,14 +6,15 @@ shaded,canonical` of the same scene and camera.
 
 Per view: mask agreement (hit or sky, from the canonical image's alpha and a
 second WebGL pass that draws hits white), MSE and PSNR of the shaded RGB in
-[0, 1], and the worst pixel (is it on a silhouette, i.e. next to a pixel whose
-mask differs?). Passes when every view has mask agreement >= 99.9 %, PSNR >= 40
+[0, 1], the pixels differing by more than 2 levels and those of them that are
+neither on a silhouette nor next to another voxel or face (inside a face), and the
+worst pixel (is it on a silhouette, i.e. next to a pixel whose mask differs?). Passes when every view has mask agreement >= 99.9 %, PSNR >= 40
 dB and MSE < 0.001 (the acceptance numbers of the block renderer's own
 validation). Prints one JSON line per view; exit 1 on a failed view.
 
 Usage: pixel_match.py MESH.glb METADATA.json VOX_PREFIX CHROMIUM
-  VOX_PREFIX: render-canonical's -o without .png (PREFIX.viewN.shaded.png,
-  PREFIX.viewN.canonical.png).
+  VOX_PREFIX: render-canonical's -o without .png (--mode shaded,canonical,normal:
+  PREFIX.viewN.shaded.png, PREFIX.viewN.canonical.png, PREFIX.viewN.normal.png).
 Only the standard library: PNGs are decoded here (8-bit, non-interlaced).
 """
 import base64
@@ -174,22 +175,37 @@ def main():
             agree, se, worst = 0, 0.0, (-1.0, 0, 0)
             mask_web = [[srows[y][(w + x) * sch] > 127 for x in range(w)] for y in range(h)]
             mask_vox = [[crows[y][x * 4 + 3] > 0 for x in range(w)] for y in range(h)]
+            # The voxel and face each pixel shows: pixels next to another voxel or face are on an edge.
+            _, _, nch, nrows = read_png(f"{prefix}.view{i}.normal.png")
+            voxel = [[tuple(crows[y][x * 4:x * 4 + 3]) + tuple(nrows[y][x * nch:x * nch + 3]) for x in range(w)]
+                     for y in range(h)]
+
+            def near_edge(x, y):
+                return any(0 <= x + dx < w and 0 <= y + dy < h and
+                           (mask_vox[y + dy][x + dx] != mask_vox[y][x] or mask_web[y + dy][x + dx] != mask_web[y][x])
+                           for dx in (-1, 0, 1) for dy in (-1, 0, 1))
+
+            differing, off_edges = 0, []
             for y in range(h):
                 for x in range(w):
                     agree += mask_web[y][x] == mask_vox[y][x]
                     d = [abs(srows[y][x * sch + c] - vrows[y][x * vch + c]) / 255.0 for c in range(3)]
                     se += sum(e * e for e in d) / 3
+                    if max(d) > 2.5 / 255:
+                        differing += 1
+                        block_edge = any(0 <= x + dx < w and 0 <= y + dy < h and voxel[y + dy][x + dx] != voxel[y][x]
+                                         for dx in (-1, 0, 1) for dy in (-1, 0, 1))
+                        if not near_edge(x, y) and not block_edge:
+                            off_edges.append([x, y])
                     if max(d) > worst[0]:
                         worst = (max(d), x, y)
             mse = se / (w * h)
             psnr = float("inf") if mse == 0 else 10 * math.log10(1 / mse)
             _, wx, wy = worst
-            edge = any(0 <= wx + dx < w and 0 <= wy + dy < h and
-                       (mask_vox[wy + dy][wx + dx] != mask_vox[wy][wx] or mask_web[wy + dy][wx + dx] != mask_web[wy][wx])
-                       for dx in (-1, 0, 1) for dy in (-1, 0, 1))
             result = {"view": i, "pixels": w * h, "mask_agreement": agree / (w * h), "mse": mse,
                       "psnr_db": psnr if psnr != float("inf") else 999.0, "hits": sum(map(sum, mask_vox)),
-                      "worst_pixel": {"x": wx, "y": wy, "error": worst[0], "on_silhouette": edge}}
+                      "pixels_differing": differing, "differing_inside_faces": off_edges[:20],
+                      "worst_pixel": {"x": wx, "y": wy, "error": worst[0], "on_silhouette": near_edge(wx, wy)}}
             ok = result["mask_agreement"] >= 0.999 and psnr >= 40 and mse < 0.001
             result["pass"] = ok
             failed += not ok
