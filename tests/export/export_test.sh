@@ -137,6 +137,7 @@ usage)
   expect_exit 2 "$vox" export small.vdb -o x.glb --region 1,2,3
   expect_stderr "six integers"
   expect_exit 2 "$vox" export small.vdb -o x.glb --region 2,0,0,1,1,1
+  expect_exit 2 "$vox" export missing.vdb -o x.glb --region 1,2   # the command line first
   expect_exit 2 "$vox" export small.vdb -o x.glb --level 1
   expect_stderr "single scene"
   expect_exit 2 "$vox" export small.vdb -o x.glb --level -1

@@ -135,10 +135,9 @@ vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Di
   return r;
 }
 
-ExportInput readInput(const ExportOptions& o, bool withColor, Run& run) {
+ExportInput readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& region, bool withColor, Run& run) {
   run.input(o.input);
   if (!std::filesystem::exists(o.input)) vox::throwBadInput(o.input + ": no such file");
-  const std::optional<vox::IndexBox> region = parseRegion(o.region);
   ExportInput in;
   if (vox::pagefile::looksLikePageFile(o.input)) {
     in.kind = "pages";
@@ -361,9 +360,10 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
 int runExport(const ExportOptions& o) {
   const ExportFormat format = outputFormat(o);
   checkOptionsFit(o, format);
+  const std::optional<vox::IndexBox> region = parseRegion(o.region);
   Run run("export", o.common);
   run.phase("read");
-  const ExportInput in = readInput(o, o.color == "voxel", run);
+  const ExportInput in = readInput(o, region, o.color == "voxel", run);
   nlohmann::json& c = run.counts();
   c["input_kind"] = in.kind;
   c["level"] = o.level;
