@@ -4,7 +4,6 @@
 
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/render/render.h"
-#include "formats/pagefile/pagefile_ray_grid.h"
 #include "libvox/scene/render_scene.h"
 
 namespace {
@@ -42,8 +41,7 @@ BENCHMARK(BM_CastRayView)->Unit(benchmark::kMillisecond);
 
 void BM_BruteForceRay(benchmark::State& state) {
   Fixture& f = Fixture::get();
-  std::vector<vox::Coord3> occupied;
-  f.grid.forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
+  const std::vector<vox::Coord3> occupied = f.grid.occupiedVoxels();
   const vox::Ray r = vox::gridRay(f.camera, f.frame, 160, 90);
   for (auto _ : state) benchmark::DoNotOptimize(vox::castRayBruteForce(occupied, r));
   state.counters["voxel tests/s"] =

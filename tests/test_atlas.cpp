@@ -1,5 +1,5 @@
 // Atlas mapping, bijection proof, summary bytes, texel formats, bitmaps — each
-// against an independent oracle (the seed's bit formulas, brute-force sets, a
+// against an independent oracle (the UVW atlas layout's own bit formulas, brute-force sets, a
 // long double reference, exhaustive round trips).
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 
 using namespace vox;
 
-TEST(AtlasMapping, EqualsSeedFormulaForAll256Cubed) {
+TEST(AtlasMapping, EqualsTheUvwLayoutFormulaForAll256Cubed) {
   const AtlasLayout L = AtlasLayout::make({256, 256, 256});
   EXPECT_EQ(L.tilesPerRow, 16u);
   EXPECT_EQ(L.width, 4096u);
@@ -25,8 +25,8 @@ TEST(AtlasMapping, EqualsSeedFormulaForAll256Cubed) {
     for (uint32_t v = 0; v < 256; ++v)
       for (uint32_t u = 0; u < 256; ++u) {
         const TexelAddress t = L.toTexel(u, v, w);
-        ASSERT_EQ(t, seedVoxelToAtlas(u, v, w));
-        const Coord3 s = seedAtlasToVoxel(t.x, t.y);
+        ASSERT_EQ(t, uvw256VoxelToAtlas(u, v, w));
+        const Coord3 s = uvw256AtlasToVoxel(t.x, t.y);
         ASSERT_EQ(*L.toVoxel(0, t.x, t.y), s);
       }
 }
@@ -170,7 +170,7 @@ TEST(TexelFormats, MeasuredExactLimits) {
   EXPECT_EQ(halfToFloat(floatToHalf(2051.0f)), 2052.0f);
 }
 
-TEST(OccupancyBitmap, SeedPackingAndTwoBitMode) {
+TEST(OccupancyBitmap, UvwLayoutPackingAndTwoBitMode) {
   const AtlasLayout L = AtlasLayout::make({20, 3, 2});
   OccupancyBitmap one(L, 1), two(L, 2);
   EXPECT_EQ(one.rowBytes(), (L.width + 7) / 8);

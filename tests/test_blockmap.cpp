@@ -1,4 +1,4 @@
-// Seed 002 map.json import: placement, dims, surface flags, and every bad input.
+// Block-map (map.json) import: placement, dims, surface flags, and every bad input.
 #include <gtest/gtest.h>
 
 #include "formats/vdb/blockmap_json.h"
@@ -13,9 +13,18 @@ Scene parse(const std::string& text, BlockMapOptions o = {}) { return parseBlock
                                    BlockMapOptions o = {}) {
   return throwsVoxError([&] { parse(text, o); }, ErrorKind::BadInput, needles);
 }
+/// The setting a refusal of `text` names for the fix.
+Setting fixOf(const std::string& text, BlockMapOptions o = {}) {
+  try {
+    parse(text, o);
+  } catch (const Error& e) {
+    return e.setting;
+  }
+  return Setting::None;
+}
 }  // namespace
 
-TEST(BlockMap, SeedExample) {
+TEST(BlockMap, FormatExample) {
   Scene s = parse(R"({"sequence": 1, "worldScale": 2.0, "blocks": [
       {"position": [10, 5, 10], "blockType": "Stone"},
       {"position": [11, 5, 10], "blockType": "Grass"}]})");
@@ -26,14 +35,14 @@ TEST(BlockMap, SeedExample) {
   EXPECT_EQ(h.origin, (std::array<double, 3>{-64.0, 0.0, -64.0}));
   ASSERT_TRUE(h.blockWorld);
   EXPECT_EQ(h.blockWorld->gridSize, (std::array<uint32_t, 3>{64, 48, 64}));
-  // World min corner of block (10, 5, 10) = ((10-32)*2, 5*2, (10-32)*2) as seed 002 computes it.
+  // World min corner of block (10, 5, 10) = ((10-32)*2, 5*2, (10-32)*2) as the format's block_to_world computes it.
   EXPECT_EQ(h.origin[0] + 10 * h.voxelSize, (10 - 32) * 2.0);
   EXPECT_EQ(h.origin[1] + 5 * h.voxelSize, 5 * 2.0);
   std::vector<ClassVotes> st;
   auto stone = s.voxel({10, 5, 10}, st);
   ASSERT_TRUE(stone);
   ASSERT_EQ(stone->votes.size(), 1u);
-  EXPECT_EQ(stone->votes[0].classId, 3) << "seed 002 order: Air 0, Grass 1, Dirt 2, Stone 3";
+  EXPECT_EQ(stone->votes[0].classId, 3) << "the format's order: Air 0, Grass 1, Dirt 2, Stone 3";
   EXPECT_EQ(stone->votes[0].votes, 1u);
   EXPECT_TRUE(stone->surface);
   auto grass = s.voxel({11, 5, 10}, st);
@@ -68,8 +77,13 @@ TEST(BlockMap, GridSizeOption) {
   o.gridSize = {200, 10, 100};
   Scene s = parse(R"({"worldScale":0.5,"blocks":[{"position":[150,9,99],"blockType":"Sand"}]})", o);
   EXPECT_EQ(s.header().origin, (std::array<double, 3>{-50.0, 0.0, -25.0}));
-  EXPECT_TRUE(rejects(R"({"worldScale":0.5,"blocks":[{"position":[150,10,0],"blockType":"Sand"}]})",
-                      {"block 0", "position y = 10", "outside the world grid 200,10,100", "--grid-size"}, o));
+  const std::string outside = R"({"worldScale":0.5,"blocks":[{"position":[150,10,0],"blockType":"Sand"}]})";
+  EXPECT_TRUE(rejects(outside, {"block 0", "position y = 10", "outside the world grid 200,10,100", "larger block world grid"}, o));
+  EXPECT_EQ(fixOf(outside, o), Setting::BlockWorldGrid);
+  o.gridSize = {0, 10, 100};
+  EXPECT_TRUE(throwsVoxError([&] { parse("{}", o); }, ErrorKind::Usage, {"block world's grid size", "1..2097152"}));
+  EXPECT_EQ(fixOf("{}", o), Setting::BlockWorldGrid);
+  EXPECT_EQ(BlockMapOptions{}.gridSize, kDefaultBlockWorldGrid);
 }
 
 TEST(BlockMap, BadInputsNameTheBlock) {

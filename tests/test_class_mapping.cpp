@@ -41,6 +41,17 @@ TEST(ClassMapping, RulesInOrderWithFieldsAndDefault) {
   const ClassMapping strict = parseClassMapping(R"({"classes": [{"name": "roof", "match": ["mesh:roofMesh"]}]})", "c.json");
   EXPECT_TRUE(voxtest::throwsVoxError([&] { assignClasses(m, strict); }, ErrorKind::BadInput,
                                       {"triangle 1", "Plaster", "wallMesh", "house/wall", "default"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { assignClasses(m, strict); }), Setting::ClassRules);
+}
+
+TEST(ClassMapping, TooManyMaterialsAskForClassRules) {
+  Mesh m = twoParts();
+  m.materials.resize(256);
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { classPerMaterial(m, "m.glb"); }, ErrorKind::BadInput,
+                                      {"m.glb", "256 materials", "at most 255 classes", "class rules"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { classPerMaterial(m, "m.glb"); }), Setting::ClassRules);
+  m.materials.resize(255);
+  EXPECT_EQ(classPerMaterial(m, "m.glb").table.size(), 255u) << "255 materials still fit";
 }
 
 TEST(ClassMapping, BadFilesNameTheEntry) {

@@ -1,5 +1,5 @@
 // The built-in hamlet: deterministic at any thread count, varied summaries,
-// the parts seed 000 lists.
+// the parts the UVW atlas layout's demo scene has.
 #include <gtest/gtest.h>
 
 #include <map>

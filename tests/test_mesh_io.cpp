@@ -1,5 +1,5 @@
 // Mesh readers (formats/mesh/mesh_input.h): every feature of issue 4's input list and
-// the malformed inputs of DESIGN.md section 10, on small files written here, plus
+// the malformed inputs they must refuse with a message, on small files written here, plus
 // the third-party files of ../shared/data when present (skipped with a message
 // otherwise). Complements test_mesh_input.cpp.
 #include <gtest/gtest.h>
@@ -200,7 +200,8 @@ TEST(ObjIo, MissingLibraryOrTextureIsAnErrorUnlessIgnored) {
 TEST(ObjIo, NanNamesTheLineAndDropInvalidCountsTheTriangles) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 inf\nv nan 1 1\nf 4 1 2\nf 1 2 3\nf 5 1 3\n");
-  EXPECT_TRUE(rejects(dir.file("n.obj"), {"n.obj:4", "2 vertices", "vertex 4", "--drop-invalid"}));
+  EXPECT_TRUE(rejects(dir.file("n.obj"), {"n.obj:4", "2 vertices", "vertex 4", "drop their triangles"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("n.obj")); }), Setting::DropInvalid);
   MeshReadOptions drop;
   drop.dropInvalid = true;
   const Read r = readWith(dir.file("n.obj"), drop);
@@ -597,7 +598,8 @@ TEST(GltfIo, MalformedFilesNameTheElement) {
     "bufferViews":[{"buffer":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":12}],
     "accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
                  {"bufferView":1,"componentType":5123,"count":6,"type":"SCALAR"}]})");
-  EXPECT_TRUE(rejects(dir.file("n.gltf"), {"n.gltf", "accessor 0 (POSITION)", "2 NaN or infinite", "--drop-invalid"}));
+  EXPECT_TRUE(rejects(dir.file("n.gltf"), {"n.gltf", "accessor 0 (POSITION)", "2 NaN or infinite", "drop their triangles"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("n.gltf")); }), Setting::DropInvalid);
   MeshReadOptions drop;
   drop.dropInvalid = true;
   const Read r = readWith(dir.file("n.gltf"), drop);

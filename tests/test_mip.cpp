@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
 #include <tuple>
 
 #include "formats/vdb/pyramid_vdb.h"
@@ -233,3 +235,69 @@ TEST(Mip, PyramidFileRoundTrip) {
 }
 
 }  // namespace
+
+TEST(Mip, PyramidFileRefusals) {
+  voxtest::TempDir dir;
+  vox::SceneBuilder b(smallHeader({9, 4, 6}));
+  b.addVotes({0, 0, 0}, 1, 5, true);
+  b.addVotes({8, 3, 5}, 2, 7, false);
+  const vox::Scene base = std::move(b).build();
+  const auto levels = vox::buildMipPyramid(base, vox::MipSettings{});
+  std::vector<const vox::Scene*> all{&base};
+  for (const auto& l : levels) all.push_back(&l);
+  const std::string good = dir.file("p.vdb");
+  vox::writePyramidVdb(all, vox::MipOccupancy::Majority, good);
+  openvdb::io::File in(good);
+  in.open();
+  const openvdb::GridPtrVecPtr grids = in.getGrids();
+  const openvdb::MetaMap meta = *in.getMetadata();
+  in.close();
+  auto rewrite = [&](const std::string& name, openvdb::GridPtrVec g, const openvdb::MetaMap& m) {
+    openvdb::io::File out(dir.file(name));
+    out.write(g, m);
+    out.close();
+    return dir.file(name);
+  };
+  auto refused = [](const std::string& path, std::initializer_list<std::string> needles) {
+    return voxtest::throwsVoxError([&] { vox::readPyramidVdb(path); }, vox::ErrorKind::BadInput, needles);
+  };
+  // The file as written reads back; the recorded occupancy is the one given.
+  EXPECT_EQ(vox::readPyramidVdb(rewrite("same.vdb", *grids, meta)).size(), levels.size() + 1);
+  EXPECT_NE(vox::readPyramidMetadata(good).find("\"occupancy\":\"majority\""), std::string::npos);
+
+  auto withPyramid = [&](const std::string& text) {
+    openvdb::MetaMap m = meta;
+    m.removeMeta("vox:pyramid");
+    m.insertMeta("vox:pyramid", openvdb::StringMetadata(text));
+    return m;
+  };
+  EXPECT_TRUE(refused(rewrite("json.vdb", *grids, withPyramid("{")), {"json.vdb", "'vox:pyramid'", "not valid JSON"}));
+  EXPECT_TRUE(refused(rewrite("nolevels.vdb", *grids, withPyramid("{}")), {"'vox:pyramid'", "'levels'"}));
+  EXPECT_TRUE(refused(rewrite("many.vdb", *grids, withPyramid(R"({"levels":[1,2,3,4,5]})")),
+                      {"'vox:pyramid'", "lists 5 levels", "at most 4"}));
+  // One level fewer in the table: the grids of the last level belong to no level.
+  EXPECT_TRUE(refused(rewrite("stray.vdb", *grids, withPyramid(R"({"levels":[1,2,3]})")),
+                      {"grid 'mip4.occupancy'", "mip<level>.<grid>"}));
+  // A level without its occupancy grid, and a level grid of the wrong type.
+  openvdb::GridPtrVec noOcc;
+  for (const auto& g : *grids)
+    if (g->getName() != "mip2.occupancy") noOcc.push_back(g);
+  EXPECT_TRUE(refused(rewrite("noocc.vdb", noOcc, meta), {"level 2", "no grid named 'mip2.occupancy'"}));
+  openvdb::GridPtrVec wrongType = noOcc;
+  auto f = openvdb::FloatGrid::create(0);
+  f->setName("mip2.occupancy");
+  wrongType.push_back(f);
+  EXPECT_TRUE(refused(rewrite("type.vdb", wrongType, meta), {"level 2", "'mip2.occupancy'", "expected bool"}));
+  // Level 1's votes at a voxel its occupancy does not hold.
+  openvdb::GridPtrVec moved;
+  for (const auto& g : *grids) {
+    if (g->getName() != "mip1.votes.1") {
+      moved.push_back(g);
+      continue;
+    }
+    auto v = openvdb::gridPtrCast<openvdb::Int32Grid>(g)->deepCopy();
+    v->tree().setValueOn(openvdb::Coord(2, 1, 1), 3);
+    moved.push_back(v);
+  }
+  EXPECT_TRUE(refused(rewrite("moved.vdb", moved, meta), {"level 1", "'mip1.votes.1'", "unoccupied voxel (2, 1, 1)"}));
+}

@@ -39,11 +39,15 @@ TEST(Placement, FlatInputsResolutionOneAndBounds) {
 TEST(Placement, Errors) {
   SceneHeader h;
   PlacementOptions o;
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"--res"}));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage,
+                                      {"a resolution or a voxel size"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }), Setting::VoxelSpacing);
   o.resolution = 8;
   EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({1, 1, 1}, {1, 1, 1}, o, h); }, ErrorKind::BadInput,
-                                      {"--voxel-size"}));
+                                      {"zero extent", "give a voxel size"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({1, 1, 1}, {1, 1, 1}, o, h); }), Setting::VoxelSize);
   o.resolution = 0;
   o.voxelSize = 1e-9;
   EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"limit"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }), Setting::VoxelSpacing);
 }

@@ -12,6 +12,7 @@
 #include "libvox/render/ray_grid.h"
 #include "libvox/render/raycast.h"
 #include "libvox/render/render.h"
+#include "libvox/render/render_modes.h"
 #include "formats/pagefile/pagefile_ray_grid.h"
 #include "libvox/scene/render_scene.h"
 #include "libvox/scene/demo_hamlet.h"
@@ -303,7 +304,7 @@ TEST(Camera, LookAtAndPerspectiveEqualHandComputedMatrices) {
   const vox::Mat4d v2 = vox::lookAtMatrix({3, 0, 0}, {0, 0, 0}, {0, 1, 0});
   const vox::Mat4d expectV2 = {0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, -3, 1};
   for (int i = 0; i < 16; ++i) EXPECT_NEAR(v2[size_t(i)], expectV2[size_t(i)], 1e-15) << i;
-  // fov 90: f = 1; aspect 2; near 0.1, far 500 (seed 002's createPerspective).
+  // fov 90: f = 1; aspect 2; near 0.1, far 500 (the block-map format's createPerspective).
   const vox::Mat4d p = vox::perspectiveMatrix(3.14159265358979323846 / 2, 2.0, 0.1, 500.0);
   EXPECT_NEAR(p[0], 0.5, 1e-15);
   EXPECT_NEAR(p[5], 1.0, 1e-15);
@@ -330,7 +331,7 @@ TEST(Camera, PixelRaysGoThroughPixelCentresRowZeroAtTheTop) {
 }
 
 TEST(Camera, MetadataJsonViewsGiveTheSameRaysAsLookAt) {
-  // A seed 002 metadata.json whose matrices are the look-at ones (as float32
+  // A block-map metadata.json whose matrices are the look-at ones (as float32
   // would store them, printed with full precision).
   const vox::Vec3d eye{10.5, 20, 15.3}, target{0, 2, 0};
   const vox::Mat4d view = vox::lookAtMatrix(eye, target, {0, 1, 0});
@@ -375,6 +376,32 @@ TEST(Camera, BadCameraFilesNameTheElement) {
   EXPECT_TRUE(throwsVoxError([] { vox::parseCameraJson("{\"eye\": [0,0,0], \"target\": [0,0,0]}", "c.json", std::nullopt); },
                              bad, {"c.json", "distinct"}));
   EXPECT_TRUE(throwsVoxError([] { vox::parseCameraJson("[1,2]", "c.json", std::nullopt); }, bad, {"c.json", "object"}));
+}
+
+TEST(Camera, LookAtErrorsNameTheSettingNotAnOption) {
+  auto settingOf = [](auto&& fn) {
+    try {
+      fn();
+    } catch (const vox::Error& e) {
+      EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+      EXPECT_EQ(e.kind, vox::ErrorKind::Usage) << e.what();
+      return e.setting;
+    }
+    ADD_FAILURE() << "no error";
+    return vox::Setting::None;
+  };
+  EXPECT_EQ(settingOf([] { vox::Camera::lookAt({0, 0, 5}, {0, 0, 0}, {0, 0, 1}, 60, 8, 8); }), vox::Setting::CameraUp);
+  EXPECT_EQ(settingOf([] { vox::Camera::lookAt({0, 0, 5}, {0, 0, 5}, {0, 1, 0}, 60, 8, 8); }), vox::Setting::CameraPose);
+  EXPECT_EQ(settingOf([] { vox::Camera::lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 180, 8, 8); }),
+            vox::Setting::FieldOfView);
+  EXPECT_EQ(settingOf([] { vox::Camera::lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60, 0, 8); }), vox::Setting::ImageSize);
+}
+
+TEST(Render, CheckStrideKeepsTheBruteForceWithinItsBudget) {
+  EXPECT_EQ(vox::checkStride(6144, 15512, vox::kDefaultCheckBudget), 1u);  // every pixel
+  EXPECT_EQ(vox::checkStride(1000, 1000, 1e5), 10u);
+  EXPECT_EQ(vox::checkStride(1000, 1001, 1e5), 11u);                     // rounded up
+  EXPECT_EQ(vox::checkStride(1000, 0, 0), 1000u);                        // no voxels still costs a test per ray
 }
 
 TEST(Render, CanonicalFormatIsTheNarrowestExactOne) {
@@ -424,8 +451,7 @@ TEST(Render, DemoViewEqualsBruteForceAndIsThreadIndependent) {
   const RayGrid grid = vox::rayGridFromScene(scene);
   EXPECT_EQ(grid.occupiedCount(), scene.occupiedCount());
   const vox::GridFrame frame{scene.header().origin, scene.header().voxelSize};
-  std::vector<Coord3> occupied;
-  grid.forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
+  const std::vector<Coord3> occupied = grid.occupiedVoxels();
   // A general view, an axis-aligned one from straight above (rays in grid
   // planes), and one from inside the scene.
   const std::vector<vox::Camera> cams = {

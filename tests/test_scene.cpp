@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <openvdb/io/File.h>
 
+#include "formats/scene/scene_meta.h"
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_scene_grids.h"
 #include "libvox/scene/scene.h"
 #include "libvox/scene/scene_grids.h"
 #include "test_util.h"
@@ -274,4 +276,54 @@ TEST(SceneVdb, WrongGridsOrTypes) {
   writeGrids(dir.file("future.vdb"), {occ}, future);
   EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(dir.file("future.vdb")); }, ErrorKind::BadInput,
                              {"version 99", "upgrade"}));
+}
+
+TEST(SceneVdb, ColourAndVotesOnlyAtOccupiedVoxels) {
+  TempDir dir;
+  writeSceneVdb(smallScene(false), dir.file("good.vdb"));
+  const openvdb::MetaMap meta = goodMeta(dir.file("good.vdb"));
+  auto occ = openvdb::BoolGrid::create(false);
+  occ->setName("occupancy");
+  occ->tree().setValueOn(openvdb::Coord(0, 0, 0), true);
+  auto votes = openvdb::Int32Grid::create(0);
+  votes->setName("votes.1");
+  votes->tree().setValueOn(openvdb::Coord(0, 0, 0), 2);
+  auto color = openvdb::Vec3SGrid::create();
+  color->setName("color");
+  color->tree().setValueOn(openvdb::Coord(1, 0, 0), openvdb::Vec3s(0.5f));
+  writeGrids(dir.file("color.vdb"), {occ, votes, color}, meta);
+  EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(dir.file("color.vdb")); }, ErrorKind::BadInput,
+                             {"color.vdb", "'color'", "unoccupied voxel (1, 0, 0)"}));
+  auto stray = votes->deepCopy();
+  stray->tree().setValueOn(openvdb::Coord(2, 0, 0), 1);
+  writeGrids(dir.file("stray.vdb"), {occ, stray}, meta);
+  EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(dir.file("stray.vdb")); }, ErrorKind::BadInput,
+                             {"'votes.1'", "unoccupied voxel (2, 0, 0)"}));
+  // The occupancy-only read does not look at votes or colour.
+  EXPECT_EQ(readSceneVdb(dir.file("color.vdb"), SceneParts::OccupancyOnly).occupiedCount(), 1u);
+  auto badName = votes->deepCopy();
+  badName->setName("votes.01");
+  writeGrids(dir.file("name.vdb"), {occ, votes, badName}, meta);
+  EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(dir.file("name.vdb")); }, ErrorKind::BadInput,
+                             {"'votes.01'", "votes.<class id 1..255>"}));
+  auto twice = votes->deepCopy();
+  writeGrids(dir.file("twice.vdb"), {occ, votes, twice}, meta);
+  EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(dir.file("twice.vdb")); }, ErrorKind::BadInput,
+                             {"two vote grids for class 1"}));
+}
+
+TEST(SceneVdb, MetadataEntriesSurviveAnOpenVdbMetaMap) {
+  SceneHeader h = smallHeader();
+  openvdb::MetaMap map;
+  insertVdbMetadata(map, sceneFileMetadata(h));
+  insertVdbMetadata(map, voteGridMetadata(h.classes, 7));
+  map.insertMeta("other", openvdb::FloatMetadata(1.5f));
+  const MetaEntries back = metaEntriesOf(map);
+  MetaEntries want = sceneFileMetadata(h);
+  want.merge(voteGridMetadata(h.classes, 7));
+  want["other"] = ForeignMetaValue{"float"};
+  EXPECT_EQ(back, want);
+  EXPECT_EQ(sceneHeaderFromMetadata(back, "m"), h);
+  EXPECT_TRUE(throwsVoxError([&] { insertVdbMetadata(map, {{"x", ForeignMetaValue{"float"}}}); },
+                             ErrorKind::Internal, {"'x'"}));
 }

@@ -51,4 +51,15 @@ template <typename Fn>
   return ::testing::AssertionFailure() << "no exception";
 }
 
+/// The setting named by the vox::Error `fn` throws (None when it throws none).
+template <typename Fn>
+vox::Setting settingOfError(Fn&& fn) {
+  try {
+    fn();
+  } catch (const vox::Error& e) {
+    return e.setting;
+  }
+  return vox::Setting::None;
+}
+
 }  // namespace voxtest

@@ -1,4 +1,4 @@
-// Extreme but valid inputs (DESIGN section 10): each has a stated expectation.
+// Extreme but valid inputs: each has a stated expectation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -105,4 +105,14 @@ TEST(VoxelizeExtreme, SliversNonManifoldAndSelfIntersecting) {
   EXPECT_TRUE(solid.voxel({3, 3, 3}, tmp));
   EXPECT_TRUE(solid.voxel({9, 9, 9}, tmp));
   EXPECT_FALSE(solid.voxel({9, 2, 2}, tmp));
+}
+
+TEST(VoxelizeExtreme, SolidFillOfAHugeBoxIsRefusedBeforeAnyWork) {
+  // A thin diagonal sliver across a 4096^3 grid: its bounding box is 2^36
+  // voxels, whose inside flags alone would take GiBs. Refused up front, naming
+  // the fix (fewer voxels), not run.
+  const Mesh sliver = meshOf({{0, 0, 0}, {4096, 4096, 4096}, {4096, 4096, 4095}}, {{0, 1, 2}});
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { run(sliver, header(4096), FillMode::Solid); }, ErrorKind::Usage,
+                                      {"68719476736-voxel bounding box", "GiB", "fill only the surface"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { run(sliver, header(4096), FillMode::Solid); }), Setting::VoxelSpacing);
 }

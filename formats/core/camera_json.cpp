@@ -34,8 +34,8 @@ Mat4d matrix(const json& j, const std::string& name, const std::string& where) {
 }
 
 uint32_t side(const json& j, const std::string& name, const std::string& where) {
-  if (!j.is_number_integer() || j.get<int64_t>() < 1 || j.get<int64_t>() > 65536)
-    bad(name, where + " must be an integer in 1..65536");
+  if (!j.is_number_integer() || j.get<int64_t>() < 1 || j.get<int64_t>() > int64_t(kMaxImageSide))
+    bad(name, where + " must be an integer in 1.." + std::to_string(kMaxImageSide));
   return uint32_t(j.get<int64_t>());
 }
 
@@ -45,9 +45,9 @@ CameraView lookAtCamera(const json& c, const std::string& name, const std::strin
   if (!c.contains("eye") || !c.contains("target")) bad(name, where + " needs \"eye\" and \"target\"");
   const Vec3d eye = vec3(c["eye"], name, where + ".eye");
   const Vec3d target = vec3(c["target"], name, where + ".target");
-  const Vec3d up = c.contains("up") ? vec3(c["up"], name, where + ".up") : Vec3d{0, 1, 0};
-  const double fov = c.contains("fov") ? number(c["fov"], name, where + ".fov") : 60.0;
-  uint32_t w = 512, h = 512;
+  const Vec3d up = c.contains("up") ? vec3(c["up"], name, where + ".up") : kLookAtUp;
+  const double fov = c.contains("fov") ? number(c["fov"], name, where + ".fov") : kLookAtFovYDegrees;
+  uint32_t w = kDefaultImageSide, h = kDefaultImageSide;
   if (c.contains("size")) {
     const json& s = c["size"];
     if (!s.is_array() || s.size() != 2) bad(name, where + ".size must be [width, height]");
@@ -90,7 +90,7 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
       h = side(s["height"], name, "imageSize.height");
     }
     if (size) std::tie(w, h) = *size;
-    if (w == 0) bad(name, "no \"imageSize\" in the file: give --size WIDTHxHEIGHT");
+    if (w == 0) throwBadInput(name + ": no \"imageSize\" in the file: give the image size", Setting::ImageSize);
     for (size_t i = 0; i < views.size(); ++i) {
       const std::string where = "views[" + std::to_string(i) + "]";
       const json& v = views[i];
@@ -119,7 +119,7 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
     out.push_back(lookAtCamera(doc, name, "camera", 0, size));
     return out;
   }
-  bad(name, "expected \"views\" (seed 002 metadata.json), \"cameras\", or a camera with \"eye\" and \"target\"");
+  bad(name, "expected \"views\" (a block-map metadata.json), \"cameras\", or a camera with \"eye\" and \"target\"");
 }
 
 std::vector<CameraView> readCameraFile(const std::string& path, std::optional<std::pair<uint32_t, uint32_t>> size) {

@@ -1,11 +1,12 @@
 // Camera files for render-canonical and verify-bijection --canonical.
 //
 // Three JSON shapes are accepted (README "Cameras"):
-//   * seed 002's metadata.json: {"imageSize": {"width", "height"}, "views": [
-//       {"index", "id", "viewMatrix": [16], "projectionMatrix": [16], ...}]}
+//   * the block-map format's metadata.json: {"imageSize": {"width", "height"},
+//       "views": [{"index", "id", "viewMatrix": [16], "projectionMatrix": [16], ...}]}
 //     with column-major matrices; every other field is ignored.
 //   * one look-at camera: {"eye": [x,y,z], "target": [x,y,z], "up": [0,1,0],
-//       "fov": 60, "size": [width, height]}   (up, fov, size optional)
+//       "fov": 60, "size": [width, height]}   (up, fov, size optional: the
+//     defaults are camera.h's kLookAtUp, kLookAtFovYDegrees, kDefaultImageSide)
 //   * several: {"cameras": [ look-at camera, ... ]}
 // Errors are vox::Error (BadInput) naming the file and the element
 // ("views[2].viewMatrix[5]").

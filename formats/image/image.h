@@ -1,7 +1,7 @@
 // Images as vox writes and reads them: atlases, bitmaps, renders.
 //
 // PNG through libpng and EXR through OpenEXR directly, not OpenImageIO: Debian's
-// OpenImageIO costs ~350 ms at every process start (DESIGN section 13), and
+// OpenImageIO costs ~350 ms at every process start (docs/startup.md), and
 // these two libraries cover every format the tool writes.
 //
 // Conventions: row 0 is the top of the image; channels are interleaved;
@@ -41,9 +41,13 @@ struct Image {
   std::string textValue(const std::string& key) const;
 };
 
+/// The zlib level PNGs are written at unless told otherwise: libpng's and
+/// OpenImageIO's default.
+inline constexpr int kDefaultPngZlibLevel = 6;
+
 /// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
-/// `zlibLevel` 0..9 (6 is libpng's and OpenImageIO's default). Throws vox::Error (Io).
-void writePng(const Image& image, const std::string& path, int zlibLevel = 6);
+/// `zlibLevel` 0..9. Throws vox::Error (Io).
+void writePng(const Image& image, const std::string& path, int zlibLevel = kDefaultPngZlibLevel);
 /// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
 /// deflated in up to 16 row slices on `threads` threads (formats/image/image_png_parallel.cpp).
 /// The bytes depend on the image only, not on `threads`; they differ from

@@ -7,18 +7,16 @@
 // no final bit) and the slices are concatenated under one zlib header with the
 // combined Adler-32. Any inflater reads it as one ordinary stream. The cut
 // depends only on the image height, never on the thread count, so the bytes
-// are identical at any --threads. Scanlines use the SUB filter, as writePng.
+// are identical at any thread count. Scanlines use the SUB filter, as writePng.
 #include <zlib.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <exception>
-#include <thread>
-#include <atomic>
 
 #include "formats/image/image.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -50,56 +48,44 @@ void writePngParallel(const Image& image, const std::string& path, int zlibLevel
   const uint32_t slices = std::max<uint32_t>(1, std::min<uint32_t>(16, H / 64));
   std::vector<std::vector<uint8_t>> packed(slices);
   std::vector<uLong> adler(slices), inputBytes(slices);
-  std::vector<std::exception_ptr> errors(slices);
-  std::atomic<uint32_t> next{0};
-  auto worker = [&] {
-    for (uint32_t s; (s = next.fetch_add(1)) < slices;) {
-      try {
-        const uint32_t y0 = uint32_t(uint64_t(H) * s / slices), y1 = uint32_t(uint64_t(H) * (s + 1) / slices);
-        // Filtered scanlines: filter byte 1 (SUB), samples big-endian.
-        std::vector<uint8_t> raw(size_t(y1 - y0) * (rowBytes + 1));
-        uint8_t* o = raw.data();
-        std::vector<uint8_t> be(rowBytes);
-        for (uint32_t y = y0; y < y1; ++y) {
-          const uint8_t* src = image.pixels.data() + size_t(y) * rowBytes;
-          if (sb == 2) {
-            for (size_t i = 0; i < rowBytes; i += 2) {
-              be[i] = src[i + 1];
-              be[i + 1] = src[i];
-            }
-            src = be.data();
-          }
-          *o++ = 1;
-          for (size_t i = 0; i < rowBytes; ++i) o[i] = uint8_t(src[i] - (i >= bpp ? src[i - bpp] : 0));
-          o += rowBytes;
+  // Each slice writes its own outputs, so the slices run in any order.
+  parallelForEach(slices, std::max(1u, threads), 1, [&](size_t s) {
+    const uint32_t y0 = uint32_t(uint64_t(H) * s / slices), y1 = uint32_t(uint64_t(H) * (s + 1) / slices);
+    // Filtered scanlines: filter byte 1 (SUB), samples big-endian.
+    std::vector<uint8_t> raw(size_t(y1 - y0) * (rowBytes + 1));
+    uint8_t* o = raw.data();
+    std::vector<uint8_t> be(rowBytes);
+    for (uint32_t y = y0; y < y1; ++y) {
+      const uint8_t* src = image.pixels.data() + size_t(y) * rowBytes;
+      if (sb == 2) {
+        for (size_t i = 0; i < rowBytes; i += 2) {
+          be[i] = src[i + 1];
+          be[i + 1] = src[i];
         }
-        adler[s] = adler32(adler32(0, nullptr, 0), raw.data(), uInt(raw.size()));
-        inputBytes[s] = uLong(raw.size());
-        z_stream zs{};
-        if (deflateInit2(&zs, zlibLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-          throw Error(ErrorKind::Internal, "deflateInit2 failed");
-        std::vector<uint8_t>& out = packed[s];
-        out.resize(deflateBound(&zs, uLong(raw.size())) + 16);
-        zs.next_in = raw.data();
-        zs.avail_in = uInt(raw.size());
-        zs.next_out = out.data();
-        zs.avail_out = uInt(out.size());
-        const int r = deflate(&zs, s + 1 == slices ? Z_FINISH : Z_FULL_FLUSH);
-        const bool ok = s + 1 == slices ? r == Z_STREAM_END : (r == Z_OK && zs.avail_in == 0);
-        out.resize(out.size() - zs.avail_out);
-        deflateEnd(&zs);
-        if (!ok) throw Error(ErrorKind::Internal, "deflate failed on a PNG slice");
-      } catch (...) {
-        errors[s] = std::current_exception();
+        src = be.data();
       }
+      *o++ = 1;
+      for (size_t i = 0; i < rowBytes; ++i) o[i] = uint8_t(src[i] - (i >= bpp ? src[i - bpp] : 0));
+      o += rowBytes;
     }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < std::min<unsigned>(std::max(1u, threads), slices); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+    adler[s] = adler32(adler32(0, nullptr, 0), raw.data(), uInt(raw.size()));
+    inputBytes[s] = uLong(raw.size());
+    z_stream zs{};
+    if (deflateInit2(&zs, zlibLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+      throw Error(ErrorKind::Internal, "deflateInit2 failed");
+    std::vector<uint8_t>& out = packed[s];
+    out.resize(deflateBound(&zs, uLong(raw.size())) + 16);
+    zs.next_in = raw.data();
+    zs.avail_in = uInt(raw.size());
+    zs.next_out = out.data();
+    zs.avail_out = uInt(out.size());
+    const bool last = s + 1 == slices;
+    const int r = deflate(&zs, last ? Z_FINISH : Z_FULL_FLUSH);
+    const bool ok = last ? r == Z_STREAM_END : (r == Z_OK && zs.avail_in == 0);
+    out.resize(out.size() - zs.avail_out);
+    deflateEnd(&zs);
+    if (!ok) throw Error(ErrorKind::Internal, "deflate failed on a PNG slice");
+  });
 
   uLong a = adler[0];
   for (uint32_t s = 1; s < slices; ++s) a = adler32_combine(a, adler[s], z_off_t(inputBytes[s]));

@@ -6,8 +6,11 @@
 //        "top": [..], "bottom": [..], "side": [..]} ],
 //     "default": "wall" }
 //
-// * id 1..255 (optional: the position in the array + 1), name unique, colour as
-//   [r, g, b] 0..255 or "#rrggbb" (sRGB); optional top/bottom/side face palette.
+// * Each entry is a class table entry in its hand-written form
+//   (formats/scene/class_table_json.h, ClassJsonForm::HandWritten): id 1..255
+//   (optional: the position in the array + 1), name unique, colour as
+//   [r, g, b] 0..255 or "#rrggbb" (sRGB, optional: grey); the top/bottom/side
+//   face palette all three or none.
 // * match: glob patterns, optionally prefixed with "material:", "mesh:" or
 //   "node:" to look at one name only (class_mapping.h says how they are tried).
 // * default: the name of the class for triangles no pattern matches; without

@@ -5,8 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <functional>
+#include <optional>
 
+#include "formats/core/file_kinds.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -140,19 +141,16 @@ MeshTexture::Wrap wrapOf(int mode) {
   return MeshTexture::Wrap::Repeat;
 }
 
-}  // namespace
-
-Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+/// Loads the container (tinygltf: JSON or GLB, buffers, images decoded).
+/// Refuses compressed meshes by the extension's name.
+tinygltf::Model loadModel(const std::string& path, std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
-  std::string lower = path;
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
   std::error_code existsError;
   if (!std::filesystem::exists(path, existsError)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
-  const bool ok = lower.size() >= 4 && lower.substr(lower.size() - 4) == ".glb"
-                      ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                      : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  const bool ok = hasExtension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   for (const std::string& ext : model.extensionsRequired)
     if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
       throwBadInput(path + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
@@ -163,188 +161,277 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
     throwBadInput(path + ": cannot read the glTF file: " + why);
   }
   if (!warn.empty()) warnings.push_back(path + ": " + warn.substr(0, 300));
+  return model;
+}
 
-  Mesh mesh;
+/// The file itself, then its external buffers and images (data: URIs are not files).
+void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& mesh) {
   mesh.filesRead.push_back(path);
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   for (const tinygltf::Buffer& b : model.buffers)
     if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / b.uri).string());
   for (const tinygltf::Image& im : model.images)
     if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / im.uri).string());
+}
 
-  // Materials and textures.
-  std::vector<int> textureOfImage(model.textures.size(), -1);
-  for (size_t i = 0; i < model.materials.size(); ++i) {
-    const tinygltf::Material& src = model.materials[i];
+/// glTF texture `ti` as a MeshTexture (its image as 8-bit RGBA, its sampler),
+/// or nullopt with a warning when its image is not 8-bit RGBA.
+std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t ti, const std::string& path,
+                                          std::vector<std::string>& warnings) {
+  const tinygltf::Texture& tex = model.textures[ti];
+  if (tex.source < 0 || size_t(tex.source) >= model.images.size()) return std::nullopt;
+  const tinygltf::Image& im = model.images[size_t(tex.source)];
+  if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
+        im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
+    warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
+    return std::nullopt;
+  }
+  MeshTexture t;
+  t.width = uint32_t(im.width);
+  t.height = uint32_t(im.height);
+  t.rgba = im.image;
+  t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
+  if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
+    const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
+    t.wrapS = wrapOf(s.wrapS);
+    t.wrapT = wrapOf(s.wrapT);
+    t.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  }
+  return t;
+}
+
+/// Every material (base colour factor and texture; each texture converted
+/// once), then the white material of primitives without one, whose index is
+/// returned.
+uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mesh& mesh,
+                      std::vector<std::string>& warnings) {
+  std::vector<int> meshTextureOf(model.textures.size(), -1);
+  for (const tinygltf::Material& src : model.materials) {
     MeshMaterial m;
     m.name = src.name;
     const auto& f = src.pbrMetallicRoughness.baseColorFactor;
     for (size_t k = 0; k < 4 && k < f.size(); ++k) m.baseColorFactor[k] = float(f[k]);
     const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
-      if (textureOfImage[size_t(ti)] < 0) {
-        const tinygltf::Texture& tex = model.textures[size_t(ti)];
-        if (tex.source >= 0 && size_t(tex.source) < model.images.size()) {
-          const tinygltf::Image& im = model.images[size_t(tex.source)];
-          if (im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
-              im.image.size() == size_t(im.width) * size_t(im.height) * 4) {
-            MeshTexture t;
-            t.width = uint32_t(im.width);
-            t.height = uint32_t(im.height);
-            t.rgba = im.image;
-            t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
-            if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
-              const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
-              t.wrapS = wrapOf(s.wrapS);
-              t.wrapT = wrapOf(s.wrapT);
-              t.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
-            }
-            mesh.textures.push_back(std::move(t));
-            textureOfImage[size_t(ti)] = int(mesh.textures.size() - 1);
-          } else {
-            warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
-          }
+      if (meshTextureOf[size_t(ti)] < 0)
+        if (std::optional<MeshTexture> t = convertTexture(model, size_t(ti), path, warnings)) {
+          mesh.textures.push_back(std::move(*t));
+          meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
         }
-      }
-      m.texture = textureOfImage[size_t(ti)];
+      m.texture = meshTextureOf[size_t(ti)];
       m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
     }
     mesh.materials.push_back(m);
   }
-  const uint32_t defaultMaterial = uint32_t(mesh.materials.size());
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
+  return uint32_t(mesh.materials.size() - 1);
+}
 
-  Accessors acc(model, path);
-  std::vector<uint8_t> visited(model.nodes.size(), 0);
-  size_t invalidPositions = 0;
-  std::string firstInvalid;
-  // Walk the node hierarchy.
-  std::function<void(int, const Mat4&, const std::string&, int)> visit = [&](int ni, const Mat4& parent,
-                                                                            const std::string& parentPath, int depth) {
-    if (ni < 0 || size_t(ni) >= model.nodes.size() || depth > 256) throwBadInput(path + ": node " + std::to_string(ni) + " is invalid or the hierarchy is cyclic");
+/// The nodes to walk: the default scene's (else scene 0's), else every node
+/// that is no other node's child.
+std::vector<int> rootNodes(const tinygltf::Model& model) {
+  const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
+  if (sceneIndex >= 0 && size_t(sceneIndex) < model.scenes.size()) return model.scenes[size_t(sceneIndex)].nodes;
+  std::vector<int> roots;
+  std::vector<char> isChild(model.nodes.size(), 0);
+  for (const auto& n : model.nodes)
+    for (int c : n.children)
+      if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = 1;
+  for (size_t i = 0; i < model.nodes.size(); ++i)
+    if (!isChild[i]) roots.push_back(int(i));
+  return roots;
+}
+
+/// Does `world` mirror (negative determinant of its 3x3 part)?
+bool mirrors(const Mat4& world) {
+  const double det3 = world[0] * (world[5] * world[10] - world[9] * world[6]) -
+                      world[4] * (world[1] * world[10] - world[9] * world[2]) +
+                      world[8] * (world[1] * world[6] - world[5] * world[2]);
+  return det3 < 0;
+}
+
+/// Walks the node hierarchy and appends every triangle primitive to the mesh,
+/// positions in world space.
+class NodeWalker {
+ public:
+  NodeWalker(const tinygltf::Model& model, const std::string& path, uint32_t defaultMaterial, Mesh& mesh,
+             std::vector<std::string>& warnings)
+      : model_(model), path_(path), defaultMaterial_(defaultMaterial), mesh_(mesh), warnings_(warnings),
+        acc_(model, path), visited_(model.nodes.size(), 0) {}
+
+  /// Node `ni` under the world matrix `parent`, then its children.
+  void visit(int ni, const Mat4& parent, const std::string& parentPath, int depth) {
+    if (ni < 0 || size_t(ni) >= model_.nodes.size() || depth > 256)
+      throwBadInput(path_ + ": node " + std::to_string(ni) + " is invalid or the hierarchy is cyclic");
     // glTF nodes have at most one parent: a node reached twice is a cycle or a
     // shared child (which could also multiply the work exponentially).
-    if (visited[size_t(ni)]++)
-      throwBadInput(path + ": node " + std::to_string(ni) + " is reached twice in the node hierarchy (a cycle, or a node "
+    if (visited_[size_t(ni)]++)
+      throwBadInput(path_ + ": node " + std::to_string(ni) + " is reached twice in the node hierarchy (a cycle, or a node "
                     "with two parents, which glTF forbids); fix the file's \"children\" lists");
-    const tinygltf::Node& node = model.nodes[size_t(ni)];
+    const tinygltf::Node& node = model_.nodes[size_t(ni)];
     const Mat4 world = mul(parent, localMatrix(node));
     const std::string nodePath = parentPath.empty() ? node.name : parentPath + "/" + node.name;
-    if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size()) {
-      const tinygltf::Mesh& gm = model.meshes[size_t(node.mesh)];
-      mesh.parts.push_back({nodePath, gm.name});
-      const uint32_t part = uint32_t(mesh.parts.size() - 1);
-      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
-        const tinygltf::Primitive& prim = gm.primitives[pi];
-        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-        if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-          warnings.push_back(path + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has mode " +
-                             std::to_string(mode) + " (points or lines); skipped");
-          continue;
-        }
-        auto posIt = prim.attributes.find("POSITION");
-        if (posIt == prim.attributes.end()) {
-          warnings.push_back(path + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has no POSITION; skipped");
-          continue;
-        }
-        const auto pos = acc.read(posIt->second, "POSITION");
-        size_t bad = 0;
-        for (const auto& p : pos)
-          if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++bad;
-        if (bad) {
-          invalidPositions += bad;
-          if (firstInvalid.empty())
-            firstInvalid = "accessor " + std::to_string(posIt->second) + " (POSITION) has " + std::to_string(bad) + " NaN or infinite values";
-        }
-        const uint32_t base = uint32_t(mesh.positions.size());
-        for (const auto& p : pos) {
-          std::array<double, 3> w;
-          for (int r = 0; r < 3; ++r) w[size_t(r)] = world[size_t(r)] * p[0] + world[size_t(4 + r)] * p[1] + world[size_t(8 + r)] * p[2] + world[size_t(12 + r)];
-          mesh.positions.push_back(w);
-        }
-        auto attr = [&](const char* n) -> std::vector<std::array<double, 4>> {
-          auto it = prim.attributes.find(n);
-          return it == prim.attributes.end() ? std::vector<std::array<double, 4>>{} : acc.read(it->second, n);
-        };
-        const auto uv0 = attr("TEXCOORD_0"), uv1 = attr("TEXCOORD_1");
-        auto colIt = prim.attributes.find("COLOR_0");
-        std::vector<std::array<double, 4>> col;
-        int colComps = 0;
-        if (colIt != prim.attributes.end()) {
-          col = acc.read(colIt->second, "COLOR_0");
-          colComps = tinygltf::GetNumComponentsInType(uint32_t(model.accessors[size_t(colIt->second)].type));
-        }
-        auto fill2 = [&](std::vector<std::array<float, 2>>& dst, const std::vector<std::array<double, 4>>& src) {
-          if (src.empty() && dst.empty()) return;
-          dst.resize(base, {0, 0});
-          for (size_t i = 0; i < pos.size(); ++i)
-            dst.push_back(i < src.size() ? std::array<float, 2>{float(src[i][0]), float(src[i][1])} : std::array<float, 2>{0, 0});
-        };
-        fill2(mesh.uv0, uv0);
-        fill2(mesh.uv1, uv1);
-        if (!col.empty() || !mesh.colors.empty()) {
-          mesh.colors.resize(base, {1, 1, 1, 1});
-          for (size_t i = 0; i < pos.size(); ++i)
-            mesh.colors.push_back(i < col.size() ? std::array<float, 4>{float(col[i][0]), float(col[i][1]), float(col[i][2]),
-                                                                        colComps == 4 ? float(col[i][3]) : 1.0f}
-                                                 : std::array<float, 4>{1, 1, 1, 1});
-        }
-        std::vector<uint32_t> idx;
-        if (prim.indices >= 0) {
-          for (const auto& v : acc.read(prim.indices, "indices")) {
-            if (v[0] < 0 || v[0] >= double(pos.size()))
-              throwBadInput(path + ": accessor " + std::to_string(prim.indices) + " (indices) refers to vertex " +
-                            std::to_string(int64_t(v[0])) + " of " + std::to_string(pos.size()));
-            idx.push_back(uint32_t(v[0]));
-          }
-        } else {
-          for (uint32_t i = 0; i < pos.size(); ++i) idx.push_back(i);
-        }
-        const uint32_t material = prim.material >= 0 && size_t(prim.material) < model.materials.size() ? uint32_t(prim.material) : defaultMaterial;
-        // glTF: a node whose world matrix has a negative determinant mirrors the
-        // mesh, and its triangles wind clockwise; keep every output triangle
-        // counter-clockwise (the solid fill relies on consistent orientation).
-        const double det3 = world[0] * (world[5] * world[10] - world[9] * world[6]) -
-                            world[4] * (world[1] * world[10] - world[9] * world[2]) +
-                            world[8] * (world[1] * world[6] - world[5] * world[2]);
-        const bool mirrored = det3 < 0;
-        auto addTri = [&](uint32_t a, uint32_t b, uint32_t c) {
-          if (mirrored) std::swap(b, c);
-          mesh.triangles.push_back({base + a, base + b, base + c});
-          mesh.triangleMaterial.push_back(material);
-          mesh.trianglePart.push_back(part);
-        };
-        if (mode == TINYGLTF_MODE_TRIANGLES)
-          for (size_t i = 0; i + 2 < idx.size(); i += 3) addTri(idx[i], idx[i + 1], idx[i + 2]);
-        else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
-          for (size_t i = 0; i + 2 < idx.size(); ++i)
-            (i % 2 == 0) ? addTri(idx[i], idx[i + 1], idx[i + 2]) : addTri(idx[i + 1], idx[i], idx[i + 2]);
-        else
-          for (size_t i = 1; i + 1 < idx.size(); ++i) addTri(idx[0], idx[i], idx[i + 1]);
-      }
+    if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) {
+      const tinygltf::Mesh& gm = model_.meshes[size_t(node.mesh)];
+      mesh_.parts.push_back({nodePath, gm.name});
+      const uint32_t part = uint32_t(mesh_.parts.size() - 1);
+      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, world, part);
     }
     for (int child : node.children) visit(child, world, nodePath, depth + 1);
-  };
-  std::vector<int> roots;
-  const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
-  if (sceneIndex >= 0 && size_t(sceneIndex) < model.scenes.size()) {
-    roots = model.scenes[size_t(sceneIndex)].nodes;
-  } else {
-    std::vector<char> isChild(model.nodes.size(), 0);
-    for (const auto& n : model.nodes)
-      for (int c : n.children)
-        if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = 1;
-    for (size_t i = 0; i < model.nodes.size(); ++i)
-      if (!isChild[i]) roots.push_back(int(i));
   }
-  for (int r : roots) visit(r, identity(), "", 0);
-  if (mesh.parts.empty()) mesh.parts.push_back({"", std::filesystem::path(path).filename().string()});
-  if (invalidPositions && !options.dropInvalid)
-    throwBadInput(path + ": " + firstInvalid + "; fix the file or pass --drop-invalid to drop their triangles");
-  checkFinite(mesh, path, options, warnings);
+
+  /// Refuses NaN or infinite positions, naming the first accessor that has
+  /// them, unless they are to be dropped.
+  void refuseInvalidPositions(const MeshReadOptions& options) const {
+    if (invalidPositions_ && !options.dropInvalid)
+      throwBadInput(path_ + ": " + firstInvalid_ + "; fix the file or drop their triangles", Setting::DropInvalid);
+  }
+
+ private:
+  using Values = std::vector<std::array<double, 4>>;
+
+  void addPrimitive(const tinygltf::Mesh& gm, size_t pi, const Mat4& world, uint32_t part) {
+    const tinygltf::Primitive& prim = gm.primitives[pi];
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      warnings_.push_back(path_ + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has mode " +
+                          std::to_string(mode) + " (points or lines); skipped");
+      return;
+    }
+    auto posIt = prim.attributes.find("POSITION");
+    if (posIt == prim.attributes.end()) {
+      warnings_.push_back(path_ + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has no POSITION; skipped");
+      return;
+    }
+    const uint32_t base = uint32_t(mesh_.positions.size());
+    const size_t count = appendPositions(posIt->second, world);
+    appendVertexAttributes(prim, base, count);
+    const std::vector<uint32_t> idx = vertexIndices(prim, count);
+    const uint32_t material =
+        prim.material >= 0 && size_t(prim.material) < model_.materials.size() ? uint32_t(prim.material) : defaultMaterial_;
+    appendTriangles(mode, idx, base, material, part, mirrors(world));
+  }
+
+  /// The positions of accessor `accessor` transformed by `world`; counts the
+  /// non-finite ones. Returns how many there are.
+  size_t appendPositions(int accessor, const Mat4& world) {
+    const Values pos = acc_.read(accessor, "POSITION");
+    size_t bad = 0;
+    for (const auto& p : pos)
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++bad;
+    if (bad) {
+      invalidPositions_ += bad;
+      if (firstInvalid_.empty())
+        firstInvalid_ = "accessor " + std::to_string(accessor) + " (POSITION) has " + std::to_string(bad) + " NaN or infinite values";
+    }
+    for (const auto& p : pos) {
+      std::array<double, 3> w;
+      for (int r = 0; r < 3; ++r) w[size_t(r)] = world[size_t(r)] * p[0] + world[size_t(4 + r)] * p[1] + world[size_t(8 + r)] * p[2] + world[size_t(12 + r)];
+      mesh_.positions.push_back(w);
+    }
+    return pos.size();
+  }
+
+  /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 of the `count` vertices from `base` on;
+  /// arrays that exist are kept parallel to the positions (zeros, white).
+  void appendVertexAttributes(const tinygltf::Primitive& prim, uint32_t base, size_t count) {
+    auto attr = [&](const char* n) -> Values {
+      auto it = prim.attributes.find(n);
+      return it == prim.attributes.end() ? Values{} : acc_.read(it->second, n);
+    };
+    const Values uv0 = attr("TEXCOORD_0"), uv1 = attr("TEXCOORD_1");
+    auto colIt = prim.attributes.find("COLOR_0");
+    Values col;
+    int colComps = 0;
+    if (colIt != prim.attributes.end()) {
+      col = acc_.read(colIt->second, "COLOR_0");
+      colComps = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(colIt->second)].type));
+    }
+    auto fill2 = [&](std::vector<std::array<float, 2>>& dst, const Values& src) {
+      if (src.empty() && dst.empty()) return;
+      dst.resize(base, {0, 0});
+      for (size_t i = 0; i < count; ++i)
+        dst.push_back(i < src.size() ? std::array<float, 2>{float(src[i][0]), float(src[i][1])} : std::array<float, 2>{0, 0});
+    };
+    fill2(mesh_.uv0, uv0);
+    fill2(mesh_.uv1, uv1);
+    if (!col.empty() || !mesh_.colors.empty()) {
+      mesh_.colors.resize(base, {1, 1, 1, 1});
+      for (size_t i = 0; i < count; ++i)
+        mesh_.colors.push_back(i < col.size() ? std::array<float, 4>{float(col[i][0]), float(col[i][1]), float(col[i][2]),
+                                                                     colComps == 4 ? float(col[i][3]) : 1.0f}
+                                              : std::array<float, 4>{1, 1, 1, 1});
+    }
+  }
+
+  /// The primitive's indices (checked against its `count` vertices), or 0..count-1.
+  std::vector<uint32_t> vertexIndices(const tinygltf::Primitive& prim, size_t count) const {
+    std::vector<uint32_t> idx;
+    if (prim.indices < 0) {
+      for (uint32_t i = 0; i < count; ++i) idx.push_back(i);
+      return idx;
+    }
+    for (const auto& v : acc_.read(prim.indices, "indices")) {
+      if (v[0] < 0 || v[0] >= double(count))
+        throwBadInput(path_ + ": accessor " + std::to_string(prim.indices) + " (indices) refers to vertex " +
+                      std::to_string(int64_t(v[0])) + " of " + std::to_string(count));
+      idx.push_back(uint32_t(v[0]));
+    }
+    return idx;
+  }
+
+  /// Triangles, strips or fans of `idx` (relative to `base`). A node whose
+  /// world matrix mirrors the mesh makes its triangles wind clockwise: they are
+  /// flipped, so every output triangle is counter-clockwise (the solid fill
+  /// relies on consistent orientation).
+  void appendTriangles(int mode, const std::vector<uint32_t>& idx, uint32_t base, uint32_t material, uint32_t part,
+                       bool mirrored) {
+    auto addTri = [&](uint32_t a, uint32_t b, uint32_t c) {
+      if (mirrored) std::swap(b, c);
+      mesh_.triangles.push_back({base + a, base + b, base + c});
+      mesh_.triangleMaterial.push_back(material);
+      mesh_.trianglePart.push_back(part);
+    };
+    if (mode == TINYGLTF_MODE_TRIANGLES)
+      for (size_t i = 0; i + 2 < idx.size(); i += 3) addTri(idx[i], idx[i + 1], idx[i + 2]);
+    else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+      for (size_t i = 0; i + 2 < idx.size(); ++i)
+        (i % 2 == 0) ? addTri(idx[i], idx[i + 1], idx[i + 2]) : addTri(idx[i + 1], idx[i], idx[i + 2]);
+    else
+      for (size_t i = 1; i + 1 < idx.size(); ++i) addTri(idx[0], idx[i], idx[i + 1]);
+  }
+
+  const tinygltf::Model& model_;
+  const std::string& path_;
+  const uint32_t defaultMaterial_;
+  Mesh& mesh_;
+  std::vector<std::string>& warnings_;
+  const Accessors acc_;
+  std::vector<uint8_t> visited_;
+  size_t invalidPositions_ = 0;
+  std::string firstInvalid_;  // names the first accessor with non-finite positions
+};
+
+/// Per-vertex arrays that exist cover every vertex (uv zeros, colour white).
+void padVertexAttributes(Mesh& mesh) {
   if (!mesh.uv0.empty()) mesh.uv0.resize(mesh.positions.size(), {0, 0});
   if (!mesh.uv1.empty()) mesh.uv1.resize(mesh.positions.size(), {0, 0});
   if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), {1, 1, 1, 1});
+}
+
+}  // namespace
+
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+  const tinygltf::Model model = loadModel(path, warnings);
+  Mesh mesh;
+  listFilesRead(model, path, mesh);
+  const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
+  NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
+  for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);
+  if (mesh.parts.empty()) mesh.parts.push_back({"", std::filesystem::path(path).filename().string()});
+  walker.refuseInvalidPositions(options);
+  checkFinite(mesh, path, options, warnings);
+  padVertexAttributes(mesh);
   return mesh;
 }
 

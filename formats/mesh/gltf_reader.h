@@ -13,7 +13,7 @@
 // * Compressed meshes (KHR_draco_mesh_compression, EXT_meshopt_compression)
 //   are refused with the extension's name.
 // * NaN or infinite positions: refused naming the accessor and the count, or
-//   dropped with --drop-invalid.
+//   dropped (MeshReadOptions::dropInvalid).
 #pragma once
 
 #include <string>

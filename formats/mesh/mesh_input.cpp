@@ -3,24 +3,14 @@
 #include <cmath>
 #include <filesystem>
 
+#include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_reader.h"
 #include "libvox/core/error.h"
 
 namespace vox {
 
-namespace {
-std::string lowerExtension(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
-}  // namespace
-
-bool isMeshFile(const std::string& path) {
-  const std::string e = lowerExtension(path);
-  return e == ".obj" || e == ".ply" || e == ".stl" || e == ".gltf" || e == ".glb";
-}
+bool isMeshFile(const std::string& path) { return fileKindOf(path) == FileKind::Mesh; }
 
 void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& options, std::vector<std::string>& warnings) {
   std::vector<char> invalid(mesh.positions.size(), 0);
@@ -35,7 +25,8 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
   if (!count) return;
   if (!options.dropInvalid)
     throwBadInput(name + ": " + std::to_string(count) + " vertices have NaN or infinite coordinates (the first is vertex " +
-                  std::to_string(first) + "); fix the file or pass --drop-invalid to drop their triangles");
+                  std::to_string(first) + "); fix the file or drop their triangles",
+                  Setting::DropInvalid);
   size_t kept = 0;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
@@ -56,15 +47,14 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
 }
 
 Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
-  const std::string e = lowerExtension(path);
-  if (e == ".gltf" || e == ".glb") return readGltf(path, options, warnings);
+  if (hasExtension(path, ".gltf") || hasExtension(path, ".glb")) return readGltf(path, options, warnings);
   const FileView bytes(path);
   Mesh mesh;
-  if (e == ".obj")
+  if (hasExtension(path, ".obj"))
     mesh = parseObj(bytes.data(), bytes.size(), path, options, warnings, std::filesystem::path(path).parent_path().string());
-  else if (e == ".stl") mesh = parseStl(bytes.data(), bytes.size(), path, options, warnings);
-  else if (e == ".ply") mesh = parsePly(bytes.data(), bytes.size(), path, options, warnings);
-  else throwBadInput(path + ": unknown mesh extension '" + e + "' (vox reads .obj .ply .stl .gltf .glb)");
+  else if (hasExtension(path, ".stl")) mesh = parseStl(bytes.data(), bytes.size(), path, options, warnings);
+  else if (hasExtension(path, ".ply")) mesh = parsePly(bytes.data(), bytes.size(), path, options, warnings);
+  else throwBadInput(path + ": not " + describe(FileKind::Mesh));
   mesh.filesRead.insert(mesh.filesRead.begin(), path);
   return mesh;
 }

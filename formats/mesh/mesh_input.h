@@ -1,5 +1,5 @@
 // Mesh files -> vox::Mesh. Every reader records the files it read (for
-// --depfile), converts sRGB-encoded colours to linear, and throws vox::Error
+// dependency files), converts sRGB-encoded colours to linear, and throws vox::Error
 // (BadInput) naming the file and the element (line, face, vertex, accessor).
 //
 //   .obj  with .mtl (usemtl, Kd, map_Kd; polygons fan-triangulated, negative indices)

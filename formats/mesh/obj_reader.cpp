@@ -47,8 +47,8 @@ struct Cursor {
   }
 };
 
-[[noreturn]] void bad(const std::string& name, size_t line, const std::string& what) {
-  throwBadInput(name + ":" + std::to_string(line) + ": " + what);
+[[noreturn]] void bad(const std::string& name, size_t line, const std::string& what, Setting fix = Setting::None) {
+  throwBadInput(name + ":" + std::to_string(line) + ": " + what, fix);
 }
 
 double number(Cursor& c, const std::string& name, const char* what) {
@@ -141,81 +141,263 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
   }
 }
 
-}  // namespace
+/// One OBJ file being parsed: the state its lines build up, one method per
+/// kind of line. Positions, texture coordinates and colours are kept as the
+/// file numbers them ("obj" indices) until a face uses them: mesh vertices
+/// are made per (v, vt) pair a face refers to.
+class ObjParser {
+ public:
+  ObjParser(const std::string& name, const MeshReadOptions& options, std::vector<std::string>& warnings,
+            const std::string& baseDir)
+      : name_(name), options_(options), warnings_(warnings), baseDir_(baseDir) {
+    mesh_.parts.push_back({"", std::filesystem::path(name).filename().string()});
+  }
 
-Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
-              std::vector<std::string>& warnings, const std::string& baseDir) {
-  Mesh mesh;
-  std::vector<std::array<float, 2>> texcoords;
-  struct Corner {
-    uint32_t v;
-    int64_t vt;  // -1: none
-  };
-  // Vertices that carry a texture coordinate are split per (v, vt) pair.
-  std::unordered_map<uint64_t, uint32_t> splitIndex;
-  std::vector<std::array<double, 3>> objPositions;
-  std::unordered_map<std::string, uint32_t> materialByName;
-  int64_t currentMaterial = -1;  // none chosen yet: faces use an unnamed white material
-  int64_t defaultMaterial = -1;
-  uint32_t currentPart = 0;
-  mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
-  std::vector<Corner> face;
-  std::vector<uint32_t> vertexOfObj;  // objPositions index -> mesh vertex (no texcoord)
-  std::vector<uint32_t> objOfVertex;  // mesh vertex -> objPositions index (for vertex colours)
-  // "v x y z r g b [a]" (MeshLab, ZBrush and most scanners): colours in [0, 1]
-  // written from 8-bit sRGB, so they are decoded to linear like PLY bytes.
-  std::vector<std::array<float, 4>> objColors;
-  bool anyVertexColor = false;
-  size_t invalidVertices = 0, firstInvalidLine = 0, firstInvalidVertex = 0;  // NaN/Inf "v" lines
-  {
-    // Reserve from a count of "v " and "f " lines (memchr runs at GB/s): growing
-    // these arrays by doubling copied and faulted in twice their final size,
-    // which cost more than parsing the numbers.
+  /// Reserves the arrays from a count of "v " and "f " lines (memchr runs at
+  /// GB/s): growing them by doubling copied and faulted in twice their final
+  /// size, which cost more than parsing the numbers.
+  void reserveFor(const char* data, size_t size) {
     size_t vLines = 0, fLines = 0;
     for (const char* q = data; q < data + size;) {
       if (q + 1 < data + size && q[1] == ' ') vLines += q[0] == 'v', fLines += q[0] == 'f';
       const void* nl = std::memchr(q, '\n', size_t(data + size - q));
       q = nl ? static_cast<const char*>(nl) + 1 : data + size;
     }
-    objPositions.reserve(vLines);
-    objColors.reserve(vLines);
-    vertexOfObj.reserve(vLines);
-    objOfVertex.reserve(vLines);
-    mesh.positions.reserve(vLines);
-    mesh.triangles.reserve(fLines);
-    mesh.triangleMaterial.reserve(fLines);
-    mesh.trianglePart.reserve(fLines);
+    objPositions_.reserve(vLines);
+    objColors_.reserve(vLines);
+    vertexOfObj_.reserve(vLines);
+    objOfVertex_.reserve(vLines);
+    mesh_.positions.reserve(vLines);
+    mesh_.triangles.reserve(fLines);
+    mesh_.triangleMaterial.reserve(fLines);
+    mesh_.trianglePart.reserve(fLines);
   }
 
-  auto resolve = [&](int64_t idx, size_t count, size_t line, const char* what) -> uint32_t {
-    const int64_t i = idx < 0 ? int64_t(count) + idx : idx - 1;
-    if (idx == 0 || i < 0 || i >= int64_t(count))
-      bad(name, line, std::string("face refers to ") + what + " " + std::to_string(idx) + " but " +
-                          std::to_string(count) + " are defined so far");
-    return uint32_t(i);
-  };
-  auto meshVertex = [&](const Corner& c) -> uint32_t {
-    if (c.vt < 0) {
-      if (vertexOfObj[c.v] == UINT32_MAX) {
-        vertexOfObj[c.v] = uint32_t(mesh.positions.size());
-        mesh.positions.push_back(objPositions[c.v]);
-        objOfVertex.push_back(c.v);
-        if (!mesh.uv0.empty()) mesh.uv0.push_back({0, 0});  // keep uv0 parallel once it exists
+  /// "v x y z [w]" or "v x y z r g b [a]" (MeshLab, ZBrush and most scanners:
+  /// colours in [0, 1] written from 8-bit sRGB, so decoded to linear like PLY bytes).
+  void vertex(Cursor& c) {
+    std::array<double, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = number(c, name_, "a vertex coordinate");
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      if (!invalidVertices_++) firstInvalidLine_ = c.line, firstInvalidVertex_ = objPositions_.size() + 1;
+    }
+    objPositions_.push_back(p);
+    vertexOfObj_.push_back(UINT32_MAX);
+    // Optional trailing numbers: w (1 value, ignored), r g b (3) or r g b a (4).
+    double extra[4];
+    int n = 0;
+    for (c.skipSpaces(); !c.atEol() && *c.p != '#'; c.skipSpaces()) {
+      if (n == 4) bad(name_, c.line, "a vertex has more than 7 numbers; expected x y z [w] or x y z r g b [a]");
+      extra[n++] = number(c, name_, "a vertex colour");
+    }
+    std::array<float, 4> color{1, 1, 1, 1};
+    if (n == 2) bad(name_, c.line, "a vertex has 5 numbers; expected x y z [w] or x y z r g b [a]");
+    if (n >= 3) {
+      for (int k = 0; k < n; ++k)
+        if (!(extra[k] >= 0 && extra[k] <= 1))
+          bad(name_, c.line, "vertex colour component " + std::to_string(extra[k]) + " is outside [0, 1]");
+      for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbToLinear(extra[k]);
+      if (n == 4) color[3] = float(extra[3]);
+      anyVertexColor_ = true;
+    }
+    objColors_.push_back(color);
+  }
+
+  /// "vt s [t]".
+  void texcoord(Cursor& c) {
+    const float s = float(number(c, name_, "a texture coordinate"));
+    c.skipSpaces();
+    const float t = c.atEol() ? 0.0f : float(number(c, name_, "a texture coordinate"));
+    texcoords_.push_back({s, t});
+  }
+
+  /// "f v[/vt[/vn]] ..." (at least 3 corners, negative indices count back),
+  /// fan-triangulated, in the current material and part.
+  void face(Cursor& c) {
+    readCorners(c);
+    if (face_.size() < 3) bad(name_, c.line, "a face needs at least 3 vertices");
+    if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
+    const uint32_t first = meshVertex(face_[0]);
+    for (size_t k = 1; k + 1 < face_.size(); ++k) {  // fan triangulation
+      mesh_.triangles.push_back({first, meshVertex(face_[k]), meshVertex(face_[k + 1])});
+      mesh_.triangleMaterial.push_back(uint32_t(currentMaterial_));
+      mesh_.trianglePart.push_back(currentPart_);
+    }
+  }
+
+  /// "o NAME" or "g NAME": the faces that follow form a part of that name.
+  void part(Cursor& c) {
+    const std::string n = c.rest();
+    mesh_.parts.push_back({n, std::filesystem::path(name_).filename().string()});
+    currentPart_ = uint32_t(mesh_.parts.size() - 1);
+  }
+
+  /// "usemtl NAME". A material no MTL defines keeps its name (class rules
+  /// match it) and is white.
+  void useMaterial(Cursor& c) {
+    const std::string n = c.rest();
+    auto it = materialByName_.find(n);
+    if (it == materialByName_.end()) {
+      mesh_.materials.push_back({n, {1, 1, 1, 1}, -1, 0});
+      it = materialByName_.emplace(n, uint32_t(mesh_.materials.size() - 1)).first;
+      warnings_.push_back(name_ + ":" + std::to_string(c.line) + ": material '" + n + "' is not defined in any mtllib");
+    }
+    currentMaterial_ = it->second;
+  }
+
+  /// "mtllib a.mtl b.mtl" names several files; a single name may contain spaces.
+  void materialLibraries(Cursor& c) {
+    const std::string all = c.rest();
+    std::vector<std::string> files{all};
+    if (!isFile(resolvePath(baseDir_, all))) {
+      files.clear();
+      for (size_t b = 0; b < all.size();) {
+        const size_t e = std::min(all.find_first_of(" \t", b), all.size());
+        if (e > b) files.push_back(all.substr(b, e - b));
+        b = e + 1;
       }
-      return vertexOfObj[c.v];
     }
-    const uint64_t key = (uint64_t(c.v) << 32) | uint64_t(c.vt);
-    auto [it, inserted] = splitIndex.emplace(key, uint32_t(mesh.positions.size()));
-    if (inserted) {
-      mesh.positions.push_back(objPositions[c.v]);
-      objOfVertex.push_back(c.v);
-      mesh.uv0.resize(mesh.positions.size() - 1, {0, 0});
-      // OBJ's v grows upwards; glTF's t (which the voxelizer samples) downwards.
-      mesh.uv0.push_back({texcoords[size_t(c.vt)][0], 1.0f - texcoords[size_t(c.vt)][1]});
+    for (const std::string& file : files) {
+      const std::string full = resolvePath(baseDir_, file);
+      if (options_.ignoreMissingMaterials && !isFile(full)) {
+        warnings_.push_back(name_ + ":" + std::to_string(c.line) + ": mtllib " + file +
+                            ": the material library is missing; its materials are white");
+        continue;
+      }
+      try {
+        parseMtl(full, mesh_, materialByName_, options_, warnings_);
+      } catch (const Error& e) {
+        throwBadInput(name_ + ":" + std::to_string(c.line) + ": mtllib " + file + ": " + e.what(), e.setting);
+      }
     }
-    return it->second;
+  }
+
+  /// The mesh, once every line is read: per-vertex arrays completed, and
+  /// non-finite vertices refused (naming the first bad "v" line) or dropped.
+  Mesh finish() {
+    if (mesh_.materials.empty()) mesh_.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
+    if (!mesh_.uv0.empty()) mesh_.uv0.resize(mesh_.positions.size(), {0, 0});
+    if (anyVertexColor_) {  // vertices written without a colour are white
+      mesh_.colors.resize(mesh_.positions.size());
+      for (size_t i = 0; i < mesh_.positions.size(); ++i) mesh_.colors[i] = objColors_[objOfVertex_[i]];
+    }
+    // Name the first bad "v" line (the generic check below only knows mesh vertex numbers).
+    if (invalidVertices_ && !options_.dropInvalid)
+      bad(name_, firstInvalidLine_,
+          std::to_string(invalidVertices_) + " vertices have NaN or infinite coordinates (the first is vertex " +
+              std::to_string(firstInvalidVertex_) + ", on this line); fix the file or drop their triangles",
+          Setting::DropInvalid);
+    checkFinite(mesh_, name_, options_, warnings_);
+    return std::move(mesh_);
+  }
+
+ private:
+  struct Corner {
+    uint32_t v;  // obj position index
+    int64_t vt;  // obj texcoord index, -1: none
   };
 
+  /// Index `idx` as written (1-based, or negative counting back from the
+  /// `count` defined so far) as a 0-based index.
+  uint32_t resolve(int64_t idx, size_t count, size_t line, const char* what) const {
+    const int64_t i = idx < 0 ? int64_t(count) + idx : idx - 1;
+    if (idx == 0 || i < 0 || i >= int64_t(count))
+      bad(name_, line, std::string("face refers to ") + what + " " + std::to_string(idx) + " but " +
+                           std::to_string(count) + " are defined so far");
+    return uint32_t(i);
+  }
+
+  /// The corners of an "f" line into face_.
+  void readCorners(Cursor& c) {
+    face_.clear();
+    while (true) {
+      c.skipSpaces();
+      if (c.atEol()) break;
+      int64_t v = 0, vt = 0;
+      auto [ptr, ec] = std::from_chars(c.p, c.end, v);
+      if (ec != std::errc()) bad(name_, c.line, "expected a vertex index in the face");
+      c.p = ptr;
+      int64_t vtIndex = -1;
+      if (c.p < c.end && *c.p == '/') {
+        ++c.p;
+        if (c.p < c.end && *c.p != '/') {
+          auto [p2, e2] = std::from_chars(c.p, c.end, vt);
+          if (e2 != std::errc()) bad(name_, c.line, "expected a texture coordinate index after '/'");
+          c.p = p2;
+          vtIndex = resolve(vt, texcoords_.size(), c.line, "texture coordinate");
+        }
+        if (c.p < c.end && *c.p == '/') {  // normal index: read and ignore
+          ++c.p;
+          int64_t vn = 0;
+          auto [p3, e3] = std::from_chars(c.p, c.end, vn);
+          if (e3 == std::errc()) c.p = p3;
+        }
+      }
+      face_.push_back({resolve(v, objPositions_.size(), c.line, "vertex"), vtIndex});
+      if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r')
+        bad(name_, c.line, "unexpected character in a face");
+    }
+  }
+
+  /// The unnamed white material of faces before any "usemtl", made once.
+  int64_t defaultMaterial() {
+    if (defaultMaterial_ < 0) {
+      defaultMaterial_ = int64_t(mesh_.materials.size());
+      mesh_.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
+    }
+    return defaultMaterial_;
+  }
+
+  /// The mesh vertex of a corner: one per obj position without a texture
+  /// coordinate, one per (v, vt) pair with one.
+  uint32_t meshVertex(const Corner& c) {
+    if (c.vt < 0) {
+      if (vertexOfObj_[c.v] == UINT32_MAX) {
+        vertexOfObj_[c.v] = uint32_t(mesh_.positions.size());
+        mesh_.positions.push_back(objPositions_[c.v]);
+        objOfVertex_.push_back(c.v);
+        if (!mesh_.uv0.empty()) mesh_.uv0.push_back({0, 0});  // keep uv0 parallel once it exists
+      }
+      return vertexOfObj_[c.v];
+    }
+    const uint64_t key = (uint64_t(c.v) << 32) | uint64_t(c.vt);
+    auto [it, inserted] = splitIndex_.emplace(key, uint32_t(mesh_.positions.size()));
+    if (inserted) {
+      mesh_.positions.push_back(objPositions_[c.v]);
+      objOfVertex_.push_back(c.v);
+      mesh_.uv0.resize(mesh_.positions.size() - 1, {0, 0});
+      // OBJ's v grows upwards; glTF's t (which the voxelizer samples) downwards.
+      mesh_.uv0.push_back({texcoords_[size_t(c.vt)][0], 1.0f - texcoords_[size_t(c.vt)][1]});
+    }
+    return it->second;
+  }
+
+  const std::string& name_;
+  const MeshReadOptions& options_;
+  std::vector<std::string>& warnings_;
+  const std::string& baseDir_;
+  Mesh mesh_;
+  std::vector<std::array<double, 3>> objPositions_;
+  std::vector<std::array<float, 4>> objColors_;  // white for "v" lines without a colour
+  std::vector<std::array<float, 2>> texcoords_;
+  std::vector<uint32_t> vertexOfObj_;  // obj position -> mesh vertex (no texcoord), UINT32_MAX: none yet
+  std::vector<uint32_t> objOfVertex_;  // mesh vertex -> obj position (for vertex colours)
+  std::unordered_map<uint64_t, uint32_t> splitIndex_;  // (v, vt) -> mesh vertex
+  std::unordered_map<std::string, uint32_t> materialByName_;
+  int64_t currentMaterial_ = -1;  // none chosen yet: faces use the default material
+  int64_t defaultMaterial_ = -1;
+  uint32_t currentPart_ = 0;
+  std::vector<Corner> face_;  // the corners of the face being read
+  bool anyVertexColor_ = false;
+  size_t invalidVertices_ = 0, firstInvalidLine_ = 0, firstInvalidVertex_ = 0;  // NaN/Inf "v" lines
+};
+
+}  // namespace
+
+Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings, const std::string& baseDir) {
+  ObjParser obj(name, options, warnings, baseDir);
+  obj.reserveFor(data, size);
   Cursor c{data, data + size};
   while (c.p < c.end) {
     c.skipSpaces();
@@ -224,136 +406,15 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       continue;
     }
     const std::string_view key = c.word();
-    if (key == "v") {
-      std::array<double, 3> p;
-      for (int k = 0; k < 3; ++k) p[k] = number(c, name, "a vertex coordinate");
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-        if (!invalidVertices++) firstInvalidLine = c.line, firstInvalidVertex = objPositions.size() + 1;
-      }
-      objPositions.push_back(p);
-      vertexOfObj.push_back(UINT32_MAX);
-      // Optional trailing numbers: w (1 value, ignored), r g b (3) or r g b a (4).
-      double extra[4];
-      int n = 0;
-      for (c.skipSpaces(); !c.atEol() && *c.p != '#'; c.skipSpaces()) {
-        if (n == 4) bad(name, c.line, "a vertex has more than 7 numbers; expected x y z [w] or x y z r g b [a]");
-        extra[n++] = number(c, name, "a vertex colour");
-      }
-      std::array<float, 4> color{1, 1, 1, 1};
-      if (n == 2) bad(name, c.line, "a vertex has 5 numbers; expected x y z [w] or x y z r g b [a]");
-      if (n >= 3) {
-        for (int k = 0; k < n; ++k)
-          if (!(extra[k] >= 0 && extra[k] <= 1))
-            bad(name, c.line, "vertex colour component " + std::to_string(extra[k]) + " is outside [0, 1]");
-        for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbToLinear(extra[k]);
-        if (n == 4) color[3] = float(extra[3]);
-        anyVertexColor = true;
-      }
-      objColors.push_back(color);
-    } else if (key == "vt") {
-      const float s = float(number(c, name, "a texture coordinate"));
-      c.skipSpaces();
-      const float t = c.atEol() ? 0.0f : float(number(c, name, "a texture coordinate"));
-      texcoords.push_back({s, t});
-    } else if (key == "f") {
-      face.clear();
-      while (true) {
-        c.skipSpaces();
-        if (c.atEol()) break;
-        int64_t v = 0, vt = 0;
-        auto [ptr, ec] = std::from_chars(c.p, c.end, v);
-        if (ec != std::errc()) bad(name, c.line, "expected a vertex index in the face");
-        c.p = ptr;
-        int64_t vtIndex = -1;
-        if (c.p < c.end && *c.p == '/') {
-          ++c.p;
-          if (c.p < c.end && *c.p != '/') {
-            auto [p2, e2] = std::from_chars(c.p, c.end, vt);
-            if (e2 != std::errc()) bad(name, c.line, "expected a texture coordinate index after '/'");
-            c.p = p2;
-            vtIndex = resolve(vt, texcoords.size(), c.line, "texture coordinate");
-          }
-          if (c.p < c.end && *c.p == '/') {  // normal index: read and ignore
-            ++c.p;
-            int64_t vn = 0;
-            auto [p3, e3] = std::from_chars(c.p, c.end, vn);
-            if (e3 == std::errc()) c.p = p3;
-          }
-        }
-        face.push_back({resolve(v, objPositions.size(), c.line, "vertex"), vtIndex});
-        if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r')
-          bad(name, c.line, "unexpected character in a face");
-      }
-      if (face.size() < 3) bad(name, c.line, "a face needs at least 3 vertices");
-      if (currentMaterial < 0) {
-        if (defaultMaterial < 0) {
-          defaultMaterial = int64_t(mesh.materials.size());
-          mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
-        }
-        currentMaterial = defaultMaterial;
-      }
-      const uint32_t first = meshVertex(face[0]);
-      for (size_t k = 1; k + 1 < face.size(); ++k) {  // fan triangulation
-        mesh.triangles.push_back({first, meshVertex(face[k]), meshVertex(face[k + 1])});
-        mesh.triangleMaterial.push_back(uint32_t(currentMaterial));
-        mesh.trianglePart.push_back(currentPart);
-      }
-    } else if (key == "o" || key == "g") {
-      const std::string n = c.rest();
-      mesh.parts.push_back({n, std::filesystem::path(name).filename().string()});
-      currentPart = uint32_t(mesh.parts.size() - 1);
-    } else if (key == "usemtl") {
-      const std::string n = c.rest();
-      auto it = materialByName.find(n);
-      if (it == materialByName.end()) {
-        // A material no MTL defines: keep its name (for --classes), white.
-        mesh.materials.push_back({n, {1, 1, 1, 1}, -1, 0});
-        it = materialByName.emplace(n, uint32_t(mesh.materials.size() - 1)).first;
-        warnings.push_back(name + ":" + std::to_string(c.line) + ": material '" + n + "' is not defined in any mtllib");
-      }
-      currentMaterial = it->second;
-    } else if (key == "mtllib") {
-      // "mtllib a.mtl b.mtl" names several files; a single name may contain spaces.
-      const std::string all = c.rest();
-      std::vector<std::string> files{all};
-      if (!isFile(resolvePath(baseDir, all))) {
-        files.clear();
-        for (size_t b = 0; b < all.size();) {
-          const size_t e = std::min(all.find_first_of(" \t", b), all.size());
-          if (e > b) files.push_back(all.substr(b, e - b));
-          b = e + 1;
-        }
-      }
-      for (const std::string& file : files) {
-        const std::string full = resolvePath(baseDir, file);
-        if (options.ignoreMissingMaterials && !isFile(full)) {
-          warnings.push_back(name + ":" + std::to_string(c.line) + ": mtllib " + file +
-                             ": the material library is missing; its materials are white");
-          continue;
-        }
-        try {
-          parseMtl(full, mesh, materialByName, options, warnings);
-        } catch (const Error& e) {
-          throwBadInput(name + ":" + std::to_string(c.line) + ": mtllib " + file + ": " + e.what());
-        }
-      }
-    }
+    if (key == "v") obj.vertex(c);
+    else if (key == "vt") obj.texcoord(c);
+    else if (key == "f") obj.face(c);
+    else if (key == "o" || key == "g") obj.part(c);
+    else if (key == "usemtl") obj.useMaterial(c);
+    else if (key == "mtllib") obj.materialLibraries(c);
     c.nextLine();
   }
-  if (mesh.materials.empty()) mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
-  if (!mesh.uv0.empty()) mesh.uv0.resize(mesh.positions.size(), {0, 0});
-  if (anyVertexColor) {  // vertices written without a colour are white
-    mesh.colors.resize(mesh.positions.size());
-    for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.colors[i] = objColors[objOfVertex[i]];
-  }
-  // Name the first bad "v" line (the generic check below only knows mesh vertex numbers).
-  if (invalidVertices && !options.dropInvalid)
-    bad(name, firstInvalidLine,
-        std::to_string(invalidVertices) + " vertices have NaN or infinite coordinates (the first is vertex " +
-            std::to_string(firstInvalidVertex) + ", on this line); fix the file or pass --drop-invalid to drop their "
-            "triangles");
-  checkFinite(mesh, name, options, warnings);
-  return mesh;
+  return obj.finish();
 }
 
 }  // namespace vox

@@ -110,13 +110,16 @@ class Reader {
   uint64_t index_ = 0;
 };
 
-}  // namespace
+struct Header {
+  int format = -1;  // 0 ascii, 1 binary little endian, 2 binary big endian
+  std::vector<Element> elements;
+  size_t bodyStart = 0;  // offset of the first body byte (at most the file size)
+};
 
-Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
-              std::vector<std::string>& warnings) {
-  // Header.
-  // The header ends at the first line that is "end_header" (a comment may
-  // contain those words too).
+/// The header: format, elements and their properties, where the body starts.
+/// It ends at the first line that is "end_header" (a comment may contain those
+/// words too).
+Header parseHeader(const char* data, size_t size, const std::string& name) {
   const std::string_view all(data, size);
   size_t headerEnd = std::string_view::npos;
   for (size_t ls = 0; ls < size;) {
@@ -132,12 +135,11 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
   }
   if (size < 3 || std::strncmp(data, "ply", 3) != 0 || headerEnd == std::string_view::npos)
     throwBadInput(name + ": not a PLY file (no 'ply' magic or no 'end_header' line)");
-  std::istringstream header(std::string(data, headerEnd));
+  std::istringstream text(std::string(data, headerEnd));
   std::string line;
-  int format = -1;
-  std::vector<Element> elements;
+  Header h;
   size_t lineNo = 0;
-  while (std::getline(header, line)) {
+  while (std::getline(text, line)) {
     ++lineNo;
     std::istringstream ls(line);
     std::string key;
@@ -145,15 +147,15 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
     if (key == "format") {
       std::string f;
       ls >> f;
-      format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
-      if (format < 0) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown PLY format '" + f + "'");
+      h.format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
+      if (h.format < 0) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown PLY format '" + f + "'");
     } else if (key == "element") {
       Element e;
       ls >> e.name >> e.count;
       if (!ls) throwBadInput(name + ":" + std::to_string(lineNo) + ": malformed element line");
-      elements.push_back(e);
+      h.elements.push_back(e);
     } else if (key == "property") {
-      if (elements.empty()) throwBadInput(name + ":" + std::to_string(lineNo) + ": property before any element");
+      if (h.elements.empty()) throwBadInput(name + ":" + std::to_string(lineNo) + ": property before any element");
       Property p;
       std::string t;
       ls >> t;
@@ -167,80 +169,102 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
         ls >> p.name;
         if (!parseType(t, p.type)) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown property type '" + t + "'");
       }
-      elements.back().props.push_back(p);
+      h.elements.back().props.push_back(p);
     }
   }
-  if (format < 0) throwBadInput(name + ": the PLY header has no 'format' line");
+  if (h.format < 0) throwBadInput(name + ": the PLY header has no 'format' line");
   size_t bodyStart = headerEnd + 10;
   while (bodyStart < size && data[bodyStart] != '\n') ++bodyStart;
-  ++bodyStart;
-  Reader r(data + std::min(bodyStart, size), size - std::min(bodyStart, size), name, format);
+  h.bodyStart = std::min(bodyStart + 1, size);
+  return h;
+}
 
+/// Which properties of an element vertices and faces are made of (-1: absent).
+struct Roles {
+  int x = -1, y = -1, z = -1, red = -1, green = -1, blue = -1, alpha = -1, faceIndices = -1;
+  explicit Roles(const Element& e) {
+    for (size_t k = 0; k < e.props.size(); ++k) {
+      const std::string& n = e.props[k].name;
+      if (n == "x") x = int(k);
+      if (n == "y") y = int(k);
+      if (n == "z") z = int(k);
+      if (n == "red" || n == "r") red = int(k);
+      if (n == "green" || n == "g") green = int(k);
+      if (n == "blue" || n == "b") blue = int(k);
+      if (n == "alpha" || n == "a") alpha = int(k);
+      if ((n == "vertex_indices" || n == "vertex_index") && e.props[k].list) faceIndices = int(k);
+    }
+  }
+};
+
+/// Reads every item of element `e` from the body: a "vertex" adds a position
+/// (and colour), a "face" adds its polygon fan-triangulated, any other element
+/// is read past.
+void readElement(Reader& r, const Element& e, int format, const std::string& name, Mesh& mesh) {
+  const bool isVertex = e.name == "vertex", isFace = e.name == "face";
+  if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
+  const Roles role(e);
+  if (isVertex && (role.x < 0 || role.y < 0 || role.z < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
+  if (e.props.empty()) return;  // an element without properties has no bytes in the body
+  // Every item takes at least one byte per scalar property (and per list
+  // count): refuse counts the rest of the file cannot hold before looping.
+  uint64_t minBytes = 0;
+  for (const Property& p : e.props) minBytes += minBodyBytes(p, format);
+  if (minBytes && e.count > r.remaining() / minBytes)
+    throwBadInput(name + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items but only " +
+                  std::to_string(r.remaining()) + " bytes follow the header (truncated, or a wrong count?)");
+  const bool hasColor = role.red >= 0 && role.green >= 0 && role.blue >= 0;
+  std::vector<double> vals(e.props.size());
+  std::vector<uint32_t> poly;
+  for (uint64_t i = 0; i < e.count; ++i) {
+    r.at(&e.name, i);
+    for (size_t k = 0; k < e.props.size(); ++k) {
+      const Property& p = e.props[k];
+      if (!p.list) {
+        vals[k] = r.scalar(p.type);
+        continue;
+      }
+      const double count = r.scalar(p.countType);
+      if (!(count >= 0 && count <= 1e6))
+        throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
+      const bool faceIndices = isFace && int(k) == role.faceIndices;
+      poly.clear();
+      for (int j = 0; j < int(count); ++j) {
+        const double v = r.scalar(p.type);
+        if (faceIndices) {
+          if (v < 0 || v >= double(mesh.positions.size()))
+            throwBadInput(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(v)) +
+                          " but there are " + std::to_string(mesh.positions.size()));
+          poly.push_back(uint32_t(v));
+        }
+      }
+      if (faceIndices)
+        for (size_t j = 1; j + 1 < poly.size(); ++j) mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
+    }
+    if (isVertex) {
+      mesh.positions.push_back({vals[size_t(role.x)], vals[size_t(role.y)], vals[size_t(role.z)]});
+      if (hasColor) {
+        const Type type = e.props[size_t(role.red)].type;
+        const bool floats = type == Type::F32 || type == Type::F64;
+        auto lin = [&](double c) { return floats ? float(c) : srgbToLinear(c / 255.0); };
+        mesh.colors.push_back({lin(vals[size_t(role.red)]), lin(vals[size_t(role.green)]), lin(vals[size_t(role.blue)]),
+                               role.alpha >= 0 ? float(floats ? vals[size_t(role.alpha)] : vals[size_t(role.alpha)] / 255.0)
+                                               : 1.0f});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
+              std::vector<std::string>& warnings) {
+  const Header header = parseHeader(data, size, name);
+  Reader r(data + header.bodyStart, size - header.bodyStart, name, header.format);
   Mesh mesh;
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
-  for (const Element& e : elements) {
-    const bool isVertex = e.name == "vertex", isFace = e.name == "face";
-    if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
-    int ix = -1, iy = -1, iz = -1, ir = -1, ig = -1, ib = -1, ia = -1, iface = -1;
-    for (size_t k = 0; k < e.props.size(); ++k) {
-      const std::string& n = e.props[k].name;
-      if (n == "x") ix = int(k);
-      if (n == "y") iy = int(k);
-      if (n == "z") iz = int(k);
-      if (n == "red" || n == "r") ir = int(k);
-      if (n == "green" || n == "g") ig = int(k);
-      if (n == "blue" || n == "b") ib = int(k);
-      if (n == "alpha" || n == "a") ia = int(k);
-      if ((n == "vertex_indices" || n == "vertex_index") && e.props[k].list) iface = int(k);
-    }
-    if (isVertex && (ix < 0 || iy < 0 || iz < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
-    if (e.props.empty()) continue;  // an element without properties has no bytes in the body
-    // Every item takes at least one byte per scalar property (and per list
-    // count): refuse counts the rest of the file cannot hold before looping.
-    uint64_t minBytes = 0;
-    for (const Property& p : e.props) minBytes += minBodyBytes(p, format);
-    if (minBytes && e.count > r.remaining() / minBytes)
-      throwBadInput(name + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items but only " +
-                    std::to_string(r.remaining()) + " bytes follow the header (truncated, or a wrong count?)");
-    std::vector<double> vals(e.props.size());
-    std::vector<uint32_t> poly;
-    for (uint64_t i = 0; i < e.count; ++i) {
-      r.at(&e.name, i);
-      for (size_t k = 0; k < e.props.size(); ++k) {
-        const Property& p = e.props[k];
-        if (!p.list) {
-          vals[k] = r.scalar(p.type);
-          continue;
-        }
-        const double count = r.scalar(p.countType);
-        if (!(count >= 0 && count <= 1e6))
-          throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
-        poly.clear();
-        for (int j = 0; j < int(count); ++j) {
-          const double v = r.scalar(p.type);
-          if (isFace && int(k) == iface) {
-            if (v < 0 || v >= double(mesh.positions.size()))
-              throwBadInput(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(v)) +
-                            " but there are " + std::to_string(mesh.positions.size()));
-            poly.push_back(uint32_t(v));
-          }
-        }
-        if (isFace && int(k) == iface) {
-          for (size_t j = 1; j + 1 < poly.size(); ++j) mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
-        }
-      }
-      if (isVertex) {
-        mesh.positions.push_back({vals[size_t(ix)], vals[size_t(iy)], vals[size_t(iz)]});
-        if (ir >= 0 && ig >= 0 && ib >= 0) {
-          const bool floats = e.props[size_t(ir)].type == Type::F32 || e.props[size_t(ir)].type == Type::F64;
-          auto lin = [&](double c) { return floats ? float(c) : srgbToLinear(c / 255.0); };
-          mesh.colors.push_back({lin(vals[size_t(ir)]), lin(vals[size_t(ig)]), lin(vals[size_t(ib)]),
-                                 ia >= 0 ? float(floats ? vals[size_t(ia)] : vals[size_t(ia)] / 255.0) : 1.0f});
-        }
-      }
-    }
-  }
+  for (const Element& e : header.elements) readElement(r, e, header.format, name, mesh);
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
   checkFinite(mesh, name, options, warnings);

@@ -10,82 +10,99 @@
 
 namespace vox {
 
+namespace {
+
+/// Is the file binary STL? It is when its size is the 84 + 50 n bytes its
+/// header announces. Otherwise it is ASCII when it is text (no NUL byte) that
+/// starts with "solid"; a file that is neither is a binary STL with bytes after
+/// its triangles (a warning) or, when shorter than announced, refused.
+bool isBinaryStl(const char* data, size_t size, const std::string& name, std::vector<std::string>& warnings) {
+  if (size < 84) return false;
+  uint32_t n = 0;
+  std::memcpy(&n, data + 80, 4);
+  const uint64_t binarySize = 84 + 50 * uint64_t(n);
+  if (uint64_t(size) == binarySize) return true;
+  const char* s = data;
+  while (s < data + size && (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')) ++s;
+  const bool solid = size_t(data + size - s) >= 5 && std::strncmp(s, "solid", 5) == 0;
+  if (solid && !std::memchr(data, 0, size)) return false;
+  if (uint64_t(size) < binarySize)
+    throwBadInput(name + ": " + (solid ? "" : "not ASCII STL (no 'solid'), and as ") + "binary STL it announces " +
+                  std::to_string(n) + " triangles (" + std::to_string(binarySize) + " bytes) but the file has " +
+                  std::to_string(size) + " bytes: truncated, or not an STL file");
+  warnings.push_back(name + ": binary STL has " + std::to_string(uint64_t(size) - binarySize) + " bytes after its " +
+                     std::to_string(n) + " triangles; ignored");
+  return true;
+}
+
+/// Binary STL: 80 header bytes, a triangle count, 50 bytes per triangle
+/// (normal, three vertices as float32, attribute bytes).
+void readBinaryStl(const char* data, Mesh& mesh) {
+  uint32_t n = 0;
+  std::memcpy(&n, data + 80, 4);
+  mesh.positions.reserve(size_t(n) * 3);
+  mesh.triangles.reserve(n);
+  for (uint32_t t = 0; t < n; ++t) {
+    const char* rec = data + 84 + 50 * size_t(t);
+    for (int k = 0; k < 3; ++k) {
+      float p[3];
+      std::memcpy(p, rec + 12 + 12 * k, 12);
+      mesh.positions.push_back({p[0], p[1], p[2]});
+    }
+    mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+}
+
+/// ASCII STL: "solid", then facets whose loops have three "vertex x y z".
+void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& mesh) {
+  const char* p = data;
+  const char* end = data + size;
+  size_t line = 1;
+  auto skipSpace = [&] {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')) {
+      if (*p == '\n') ++line;
+      ++p;
+    }
+  };
+  skipSpace();
+  if (size_t(end - p) < 5 || std::strncmp(p, "solid", 5) != 0)
+    throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
+  size_t corners = 0;
+  while (p < end) {
+    skipSpace();
+    const char* w = p;
+    while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
+    const std::string_view word(w, size_t(p - w));
+    if (word == "vertex") {
+      std::array<double, 3> v;
+      for (int k = 0; k < 3; ++k) {
+        skipSpace();
+        auto [ptr, ec] = std::from_chars(p, end, v[k]);
+        if (ec != std::errc()) throwBadInput(name + ":" + std::to_string(line) + ": expected 3 numbers after 'vertex'");
+        p = ptr;
+      }
+      mesh.positions.push_back(v);
+      ++corners;
+    } else if (word == "endloop") {
+      if (corners != 3)
+        throwBadInput(name + ":" + std::to_string(line) + ": a facet has " + std::to_string(corners) +
+                      " vertices; STL facets are triangles");
+      const uint32_t b = uint32_t(mesh.positions.size() - 3);
+      mesh.triangles.push_back({b, b + 1, b + 2});
+      corners = 0;
+    }
+  }
+}
+
+}  // namespace
+
 Mesh parseStl(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings) {
   Mesh mesh;
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
-  uint32_t n = 0;
-  if (size >= 84) std::memcpy(&n, data + 80, 4);
-  const uint64_t binarySize = 84 + 50 * uint64_t(n);
-  bool binary = size >= 84 && uint64_t(size) == binarySize;
-  if (!binary && size >= 84) {
-    // Not of the exact binary size. ASCII STL is text: a NUL byte (or a header
-    // not starting with "solid") means a binary file that is truncated or padded.
-    const char* s = data;
-    while (s < data + size && (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')) ++s;
-    const bool solid = size_t(data + size - s) >= 5 && std::strncmp(s, "solid", 5) == 0;
-    if (!solid || std::memchr(data, 0, size)) {
-      if (uint64_t(size) < binarySize)
-        throwBadInput(name + ": " + (solid ? "" : "not ASCII STL (no 'solid'), and as ") + "binary STL it announces " +
-                      std::to_string(n) + " triangles (" + std::to_string(binarySize) + " bytes) but the file has " +
-                      std::to_string(size) + " bytes: truncated, or not an STL file");
-      warnings.push_back(name + ": binary STL has " + std::to_string(uint64_t(size) - binarySize) +
-                         " bytes after its " + std::to_string(n) + " triangles; ignored");
-      binary = true;
-    }
-  }
-  if (binary) {
-    mesh.positions.reserve(size_t(n) * 3);
-    mesh.triangles.reserve(n);
-    for (uint32_t t = 0; t < n; ++t) {
-      const char* rec = data + 84 + 50 * size_t(t);
-      for (int k = 0; k < 3; ++k) {
-        float p[3];
-        std::memcpy(p, rec + 12 + 12 * k, 12);
-        mesh.positions.push_back({p[0], p[1], p[2]});
-      }
-      mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
-    }
-  } else {
-    const char* p = data;
-    const char* end = data + size;
-    size_t line = 1;
-    auto skipSpace = [&] {
-      while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')) {
-        if (*p == '\n') ++line;
-        ++p;
-      }
-    };
-    skipSpace();
-    if (size_t(end - p) < 5 || std::strncmp(p, "solid", 5) != 0)
-      throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
-    size_t corners = 0;
-    while (p < end) {
-      skipSpace();
-      const char* w = p;
-      while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
-      const std::string_view word(w, size_t(p - w));
-      if (word == "vertex") {
-        std::array<double, 3> v;
-        for (int k = 0; k < 3; ++k) {
-          skipSpace();
-          auto [ptr, ec] = std::from_chars(p, end, v[k]);
-          if (ec != std::errc()) throwBadInput(name + ":" + std::to_string(line) + ": expected 3 numbers after 'vertex'");
-          p = ptr;
-        }
-        mesh.positions.push_back(v);
-        ++corners;
-      } else if (word == "endloop") {
-        if (corners != 3)
-          throwBadInput(name + ":" + std::to_string(line) + ": a facet has " + std::to_string(corners) +
-                        " vertices; STL facets are triangles");
-        const uint32_t b = uint32_t(mesh.positions.size() - 3);
-        mesh.triangles.push_back({b, b + 1, b + 2});
-        corners = 0;
-      }
-    }
-  }
+  if (isBinaryStl(data, size, name, warnings)) readBinaryStl(data, mesh);
+  else readAsciiStl(data, size, name, mesh);
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
   checkFinite(mesh, name, options, warnings);

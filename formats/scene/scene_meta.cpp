@@ -1,37 +1,176 @@
 #include "formats/scene/scene_meta.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
+
+#include "formats/scene/class_table_json.h"
+#include "libvox/core/error.h"
+#include "libvox/core/version.h"
 
 namespace vox {
 
 namespace {
-nlohmann::json rgbJson(Rgb8 c) { return nlohmann::json::array({c.r, c.g, c.b}); }
-}  // namespace
 
-std::string classTableJson(const ClassTable& t) {
-  nlohmann::json arr = nlohmann::json::array();
-  for (const ClassInfo& c : t.classes()) {
-    nlohmann::json j = {{"id", c.id}, {"name", c.name}, {"color", rgbJson(c.color)}};
-    if (c.faces) {
-      j["top"] = rgbJson(c.faces->top);
-      j["bottom"] = rgbJson(c.faces->bottom);
-      j["side"] = rgbJson(c.faces->side);
-    }
-    arr.push_back(std::move(j));
-  }
-  return arr.dump();
+using nlohmann::json;
+
+constexpr const char* kFormatName = "voxbake-scene";
+constexpr const char* kVotesPrefix = "votes.";
+
+[[noreturn]] void bad(const std::string& path, const std::string& what) { throwBadInput(path + ": " + what); }
+
+/// The value of `key` as a T, or nullopt when the key is absent; throws when
+/// it has another type.
+template <typename T>
+std::optional<T> optionalMeta(const MetaEntries& meta, const std::string& path, const std::string& key) {
+  const auto it = meta.find(key);
+  if (it == meta.end()) return std::nullopt;
+  if (const T* v = std::get_if<T>(&it->second)) return *v;
+  bad(path, "metadata key '" + key + "' has type " + metaTypeName(it->second) + ", expected " +
+                metaTypeName(MetaValue(T{})));
 }
 
+template <typename T>
+T requiredMeta(const MetaEntries& meta, const std::string& path, const std::string& key) {
+  if (auto v = optionalMeta<T>(meta, path, key)) return *v;
+  bad(path, "metadata key '" + key + "' is missing; this file is not a voxbake scene (write one with `vox voxelize`)");
+}
+
+json parseJsonMeta(const std::string& text, const std::string& path, const std::string& key) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    bad(path, "metadata '" + key + "' is not valid JSON: " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string metaTypeName(const MetaValue& value) {
+  struct Name {
+    std::string operator()(const std::string&) const { return "string"; }
+    std::string operator()(int32_t) const { return "int32"; }
+    std::string operator()(double) const { return "double"; }
+    std::string operator()(const std::array<int32_t, 3>&) const { return "vec3i"; }
+    std::string operator()(const std::array<double, 3>&) const { return "vec3d"; }
+    std::string operator()(const ForeignMetaValue& f) const { return f.typeName; }
+  };
+  return std::visit(Name{}, value);
+}
+
+std::string classTableJson(const ClassTable& table) { return classTableToJson(table).dump(); }
+
 std::string sourcesJson(const std::vector<SceneSource>& sources) {
-  nlohmann::json arr = nlohmann::json::array();
+  json arr = json::array();
   for (const SceneSource& s : sources)
     arr.push_back({{"path", s.path}, {"kind", s.kind}, {"sha256", s.sha256}, {"bytes", s.bytes}});
   return arr.dump();
 }
 
 std::string blockWorldJson(const BlockWorldPlacement& p) {
-  const nlohmann::json bw = {{"worldScale", p.worldScale}, {"gridSize", {p.gridSize[0], p.gridSize[1], p.gridSize[2]}}};
+  const json bw = {{"worldScale", p.worldScale}, {"gridSize", {p.gridSize[0], p.gridSize[1], p.gridSize[2]}}};
   return bw.dump();
+}
+
+std::vector<SceneSource> sourcesFromJson(const json& arr, const std::string& where) {
+  if (!arr.is_array()) throwBadInput(where + " must be a JSON array");
+  std::vector<SceneSource> sources;
+  for (size_t i = 0; i < arr.size(); ++i) {
+    const std::string entry = where + "[" + std::to_string(i) + "]";
+    const json& s = arr[i];
+    if (!s.is_object()) throwBadInput(entry + " must be an object with \"path\", \"kind\", \"sha256\" and \"bytes\"");
+    SceneSource source;
+    for (auto [key, field] : {std::pair{"path", &source.path}, std::pair{"kind", &source.kind},
+                              std::pair{"sha256", &source.sha256}}) {
+      if (!s.contains(key) || !s[key].is_string()) throwBadInput(entry + " needs a string \"" + key + "\"");
+      *field = s[key].get<std::string>();
+    }
+    if (!s.contains("bytes") || !s["bytes"].is_number_unsigned())
+      throwBadInput(entry + " needs a non-negative integer \"bytes\"");
+    source.bytes = s["bytes"].get<uint64_t>();
+    sources.push_back(std::move(source));
+  }
+  return sources;
+}
+
+BlockWorldPlacement blockWorldFromJson(const json& bw, const std::string& where) {
+  if (!bw.is_object() || !bw.contains("worldScale") || !bw["worldScale"].is_number())
+    throwBadInput(where + " needs a number \"worldScale\"");
+  const json& grid = bw.contains("gridSize") ? bw["gridSize"] : json();
+  if (!grid.is_array() || grid.size() != 3) throwBadInput(where + " needs \"gridSize\": [X, Y, Z]");
+  BlockWorldPlacement p;
+  p.worldScale = bw["worldScale"].get<double>();
+  for (size_t i = 0; i < 3; ++i) {
+    if (!grid[i].is_number_unsigned() || grid[i].get<uint64_t>() > UINT32_MAX)
+      throwBadInput(where + " \"gridSize\" must hold three integers 0..2^32-1");
+    p.gridSize[i] = grid[i].get<uint32_t>();
+  }
+  return p;
+}
+
+std::string voteGridName(uint8_t classId) { return kVotesPrefix + std::to_string(classId); }
+
+bool looksLikeVoteGridName(const std::string& name) { return name.rfind(kVotesPrefix, 0) == 0; }
+
+std::optional<uint8_t> classIdOfVoteGridName(const std::string& name) {
+  if (!looksLikeVoteGridName(name)) return std::nullopt;
+  const std::string digits = name.substr(std::string(kVotesPrefix).size());
+  if (digits.empty() || digits.size() > 3 || digits[0] == '0') return std::nullopt;
+  int id = 0;
+  for (char c : digits) {
+    if (c < '0' || c > '9') return std::nullopt;
+    id = id * 10 + (c - '0');
+  }
+  if (id < 1 || id > kMaxClassId) return std::nullopt;
+  return uint8_t(id);
+}
+
+MetaEntries sceneFileMetadata(const SceneHeader& h) {
+  MetaEntries meta;
+  meta["vox:format"] = std::string(kFormatName);
+  meta["vox:format_version"] = int32_t(kSceneFormatVersion);
+  meta["vox:tool_version"] = std::string(kToolVersion);
+  meta["vox:dims"] = std::array<int32_t, 3>{int32_t(h.dims.x), int32_t(h.dims.y), int32_t(h.dims.z)};
+  meta["vox:voxel_size"] = h.voxelSize;
+  meta["vox:origin"] = h.origin;
+  meta["vox:mip_level"] = int32_t(h.mipLevel);
+  meta["vox:classes"] = classTableJson(h.classes);
+  meta["vox:sources"] = sourcesJson(h.sources);
+  if (h.blockWorld) meta["vox:block_world"] = blockWorldJson(*h.blockWorld);
+  return meta;
+}
+
+MetaEntries voteGridMetadata(const ClassTable& classes, uint8_t classId) {
+  const ClassInfo* info = classes.find(classId);
+  return {{"vox:class_id", int32_t(classId)}, {"vox:class_name", info ? info->name : std::string()}};
+}
+
+MetaEntries colorGridMetadata() { return {{"vox:color_space", std::string("linear")}}; }
+
+MetaEntries pyramidLevelGridMetadata(int mipLevel) { return {{"vox:mip_level", int32_t(mipLevel)}}; }
+
+SceneHeader sceneHeaderFromMetadata(const MetaEntries& meta, const std::string& path) {
+  SceneHeader h;
+  const std::string format = requiredMeta<std::string>(meta, path, "vox:format");
+  if (format != kFormatName) bad(path, "metadata 'vox:format' is '" + format + "', expected '" + kFormatName + "'");
+  const int version = requiredMeta<int32_t>(meta, path, "vox:format_version");
+  if (version < 1 || version > kSceneFormatVersion)
+    bad(path, "scene format version " + std::to_string(version) + " is not supported (this vox reads 1.." +
+                  std::to_string(kSceneFormatVersion) + "); upgrade vox");
+  const auto dims = requiredMeta<std::array<int32_t, 3>>(meta, path, "vox:dims");
+  if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1) bad(path, "metadata 'vox:dims' must be >= 1 on every axis");
+  h.dims = {uint32_t(dims[0]), uint32_t(dims[1]), uint32_t(dims[2])};
+  h.voxelSize = requiredMeta<double>(meta, path, "vox:voxel_size");
+  if (!(h.voxelSize > 0) || !std::isfinite(h.voxelSize)) bad(path, "metadata 'vox:voxel_size' must be finite and > 0");
+  h.origin = requiredMeta<std::array<double, 3>>(meta, path, "vox:origin");
+  h.mipLevel = requiredMeta<int32_t>(meta, path, "vox:mip_level");
+  h.classes = classTableFromJson(parseJsonMeta(requiredMeta<std::string>(meta, path, "vox:classes"), path, "vox:classes"),
+                                 ClassJsonForm::Stored, path + ": metadata 'vox:classes'");
+  if (auto text = optionalMeta<std::string>(meta, path, "vox:sources"))
+    h.sources = sourcesFromJson(parseJsonMeta(*text, path, "vox:sources"), path + ": metadata 'vox:sources'");
+  if (auto text = optionalMeta<std::string>(meta, path, "vox:block_world"))
+    h.blockWorld =
+        blockWorldFromJson(parseJsonMeta(*text, path, "vox:block_world"), path + ": metadata 'vox:block_world'");
+  return h;
 }
 
 }  // namespace vox

@@ -11,13 +11,12 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
-#include <thread>
 #include <unordered_map>
 
 #include "formats/scene/scene_meta.h"
 #include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
-#include "libvox/core/version.h"
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -122,21 +121,39 @@ void appendBlosc(std::string& out, const void* data, size_t bytes) {
 
 // ---------------------------------------------------------------- metadata
 
-struct MetaValue {
+/// A metadata value as OpenVDB stores it: its type name and its bytes
+/// (strings as their characters, numbers and vectors as their native bytes).
+struct MetaBytes {
   std::string type;
   std::string bytes;
 };
 template <typename T>
-MetaValue metaPod(const char* type, const T& v) {
-  MetaValue m{type, {}};
+MetaBytes metaPod(const char* type, const T& v) {
+  MetaBytes m{type, {}};
   appendPod(m.bytes, v);
   return m;
 }
-MetaValue metaString(const std::string& s) { return {"string", s}; }
-MetaValue metaVec3i(const std::array<int32_t, 3>& v) { return metaPod("vec3i", v); }
+struct MetaValueBytes {
+  std::string operator()(const std::string& v) const { return v; }
+  std::string operator()(const ForeignMetaValue& v) const {
+    throw Error(ErrorKind::Internal, "writeSceneVdbDirect: metadata of foreign type " + v.typeName);
+  }
+  template <typename T>
+  std::string operator()(const T& v) const {
+    std::string out;
+    appendPod(out, v);
+    return out;
+  }
+};
+MetaBytes metaBytes(const MetaValue& value) { return {metaTypeName(value), std::visit(MetaValueBytes{}, value)}; }
+std::map<std::string, MetaBytes> metaBytes(const MetaEntries& entries) {
+  std::map<std::string, MetaBytes> out;
+  for (const auto& [name, value] : entries) out[name] = metaBytes(value);
+  return out;
+}
 
 // MetaMap::writeMeta: int32 count, then (name, type name, int32 size, bytes) sorted by name.
-void writeMeta(Sink& out, const std::map<std::string, MetaValue>& meta) {
+void writeMeta(Sink& out, const std::map<std::string, MetaBytes>& meta) {
   out.pod(int32_t(meta.size()));
   for (const auto& [name, m] : meta) {
     out.string(name);
@@ -266,8 +283,9 @@ void writeTransform(Sink& out, const SceneHeader& h) {
   if (uniform) scale[1] = scale[2] = scale[0];
   if (!(std::abs(scale[0] * scale[1] * scale[2]) >= 3e-15))
     throwUsage("voxel size " + std::to_string(s) +
-               " is too small for an OpenVDB transform (voxel volume must be >= 3e-15); use a larger --voxel-size or "
-               "scale the mesh");
+               " is too small for an OpenVDB transform (voxel volume must be >= 3e-15); use a larger voxel size or "
+               "scale the mesh",
+               Setting::VoxelSize);
   out.string(uniform ? "UniformScaleTranslateMap" : "ScaleTranslateMap");
   out.pod(t);
   std::array<double, 3> voxel, inv, invSqr, invTwice;
@@ -291,15 +309,14 @@ struct GridStats {
 
 void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned threads) {
   const size_t nLeaves = g.leaves.size();
-  // Leaf buffers (masks, compressed values) in parallel, each thread a contiguous
-  // range of leaves in tree order, concatenated in order: the bytes do not
-  // depend on the thread count.
-  threads = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, nLeaves / 64))));
-  std::vector<std::string> parts(threads);
+  // Leaf buffers (masks, compressed values) in parallel, each piece a contiguous
+  // range of leaves in tree order (at least 64), concatenated in order: the
+  // bytes do not depend on the thread count.
+  const unsigned pieces = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, nLeaves / 64))));
+  std::vector<std::string> parts(pieces);
   std::vector<std::array<uint64_t, kBlockWords>> masks(nLeaves);
-  std::vector<GridStats> partStats(threads);
-  auto work = [&](unsigned t) {
-    const size_t b = nLeaves * t / threads, e = nLeaves * (t + 1) / threads;
+  std::vector<GridStats> partStats(pieces);
+  parallelPieces(nLeaves, pieces, pieces, [&](size_t b, size_t e, size_t t) {
     GridStats& s = partStats[t];
     for (size_t i = b; i < e; ++i) {
       const auto mask = activeMask(g, i);
@@ -319,14 +336,7 @@ void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned thre
       }
       leafBuffer(g, i, mask, parts[t]);
     }
-  };
-  if (threads == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, t);
-    for (std::thread& th : pool) th.join();
-  }
+  });
   GridStats stats;
   for (const GridStats& s : partStats) {
     stats.voxels += s.voxels;
@@ -353,25 +363,22 @@ void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned thre
   const int64_t gridPos = int64_t(out.pos());
   out.pod(kCompressBloscActiveMask);
 
-  // Grid metadata: what writeSceneVdb sets plus Archive's statistics.
-  std::map<std::string, MetaValue> meta;
+  // Grid metadata: the scene's (scene_meta.h), OpenVDB's own and Archive's statistics.
+  MetaEntries gridMeta;
+  if (g.kind == GridKind::Int32) gridMeta = voteGridMetadata(h.classes, g.classId);
+  if (g.kind == GridKind::Vec3s) {
+    gridMeta = colorGridMetadata();
+    gridMeta["vector_type"] = std::string("invariant");
+  }
+  gridMeta["file_bbox_min"] = stats.lo;
+  gridMeta["file_bbox_max"] = stats.hi;
+  gridMeta["file_compression"] = std::string("blosc + active values");
+  gridMeta["name"] = g.name;
+  std::map<std::string, MetaBytes> meta = metaBytes(gridMeta);
   const MemSizes mem = memSizes(g.kind);
-  meta["file_bbox_min"] = metaVec3i(stats.lo);
-  meta["file_bbox_max"] = metaVec3i(stats.hi);
-  meta["file_compression"] = metaString("blosc + active values");
   meta["file_mem_bytes"] = metaPod("int64", int64_t(mem.treeAndRoot + mem.int5 * int5.size() + mem.int4 * int4.size() + mem.leaf * nLeaves));
   meta["file_voxel_count"] = metaPod("int64", int64_t(stats.voxels));
   meta["is_saved_as_half_float"] = metaPod("bool", char(0));
-  meta["name"] = metaString(g.name);
-  if (g.kind == GridKind::Int32) {
-    meta["vox:class_id"] = metaPod("int32", int32_t(g.classId));
-    const ClassInfo* info = h.classes.find(g.classId);
-    meta["vox:class_name"] = metaString(info ? info->name : "");
-  }
-  if (g.kind == GridKind::Vec3s) {
-    meta["vector_type"] = metaString("invariant");
-    meta["vox:color_space"] = metaString("linear");
-  }
   writeMeta(out, meta);
 
   // Transform: voxel centre at origin + (i + 0.5) * voxelSize.
@@ -441,9 +448,9 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
   // The grids writeSceneVdb writes for the scene SceneBuilder::build() makes
   // from these blocks: occupancy, votes.<id> by id, color.
   std::vector<GridPlan> grids;
-  GridPlan occ{"occupancy", GridKind::Bool, 0, {}, {}};
+  GridPlan occ{kOccupancyGridName, GridKind::Bool, 0, {}, {}};
   std::map<uint8_t, GridPlan> votes;
-  GridPlan color{"color", GridKind::Vec3s, 0, {}, {}};
+  GridPlan color{kColorGridName, GridKind::Vec3s, 0, {}, {}};
   DirectWriteSummary summary;
   for (const VoxelBlock* b : sorted) {
     occ.leaves.push_back(b);
@@ -457,7 +464,7 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
     if (b->hasRuns() && b->runVotes && std::find(ids.begin(), ids.end(), b->runClass) == ids.end()) ids.push_back(b->runClass);
     for (uint8_t id : ids) {
       GridPlan& g = votes[id];
-      if (g.name.empty()) g = {"votes." + std::to_string(id), GridKind::Int32, id, {}, {}};
+      if (g.name.empty()) g = {voteGridName(id), GridKind::Int32, id, {}, {}};
       g.leaves.push_back(b);
       g.votes.push_back(findClassBlock(*b, id));
     }
@@ -483,18 +490,7 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
   out.bytes(std::string(36, '0').data(), 36);
   out.startHashing();
 
-  std::map<std::string, MetaValue> meta;
-  meta["vox:format"] = metaString("voxbake-scene");
-  meta["vox:format_version"] = metaPod("int32", int32_t(kSceneFormatVersion));
-  meta["vox:tool_version"] = metaString(kToolVersion);
-  meta["vox:dims"] = metaVec3i({int32_t(h.dims.x), int32_t(h.dims.y), int32_t(h.dims.z)});
-  meta["vox:voxel_size"] = metaPod("double", h.voxelSize);
-  meta["vox:origin"] = metaPod("vec3d", h.origin);
-  meta["vox:classes"] = metaString(classTableJson(h.classes));
-  meta["vox:sources"] = metaString(sourcesJson(h.sources));
-  meta["vox:mip_level"] = metaPod("int32", int32_t(h.mipLevel));
-  if (h.blockWorld) meta["vox:block_world"] = metaString(blockWorldJson(*h.blockWorld));
-  writeMeta(out, meta);
+  writeMeta(out, metaBytes(sceneFileMetadata(h)));
   out.pod(int32_t(grids.size()));
   for (const GridPlan& g : grids) writeGrid(out, g, h, threads);
 

@@ -22,10 +22,11 @@ std::string typeList() {
 }  // namespace
 
 Scene parseBlockMap(const std::string& text, const std::string& path, const BlockMapOptions& options) {
-  auto bad = [&](const std::string& what) { throwBadInput(path + ": " + what); };
+  auto bad = [&](const std::string& what, Setting fix = Setting::None) { throwBadInput(path + ": " + what, fix); };
   for (int i = 0; i < 3; ++i)
-    if (options.gridSize[i] == 0 || options.gridSize[i] > (1u << 21))
-      throwUsage("--grid-size must be 1..2097152 on every axis");
+    if (options.gridSize[i] == 0 || options.gridSize[i] > kMaxBlockWorldSide)
+      throwUsage("the block world's grid size must be 1.." + std::to_string(kMaxBlockWorldSide) + " on every axis",
+                 Setting::BlockWorldGrid);
   json doc;
   try {
     doc = json::parse(text);
@@ -74,7 +75,8 @@ Scene parseBlockMap(const std::string& text, const std::string& path, const Bloc
         bad(where + ": position " + axes[a] + " = " + std::to_string(v) + " is outside the world grid " +
             std::to_string(options.gridSize[0]) + "," + std::to_string(options.gridSize[1]) + "," +
             std::to_string(options.gridSize[2]) + " (0.." + std::to_string(options.gridSize[a] - 1) +
-            "); pass a larger --grid-size X,Y,Z");
+            "); give a larger block world grid",
+            Setting::BlockWorldGrid);
       blk.p[a] = uint32_t(v);
     }
     if (!b["blockType"].is_string()) bad(where + ": 'blockType' must be a string (one of " + typeList() + ")");
@@ -83,7 +85,7 @@ Scene parseBlockMap(const std::string& text, const std::string& path, const Bloc
     if (it == names.end()) bad(where + ": unknown blockType '" + type + "'; expected one of " + typeList());
     blk.cls = uint8_t(it - names.begin());
     const uint64_t key = (uint64_t(blk.p[0]) << 42) | (uint64_t(blk.p[1]) << 21) | blk.p[2];
-    // Positions are < gridSize <= 2^21, so 21 bits per axis pack without collisions.
+    // Positions are < gridSize <= kMaxBlockWorldSide = 2^21, so 21 bits per axis pack without collisions.
     auto [at, inserted] = seen.emplace(key, i);
     if (!inserted)
       bad(where + ": position [" + std::to_string(blk.p[0]) + ", " + std::to_string(blk.p[1]) + ", " +

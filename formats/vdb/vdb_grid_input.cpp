@@ -5,10 +5,10 @@
 
 #include <atomic>
 #include <cmath>
-#include <thread>
 
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 #include "libvox/mesh/placement.h"
 #include "libvox/scene/scene_grids.h"
 #include "libvox/core/sha256.h"
@@ -19,7 +19,7 @@ namespace vox {
 Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) {
   ensureOpenVdbInitialized();
   if ((o.resolution == 0) == (o.voxelSize <= 0))
-    throwUsage(path + ": give exactly one of --res N or --voxel-size S for a .vdb input");
+    throwUsage(path + ": give exactly one of a resolution or a voxel size for an OpenVDB grid", Setting::Resolution);
   const VdbFrame frame = checkVdbStructure(path);  // refuses truncated files before OpenVDB reads them
   openvdb::FloatGrid::Ptr grid;
   std::string available;
@@ -47,8 +47,9 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   const std::string name = grid->getName().empty() ? "inside" : grid->getName();
   const bool levelSet = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
   if (!levelSet && !o.threshold)
-    throwUsage(path + ": grid '" + name + "' is not a level set (a fog volume?); pass --threshold T to take the voxels "
-               "with value >= T as inside");
+    throwUsage(path + ": grid '" + name + "' is not a level set (a fog volume?); give the density threshold T above "
+                   "which a voxel is inside (value >= T)",
+               Setting::GridThreshold);
   if (grid->activeVoxelCount() == 0) throwBadInput(path + ": grid '" + name + "' has no active voxels");
 
   // Index box of the active values that are inside (for level sets the narrow
@@ -77,18 +78,20 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   const Dims dims = header.dims;
   const double vs = header.voxelSize;
   const uint64_t count = dims.count();
-  if (count > (uint64_t(1) << 34)) throwUsage(path + ": a " + toString(dims) + " grid is too large; lower --res");
+  if (count > (uint64_t(1) << 34))
+    throwUsage(path + ": a " + toString(dims) + " grid is too large; lower the resolution", Setting::Resolution);
 
-  // Inside test at every output voxel centre, slabs of w across threads.
+  // Inside test at every output voxel centre, one slab of w per thread; each
+  // voxel sets its own bit, so the result does not depend on the split.
   std::vector<std::atomic<uint64_t>> inside((count + 63) / 64);
-  const unsigned threads = std::max(1u, std::min<unsigned>(o.threads, dims.z));
+  const unsigned slabs = std::max(1u, std::min<unsigned>(o.threads, dims.z));
   std::atomic<uint32_t> slices{0};
-  auto work = [&](unsigned t) {
+  parallelPieces(dims.z, slabs, slabs, [&](size_t w0, size_t w1, size_t) {
     // GridSampler keeps a reference to the accessor: it must outlive the sampler.
     const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
     openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
         accessor, grid->transform());
-    for (uint32_t w = dims.z * t / threads; w < dims.z * (t + 1) / threads; ++w) {
+    for (uint32_t w = uint32_t(w0); w < w1; ++w) {
       for (uint32_t v = 0; v < dims.y; ++v)
         for (uint32_t u = 0; u < dims.x; ++u) {
           const openvdb::Vec3d p(wmin.x() + (u + 0.5) * vs, wmin.y() + (v + 0.5) * vs, wmin.z() + (w + 0.5) * vs);
@@ -100,11 +103,7 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
         }
       if (o.progress) o.progress(double(++slices) / dims.z);
     }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (std::thread& th : pool) th.join();
+  });
 
   header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
   uint64_t bytes = 0;

@@ -10,11 +10,15 @@ namespace vox {
 
 AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
   if (d.x == 0 || d.y == 0 || d.z == 0) throwUsage("atlas dims must be >= 1 on every axis, got " + toString(d));
-  if (maxSide == 0) throwUsage("--max-side must be >= 1");
-  if (d.x > maxSide) throwUsage("a tile is " + std::to_string(d.x) + " texels wide (X), more than the maximum side " +
-                                std::to_string(maxSide) + "; raise --max-side");
-  if (d.y > maxSide) throwUsage("a tile is " + std::to_string(d.y) + " texels high (Y), more than the maximum side " +
-                                std::to_string(maxSide) + "; raise --max-side");
+  if (maxSide == 0) throwUsage("the largest atlas side must be >= 1", Setting::AtlasMaxSide);
+  if (d.x > maxSide)
+    throwUsage("a tile is " + std::to_string(d.x) + " texels wide (X), more than the maximum side " +
+                   std::to_string(maxSide) + "; raise the largest atlas side",
+               Setting::AtlasMaxSide);
+  if (d.y > maxSide)
+    throwUsage("a tile is " + std::to_string(d.y) + " texels high (Y), more than the maximum side " +
+                   std::to_string(maxSide) + "; raise the largest atlas side",
+               Setting::AtlasMaxSide);
   const uint32_t maxT = std::min<uint64_t>(d.z, maxSide / d.x);  // T * X <= maxSide, and no empty columns
   const uint32_t maxR = maxSide / d.y;
   AtlasLayout L;
@@ -31,9 +35,9 @@ AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
   };
   if (forcedT) {
     if (forcedT > maxSide / d.x)
-      throwUsage("--tiles-per-row " + std::to_string(forcedT) + " makes the atlas " +
-                 std::to_string(uint64_t(forcedT) * d.x) + " texels wide, more than the maximum side " +
-                 std::to_string(maxSide));
+      throwUsage(std::to_string(forcedT) + " tiles per row make the atlas " + std::to_string(uint64_t(forcedT) * d.x) +
+                     " texels wide, more than the maximum side " + std::to_string(maxSide),
+                 Setting::AtlasTilesPerRow);
     return finish(forcedT);
   }
   uint32_t best = 0;

@@ -1,4 +1,5 @@
-// The voxel <-> texel bijection of atlases (DESIGN section 4, seed 000).
+// The voxel <-> texel bijection of atlases: the UVW atlas layout
+// (formats/image/ATLAS.md), generalised to any dims.
 //
 // Spaces: voxel index (u, v, w) in [0, X) x [0, Y) x [0, Z); texel (layer, x, y)
 // with x in [0, width), y in [0, height), layer in [0, layers).
@@ -9,7 +10,7 @@
 //     col = w % T,  row = w / T,  layer = row / R,  rowInLayer = row % R
 //     x = col * X + u,  y = rowInLayer * Y + v
 // with R = tile rows per layer. For 256^3 with the default choice (T = 16,
-// 4096 x 4096, one layer) this is seed 000's voxel_to_atlas exactly:
+// 4096 x 4096, one layer) this is the UVW atlas layout's voxel_to_atlas exactly:
 // x = ((w & 15) << 8) | u, y = ((w >> 4) << 8) | v.
 //
 // Texels past the last tile (the padding of the last tile row, or of the last
@@ -35,6 +36,10 @@ struct TexelAddress {
   bool operator==(const TexelAddress&) const = default;
 };
 
+/// The largest texture side an atlas uses unless told otherwise (16384: what
+/// current GPUs allow for 2D textures).
+inline constexpr uint32_t kDefaultAtlasMaxSide = 16384;
+
 struct AtlasLayout {
   Dims dims;                   // X, Y, Z
   uint32_t tilesPerRow = 0;    // T
@@ -42,11 +47,11 @@ struct AtlasLayout {
   uint32_t rowsPerLayer = 0;   // R
   uint32_t layers = 0;         // ceil(tileRows / R)
   uint32_t width = 0, height = 0;  // per layer: T * X, R * Y (the last layer may be partly padding)
-  uint32_t maxSide = 16384;
+  uint32_t maxSide = kDefaultAtlasMaxSide;
 
   /// Throws vox::Error (Usage) when X or Y exceed maxSide, a forced T is 0 or too
   /// wide, or the dims are 0.
-  static AtlasLayout make(Dims dims, uint32_t tilesPerRow = 0, uint32_t maxSide = 16384);
+  static AtlasLayout make(Dims dims, uint32_t tilesPerRow = 0, uint32_t maxSide = kDefaultAtlasMaxSide);
 
   TexelAddress toTexel(uint32_t u, uint32_t v, uint32_t w) const {
     const uint32_t col = w % tilesPerRow, row = w / tilesPerRow;
@@ -69,11 +74,11 @@ struct AtlasLayout {
   static AtlasLayout fromJson(const std::string& json, const std::string& context);
 };
 
-/// Seed 000's 256^3 mapping, bit for bit, for tests.
-inline TexelAddress seedVoxelToAtlas(uint32_t u, uint32_t v, uint32_t w) {
+/// The UVW atlas layout's 256^3 mapping as its authors write it, bit for bit, for tests.
+inline TexelAddress uvw256VoxelToAtlas(uint32_t u, uint32_t v, uint32_t w) {
   return {0, ((w & 15) << 8) | u, ((w >> 4) << 8) | v};
 }
-inline Coord3 seedAtlasToVoxel(uint32_t x, uint32_t y) {
+inline Coord3 uvw256AtlasToVoxel(uint32_t x, uint32_t y) {
   return {int32_t(x & 255), int32_t(y & 255), int32_t((y >> 8) * 16 + (x >> 8))};
 }
 

@@ -1,9 +1,11 @@
 #include "libvox/core/bijection_proof.h"
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
-#include <thread>
 #include <vector>
+
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -21,13 +23,13 @@ struct FailureLog {
   }
 };
 
+/// fn(begin, end) over one contiguous range of [0, n) per thread. Failures are
+/// kept by their order key and counts are sums, so the result does not depend
+/// on the split.
 template <typename Fn>
 void parallel(uint64_t n, unsigned threads, Fn&& fn) {
-  threads = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<uint64_t>(1, n))));
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back([&, t] { fn(n * t / threads, n * (t + 1) / threads); });
-  fn(0, n / threads);
-  for (auto& th : pool) th.join();
+  const unsigned pieces = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<uint64_t>(1, n))));
+  parallelPieces(n, pieces, pieces, [&](size_t begin, size_t end, size_t) { fn(begin, end); });
 }
 
 BijectionResult exhaustive(const AtlasLayout& L, unsigned threads) {

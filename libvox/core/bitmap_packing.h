@@ -1,4 +1,5 @@
-// Occupancy bitmaps at atlas addresses (seed 000), one image per layer.
+// Occupancy bitmaps at atlas addresses (the UVW atlas layout's 1- and 2-bit
+// bitmaps), one image per layer.
 //
 // 1 bit per voxel ("occupancy"): 8 voxels per byte along x; the image is
 //   ceil(W / 8) x H bytes (an R8 image, loads as R8UI); texel (x, y) is

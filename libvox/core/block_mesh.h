@@ -20,7 +20,7 @@
 //
 // Colours are linear-light RGB (glTF's COLOR_0 convention): a face's palette
 // colour is the class's top/bottom/side colour (its display colour when the
-// class has no face palette; libvox/render/render.h facePaletteColor), decoded
+// class has no face palette; libvox/render/render_modes.h facePaletteColor), decoded
 // from sRGB; FaceColor::Voxel uses the voxel's own colour instead, and the
 // palette colour for voxels without one (counted in uncoloredFaces).
 //
@@ -35,6 +35,7 @@
 #include "libvox/core/class_volume.h"
 #include "libvox/core/classes.h"
 #include "libvox/render/render.h"
+#include "libvox/render/render_modes.h"
 
 namespace vox {
 

@@ -60,7 +60,7 @@ const std::vector<std::string>& blockTypeNames() {
 }
 
 ClassTable blockPalette() {
-  // Seed 002, section 1.4 (top, bottom, side), as floats in [0, 1].
+  // The block renderer's palette (top, bottom, side) as it gives it, floats in [0, 1].
   static const float kPalette[7][3][3] = {
       {{0.34f, 0.68f, 0.36f}, {0.40f, 0.30f, 0.16f}, {0.45f, 0.58f, 0.30f}},  // Grass
       {{0.42f, 0.32f, 0.20f}, {0.38f, 0.26f, 0.16f}, {0.40f, 0.30f, 0.18f}},  // Dirt

@@ -3,7 +3,8 @@
 // Class ids are 1..255 (they must fit the `cls` byte of the summary atlas);
 // id 0 is reserved for "empty" and never appears in a table. A table is kept
 // sorted by id. Colours are 8-bit sRGB. The optional top/bottom/side colours are
-// the per-face palette of seed 002's block renderer (used by shaded renders).
+// the per-face palette of the block-map format's block renderer (used by shaded
+// renders). On disk: formats/scene/class_table_json.h.
 #pragma once
 
 #include <cstdint>
@@ -45,13 +46,13 @@ class ClassTable {
   std::vector<ClassInfo> classes_;  // sorted by id
 };
 
-/// Seed 002's block materials in their order (Air = 0 is not in the table):
-/// 1 Grass, 2 Dirt, 3 Stone, 4 Plank, 5 Snow, 6 Sand, 7 Water, each with its
-/// top/bottom/side palette (the seed's float colours * 255, rounded) and the top
-/// colour as the display colour.
+/// The block-map format's materials in their order (Air = 0 is not in the
+/// table): 1 Grass, 2 Dirt, 3 Stone, 4 Plank, 5 Snow, 6 Sand, 7 Water, each with
+/// its top/bottom/side palette (the block renderer's float colours * 255,
+/// rounded) and the top colour as the display colour.
 ClassTable blockPalette();
 
-/// "Air" and the seed 002 material names, index = class id.
+/// "Air" and the block-map format's material names, index = class id.
 const std::vector<std::string>& blockTypeNames();
 
 /// Converts a [0,1] float colour to 8 bits: round(c * 255), clamped.

@@ -27,6 +27,7 @@ enum class Setting {
   None,
   Resolution,              // voxels on the longest side
   VoxelSize,               // world units per voxel
+  VoxelSpacing,            // how fine the grid is: the resolution or the voxel size
   Bounds,                  // the world box that is voxelized
   Padding,                 // empty voxels around the bounds
   FillMode,                // surface or solid

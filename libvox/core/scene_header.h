@@ -26,11 +26,16 @@ struct SceneSource {
   bool operator==(const SceneSource&) const = default;
 };
 
-/// How a scene made from a seed 002 map.json sits in its block world; renderers
-/// use it to line up seed 002 cameras.
+/// The block world's grid (blocks per axis) of the block-map format when none
+/// is given: the one place this default lives.
+inline constexpr std::array<uint32_t, 3> kDefaultBlockWorldGrid{64, 48, 64};
+
+/// How a scene made from a block map (`map.json`) sits in its block world;
+/// renderers use it to line up the block-map format's cameras
+/// (`metadata.json`).
 struct BlockWorldPlacement {
   double worldScale = 1.0;
-  std::array<uint32_t, 3> gridSize{64, 48, 64};
+  std::array<uint32_t, 3> gridSize = kDefaultBlockWorldGrid;
   bool operator==(const BlockWorldPlacement&) const = default;
 };
 

@@ -1,4 +1,5 @@
-// The summary texel of a vote histogram: RGBA8 = (cls, conf, obs, mrg), seed 000.
+// The summary texel of a vote histogram: RGBA8 = (cls, conf, obs, mrg), as the
+// UVW atlas layout defines it.
 //
 //   cls  = the class with the most votes; ties go to the lowest class id
 //   conf = round(255 * top / total)

@@ -1,9 +1,10 @@
 #include "libvox/core/texel_formats.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <thread>
-#include <vector>
+
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -19,8 +20,7 @@ const char* texelFormatName(TexelFormat f) {
 }
 
 std::optional<TexelFormat> parseTexelFormat(const std::string& n) {
-  for (TexelFormat f : {TexelFormat::Rgba8, TexelFormat::Rgba16, TexelFormat::Rgba32ui, TexelFormat::Rgba16f,
-                        TexelFormat::Rgba32f})
+  for (TexelFormat f : kTexelFormats)
     if (n == texelFormatName(f)) return f;
   return std::nullopt;
 }
@@ -88,22 +88,18 @@ uint64_t maxExactInteger(TexelFormat f, unsigned threads) {
       if (roundTrip(f, n) != n) return n - 1;
     return limit - 1;
   }
-  // 2^32 checks: split across threads; the answer is the smallest failure.
-  threads = std::max(1u, threads);
+  // 2^32 checks: one range per thread; the answer is the smallest failure.
+  const unsigned pieces = std::max(1u, threads);
   std::atomic<uint64_t> firstFailure{limit};
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      const uint64_t b = limit * t / threads, e = limit * (t + 1) / threads;
-      for (uint64_t n = b; n < e; ++n)
-        if (roundTrip(f, n) != n) {
-          uint64_t cur = firstFailure.load();
-          while (n < cur && !firstFailure.compare_exchange_weak(cur, n)) {
-          }
-          return;
+  parallelPieces(limit, pieces, pieces, [&](size_t begin, size_t end, size_t) {
+    for (uint64_t n = begin; n < end; ++n)
+      if (roundTrip(f, n) != n) {
+        uint64_t cur = firstFailure.load();
+        while (n < cur && !firstFailure.compare_exchange_weak(cur, n)) {
         }
-    });
-  for (auto& th : pool) th.join();
+        return;
+      }
+  });
   return firstFailure.load() - 1;
 }
 

@@ -1,5 +1,5 @@
-// The byte-depth ladder of atlas pixel formats (seed 000) and which integers
-// each holds exactly.
+// The byte-depth ladder of atlas pixel formats (of the UVW atlas layout) and
+// which integers each holds exactly.
 //
 //   rgba8     8-bit PNG            exact for 0..255
 //   rgba16    16-bit PNG           exact for 0..65535
@@ -13,6 +13,7 @@
 // them with the table above.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -20,6 +21,10 @@
 namespace vox {
 
 enum class TexelFormat { Rgba8, Rgba16, Rgba32ui, Rgba16f, Rgba32f };
+
+/// Every format, narrowest integer format first (the order above).
+inline constexpr std::array<TexelFormat, 5> kTexelFormats{TexelFormat::Rgba8, TexelFormat::Rgba16, TexelFormat::Rgba32ui,
+                                                          TexelFormat::Rgba16f, TexelFormat::Rgba32f};
 
 const char* texelFormatName(TexelFormat f);  // "rgba8", ...
 std::optional<TexelFormat> parseTexelFormat(const std::string& name);

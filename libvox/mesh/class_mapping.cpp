@@ -17,7 +17,8 @@ ClassMapping classPerMaterial(const Mesh& mesh, const std::string& meshName) {
   ClassMapping m;
   if (mesh.materials.size() > size_t(kMaxClassId))
     throwBadInput(meshName + ": " + std::to_string(mesh.materials.size()) +
-                  " materials, but a scene holds at most 255 classes; map them with --classes FILE.json");
+                  " materials, but a scene holds at most 255 classes; map them to fewer classes with class rules",
+                  Setting::ClassRules);
   for (size_t i = 0; i < mesh.materials.size(); ++i) {
     const MeshMaterial& mat = mesh.materials[i];
     ClassInfo c;
@@ -65,7 +66,8 @@ std::vector<uint8_t> assignClasses(const Mesh& mesh, const ClassMapping& mapping
       if (cls == 0 && mapping.defaultClass) cls = *mapping.defaultClass;
       if (cls == 0)
         throwBadInput("triangle " + std::to_string(t) + " (material '" + matName + "', mesh '" + meshName + "', node '" +
-                      nodeName + "') matches no class rule; add a rule or a \"default\" class to the --classes file");
+                      nodeName + "') matches no class rule; add a rule or a \"default\" class to the class rules",
+                  Setting::ClassRules);
     }
     out[t] = uint8_t(cls);
   }

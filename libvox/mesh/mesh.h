@@ -33,7 +33,7 @@ struct MeshMaterial {
 };
 
 /// A named group of triangles (glTF node/mesh, OBJ object/group), for class
-/// mapping by name (`--classes` globs match material, mesh or node names).
+/// mapping by name (class rules' globs match material, mesh or node names).
 struct MeshPart {
   std::string nodeName;  // glTF node name path ("root/house/door") or OBJ "o"/"g" name
   std::string meshName;  // glTF mesh name, or the file name for single-mesh formats
@@ -49,7 +49,7 @@ struct Mesh {
   std::vector<MeshMaterial> materials;             // at least one when triangles exist
   std::vector<MeshTexture> textures;
   std::vector<MeshPart> parts;                     // at least one when triangles exist
-  std::vector<std::string> filesRead;              // every file read (buffers, textures), for --depfile
+  std::vector<std::string> filesRead;              // every file read (buffers, textures), for dependency files
 
   size_t triangleCount() const { return triangles.size(); }
   bool hasColor() const;  // true when any material has a texture, a non-white factor, or vertex colours

@@ -9,13 +9,13 @@ namespace vox {
 
 void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>& meshMax, const PlacementOptions& o,
                SceneHeader& header) {
-  if ((o.resolution == 0) == !(o.voxelSize > 0)) throwUsage("give exactly one of --res N or --voxel-size S");
+  if ((o.resolution == 0) == !(o.voxelSize > 0)) throwUsage("give exactly one of a resolution or a voxel size", Setting::VoxelSpacing);
   std::array<double, 3> lo = meshMin, hi = meshMax;
   if (o.bounds) {
     const auto& b = *o.bounds;
     for (int i = 0; i < 3; ++i) {
       if (!std::isfinite(b[i]) || !std::isfinite(b[i + 3]) || b[i] > b[i + 3])
-        throwUsage("--bounds must be xmin,ymin,zmin,xmax,ymax,zmax with min <= max");
+        throwUsage("the bounds must be finite, xmin,ymin,zmin,xmax,ymax,zmax with min <= max", Setting::Bounds);
       lo[i] = b[i];
       hi[i] = b[i + 3];
     }
@@ -26,16 +26,17 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
   const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   const double vs = o.voxelSize > 0 ? o.voxelSize : longest / o.resolution;
   if (!(vs > 0) || !std::isfinite(vs))
-    throwBadInput("the input has zero extent on every axis (a point); pass --voxel-size S");
+    throwBadInput("the input has zero extent on every axis (a point); give a voxel size", Setting::VoxelSize);
   Dims d;
   uint32_t* out[3] = {&d.x, &d.y, &d.z};
   for (int i = 0; i < 3; ++i) {
-    // The longest axis under --res gets exactly `resolution` voxels: side / vs == N up to rounding.
+    // The longest axis under a resolution gets exactly `resolution` voxels: side / vs == N up to rounding.
     double n = std::ceil((hi[i] - lo[i]) / vs * (1 - 1e-12));
     n = std::max(1.0, n) + 2.0 * o.pad;
     if (n > kMaxGridAxis)
       throwUsage("the grid would have " + std::to_string(uint64_t(n)) + " voxels on an axis (limit " +
-                 std::to_string(kMaxGridAxis) + "); lower --res or raise --voxel-size");
+                 std::to_string(kMaxGridAxis) + "); use fewer, larger voxels",
+                 Setting::VoxelSpacing);
     *out[i] = uint32_t(n);
   }
   header.dims = d;

@@ -1,9 +1,9 @@
 // Where a voxel grid sits in world space for a mesh (or any box-shaped input).
 //
-// The grid covers the box [bmin, bmax] (the input's bounding box, or --bounds):
+// The grid covers the box [bmin, bmax] (the input's bounding box, or the given bounds):
 // voxel size = the given one, or the box's longest side / resolution; dims =
 // ceil(side / voxel size) per axis (at least 1), plus `pad` voxels on every
-// side; origin = bmin - pad * voxelSize. So with --res N the longest axis has
+// side; origin = bmin - pad * voxelSize. So with resolution N the longest axis has
 // exactly N voxels (plus padding), and a flat input (zero thickness on an axis)
 // gets one voxel layer on that axis.
 #pragma once

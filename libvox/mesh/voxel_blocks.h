@@ -4,8 +4,8 @@
 // scene exists: SceneBuilder wraps one and turns it into OpenVDB trees
 // (scene.h), and the direct scene writer (formats/scene/scene_vdb_direct.h) streams
 // one straight into a .vdb file, so that `vox voxelize MESH` never loads
-// OpenVDB (DESIGN section 13: loading it costs ~45 ms and ~33 MB of resident
-// pages per process).
+// OpenVDB (loading it costs ~45 ms and ~33 MB of resident pages per process:
+// docs/startup.md).
 //
 // Coordinates are index space (voxel (u, v, w)); a block covers the 8^3 voxels
 // of one OpenVDB leaf (origin = coordinate & ~7) and stores them in OpenVDB's

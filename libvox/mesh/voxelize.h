@@ -10,7 +10,8 @@
 // depend on evaluation order or thread count, shared edges and vertices give
 // identical decisions on both sides (watertight), and vertices that lie exactly
 // on voxel faces, edges or corners are treated exactly. Vertices farther than
-// 2^20 voxels from the grid are refused (vox::Error BadInput): pass --bounds.
+// 2^20 voxels from the grid are refused (vox::Error BadInput, Setting::Bounds:
+// crop the scene to bounds near the mesh).
 //
 // Surface fill: a voxel is occupied exactly when its closed box intersects a
 // (snapped) triangle: the separating-axis test with the 13 axes of a

@@ -18,16 +18,18 @@ double length(const Vec3d& a) { return std::sqrt(dot(a, a)); }
 }  // namespace
 
 Mat4d lookAtMatrix(const Vec3d& eye, const Vec3d& center, const Vec3d& up) {
-  // gl-matrix's lookAt, which seed 002's camera.ts uses: z = normalize(eye - center),
-  // x = normalize(up x z), y = z x x.
+  // gl-matrix's lookAt, which the block-map format's cameras come from:
+  // z = normalize(eye - center), x = normalize(up x z), y = z x x.
   Vec3d z = sub(eye, center);
   const double zl = length(z);
-  if (!(zl > 0) || !std::isfinite(zl)) throwUsage("camera: eye and target must be distinct finite points");
+  if (!(zl > 0) || !std::isfinite(zl))
+    throwUsage("camera: the eye and the target must be distinct finite points", Setting::CameraPose);
   for (double& c : z) c /= zl;
   Vec3d x = cross(up, z);
   const double xl = length(x);
   if (!(xl > 1e-12 * std::max(1.0, length(up))) || !std::isfinite(xl))
-    throwUsage("camera: --up is parallel to the view direction (or zero); the roll is undefined");
+    throwUsage("camera: the up vector is parallel to the view direction (or zero); the roll is undefined",
+               Setting::CameraUp);
   for (double& c : x) c /= xl;
   const Vec3d y = cross(z, x);
   return {x[0], y[0], z[0], 0,  //
@@ -82,10 +84,10 @@ Camera Camera::make(const Mat4d& view, const Mat4d& projection, uint32_t width, 
   if (projection[11] != -1 || projection[15] != 0 || projection[0] == 0 || projection[5] == 0)
     throwBadInput(what +
                   ": projectionMatrix is not a perspective projection (expected m[11] = -1, m[15] = 0 and "
-                  "non-zero m[0], m[5], column-major as seed 002's createPerspective)");
-  if (width < 1 || height < 1 || width > 65536 || height > 65536)
+                  "non-zero m[0], m[5], column-major as the block-map format's cameras)");
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
     throwBadInput(what + ": image size " + std::to_string(width) + " x " + std::to_string(height) +
-                  " is outside 1..65536");
+                  " is outside 1.." + std::to_string(kMaxImageSide));
   Camera c;
   c.view = view;
   c.projection = projection;
@@ -106,14 +108,16 @@ Camera Camera::lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up, do
                       uint32_t width, uint32_t height) {
   for (const Vec3d* v : {&eye, &target, &up})
     for (double x : *v)
-      if (!std::isfinite(x)) throwUsage("camera: --eye, --target and --up must be finite numbers");
-  if (!(fovYDegrees > 0 && fovYDegrees < 180)) throwUsage("camera: --fov must be in (0, 180) degrees");
-  if (width < 1 || height < 1 || width > 65536 || height > 65536)
-    throwUsage("camera: --size must be 1..65536 on each side");
+      if (!std::isfinite(x)) throwUsage("camera: the eye, target and up vector must be finite", Setting::CameraPose);
+  if (!(fovYDegrees > 0 && fovYDegrees < 180))
+    throwUsage("camera: the vertical field of view must be in (0, 180) degrees", Setting::FieldOfView);
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    throwUsage("camera: the image size must be 1.." + std::to_string(kMaxImageSide) + " on each side",
+               Setting::ImageSize);
   const double pi = 3.14159265358979323846;
   return make(lookAtMatrix(eye, target, up),
-              perspectiveMatrix(fovYDegrees * pi / 180.0, double(width) / double(height), 0.1, 500.0), width, height,
-              "camera");
+              perspectiveMatrix(fovYDegrees * pi / 180.0, double(width) / double(height), kLookAtNear, kLookAtFar),
+              width, height, "camera");
 }
 
 void Camera::pixelRay(uint32_t x, uint32_t y, Vec3d& origin, Vec3d& direction) const {

@@ -225,6 +225,13 @@ size_t RayGrid::memoryBytes() const {
          bricks_.size() * sizeof(Mask512) + brickDist_.size();
 }
 
+std::vector<Coord3> RayGrid::occupiedVoxels() const {
+  std::vector<Coord3> voxels;
+  voxels.reserve(size_t(occupied_));
+  forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { voxels.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
+  return voxels;
+}
+
 void RayGrid::forEachOccupied(const std::function<void(uint32_t, uint32_t, uint32_t)>& fn) const {
   for (uint32_t tx = 0; tx < topDims_[0]; ++tx)
     for (uint32_t ty = 0; ty < topDims_[1]; ++ty)

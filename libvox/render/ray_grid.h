@@ -73,6 +73,8 @@ class RayGrid {
   size_t memoryBytes() const;
   /// Every occupied voxel, in brick order then bit order. Serial.
   void forEachOccupied(const std::function<void(uint32_t u, uint32_t v, uint32_t w)>& fn) const;
+  /// The same voxels as a list (the brute-force caster's input).
+  std::vector<Coord3> occupiedVoxels() const;
 
   static int bitOf(uint32_t x, uint32_t y, uint32_t z) { return int((x << 6) | (y << 3) | z); }
 

@@ -34,19 +34,21 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-bool better(double exitA, const Coord3& a, double exitB, const Coord3& b) {
+// The tie rule between occupied voxels touched at the same time: the larger
+// exit, then the smallest (w, v, u).
+bool winsTie(double exitA, const Coord3& a, double exitB, const Coord3& b) {
   if (exitA != exitB) return exitA > exitB;
   if (a.w != b.w) return a.w < b.w;
   if (a.v != b.v) return a.v < b.v;
   return a.u < b.u;
 }
 
-int at(const Coord3& c, int a) { return a == 0 ? c.u : a == 1 ? c.v : c.w; }
+int component(const Coord3& c, int axis) { return axis == 0 ? c.u : axis == 1 ? c.v : c.w; }
 
 // The face the ray entered `voxel` through at time `key`: among moving axes
 // whose entry plane time equals key, the one the ray is most head-on to
 // (largest |dir|), then the lowest axis.
-void entryFace(const Ray& ray, const Coord3& voxel, double key, RayHit& hit) {
+void setEntryFace(const Ray& ray, const Coord3& voxel, double key, RayHit& hit) {
   hit.faceAxis = -1;
   hit.faceSign = 0;
   double best = -1;
@@ -54,7 +56,7 @@ void entryFace(const Ray& ray, const Coord3& voxel, double key, RayHit& hit) {
     const double d = ray.dir[size_t(a)];
     if (d == 0) continue;
     const double inv = 1.0 / d;
-    const double plane = d > 0 ? double(at(voxel, a)) : double(at(voxel, a)) + 1.0;
+    const double plane = d > 0 ? double(component(voxel, a)) : double(component(voxel, a)) + 1.0;
     const double t = (plane - ray.origin[size_t(a)]) * inv;
     if (t == key && std::fabs(d) > best) {
       best = std::fabs(d);
@@ -64,36 +66,382 @@ void entryFace(const Ray& ray, const Coord3& voxel, double key, RayHit& hit) {
   }
 }
 
-struct Frame {
+RayHit& setHit(const Ray& ray, const Coord3& voxel, double key, double exit, RayHit& result) {
+  result.hit = true;
+  result.voxel = voxel;
+  result.t = key;
+  result.exit = exit;
+  setEntryFace(ray, voxel, key, result);
+  return result;
+}
+
+// Grid space mirrored on every axis the ray moves down (mirrored index
+// i' = -i - 1, plane p' = -p), so that the ray moves up every axis it moves
+// along; the ray's other axes ("fixed" axes) are left as they are. Voxel
+// indices in this frame are "mirrored"; gridIndex() maps them back.
+struct MirroredFrame {
   bool moving[3]{};
-  bool flip[3]{};
-  double o[3]{}, d[3]{}, inv[3]{};
-  int64_t dlo[3]{}, dhi[3]{};  // mirrored domain [dlo, dhi)
+  bool flipped[3]{};
+  double origin[3]{}, dir[3]{}, invDir[3]{};
+  int64_t domainBegin[3]{}, domainEnd[3]{};  // the content box, mirrored: [begin, end)
+  // On every fixed axis the ray lies inside one voxel slab rather than on the
+  // plane between two (so each event touches one index there).
+  bool oneSlabOnFixedAxes = true;
 
-  double time(int a, int64_t p) const { return (double(p) - o[a]) * inv[a]; }
-  int64_t real(int a, int64_t i) const { return flip[a] ? -i - 1 : i; }
+  // When the ray crosses plane `plane` (mirrored) of moving axis `axis`: the
+  // brute force's (p - o) * (1 / d), bit for bit.
+  double planeTime(int axis, int64_t plane) const { return (double(plane) - origin[axis]) * invDir[axis]; }
+  int64_t gridIndex(int axis, int64_t mirrored) const { return flipped[axis] ? -mirrored - 1 : mirrored; }
 
-  // Indices (mirrored) whose interval on moving axis a contains T, from a guess.
-  void range(int a, double T, int64_t guess, int64_t& lo, int64_t& hi) const {
+  // The mirrored indices [first, last] of moving axis `axis` whose interval
+  // contains time t, searched from `guess`.
+  void indicesAt(int axis, double t, int64_t guess, int64_t& first, int64_t& last) const {
     int64_t i = guess;
-    while (time(a, i) > T) --i;
-    while (time(a, i + 1) <= T) ++i;
-    hi = i;
-    lo = i;
-    while (time(a, lo) >= T) --lo;
+    while (planeTime(axis, i) > t) --i;
+    while (planeTime(axis, i + 1) <= t) ++i;
+    last = i;
+    first = i;
+    while (planeTime(axis, first) >= t) --first;
   }
-  int64_t guess(int a, double T, int64_t minI, int64_t maxI) const {
-    const double g = std::floor(o[a] + T * d[a]);
-    if (!(g >= double(minI))) return minI;
-    if (!(g <= double(maxI))) return maxI;
+  // A starting point for indicesAt: the index the ray is near at time t, clamped.
+  int64_t indexGuess(int axis, double t, int64_t minIndex, int64_t maxIndex) const {
+    const double g = std::floor(origin[axis] + t * dir[axis]);
+    if (!(g >= double(minIndex))) return minIndex;
+    if (!(g <= double(maxIndex))) return maxIndex;
     return int64_t(g);
   }
 };
 
-}  // namespace
+// A time the caster tests every voxel the ray touches: on each axis the
+// mirrored indices [first, last] whose interval contains `time` (one index, or
+// more where `time` is a plane crossing). On a moving axis `last` is the index
+// the ray goes on into.
+struct Event {
+  double time = 0;
+  int64_t first[3]{}, last[3]{};
+};
 
-namespace {
-inline Ray sanitized(const Ray& ray) {
+// The frame of `ray` clipped to the box of non-empty bricks, and the indices
+// of the fixed axes (constant for the whole ray). False when the ray cannot
+// touch the box.
+bool makeFrame(const RayGrid& grid, const Ray& ray, MirroredFrame& frame, Event& event) {
+  // Clipping to the content box rather than the whole domain gives the same
+  // answer (voxels outside it are empty) and stops rays that pass beside the
+  // content at once.
+  const std::array<int64_t, 3>& contentBegin = grid.contentMin();
+  const std::array<int64_t, 3>& contentEnd = grid.contentEnd();
+  int movingAxes = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
+    if (d == 0) {
+      // The indices i with i <= o <= i + 1, clipped to the box.
+      if (!(o >= double(contentBegin[a]) && o <= double(contentEnd[a]))) return false;
+      const double slab = std::floor(o);
+      event.last[a] = std::min<int64_t>(int64_t(slab), contentEnd[a] - 1);
+      event.first[a] = (slab == o) ? std::max<int64_t>(int64_t(slab) - 1, contentBegin[a]) : int64_t(slab);
+      if (event.first[a] != event.last[a]) frame.oneSlabOnFixedAxes = false;
+      frame.origin[a] = o;
+      frame.domainBegin[a] = contentBegin[a];
+      frame.domainEnd[a] = contentEnd[a];
+      continue;
+    }
+    ++movingAxes;
+    frame.moving[a] = true;
+    frame.flipped[a] = d < 0;
+    frame.origin[a] = frame.flipped[a] ? -o : o;
+    frame.dir[a] = frame.flipped[a] ? -d : d;
+    frame.invDir[a] = 1.0 / frame.dir[a];  // == -(1.0 / d) when flipped, bit for bit
+    frame.domainBegin[a] = frame.flipped[a] ? -contentEnd[a] : contentBegin[a];
+    frame.domainEnd[a] = frame.flipped[a] ? -contentBegin[a] : contentEnd[a];
+  }
+  return movingAxes > 0;
+}
+
+// The first event: where the ray enters the content box (or its origin, when
+// inside). False when the ray misses the box.
+bool enterContentBox(const MirroredFrame& frame, Event& event) {
+  double tEnter = 0, tLeave = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (!frame.moving[a]) continue;
+    tEnter = std::max(tEnter, frame.planeTime(a, frame.domainBegin[a]));
+    tLeave = std::min(tLeave, frame.planeTime(a, frame.domainEnd[a]));
+  }
+  if (!(tEnter <= tLeave)) return false;
+  for (int a = 0; a < 3; ++a)
+    if (frame.moving[a])
+      frame.indicesAt(a, tEnter, frame.indexGuess(a, tEnter, frame.domainBegin[a] - 1, frame.domainEnd[a]),
+                      event.first[a], event.last[a]);
+  event.time = tEnter;
+  return true;
+}
+
+// What testing an event's voxels found.
+struct EventTest {
+  bool found = false;  // an occupied voxel: the best by the tie rule
+  Coord3 voxel;
+  double exit = 0;
+  int aheadLevel = 3;  // the emptiness level (RayGrid::probe) of the voxels the ray goes on into
+};
+
+// Tests every voxel of the event inside the content box.
+EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGrid::Cursor& cursor) {
+  int64_t begin[3], last[3];
+  for (int a = 0; a < 3; ++a) {
+    begin[a] = std::max(event.first[a], frame.domainBegin[a]);
+    last[a] = std::min(event.last[a], frame.domainEnd[a] - 1);
+  }
+  EventTest test;
+  for (int64_t i = begin[0]; i <= last[0]; ++i)
+    for (int64_t j = begin[1]; j <= last[1]; ++j)
+      for (int64_t k = begin[2]; k <= last[2]; ++k) {
+        const int64_t mirrored[3] = {i, j, k};
+        const Coord3 voxel{int32_t(frame.gridIndex(0, i)), int32_t(frame.gridIndex(1, j)), int32_t(frame.gridIndex(2, k))};
+        bool occupied;
+        const int level = cursor.probe(voxel.u, voxel.v, voxel.w, occupied);
+        bool ahead = true;
+        for (int a = 0; a < 3; ++a)
+          if (frame.moving[a] && mirrored[a] != event.last[a]) ahead = false;
+        if (ahead) test.aheadLevel = std::min(test.aheadLevel, level);
+        if (!occupied) continue;
+        double exit = kInf;
+        for (int a = 0; a < 3; ++a)
+          if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, mirrored[a] + 1));
+        if (!test.found || winsTie(exit, voxel, test.exit, test.voxel)) {
+          test.found = true;
+          test.voxel = voxel;
+          test.exit = exit;
+        }
+      }
+  return test;
+}
+
+// How a walk between events ended.
+enum class WalkEnd {
+  NextEvent,  // `event` holds the next general event
+  Hit,        // the result holds the hit
+  Miss,       // the ray left the content box
+};
+
+// Inside a non-empty brick: steps voxel by voxel while each step crosses
+// exactly one plane (the voxels touched are then the one left, already
+// tested, and the one entered). Anything else (a tie, the box's end, an empty
+// brick) goes back to a general event.
+WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& event, RayGrid::Cursor& cursor,
+                          RayHit& result) {
+  int64_t mirrored[3], gridVoxel[3], gridStep[3], brick[3];
+  double tLeave[3];  // when the ray leaves the current voxel on each axis
+  for (int a = 0; a < 3; ++a) {
+    mirrored[a] = event.last[a];
+    tLeave[a] = frame.moving[a] ? frame.planeTime(a, mirrored[a] + 1) : kInf;
+    gridVoxel[a] = frame.gridIndex(a, mirrored[a]);
+    gridStep[a] = frame.flipped[a] ? -1 : 1;
+    brick[a] = gridVoxel[a] >> 3;
+  }
+  bool occupiedStart;
+  cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
+  const RayGrid::Mask512* brickMask = cursor.lastBrick();
+  for (;;) {
+    const int axis = tLeave[0] <= tLeave[1] ? (tLeave[0] <= tLeave[2] ? 0 : 2) : (tLeave[1] <= tLeave[2] ? 1 : 2);
+    const double tCross = tLeave[axis];
+    const int64_t entered = mirrored[axis] + 1;
+    const double tLeaveEntered = frame.planeTime(axis, entered + 1);
+    const int planesCrossed = int(tLeave[0] == tCross) + int(tLeave[1] == tCross) + int(tLeave[2] == tCross);
+    if (planesCrossed > 1 || tLeaveEntered == tCross || entered >= frame.domainEnd[axis]) {
+      for (int a = 0; a < 3; ++a) {
+        if (!frame.moving[a]) continue;
+        if (tLeave[a] == tCross) frame.indicesAt(a, tCross, mirrored[a] + 1, event.first[a], event.last[a]);
+        else event.first[a] = event.last[a] = mirrored[a];
+      }
+      event.time = tCross;
+      return WalkEnd::NextEvent;
+    }
+    ++result.steps;
+    mirrored[axis] = entered;
+    tLeave[axis] = tLeaveEntered;
+    gridVoxel[axis] += gridStep[axis];
+    bool occupied;
+    int level = 0;
+    if ((gridVoxel[axis] >> 3) == brick[axis]) {  // same brick: one bit test at the brick-local position
+      const int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
+      occupied = ((*brickMask)[size_t(bit >> 6)] >> (bit & 63)) & 1;
+    } else {
+      brick[axis] = gridVoxel[axis] >> 3;
+      level = cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
+      brickMask = cursor.lastBrick();
+    }
+    if (occupied) {
+      const Coord3 voxel{int32_t(gridVoxel[0]), int32_t(gridVoxel[1]), int32_t(gridVoxel[2])};
+      setHit(ray, voxel, tCross, std::min(tLeave[0], std::min(tLeave[1], tLeave[2])), result);
+      return WalkEnd::Hit;
+    }
+    if (level > 0) {  // left the brick for an empty one: jump from a general event
+      for (int a = 0; a < 3; ++a)
+        if (frame.moving[a]) event.first[a] = event.last[a] = mirrored[a];
+      event.first[axis] = entered - 1;
+      event.time = tCross;
+      return WalkEnd::NextEvent;
+    }
+  }
+}
+
+// In empty space: moves from cell to cell of the coarsest empty level `level`
+// (8^3, 64^3 or 512^3 voxels) while each step crosses exactly one cell face;
+// the voxels touched there lie in the cell left (empty) and the cell entered,
+// so while the entered cell is empty too no voxel index is needed. Where the
+// brick distance field says the box of k cells around the current cell is
+// empty, jumps to that box's exit instead. A non-empty cell, or a tie, goes
+// back to an exact general event.
+WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int level, Event& event,
+                       RayGrid::Cursor& cursor, RayHit& result) {
+  int64_t voxelInCell[3], cell[3];  // mirrored: any voxel of the current cell, and the cell at `level`
+  double tLeave[3];                 // when the ray leaves the current cell on each axis
+  for (int a = 0; a < 3; ++a) voxelInCell[a] = event.last[a];
+  auto setLevel = [&](int newLevel) {
+    level = newLevel;
+    for (int a = 0; a < 3; ++a) {
+      cell[a] = voxelInCell[a] >> (3 * level);
+      tLeave[a] = frame.moving[a] ? frame.planeTime(a, (cell[a] + 1) << (3 * level)) : kInf;
+    }
+  };
+  // Cells of the current level around the one holding `mirroredVoxel` known
+  // empty on every side: the brick distance kb covers k cells of m = 8^(level-1)
+  // bricks when k m <= kb.
+  auto emptyCellsAround = [&](const int64_t* mirroredVoxel) -> int64_t {
+    const uint32_t kb = grid.emptyBricksAround(frame.gridIndex(0, mirroredVoxel[0]) >> 3,
+                                               frame.gridIndex(1, mirroredVoxel[1]) >> 3,
+                                               frame.gridIndex(2, mirroredVoxel[2]) >> 3);
+    const int64_t k = int64_t(kb) >> (3 * (level - 1));
+    return k < 1 ? 1 : k;
+  };
+  // The exact voxels touched at tCross (cells known on every axis): a general event.
+  auto eventAt = [&](double tCross, const int64_t* farPlane, const double* tFar) {
+    for (int a = 0; a < 3; ++a) {
+      if (!frame.moving[a]) continue;
+      const int64_t cellFirst = cell[a] << (3 * level);
+      frame.indicesAt(a, tCross, tFar[a] == tCross ? farPlane[a] : frame.indexGuess(a, tCross, cellFirst, farPlane[a] - 1),
+                      event.first[a], event.last[a]);
+    }
+    event.time = tCross;
+  };
+  setLevel(level);
+  int64_t k = emptyCellsAround(voxelInCell);
+  for (;;) {
+    // The far planes of the box of k cells, and when the ray crosses them.
+    int64_t farPlane[3] = {0, 0, 0};
+    double tFar[3] = {kInf, kInf, kInf};
+    if (k == 1) {
+      for (int a = 0; a < 3; ++a) {
+        farPlane[a] = (cell[a] + 1) << (3 * level);
+        tFar[a] = tLeave[a];
+      }
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        if (!frame.moving[a]) continue;
+        farPlane[a] = (cell[a] + k) << (3 * level);
+        tFar[a] = frame.planeTime(a, farPlane[a]);
+      }
+    }
+    const int axis = tFar[0] <= tFar[1] ? (tFar[0] <= tFar[2] ? 0 : 2) : (tFar[1] <= tFar[2] ? 1 : 2);
+    const double tCross = tFar[axis];
+    const int64_t plane = farPlane[axis];  // the plane crossed at tCross
+    const int planesCrossed = int(tFar[0] == tCross) + int(tFar[1] == tCross) + int(tFar[2] == tCross);
+    if (planesCrossed > 1 || !(frame.planeTime(axis, plane - 1) < tCross) ||
+        !(frame.planeTime(axis, plane + 1) > tCross)) {
+      eventAt(tCross, farPlane, tFar);
+      return WalkEnd::NextEvent;
+    }
+    if (plane >= frame.domainEnd[axis]) return WalkEnd::Miss;  // the box left was empty
+    if (k > 1) {
+      // Which cell of the box each other axis is in at tCross; a cell face
+      // exactly at tCross is a tie.
+      bool tie = false;
+      int64_t cellAtCross[3];
+      const int64_t shift = 3 * level;
+      for (int a = 0; a < 3; ++a) {
+        cellAtCross[a] = cell[a];
+        if (!frame.moving[a] || a == axis) continue;
+        int64_t c = frame.indexGuess(a, tCross, cell[a] << shift, farPlane[a] - 1) >> shift;
+        while (c > cell[a] && frame.planeTime(a, c << shift) > tCross) --c;
+        while (c < cell[a] + k - 1 && frame.planeTime(a, (c + 1) << shift) <= tCross) ++c;
+        if (frame.planeTime(a, c << shift) == tCross) tie = true;
+        cellAtCross[a] = c;
+      }
+      if (tie) {
+        eventAt(tCross, farPlane, tFar);
+        return WalkEnd::NextEvent;
+      }
+      for (int a = 0; a < 3; ++a) {
+        if (!frame.moving[a] || a == axis) continue;
+        cell[a] = cellAtCross[a];
+        voxelInCell[a] = cell[a] << shift;
+        tLeave[a] = frame.planeTime(a, (cell[a] + 1) << shift);
+      }
+    }
+    ++result.steps;
+    voxelInCell[axis] = plane;
+    cell[axis] = plane >> (3 * level);
+    tLeave[axis] = frame.planeTime(axis, (cell[axis] + 1) << (3 * level));
+    // The entered cell's emptiness, from any of its voxels inside the box.
+    int64_t probeVoxel[3];
+    for (int a = 0; a < 3; ++a)
+      probeVoxel[a] = a == axis ? plane
+                                : std::clamp<int64_t>(cell[a] << (3 * level), frame.domainBegin[a], frame.domainEnd[a] - 1);
+    bool occupied;
+    const int enteredLevel = cursor.probe(frame.gridIndex(0, probeVoxel[0]), frame.gridIndex(1, probeVoxel[1]),
+                                          frame.gridIndex(2, probeVoxel[2]), occupied);
+    if (enteredLevel > level) {
+      setLevel(enteredLevel);
+    } else if (enteredLevel < level) {
+      // Not empty: the exact voxels touched at tCross, then a general event.
+      for (int a = 0; a < 3; ++a) {
+        if (!frame.moving[a]) continue;
+        if (a == axis) {
+          event.first[a] = plane - 1;
+          event.last[a] = plane;
+        } else {
+          frame.indicesAt(a, tCross,
+                          frame.indexGuess(a, tCross, cell[a] << (3 * level), ((cell[a] + 1) << (3 * level)) - 1),
+                          event.first[a], event.last[a]);
+        }
+      }
+      event.time = tCross;
+      return WalkEnd::NextEvent;
+    }
+    k = emptyCellsAround(probeVoxel);
+  }
+}
+
+// A ray inside a grid plane of a fixed axis (two slabs there): from the
+// current event to the far face of the empty box of `level` ahead (one voxel
+// at level 0), as one general event.
+void jumpPastEmptyBox(const MirroredFrame& frame, int level, Event& event) {
+  const int shift = 3 * level;
+  double tCross = kInf;
+  int64_t farPlane[3] = {0, 0, 0};
+  double tFar[3] = {kInf, kInf, kInf};
+  for (int a = 0; a < 3; ++a) {
+    if (!frame.moving[a]) continue;
+    farPlane[a] = ((event.last[a] >> shift) + 1) << shift;
+    tFar[a] = frame.planeTime(a, farPlane[a]);
+    tCross = std::min(tCross, tFar[a]);
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (!frame.moving[a]) continue;
+    const int64_t guess = tFar[a] == tCross ? farPlane[a]
+                          : shift == 0      ? event.last[a]
+                                            : frame.indexGuess(a, tCross, event.last[a], farPlane[a] - 1);
+    frame.indicesAt(a, tCross, guess, event.first[a], event.last[a]);
+  }
+  event.time = tCross;
+}
+
+bool pastContentBox(const MirroredFrame& frame, const int64_t* index) {
+  for (int a = 0; a < 3; ++a)
+    if (frame.moving[a] && index[a] >= frame.domainEnd[a]) return true;
+  return false;
+}
+
+Ray sanitized(const Ray& ray) {
   Ray r = ray;
   double m = 0;
   for (double d : r.dir) m = std::max(m, std::fabs(d));
@@ -101,6 +449,7 @@ inline Ray sanitized(const Ray& ray) {
     if (std::fabs(d) < m * 1e-200 || std::fabs(d) < 1e-290) d = 0;
   return r;
 }
+
 }  // namespace
 
 Ray sanitizeRay(const Ray& ray) { return sanitized(ray); }
@@ -110,7 +459,7 @@ bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double
   exit = kInf;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
-    const double c = double(at(voxel, a));
+    const double c = double(component(voxel, a));
     if (d == 0) {
       if (o < c || o > c + 1.0) return false;
       continue;
@@ -130,14 +479,14 @@ RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& rayIn) {
     double enter, exit;
     if (!rayVoxelInterval(ray, c, enter, exit)) continue;
     const double key = std::max(enter, 0.0);
-    if (!best.hit || key < best.t || (key == best.t && better(exit, c, best.exit, best.voxel))) {
+    if (!best.hit || key < best.t || (key == best.t && winsTie(exit, c, best.exit, best.voxel))) {
       best.hit = true;
       best.t = key;
       best.exit = exit;
       best.voxel = c;
     }
   }
-  if (best.hit) entryFace(ray, best.voxel, best.t, best);
+  if (best.hit) setEntryFace(ray, best.voxel, best.t, best);
   return best;
 }
 
@@ -149,304 +498,23 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
 RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
   const Ray ray = sanitized(rayIn);
   RayHit result;
-  // The ray is clipped to the box of non-empty bricks rather than the whole
-  // domain: voxels outside it are empty, so the answer is the same and rays
-  // that pass beside the content stop at once.
   if (grid.occupiedCount() == 0) return result;
-  const std::array<int64_t, 3>& b0 = grid.contentMin();
-  const std::array<int64_t, 3>& b1 = grid.contentEnd();
-  Frame f;
-  int64_t lo[3], hi[3];
-  int movingCount = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
-    if (d == 0) {
-      // Not moving on this axis: the indices i with i <= o <= i + 1, clipped to the box.
-      if (!(o >= double(b0[a]) && o <= double(b1[a]))) return result;
-      const double fl = std::floor(o);
-      hi[a] = std::min<int64_t>(int64_t(fl), b1[a] - 1);
-      lo[a] = (fl == o) ? std::max<int64_t>(int64_t(fl) - 1, b0[a]) : int64_t(fl);
-      f.o[a] = o;
-      f.dlo[a] = b0[a];
-      f.dhi[a] = b1[a];
-      continue;
-    }
-    ++movingCount;
-    f.moving[a] = true;
-    f.flip[a] = d < 0;
-    f.o[a] = f.flip[a] ? -o : o;
-    f.d[a] = f.flip[a] ? -d : d;
-    f.inv[a] = 1.0 / f.d[a];  // == -(1.0 / d) when flipped, bit for bit
-    f.dlo[a] = f.flip[a] ? -b1[a] : b0[a];
-    f.dhi[a] = f.flip[a] ? -b0[a] : b1[a];
-  }
-  if (movingCount == 0) return result;
-
-  // Clip to the domain box.
-  double T = 0, tEnd = kInf;
-  for (int a = 0; a < 3; ++a) {
-    if (!f.moving[a]) continue;
-    T = std::max(T, f.time(a, f.dlo[a]));
-    tEnd = std::min(tEnd, f.time(a, f.dhi[a]));
-  }
-  if (!(T <= tEnd)) return result;
-  for (int a = 0; a < 3; ++a)
-    if (f.moving[a]) f.range(a, T, f.guess(a, T, f.dlo[a] - 1, f.dhi[a]), lo[a], hi[a]);
-
-  auto probe = [&](int64_t u, int64_t v, int64_t w, bool& occ) { return cursor.probe(u, v, w, occ); };
-
+  MirroredFrame frame;
+  Event event;
+  if (!makeFrame(grid, ray, frame, event) || !enterContentBox(frame, event)) return result;
   for (;;) {
     ++result.steps;
-    for (int a = 0; a < 3; ++a)
-      if (f.moving[a] && lo[a] >= f.dhi[a]) return result;
-
-    // Test every voxel touched at T; note the emptiness level of those ahead.
-    int64_t clo[3], chi[3];
-    for (int a = 0; a < 3; ++a) {
-      clo[a] = std::max(lo[a], f.dlo[a]);
-      chi[a] = std::min(hi[a], f.dhi[a] - 1);
-    }
-    bool found = false;
-    Coord3 bestVoxel;
-    double bestExit = 0;
-    int minLevel = 3;
-    for (int64_t i = clo[0]; i <= chi[0]; ++i)
-      for (int64_t j = clo[1]; j <= chi[1]; ++j)
-        for (int64_t k = clo[2]; k <= chi[2]; ++k) {
-          const int64_t m[3] = {i, j, k};
-          const Coord3 c{int32_t(f.real(0, i)), int32_t(f.real(1, j)), int32_t(f.real(2, k))};
-          bool occ;
-          const int level = probe(c.u, c.v, c.w, occ);
-          bool ahead = true;
-          for (int a = 0; a < 3; ++a)
-            if (f.moving[a] && m[a] != hi[a]) ahead = false;
-          if (ahead) minLevel = std::min(minLevel, level);
-          if (!occ) continue;
-          double exit = kInf;
-          for (int a = 0; a < 3; ++a)
-            if (f.moving[a]) exit = std::min(exit, f.time(a, m[a] + 1));
-          if (!found || better(exit, c, bestExit, bestVoxel)) {
-            found = true;
-            bestVoxel = c;
-            bestExit = exit;
-          }
-        }
-    if (found) {
-      result.hit = true;
-      result.voxel = bestVoxel;
-      result.t = T;
-      result.exit = bestExit;
-      entryFace(ray, bestVoxel, T, result);
-      return result;
-    }
-
-    // Advance: past the voxel ahead, or past the empty box around it.
-    for (int a = 0; a < 3; ++a)
-      if (f.moving[a] && hi[a] >= f.dhi[a]) return result;  // the ray leaves the domain at T
-    bool stationarySingle = true;
-    for (int a = 0; a < 3; ++a)
-      if (!f.moving[a] && clo[a] != chi[a]) stationarySingle = false;
-    if (minLevel == 0 && stationarySingle) {
-      // Inside a non-empty brick: step voxel by voxel while each event crosses
-      // exactly one plane (then the voxels touched are the one left, already
-      // tested, and the one entered). Anything else goes back to the general
-      // event above.
-      int64_t idx[3], rc[3], rs[3], bk[3];  // mirrored index, real index, real step, real brick
-      double tN[3];
-      for (int a = 0; a < 3; ++a) {
-        idx[a] = f.moving[a] ? hi[a] : clo[a];
-        tN[a] = f.moving[a] ? f.time(a, idx[a] + 1) : kInf;
-        rc[a] = f.real(a, idx[a]);
-        rs[a] = f.flip[a] ? -1 : 1;
-        bk[a] = rc[a] >> 3;
-      }
-      bool occStart;
-      probe(rc[0], rc[1], rc[2], occStart);  // the brick ahead is non-empty (minShift == 0)
-      const RayGrid::Mask512* brick = cursor.lastBrick();
-      for (;;) {
-        const int a0 = tN[0] <= tN[1] ? (tN[0] <= tN[2] ? 0 : 2) : (tN[1] <= tN[2] ? 1 : 2);
-        const double Tn = tN[a0];
-        const int64_t next = idx[a0] + 1;
-        const double tAfter = f.time(a0, next + 1);
-        const int crossing = int(tN[0] == Tn) + int(tN[1] == Tn) + int(tN[2] == Tn);
-        if (crossing > 1 || tAfter == Tn || next >= f.dhi[a0]) {
-          for (int a = 0; a < 3; ++a) {
-            if (!f.moving[a]) continue;
-            if (tN[a] == Tn) f.range(a, Tn, idx[a] + 1, lo[a], hi[a]);
-            else lo[a] = hi[a] = idx[a];
-          }
-          T = Tn;
-          break;
-        }
-        ++result.steps;
-        idx[a0] = next;
-        tN[a0] = tAfter;
-        rc[a0] += rs[a0];
-        bool occ;
-        int level = 0;
-        if ((rc[a0] >> 3) == bk[a0]) {  // same brick: one bit test
-          const int bit = RayGrid::bitOf(uint32_t(rc[0] & 7), uint32_t(rc[1] & 7), uint32_t(rc[2] & 7));
-          occ = ((*brick)[size_t(bit >> 6)] >> (bit & 63)) & 1;
-        } else {
-          bk[a0] = rc[a0] >> 3;
-          level = probe(rc[0], rc[1], rc[2], occ);
-          brick = cursor.lastBrick();
-        }
-        const Coord3 c{int32_t(rc[0]), int32_t(rc[1]), int32_t(rc[2])};
-        if (occ) {
-          result.hit = true;
-          result.voxel = c;
-          result.t = Tn;
-          result.exit = std::min(tN[0], std::min(tN[1], tN[2]));
-          entryFace(ray, c, Tn, result);
-          return result;
-        }
-        if (level > 0) {  // left the brick for an empty one: jump from the general event
-          for (int a = 0; a < 3; ++a) {
-            if (!f.moving[a]) continue;
-            lo[a] = hi[a] = idx[a];
-          }
-          lo[a0] = next - 1;
-          T = Tn;
-          break;
-        }
-      }
+    if (pastContentBox(frame, event.first)) return result;
+    const EventTest test = testEventVoxels(frame, event, cursor);
+    if (test.found) return setHit(ray, test.voxel, event.time, test.exit, result);
+    if (pastContentBox(frame, event.last)) return result;  // the ray leaves the box at this event
+    if (!frame.oneSlabOnFixedAxes) {
+      jumpPastEmptyBox(frame, test.aheadLevel, event);
       continue;
     }
-    if (stationarySingle) {
-      // In empty space: move from cell to cell of the coarsest empty level
-      // (8^3, 64^3 or 512^3 voxels) while each event crosses exactly one cell
-      // face; the voxels touched there lie in the cell left (empty) and the
-      // cell entered, so while the entered cell is empty too no voxel index is
-      // needed. Where the brick distance field says the k-cell box around the
-      // current cell is empty, jump to that box's exit instead. A non-empty
-      // cell, or a tie, goes back to an exact general event.
-      int L = minLevel;
-      int64_t cur[3], cell[3];
-      double tN[3];
-      for (int a = 0; a < 3; ++a) cur[a] = f.moving[a] ? hi[a] : clo[a];
-      auto setLevel = [&](int level) {
-        L = level;
-        for (int a = 0; a < 3; ++a) {
-          cell[a] = cur[a] >> (3 * L);
-          tN[a] = f.moving[a] ? f.time(a, (cell[a] + 1) << (3 * L)) : kInf;
-        }
-      };
-      // Cells of level L around `voxel`'s cell known empty on every side: the
-      // brick distance kb covers k cells of m = 8^(L-1) bricks when k m <= kb.
-      auto jumpCells = [&](const int64_t* voxel) -> int64_t {
-        const uint32_t kb = grid.emptyBricksAround(f.real(0, voxel[0]) >> 3, f.real(1, voxel[1]) >> 3,
-                                                   f.real(2, voxel[2]) >> 3);
-        const int64_t k = int64_t(kb) >> (3 * (L - 1));
-        return k < 1 ? 1 : k;
-      };
-      setLevel(L);
-      int64_t k = jumpCells(cur);
-      // The exact voxels touched at Tn (cells known on every axis), for a general event.
-      auto exactAt = [&](double Tn, const int64_t* far, const double* tFar) {
-        for (int a = 0; a < 3; ++a) {
-          if (!f.moving[a]) continue;
-          const int64_t first = cell[a] << (3 * L);
-          f.range(a, Tn, tFar[a] == Tn ? far[a] : f.guess(a, Tn, first, far[a] - 1), lo[a], hi[a]);
-        }
-        T = Tn;
-      };
-      for (;;) {
-        int64_t far[3] = {0, 0, 0};
-        double tFar[3] = {kInf, kInf, kInf};
-        if (k == 1) {
-          for (int a = 0; a < 3; ++a) {
-            far[a] = (cell[a] + 1) << (3 * L);
-            tFar[a] = tN[a];
-          }
-        } else {
-          for (int a = 0; a < 3; ++a) {
-            if (!f.moving[a]) continue;
-            far[a] = (cell[a] + k) << (3 * L);
-            tFar[a] = f.time(a, far[a]);
-          }
-        }
-        const int a0 = tFar[0] <= tFar[1] ? (tFar[0] <= tFar[2] ? 0 : 2) : (tFar[1] <= tFar[2] ? 1 : 2);
-        const double Tn = tFar[a0];
-        const int64_t P = far[a0];  // the plane crossed at Tn
-        const int crossing = int(tFar[0] == Tn) + int(tFar[1] == Tn) + int(tFar[2] == Tn);
-        if (crossing > 1 || !(f.time(a0, P - 1) < Tn) || !(f.time(a0, P + 1) > Tn)) {
-          exactAt(Tn, far, tFar);
-          break;
-        }
-        if (P >= f.dhi[a0]) return result;  // out of the domain; the box left was empty
-        if (k > 1) {
-          // Which cell of the box each other axis is in at Tn; a cell face
-          // exactly at Tn is a tie.
-          bool tie = false;
-          int64_t moved[3];
-          for (int a = 0; a < 3; ++a) {
-            moved[a] = cell[a];
-            if (!f.moving[a] || a == a0) continue;
-            const int64_t shift = 3 * L;
-            int64_t c = f.guess(a, Tn, cell[a] << shift, far[a] - 1) >> shift;
-            while (c > cell[a] && f.time(a, c << shift) > Tn) --c;
-            while (c < cell[a] + k - 1 && f.time(a, (c + 1) << shift) <= Tn) ++c;
-            if (f.time(a, c << shift) == Tn) tie = true;
-            moved[a] = c;
-          }
-          if (tie) {
-            exactAt(Tn, far, tFar);
-            break;
-          }
-          for (int a = 0; a < 3; ++a) {
-            if (!f.moving[a] || a == a0) continue;
-            cell[a] = moved[a];
-            cur[a] = cell[a] << (3 * L);  // any voxel of the cell will do for setLevel
-            tN[a] = f.time(a, (cell[a] + 1) << (3 * L));
-          }
-        }
-        ++result.steps;
-        cur[a0] = P;
-        cell[a0] = P >> (3 * L);
-        tN[a0] = f.time(a0, (cell[a0] + 1) << (3 * L));
-        // The entered cell's emptiness, from any of its voxels inside the domain.
-        int64_t rep[3];
-        for (int a = 0; a < 3; ++a)
-          rep[a] = a == a0 ? P : std::clamp<int64_t>(cell[a] << (3 * L), f.dlo[a], f.dhi[a] - 1);
-        bool occ;
-        const int level = probe(f.real(0, rep[0]), f.real(1, rep[1]), f.real(2, rep[2]), occ);
-        if (level > L) {
-          setLevel(level);
-        } else if (level < L) {
-          // Not empty: the exact voxels touched at Tn, then a general event.
-          for (int a = 0; a < 3; ++a) {
-            if (!f.moving[a]) continue;
-            if (a == a0) {
-              lo[a] = P - 1;
-              hi[a] = P;
-            } else {
-              f.range(a, Tn, f.guess(a, Tn, cell[a] << (3 * L), ((cell[a] + 1) << (3 * L)) - 1), lo[a], hi[a]);
-            }
-          }
-          T = Tn;
-          break;
-        }
-        k = jumpCells(rep);
-      }
-      continue;
-    }
-    const int shift = 3 * minLevel;
-    double Tn = kInf;
-    int64_t far[3] = {0, 0, 0};
-    double tFar[3] = {kInf, kInf, kInf};
-    for (int a = 0; a < 3; ++a) {
-      if (!f.moving[a]) continue;
-      far[a] = ((hi[a] >> shift) + 1) << shift;
-      tFar[a] = f.time(a, far[a]);
-      Tn = std::min(Tn, tFar[a]);
-    }
-    for (int a = 0; a < 3; ++a) {
-      if (!f.moving[a]) continue;
-      const int64_t g = tFar[a] == Tn ? far[a] : shift == 0 ? hi[a] : f.guess(a, Tn, hi[a], far[a] - 1);
-      f.range(a, Tn, g, lo[a], hi[a]);
-    }
-    T = Tn;
+    const WalkEnd end = test.aheadLevel == 0 ? walkVoxelsInBrick(frame, ray, event, cursor, result)
+                                             : walkEmptyCells(grid, frame, test.aheadLevel, event, cursor, result);
+    if (end != WalkEnd::NextEvent) return result;
   }
 }
 

@@ -3,33 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <thread>
+
+#include "libvox/core/parallel.h"
 
 namespace vox {
-
-namespace {
-
-unsigned workerCount(unsigned threads) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  return threads;
-}
-
-// Rows in blocks handed out through an atomic counter; each pixel is written
-// by exactly one worker, so the output does not depend on scheduling.
-template <typename Fn>
-void parallelRows(uint32_t height, unsigned threads, Fn&& rowFn) {
-  std::atomic<uint32_t> next{0};
-  auto worker = [&] {
-    for (uint32_t y; (y = next.fetch_add(1)) < height;) rowFn(y);
-  };
-  const unsigned n = std::min<unsigned>(workerCount(threads), std::max<uint32_t>(1, height));
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-}
-
-}  // namespace
 
 PixelRays::PixelRays(const Camera& camera, const GridFrame& frame)
     : m_(camera.cameraToWorld), invVoxelSize_(1.0 / frame.voxelSize), voxelSize_(frame.voxelSize) {
@@ -59,10 +36,11 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   out.width = camera.width;
   out.height = camera.height;
   out.pixels.resize(size_t(camera.width) * camera.height);
-  std::atomic<uint64_t> hits{0}, steps{0};
+  std::atomic<uint64_t> hits{0}, steps{0};  // sums: the same in any order
   std::atomic<uint32_t> rowsDone{0};
   const PixelRays rays(camera, frame);
-  parallelRows(camera.height, threads, [&](uint32_t y) {
+  parallelForEach(camera.height, threads, 1, [&](size_t rowIndex) {
+    const uint32_t y = uint32_t(rowIndex);
     uint64_t rowHits = 0, rowSteps = 0;
     PixelHit* row = out.pixels.data() + size_t(y) * camera.width;
     RayGrid::Cursor cursor(grid);
@@ -91,6 +69,11 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   return out;
 }
 
+uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget) {
+  const double cost = double(pixels) * double(std::max<uint64_t>(1, occupied));
+  return std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, budget))));
+}
+
 ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
                     const Camera& camera, uint64_t stride, unsigned threads) {
   if (stride == 0) stride = 1;
@@ -98,27 +81,20 @@ ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, cons
   const uint64_t samples = (total + stride - 1) / stride;
   std::vector<uint8_t> differs(size_t(samples), 0);
   std::vector<RayHit> expected(static_cast<size_t>(samples));
-  std::atomic<uint64_t> next{0};
   const PixelRays rays(camera, frame);
-  auto worker = [&] {
-    for (uint64_t s; (s = next.fetch_add(1)) < samples;) {
-      const uint64_t i = s * stride;
-      const uint32_t x = uint32_t(i % hits.width), y = uint32_t(i / hits.width);
-      const RayHit ref = castRayBruteForce(occupied, rays.ray(x, y));
-      const PixelHit& got = hits.pixels[size_t(i)];
-      const bool same = ref.hit == got.hit &&
-                        (!ref.hit || (ref.voxel.u == got.u && ref.voxel.v == got.v && ref.voxel.w == got.w));
-      if (!same) {
-        differs[size_t(s)] = 1;
-        expected[size_t(s)] = ref;
-      }
+  // Each sample writes its own slots; the mismatches are collected afterwards in pixel order.
+  parallelForEach(size_t(samples), threads, 1, [&](size_t s) {
+    const uint64_t i = s * stride;
+    const uint32_t x = uint32_t(i % hits.width), y = uint32_t(i / hits.width);
+    const RayHit ref = castRayBruteForce(occupied, rays.ray(x, y));
+    const PixelHit& got = hits.pixels[size_t(i)];
+    const bool same =
+        ref.hit == got.hit && (!ref.hit || (ref.voxel.u == got.u && ref.voxel.v == got.v && ref.voxel.w == got.w));
+    if (!same) {
+      differs[s] = 1;
+      expected[s] = ref;
     }
-  };
-  const unsigned n = std::min<unsigned>(workerCount(threads), unsigned(std::max<uint64_t>(1, samples)));
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  });
   ViewCheck c;
   c.pixelsChecked = samples;
   for (uint64_t s = 0; s < samples; ++s) {
@@ -130,49 +106,6 @@ ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, cons
     }
   }
   return c;
-}
-
-int canonicalBits(const Dims& dims) {
-  const uint64_t maxCoord = uint64_t(dims.maxAxis()) - 1;
-  return maxCoord <= 255 ? 8 : maxCoord <= 65535 ? 16 : 32;
-}
-
-std::array<double, 3> terrainShade(const std::array<double, 3>& base, const std::array<int, 3>& normal) {
-  // terrain.wgsl: sunDir = normalize(-0.4, -0.85, -0.5); diffuse = max(dot(n, -sunDir), 0) * sunColor;
-  // skyFactor = clamp(n.y * 0.5 + 0.5, 0, 1); ambient = mix(horizon, sky, skyFactor) * 0.55.
-  const double sl = std::sqrt(0.4 * 0.4 + 0.85 * 0.85 + 0.5 * 0.5);
-  const double sun[3] = {-0.4 / sl, -0.85 / sl, -0.5 / sl};
-  const double sunColor[3] = {1.0, 0.97, 0.9};
-  const double horizon[3] = {0.18, 0.16, 0.12};
-  const double n[3] = {double(normal[0]), double(normal[1]), double(normal[2])};
-  const double diffuse = std::max(-(n[0] * sun[0] + n[1] * sun[1] + n[2] * sun[2]), 0.0);
-  const double skyFactor = std::clamp(n[1] * 0.5 + 0.5, 0.0, 1.0);
-  std::array<double, 3> out;
-  for (int c = 0; c < 3; ++c) {
-    const double ambient = (horizon[c] * (1.0 - skyFactor) + kSkyColor[size_t(c)] * skyFactor) * 0.55;
-    out[size_t(c)] = base[size_t(c)] * (ambient + diffuse * sunColor[c]);
-  }
-  return out;
-}
-
-std::array<double, 3> facePaletteColor(const ClassInfo* info, const std::array<int, 3>& normal) {
-  if (!info) return {0.5, 0.5, 0.5};
-  Rgb8 c = info->color;
-  if (info->faces) c = normal[1] > 0 ? info->faces->top : normal[1] < 0 ? info->faces->bottom : info->faces->side;
-  return {c.r / 255.0, c.g / 255.0, c.b / 255.0};
-}
-
-std::array<int, 3> hitNormal(const PixelHit& hit, const Vec3d& dir) {
-  std::array<int, 3> n{0, 0, 0};
-  if (hit.faceAxis >= 0) {
-    n[size_t(hit.faceAxis)] = hit.faceSign;
-    return n;
-  }
-  int a = 0;
-  for (int i = 1; i < 3; ++i)
-    if (std::fabs(dir[size_t(i)]) > std::fabs(dir[size_t(a)])) a = i;
-  n[size_t(a)] = dir[size_t(a)] > 0 ? -1 : 1;
-  return n;
 }
 
 }  // namespace vox

@@ -1,13 +1,15 @@
 // render-canonical's kernels: cast one exact ray per pixel centre into a
-// RayGrid and turn the hits into images (DESIGN section 8, seeds 000 and 002).
+// RayGrid (castView) and check views against the brute force (checkView). The
+// images made from the hits are render_modes.h; the voxels they touch,
+// touched_voxels.h.
 //
 // Spaces: cameras are in world space; the grid maps world p to grid space
 // (p - origin) / voxelSize (voxel (u, v, w) = [u, u+1] x [v, v+1] x [w, w+1]).
 // Depths are world distances from the eye along the ray.
 //
-// Threading: castView splits rows over `threads` workers (0 = all cores);
-// every pixel is computed independently, so the result does not depend on the
-// thread count. Images are byte-identical at any --threads.
+// Threading: castView and checkView spread pixels over `threads` workers
+// (0 = all cores, vox::parallelForEach); every pixel is computed on its own and
+// stored in its own slot, so the results do not depend on the thread count.
 #pragma once
 
 #include <array>
@@ -17,7 +19,6 @@
 #include <vector>
 
 #include "libvox/render/camera.h"
-#include "libvox/core/classes.h"
 #include "libvox/render/ray_grid.h"
 #include "libvox/render/raycast.h"
 
@@ -90,31 +91,17 @@ struct ViewCheck {
   std::vector<Mismatch> first;  // up to 10, in pixel order
 };
 
+/// The check's default budget: ray-voxel tests per view.
+inline constexpr double kDefaultCheckBudget = 2e9;
+
+/// The pixel stride that keeps a check of `pixels` rays against `occupied`
+/// voxels within `budget` ray-voxel tests (1 = every pixel).
+uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget);
+
 /// Checks `hits` against castRayBruteForce over `occupied` on every `stride`-th
 /// pixel (row-major order; stride 1 = all pixels). A pixel differs when the hit
 /// flag or the voxel differs.
 ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
                     const Camera& camera, uint64_t stride, unsigned threads);
-
-/// Canonical pixel values: RGB = (u, v, w), alpha = full scale on a hit, all
-/// zero on a miss. The narrowest exact sample type holding every coordinate of
-/// `dims` (max axis - 1 <= 255: 8 bits, <= 65535: 16 bits, else 32 bits).
-int canonicalBits(const Dims& dims);
-
-/// Seed 002's terrain shading of one face: `base` (linear 0..1 RGB, the block's
-/// palette colour for that face) times ambient (sky/horizon by normal y) plus
-/// the sun's diffuse term; result not clamped.
-std::array<double, 3> terrainShade(const std::array<double, 3>& base, const std::array<int, 3>& normal);
-/// Seed 002's clear colour (sky blue).
-inline constexpr std::array<double, 3> kSkyColor{0.53, 0.81, 0.92};
-
-/// The palette colour of class `info` for a face with outward normal `normal`:
-/// top for +y, bottom for -y, side otherwise (seed 002), from the class's face
-/// palette, or its display colour when it has none; 8-bit values / 255.
-std::array<double, 3> facePaletteColor(const ClassInfo* info, const std::array<int, 3>& normal);
-
-/// The outward normal of a hit: its entry face, or, when the ray started inside
-/// the voxel, the face facing the ray's dominant axis.
-std::array<int, 3> hitNormal(const PixelHit& hit, const Vec3d& rayDirection);
 
 }  // namespace vox

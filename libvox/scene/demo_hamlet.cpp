@@ -4,10 +4,10 @@
 #include <atomic>
 #include <functional>
 #include <cmath>
-#include <thread>
 #include <vector>
 
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -168,29 +168,22 @@ Scene buildHamlet(const HamletOptions& options) {
   header.voxelSize = 25.6 / r;
   header.origin = {-12.8, 0.0, -12.8};
   header.classes = blockPalette();
-  header.sources.push_back({"demo:hamlet", "demo", "", 0});
+  header.sources.push_back({kHamletName, "demo", "", 0});
   const Sampler sampler{r, 256.0 / r};
 
-  const unsigned threads = std::max(1u, std::min<unsigned>(options.threads, r));
+  // One slab of w-slices per thread, each into its own builder.
+  const unsigned slabs = std::max(1u, std::min<unsigned>(options.threads, r));
   std::vector<SceneBuilder> parts;
-  for (unsigned t = 0; t < threads; ++t) parts.emplace_back(header);
+  for (unsigned t = 0; t < slabs; ++t) parts.emplace_back(header);
   std::atomic<uint32_t> slicesDone{0};
   std::function<void()> sliceDone;
   if (options.progress) sliceDone = [&] { options.progress(double(++slicesDone) / r); };
-  auto slab = [&](unsigned t) {
-    const int32_t w0 = int32_t(uint64_t(r) * t / threads), w1 = int32_t(uint64_t(r) * (t + 1) / threads);
-    fillSlab(sampler, w0, w1, parts[t], sliceDone);
-  };
-  if (threads == 1) {
-    slab(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(slab, t);
-    for (std::thread& th : pool) th.join();
-  }
+  parallelPieces(r, slabs, slabs, [&](size_t w0, size_t w1, size_t slab) {
+    fillSlab(sampler, int32_t(w0), int32_t(w1), parts[slab], sliceDone);
+  });
   // Votes add and surface flags OR, so the merged scene does not depend on how
   // the slabs were split.
-  for (unsigned t = 1; t < threads; ++t) parts[0].merge(std::move(parts[t]));
+  for (unsigned t = 1; t < slabs; ++t) parts[0].merge(std::move(parts[t]));
   return std::move(parts[0]).build();
 }
 

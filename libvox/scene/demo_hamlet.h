@@ -1,10 +1,10 @@
-// The built-in demo scene: a procedural hamlet like seed 000's (ground slab, a
-// diagonal path, four hollow buildings, eight trees, a well), so the whole
-// pipeline runs with nothing to download.
+// The built-in demo scene: a procedural hamlet like the one the UVW atlas
+// layout's demo shows (ground slab, a diagonal path, four hollow buildings,
+// eight trees, a well), so the whole pipeline runs with nothing to download.
 //
 // Geometry is defined on a 256-unit design cube (x, z horizontal, y up, like the
-// block world of seed 002) and sampled at voxel centres, so any resolution gives
-// the same hamlet. Classes are seed 002's block palette (vox::blockPalette()).
+// block-map format's block world) and sampled at voxel centres, so any resolution
+// gives the same hamlet. Classes are the block palette (vox::blockPalette()).
 // Votes vary per voxel (a coordinate hash, never a random generator), so the
 // summary bytes conf, obs and mrg take many values; boundaries between materials
 // get mixed votes. Surface voxels are occupied voxels with an empty 6-neighbour
@@ -17,6 +17,9 @@
 #include "libvox/scene/scene.h"
 
 namespace vox {
+
+/// The hamlet's name as an input ("demo:hamlet"), recorded as its source.
+inline constexpr const char* kHamletName = "demo:hamlet";
 
 struct HamletOptions {
   uint32_t resolution = 256;  // voxels per axis; the scene is resolution^3, >= 1

@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <thread>
 
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 #include "libvox/scene/scene_grids.h"
 
 namespace vox {
@@ -16,15 +16,6 @@ namespace {
 using BoolLeaf = openvdb::BoolTree::LeafNodeType;
 using IntLeaf = openvdb::Int32Tree::LeafNodeType;
 using ColorLeaf = openvdb::Vec3STree::LeafNodeType;
-
-template <typename Fn>
-void parallelFor(size_t n, unsigned threads, Fn&& fn) {  // fn(begin, end)
-  threads = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, n))));
-  if (threads == 1) return fn(size_t(0), n);
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t) pool.emplace_back([&, t] { fn(n * t / threads, n * (t + 1) / threads); });
-  for (std::thread& th : pool) th.join();
-}
 
 bool coordLess(const openvdb::Coord& a, const openvdb::Coord& b) {
   if (a.x() != b.x()) return a.x() < b.x();
@@ -89,8 +80,11 @@ Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
   std::sort(origins.begin(), origins.end(), coordLess);
   origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
 
+  // One range of coarse leaves per thread, each with its own scratch space;
+  // every leaf is written to its own slot, so the split does not matter.
   std::vector<CoarseLeaf> out(origins.size());
-  parallelFor(origins.size(), threads, [&](size_t begin, size_t end) {
+  const unsigned pieces = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, origins.size()))));
+  parallelPieces(origins.size(), pieces, pieces, [&](size_t begin, size_t end, size_t) {
     auto s = std::make_unique<Scratch>();
     s->votes.resize(nClasses);
     s->classTouched.resize(nClasses);
@@ -192,9 +186,10 @@ Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
 std::vector<Scene> buildMipPyramid(const Scene& base, const MipSettings& settings) {
   const int reachable = maxMipLevels(base.header().dims);
   if (settings.levels < 0 || settings.levels > reachable)
-    throwUsage("--levels " + std::to_string(settings.levels) + ": a " + toString(base.header().dims) +
-               " grid has at most " + std::to_string(reachable) + " coarser levels (one voxel at level " +
-               std::to_string(reachable) + ")");
+    throwUsage(std::to_string(settings.levels) + " pyramid levels asked for: a " + toString(base.header().dims) +
+                   " grid has at most " + std::to_string(reachable) + " coarser levels (one voxel at level " +
+                   std::to_string(reachable) + ")",
+               Setting::MipLevels);
   std::vector<Scene> levels;
   if (settings.levels == 0 && base.occupiedCount() <= 1) return levels;  // nothing new to say
   const int want = settings.levels ? settings.levels : reachable;

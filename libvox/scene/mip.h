@@ -1,4 +1,4 @@
-// LOD pyramids: level n of a scene has voxels 2^n wide (DESIGN section 6).
+// LOD pyramids: level n of a scene has voxels 2^n wide (formats/scene/SCENE.md, "Pyramids").
 //
 // Level n is reduced from level n-1, one 2x2x2 block of children per voxel:
 //   * occupancy: `Any` — occupied when at least one child is (conservative, for

@@ -20,8 +20,9 @@ namespace vox {
 /// OpenVDB leaves become bricks word for word; active tiles are expanded.
 RayGrid rayGridFromScene(const Scene& scene);
 
-/// Summary bytes (seed 000: winning class, confidence, observations, margin) of
-/// each voxel in `voxels` (empty voxels: all zero). Serial, one accessor per grid.
+/// The summary bytes (libvox/core/summary_bytes.h: winning class, confidence,
+/// observations, margin) of each voxel in `voxels` (empty voxels: all zero).
+/// Serial, one accessor per grid.
 std::vector<SummaryTexel> sceneSummaries(const Scene& scene, std::span<const Coord3> voxels);
 
 }  // namespace vox

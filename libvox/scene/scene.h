@@ -1,6 +1,7 @@
 // The scene: a sparse voxel grid with a class histogram per occupied voxel.
 //
-// A Scene is the data model every subcommand reads and writes (DESIGN section 3).
+// A Scene is the data model every subcommand reads and writes; on disk it is
+// formats/scene/SCENE.md.
 //   * Domain: index coordinates (u, v, w) in [0, X) x [0, Y) x [0, Z) (see types.h).
 //   * World placement: voxel (u, v, w) covers world
 //       origin + [u, u+1] * voxelSize  (likewise v, w),

@@ -1,5 +1,5 @@
-// Error of a voxelization against exact references, for `vox voxelize --check`
-// (reported in --report under "error").
+// Error of a voxelization against exact references (the command line reports
+// it under "error" when asked to check a mesh bake).
 //
 // Surface: the brute-force oracle tests every (snapped) triangle against every
 // voxel of its bounding box with the exact closed-box SAT, independently of the

@@ -36,7 +36,8 @@ Scene voxelizeMeshSdf(const Mesh& mesh, const std::vector<uint8_t>& triangleClas
   if (mesh.triangles.empty()) return std::move(builder).build();
   for (const auto& p : mesh.positions)
     for (double c : p)
-      if (!std::isfinite(c)) throwBadInput("a vertex has a non-finite coordinate; use --drop-invalid");
+      if (!std::isfinite(c))
+        throwBadInput("a vertex has a non-finite coordinate; drop the triangles that touch it", Setting::DropInvalid);
   openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(header.voxelSize);
   xform->postTranslate(openvdb::Vec3d(header.origin[0] + 0.5 * header.voxelSize, header.origin[1] + 0.5 * header.voxelSize,
                                       header.origin[2] + 0.5 * header.voxelSize));

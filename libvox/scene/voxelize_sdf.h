@@ -1,6 +1,6 @@
 // Mesh -> scene through OpenVDB's meshToVolume (a narrow-band signed distance
-// field), as the alternative method `vox voxelize --method sdf`, so reports can
-// set its error and run time beside the exact voxelizer's.
+// field): an alternative to the exact voxelizer (VoxelizeMethod::Sdf on the
+// command line), so reports can set its error and run time beside the exact one's.
 //
 // A voxel is a surface voxel when the distance from its centre to the mesh is
 // at most half its diagonal (sqrt(3)/2 voxel: every voxel a triangle touches,

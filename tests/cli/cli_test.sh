@@ -666,7 +666,7 @@ render)
   jcheck rin.json "e=d['error']; assert e['pixels_differing']==0 and d['counts']['hits']>0, e"
   expect_exit 0 "$vox" render-canonical h.vdb -o far.png --eye 100000,70000,80000 --target 0,1,0 --fov 0.004 --size 40x30 --check --report rfar.json
   jcheck rfar.json "e=d['error']; assert e['pixels_differing']==0 and d['counts']['hits']>0, (e, d['counts'])"
-  # Seed 002 cameras: a metadata.json with matrices computed here (gl-matrix lookAt /
+  # Block-map cameras: a metadata.json with matrices computed here (gl-matrix lookAt /
   # perspective, column-major) on the map scene; every view renders and verifies.
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o map.vdb
   python3 - <<'EOF'
@@ -681,7 +681,7 @@ def persp(fovy, aspect, n, f):
     t=1/math.tan(fovy/2); nf=1/(n-f)
     return [t/aspect,0,0,0, 0,t,0,0, 0,0,(f+n)*nf,-1, 0,0,2*f*n*nf,0]
 views=[]
-# The map's blocks sit at world x, z = (position - 32) * 2 (seed 002 centring): around (-60, 2, -62).
+# The map's blocks sit at world x, z = (position - 32) * 2 (the block world's centring): around (-60, 2, -62).
 for i,eye in enumerate([[-80,20,-90],[-45,12,-40]]):
     views.append({"id":"view_%03d"%i,"index":i,"position":eye,"viewMatrix":lookat(eye,[-60,2,-62],[0,1,0]),"projectionMatrix":persp(math.radians(60),1.0,0.1,500.0)})
 json.dump({"formatVersion":"1.0","imageSize":{"width":64,"height":64},"viewCount":2,"views":views}, open("metadata.json","w"))

@@ -11,6 +11,8 @@
 #include <limits>
 #include <thread>
 
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
 #include "formats/mesh/classes_json.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/scene/scene_vdb_direct.h"
@@ -19,6 +21,7 @@
 #include "libvox/mesh/placement.h"
 #include "libvox/core/sha256.h"
 #include "libvox/mesh/voxelize.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -71,93 +74,72 @@ void tuneAllocatorForBake() {
   if (to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
 }
 
-}  // namespace
-
-bool endsWithLower(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  std::string tail = s.substr(s.size() - suffix.size());
-  for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return tail == suffix;
+const EnumNames<vox::FillMode>& fillModeNames() {
+  static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
+  return names;
 }
 
-CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
-  CLI::App* cmd = root.add_subcommand("voxelize", "Bake inputs into a scene (.vdb)");
-  cmd->footer(
-      "Inputs:\n"
-      "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default 256)\n"
-      "  MAP.json      a seed 002 block map: one voxel per block, dims = largest position + 1,\n"
-      "                world placement from worldScale and --grid-size\n"
-      "  MESH...       .obj .ply .stl .gltf .glb (several combine into one scene), --res N on the\n"
-      "                longest side (default 256), --fill surface|solid, --classes FILE.json\n"
-      "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
-      "                inside where value >= T), resampled at --res (default 256) or --voxel-size\n"
-      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
-  cmd->add_option("inputs", o.inputs, "Meshes (.obj .ply .stl .gltf .glb), demo:hamlet, a map.json or a grid .vdb")->required();
-  cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
-  cmd->add_option("--res", o.resolution, "Voxels on the longest axis (demo: default 256)")->check(CLI::Range(1u, 4096u));
-  cmd->add_option("--grid-size", o.gridSize, "Block-map world grid X,Y,Z (seed 002)")->capture_default_str();
-  cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(CLI::PositiveNumber);
-  cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
-  cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T");
-  cmd->add_option("--fill", o.fill, "Meshes: surface (voxels a triangle touches) or solid (plus the inside)")
-      ->capture_default_str();
-  cmd->add_option("--method", o.method, "Meshes: exact (default) or sdf (OpenVDB meshToVolume, for comparison)")
-      ->capture_default_str();
-  cmd->add_option("--bounds", o.bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
-  cmd->add_option("--pad", o.pad, "Meshes: empty voxels added on every side");
-  cmd->add_option("--classes", o.classes, "Meshes: JSON mapping material/mesh/node names to classes");
-  cmd->add_flag("--drop-invalid", o.dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
-  cmd->add_flag("--ignore-missing-materials", o.ignoreMissingMaterials,
-                "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
-  cmd->add_flag("--check", o.check, "Meshes: measure the error against exact references (into --report)");
-  addCommonOptions(*cmd, o.common);
-  return cmd;
+const EnumNames<VoxelizeMethod>& methodNames() {
+  static const EnumNames<VoxelizeMethod> names{{"exact", VoxelizeMethod::Exact}, {"sdf", VoxelizeMethod::Sdf}};
+  return names;
 }
 
-bool allInputsAreMeshes(const VoxelizeOptions& o) {
-  return std::all_of(o.inputs.begin(), o.inputs.end(), [](const std::string& i) { return vox::isMeshFile(i); });
+/// ".obj .ply .stl .gltf .glb"
+std::string meshExtensions() {
+  std::string s;
+  for (std::string_view e : vox::extensionsOf(vox::FileKind::Mesh)) s += (s.empty() ? "" : " ") + std::string(e);
+  return s;
 }
 
-void checkVoxelizeOptions(const VoxelizeOptions& o) {
-  if (o.voxelSize > 0 && o.resolution)
-    throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
-  if (!endsWithLower(o.output, ".vdb"))
-    throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
-  if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
-    throw vox::Error(vox::ErrorKind::Usage,
-                     "several inputs combine only when all are meshes (.obj .ply .stl .gltf .glb); demo:hamlet, "
-                     "map.json and .vdb inputs go one at a time");
-}
+/// The SHA-256 of every input, computed on a second thread while the meshes
+/// are parsed on this one (the files are in the page cache by then or soon
+/// after). A plain std::thread, not a pool or a TBB task: one job whose point
+/// is to overlap the parse, and a TBB task could wait for a free worker (with
+/// --threads 1 there is none) and run only when joined, after the parse.
+/// Errors surface, per input, when the sources are taken; the destructor
+/// joins when something else failed first.
+class InputHasher {
+ public:
+  explicit InputHasher(const std::vector<std::string>& inputs) : inputs_(inputs), hashes_(inputs.size()) {
+    thread_ = std::thread([this] {
+      for (size_t i = 0; i < inputs_.size(); ++i) try {
+          hashes_[i].sha = vox::sha256File(inputs_[i], &hashes_[i].bytes);
+        } catch (...) {
+          hashes_[i].error = std::current_exception();
+        }
+    });
+  }
+  ~InputHasher() {
+    if (thread_.joinable()) thread_.join();
+  }
+  InputHasher(const InputHasher&) = delete;
+  InputHasher& operator=(const InputHasher&) = delete;
 
-bool isLightBake(const VoxelizeOptions& o) { return allInputsAreMeshes(o) && o.method == "exact" && !o.check; }
+  /// Waits for the hashes; the scene's source records, in input order.
+  std::vector<vox::SceneSource> sources() {
+    thread_.join();
+    std::vector<vox::SceneSource> out;
+    for (size_t i = 0; i < inputs_.size(); ++i) {
+      if (hashes_[i].error) std::rethrow_exception(hashes_[i].error);
+      out.push_back({inputs_[i], "mesh", hashes_[i].sha, hashes_[i].bytes});
+    }
+    return out;
+  }
 
-PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
-  if (o.fill != "surface" && o.fill != "solid")
-    throw vox::Error(vox::ErrorKind::Usage, "--fill " + o.fill + ": expected surface or solid");
-  if (o.method != "exact" && o.method != "sdf")
-    throw vox::Error(vox::ErrorKind::Usage, "--method " + o.method + ": expected exact or sdf");
-  PreparedMeshes p;
-  // Provenance hashes on a second thread while the meshes are parsed (the
-  // files are in the page cache by then or soon after); errors surface at join.
+ private:
   struct Hash {
     std::string sha;
     uint64_t bytes = 0;
     std::exception_ptr error;
   };
-  std::vector<Hash> hashes(o.inputs.size());
-  std::thread hasher([&] {
-    for (size_t i = 0; i < o.inputs.size(); ++i) try {
-        hashes[i].sha = vox::sha256File(o.inputs[i], &hashes[i].bytes);
-      } catch (...) {
-        hashes[i].error = std::current_exception();
-      }
-  });
-  struct Join {
-    std::thread& t;
-    ~Join() {
-      if (t.joinable()) t.join();
-    }
-  } join{hasher};
+  const std::vector<std::string>& inputs_;
+  std::vector<Hash> hashes_;
+  std::thread thread_;
+};
+
+/// The "parse" phase: every input read and appended into one mesh, warnings
+/// noted, inputs (and the files they name) recorded.
+void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
   run.phase("parse");
   vox::MeshReadOptions ro;
   ro.dropInvalid = o.dropInvalid;
@@ -173,16 +155,18 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
     else p.mesh.append(m);
   }
   for (const std::string& w : p.warnings) run.note("warning: " + w);
-  run.phase("prepare");  // classes, placement, provenance hashes
-  const vox::Mesh& mesh = p.mesh;
-  if (mesh.triangles.empty())
-    throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
-                                                   ": no triangles; there is nothing to voxelize");
-  // Classes: from --classes, else one per material.
+}
+
+/// The classes: from the --classes rules, else one per material.
+vox::ClassMapping classMapping(const VoxelizeOptions& o, Run& run, const vox::Mesh& mesh) {
   vox::ClassMapping mapping = o.classes.empty() ? vox::classPerMaterial(mesh, o.inputs[0]) : vox::readClassMapping(o.classes);
   if (!o.classes.empty()) run.input(o.classes);
-  p.triangleClass = vox::assignClasses(mesh, mapping);
-  // Placement.
+  return mapping;
+}
+
+/// Where the grid sits: the mesh's bounding box (or --bounds) at --res or
+/// --voxel-size, with --pad. Refuses voxels too small for an OpenVDB transform.
+void placeScene(const VoxelizeOptions& o, const vox::Mesh& mesh, vox::SceneHeader& header) {
   std::array<double, 3> lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   std::array<double, 3> hi{-lo[0], -lo[1], -lo[2]};
   for (const auto& tri : mesh.triangles)
@@ -190,14 +174,14 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], mesh.positions[vi][k]), hi[k] = std::max(hi[k], mesh.positions[vi][k]);
   vox::PlacementOptions place;
   place.voxelSize = o.voxelSize;
-  place.resolution = o.voxelSize > 0 ? 0 : (o.resolution ? o.resolution : 256);
+  place.resolution = o.resolutionUnlessVoxelSize();
   place.pad = o.pad;
   if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
-  vox::placeGrid(lo, hi, place, p.header);
+  vox::placeGrid(lo, hi, place, header);
   // OpenVDB refuses a transform whose scale has a determinant below 3e-15
   // (math::ScaleMap), i.e. voxels smaller than ~1.44e-5 world units: say so
   // now, before any work, whichever writer would run.
-  const double s = p.header.voxelSize;
+  const double s = header.voxelSize;
   if (!(s * s * s >= 3e-15)) {
     char size[32];
     std::snprintf(size, sizeof size, "%.3g", s);
@@ -206,18 +190,84 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
                          " world units, below what an OpenVDB transform can hold (about 1.44e-5); use a lower --res "
                          "or a larger --voxel-size, or scale the mesh up (e.g. export it in millimetres)");
   }
+}
+
+}  // namespace
+
+CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
+  const std::string res = std::to_string(VoxelizeOptions::kDefaultResolution);
+  CLI::App* cmd = root.add_subcommand("voxelize", "Bake inputs into a scene (.vdb)");
+  cmd->footer(
+      "Inputs:\n"
+      "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default " + res + ")\n"
+      "  MAP.json      a block map (map.json): one voxel per block, dims = largest position + 1,\n"
+      "                world placement from worldScale and --grid-size\n"
+      "  MESH...       " + meshExtensions() + " (several combine into one scene), --res N on the\n"
+      "                longest side (default " + res + "), --fill surface|solid, --classes FILE.json\n"
+      "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
+      "                inside where value >= T), resampled at --res (default " + res + ") or --voxel-size\n"
+      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
+  cmd->add_option("inputs", o.inputs, "Meshes (" + meshExtensions() + "), demo:hamlet, a map.json or a grid .vdb")->required();
+  cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
+  cmd->add_option("--res", o.resolution, "Voxels on the longest axis (default " + res + ")")->check(CLI::Range(1u, 4096u));
+  cmd->add_option("--grid-size", o.gridSize, "Block maps: the world grid X,Y,Z")->capture_default_str();
+  cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(CLI::PositiveNumber);
+  cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
+  cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T");
+  addEnumOption(*cmd, "--fill", o.fill, fillModeNames(),
+                "Meshes: surface (voxels a triangle touches) or solid (plus the inside)");
+  addEnumOption(*cmd, "--method", o.method, methodNames(),
+                "Meshes: exact, or sdf (OpenVDB meshToVolume, for comparison)");
+  cmd->add_option("--bounds", o.bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
+  cmd->add_option("--pad", o.pad, "Meshes: empty voxels added on every side");
+  cmd->add_option("--classes", o.classes, "Meshes: JSON mapping material/mesh/node names to classes");
+  cmd->add_flag("--drop-invalid", o.dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
+  cmd->add_flag("--ignore-missing-materials", o.ignoreMissingMaterials,
+                "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
+  cmd->add_flag("--check", o.check, "Meshes: measure the error against exact references (into --report)");
+  addCommonOptions(*cmd, o.common);
+  return cmd;
+}
+
+bool allInputsAreMeshes(const VoxelizeOptions& o) {
+  return std::all_of(o.inputs.begin(), o.inputs.end(),
+                     [](const std::string& i) { return vox::fileKindOf(i) == vox::FileKind::Mesh; });
+}
+
+void checkVoxelizeOptions(const VoxelizeOptions& o) {
+  if (o.voxelSize > 0 && o.resolution)
+    throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
+  if (!vox::hasExtension(o.output, ".vdb"))
+    throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
+  if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, "
+                     "map.json and .vdb inputs go one at a time");
+}
+
+bool isLightBake(const VoxelizeOptions& o) {
+  return allInputsAreMeshes(o) && o.method == VoxelizeMethod::Exact && !o.check;
+}
+
+PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
+  PreparedMeshes p;
+  InputHasher hasher(o.inputs);
+  readMeshes(o, run, p);
+  run.phase("prepare");  // classes, placement, provenance hashes
+  if (p.mesh.triangles.empty())
+    throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
+                                                   ": no triangles; there is nothing to voxelize");
+  const vox::ClassMapping mapping = classMapping(o, run, p.mesh);
+  p.triangleClass = vox::assignClasses(p.mesh, mapping);
+  placeScene(o, p.mesh, p.header);
   p.header.classes = mapping.table;
-  hasher.join();
-  for (size_t i = 0; i < o.inputs.size(); ++i) {
-    if (hashes[i].error) std::rethrow_exception(hashes[i].error);
-    p.header.sources.push_back({o.inputs[i], "mesh", hashes[i].sha, hashes[i].bytes});
-  }
+  p.header.sources = hasher.sources();
   return p;
 }
 
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar) {
   vox::VoxelizeSettings settings;
-  settings.fill = o.fill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
+  settings.fill = o.fill;
   settings.threads = run.threads();
   settings.progress = [&bar](double f) { bar.update(f); };
   return settings;
@@ -229,8 +279,8 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
   run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", p.mesh.triangles.size()},
                   {"vertices", p.mesh.positions.size()}, {"input_bytes", p.bytesRead},
                   {"occupied_voxels", occupied}, {"surface_voxels", surface},
-                  {"classes_present", classesPresent}, {"method", o.method}, {"fill", o.fill},
-                  {"warnings", p.warnings}};
+                  {"classes_present", classesPresent}, {"method", nameOf(methodNames(), o.method)},
+                  {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", p.warnings}};
   run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
            std::to_string(p.mesh.triangles.size()) + " triangles");
   return run.finish();

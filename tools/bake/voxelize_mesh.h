@@ -23,16 +23,25 @@
 
 namespace voxcli {
 
+/// How meshes become voxels.
+enum class VoxelizeMethod {
+  Exact,  // the exact voxelizer (libvox/mesh/voxelize.h)
+  Sdf,    // OpenVDB's meshToVolume, for comparison (libvox/scene/voxelize_sdf.h)
+};
+
+/// The options of `vox voxelize`, with their defaults: the one place they are set.
 struct VoxelizeOptions {
+  static constexpr uint32_t kDefaultResolution = 256;
+
   std::vector<std::string> inputs;
   std::string output;
-  uint32_t resolution = 0;  // 0 = the input's default (demo: 256)
-  std::string gridSize = "64,48,64";
-  double voxelSize = 0;
+  uint32_t resolution = 0;  // voxels on the longest side; 0 = not given (kDefaultResolution)
+  std::string gridSize = "64,48,64";  // block maps: the world grid X,Y,Z
+  double voxelSize = 0;               // world units per voxel; 0 = not given (use the resolution)
   std::string gridName;
   std::optional<double> threshold;
-  std::string fill = "surface";
-  std::string method = "exact";
+  vox::FillMode fill = vox::FillMode::Surface;
+  VoxelizeMethod method = VoxelizeMethod::Exact;
   std::string bounds;
   uint32_t pad = 0;
   std::string classes;
@@ -40,10 +49,13 @@ struct VoxelizeOptions {
   bool ignoreMissingMaterials = false;
   bool check = false;
   CommonOptions common;
-};
 
-/// True when `s` ends with `suffix` (lower case), ignoring the case of `s`.
-bool endsWithLower(const std::string& s, const std::string& suffix);
+  /// Voxels on the longest side: the given resolution, else the default.
+  uint32_t resolutionOrDefault() const { return resolution ? resolution : kDefaultResolution; }
+  /// For inputs placed by resolution or voxel size: the resolution, or 0 when
+  /// a voxel size is given.
+  uint32_t resolutionUnlessVoxelSize() const { return voxelSize > 0 ? 0 : resolutionOrDefault(); }
+};
 
 /// Adds the `voxelize` subcommand and every option to `root`, filling `opts`.
 CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& opts);
@@ -67,7 +79,7 @@ struct PreparedMeshes {
 };
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run);
 
-/// Voxelizer settings from the options (--fill, --threads), reporting progress to `bar`.
+/// Voxelizer settings from the options (fill mode, threads), reporting progress to `bar`.
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar);
 
 /// The counts and the closing message of a mesh bake, then run.finish().

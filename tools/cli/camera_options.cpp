@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "libvox/core/error.h"
@@ -27,6 +28,12 @@ vox::Vec3d parseVec(const std::string& text, const std::string& option) {
   return v;
 }
 
+std::string vecText(const vox::Vec3d& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%g,%g,%g", v[0], v[1], v[2]);
+  return text;
+}
+
 }  // namespace
 
 std::pair<uint32_t, uint32_t> parseImageSize(const std::string& text) {
@@ -35,17 +42,18 @@ std::pair<uint32_t, uint32_t> parseImageSize(const std::string& text) {
   const unsigned long w = std::strtoul(text.c_str(), &end, 10);
   if (sep == std::string::npos || end != text.c_str() + sep) vox::throwUsage("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
   const unsigned long h = std::strtoul(text.c_str() + sep + 1, &end, 10);
-  if (*end != '\0' || w < 1 || h < 1 || w > 65536 || h > 65536)
-    vox::throwUsage("--size " + text + ": expected WIDTHxHEIGHT with sides 1..65536");
+  if (*end != '\0' || w < 1 || h < 1 || w > vox::kMaxImageSide || h > vox::kMaxImageSide)
+    vox::throwUsage("--size " + text + ": expected WIDTHxHEIGHT with sides 1.." + std::to_string(vox::kMaxImageSide));
   return {uint32_t(w), uint32_t(h)};
 }
 
 void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
   cmd.add_option("--eye", o.eye, "Camera position X,Y,Z (world units)");
   cmd.add_option("--target", o.target, "Point the camera looks at X,Y,Z");
-  cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll)")->capture_default_str();
+  cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll)")->default_str(vecText(vox::kLookAtUp));
   cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->capture_default_str();
-  cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default 512x512, or the camera file's)");
+  const std::string side = std::to_string(vox::kDefaultImageSide);
+  cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default " + side + "x" + side + ", or the camera file's)");
   cmd.add_option("--camera", o.cameraFile, "Camera JSON, or a block-map metadata.json (views[] with matrices)");
   cmd.add_option("--view", o.view, "With --camera: render only views[INDEX] (default: every view)");
 }
@@ -69,8 +77,8 @@ std::vector<vox::CameraView> resolveCameras(const CameraOptions& o, uint32_t fal
   if (o.eye.empty() || o.target.empty()) vox::throwUsage("give --eye X,Y,Z and --target X,Y,Z, or --camera FILE");
   const auto [w, h] = size.value_or(std::make_pair(fallbackWidth, fallbackHeight));
   vox::CameraView v;
-  v.camera = vox::Camera::lookAt(parseVec(o.eye, "--eye"), parseVec(o.target, "--target"), parseVec(o.up, "--up"), o.fov,
-                                 w, h);
+  const vox::Vec3d up = o.up.empty() ? vox::kLookAtUp : parseVec(o.up, "--up");
+  v.camera = vox::Camera::lookAt(parseVec(o.eye, "--eye"), parseVec(o.target, "--target"), up, o.fov, w, h);
   v.label = "camera";
   return {v};
 }

@@ -14,8 +14,9 @@ class App;
 namespace voxcli {
 
 struct CameraOptions {
-  std::string eye, target, up = "0,1,0";
-  double fov = 60;
+  std::string eye, target;
+  std::string up;          // "X,Y,Z"; empty: vox::kLookAtUp
+  double fov = vox::kLookAtFovYDegrees;
   std::string size;        // "WIDTHxHEIGHT"
   std::string cameraFile;  // camera JSON or a block-map metadata.json
   int view = -1;           // with --camera: one view (default: all)
@@ -23,7 +24,7 @@ struct CameraOptions {
   bool given() const { return !eye.empty() || !target.empty() || !cameraFile.empty(); }
 };
 
-/// Adds the options to `cmd`; `defaultSize` is shown in the help.
+/// Adds the options to `cmd`.
 void addCameraOptions(CLI::App& cmd, CameraOptions& options);
 
 /// The cameras the options describe; `fallbackSize` is used when neither

@@ -26,6 +26,7 @@ const char* optionFor(vox::Setting s) {
     case vox::Setting::None: return "";
     case vox::Setting::Resolution: return "--res";
     case vox::Setting::VoxelSize: return "--voxel-size";
+    case vox::Setting::VoxelSpacing: return "--res/--voxel-size";
     case vox::Setting::Bounds: return "--bounds";
     case vox::Setting::Padding: return "--pad";
     case vox::Setting::FillMode: return "--fill";

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "libvox/render/render.h"
+#include "libvox/core/atlas_mapping.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 
@@ -12,12 +14,12 @@ struct VerifyBijectionOptions {
   std::string dims;
   uint32_t res = 0;
   uint32_t tilesPerRow = 0;
-  uint32_t maxSide = 16384;
+  uint32_t maxSide = vox::kDefaultAtlasMaxSide;
   std::string format;
   std::string atlas, scene;
   std::string canonical;       // --canonical IMG: a render-canonical image to check against --scene
   CameraOptions camera;        // with --canonical: the camera to re-cast (default: the image's own)
-  double checkBudget = 2e9;    // ray-voxel tests the brute force may spend
+  double checkBudget = vox::kDefaultCheckBudget;  // ray-voxel tests the brute force may spend
   bool json = false;
   CommonOptions common;
 };

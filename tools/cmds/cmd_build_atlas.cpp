@@ -1,20 +1,21 @@
 // vox build-atlas SCENE -o DIR: the scene's atlases and occupancy bitmaps at
-// their voxel<->texel addresses (DESIGN sections 4-5), and only what is asked.
+// their voxel<->texel addresses (the UVW atlas layout, formats/image/ATLAS.md),
+// and only what is asked.
 #include <CLI/CLI.hpp>
 #include <filesystem>
-#include <thread>
 
+#include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/atlas_content.h"
 #include "libvox/core/bitmap_packing.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 #include "libvox/core/summary_bytes.h"
 #include "libvox/core/texel_formats.h"
-#include "libvox/core/version.h"
-#include "tools/cmds/atlas_files.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -26,15 +27,16 @@ struct BuildAtlasOptions {
   std::string scene, outDir, stem;
   bool summary = false, occupancy = false, occupancy2 = false, identity = false, color = false, votes = false,
        all = false;
-  std::string identityFormat;
-  uint32_t tilesPerRow = 0, maxSide = 16384;
-  int compression = 6;
+  vox::TexelFormat identityFormat = vox::TexelFormat::Rgba8;
+  CLI::Option* identityFormatOption = nullptr;  // given: identityFormat; else the narrowest exact format
+  uint32_t tilesPerRow = 0, maxSide = vox::kDefaultAtlasMaxSide;
+  int compression = vox::kDefaultPngZlibLevel;
   CommonOptions common;
 };
 
 /// One output file: an image per (content, class, layer).
 struct Output {
-  AtlasImageInfo info;
+  vox::AtlasImageInfo info;
   vox::Image image;
   std::string path, tempPath;
   bool exr = false;
@@ -62,15 +64,14 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const vox::AtlasLayout L = vox::AtlasLayout::make(h.dims, o.tilesPerRow, o.maxSide);
   const uint64_t maxCoord = uint64_t(h.dims.maxAxis()) - 1;
   vox::TexelFormat idFormat = vox::narrowestExactFormat(maxCoord);
-  if (!o.identityFormat.empty()) {
-    const auto f = vox::parseTexelFormat(o.identityFormat);
-    if (!f) throw vox::Error(vox::ErrorKind::Usage, "--format " + o.identityFormat + ": expected rgba8, rgba16, rgba32ui, rgba16f or rgba32f");
-    if (maxCoord > vox::documentedMaxExact(*f))
+  if (o.identityFormatOption->count() > 0) {
+    const vox::TexelFormat f = o.identityFormat;
+    if (maxCoord > vox::documentedMaxExact(f))
       throw vox::Error(vox::ErrorKind::Usage,
-                       "--format " + o.identityFormat + " cannot hold coordinate " +
-                           std::to_string(vox::documentedMaxExact(*f) + 1) + " of " + vox::toString(h.dims) +
+                       std::string("--format ") + vox::texelFormatName(f) + " cannot hold coordinate " +
+                           std::to_string(vox::documentedMaxExact(f) + 1) + " of " + vox::toString(h.dims) +
                            " exactly; " + vox::texelFormatName(vox::narrowestExactFormat(maxCoord)) + " would");
-    idFormat = *f;
+    idFormat = f;
   }
   const vox::SceneStats stats = scene.stats();
   const std::string stem = o.stem.empty() ? fs::path(o.scene).stem().string() : o.stem;
@@ -87,7 +88,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
       if (content == vox::AtlasContent::Votes) name += "." + std::to_string(classId);
       if (L.layers > 1) name += ".layer" + std::to_string(layer);
       out.path = (fs::path(o.outDir) / (name + (exr ? ".exr" : ".png"))).string();
-      out.image.text = {{kAtlasTextKey, atlasInfoJson(out.info).dump()}, {"Software", vox::versionString()}};
+      out.image.text = vox::atlasImageText(out.info);
       out.tempPath = run.output(out.path);
       outs.push_back(std::move(out));
     }
@@ -166,44 +167,41 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     if (out.info.content == vox::AtlasContent::Occupancy2) out.image.pixels = bits2->layerBytes(out.info.layer);
   }
 
-  // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not depend on it.
+  // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not
+  // depend on it. The first failing file, in file order, is reported.
   run.phase("write");
   std::vector<std::exception_ptr> errors(outs.size());
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i; (i = next++) < outs.size();) {
-      try {
-        if (outs[i].exr) vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
-        else vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
-      } catch (...) {
-        errors[i] = std::current_exception();
-      }
+  vox::parallelForEach(outs.size(), run.threads(), 1, [&](size_t i) {
+    try {
+      if (outs[i].exr) vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
+      else vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+    } catch (...) {
+      errors[i] = std::current_exception();
     }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < std::min<unsigned>(run.threads(), unsigned(outs.size())); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+  });
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
 
   // Sidecar: the layout and every file, for engines that do not read PNG text chunks.
-  nlohmann::json side = {{"scene", o.scene}, {"layout", nlohmann::json::parse(L.toJson())}, {"files", nlohmann::json::array()}};
-  for (const Output& out : outs) {
-    nlohmann::json f = atlasInfoJson(out.info);
-    f.erase("layout");
-    f.erase("scene");
-    f["file"] = fs::path(out.path).filename().string();
-    side["files"].push_back(f);
-  }
+  std::vector<vox::AtlasSidecarEntry> sideFiles;
+  for (const Output& out : outs) sideFiles.push_back({out.info, fs::path(out.path).filename().string()});
   const std::string sidePath = (fs::path(o.outDir) / (stem + ".atlas.json")).string();
-  vox::writeFileBytes(run.output(sidePath), side.dump(2) + "\n");
+  vox::writeFileBytes(run.output(sidePath), vox::atlasSidecarJson(o.scene, L, sideFiles));
 
   run.counts() = {{"occupied_voxels", stats.occupied}, {"files", outs.size() + 1}, {"layers", L.layers},
                   {"atlas", {L.width, L.height}}};
   run.note("wrote " + std::to_string(outs.size() + 1) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
   return run.finish();
+}
+
+const EnumNames<vox::TexelFormat>& texelFormatNames() {
+  static const EnumNames<vox::TexelFormat> names = [] {
+    EnumNames<vox::TexelFormat> n;
+    for (vox::TexelFormat f : vox::kTexelFormats) n.emplace_back(vox::texelFormatName(f), f);
+    return n;
+  }();
+  return names;
 }
 
 }  // namespace
@@ -224,7 +222,9 @@ Command registerBuildAtlas(CLI::App& root) {
   cmd->add_flag("--color", o->color, "Colour atlas RGBA8 sRGB (scenes with colour)");
   cmd->add_flag("--votes", o->votes, "One vote layer per class present (narrowest exact: R8, R16 PNG or R32UI EXR)");
   cmd->add_flag("--all", o->all, "Every content that applies to the scene");
-  cmd->add_option("--format", o->identityFormat, "Identity atlas format (default: narrowest exact)");
+  o->identityFormatOption =
+      addEnumOption(*cmd, "--format", o->identityFormat, texelFormatNames(), "Identity atlas format (default: narrowest exact)")
+          ->default_str("");
   cmd->add_option("--tiles-per-row", o->tilesPerRow, "Tiles per atlas row (default: smallest, squarest)");
   cmd->add_option("--max-side", o->maxSide, "Largest texture side; further tile rows go to layers")->capture_default_str();
   cmd->add_option("--compression", o->compression, "PNG zlib level 0-9")->check(CLI::Range(0, 9))->capture_default_str();

@@ -6,18 +6,21 @@
 #include <iostream>
 #include <sstream>
 
+#include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
+#include "formats/image/render_meta.h"
+#include "formats/pagefile/pagefile.h"
+#include "formats/scene/class_table_json.h"
 #include "formats/vdb/scene_vdb.h"
-#include "libvox/core/texel_formats.h"
-#include "tools/cmds/atlas_files.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
+#include "libvox/core/texel_formats.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cmds/info_canonical.h"
 #include "tools/cmds/info_pages.h"
-#include "formats/pagefile/pagefile.h"
 
 namespace voxcli {
 
@@ -31,9 +34,9 @@ struct InfoOptions {
 };
 
 int infoAtlas(const InfoOptions& o) {
-  AtlasImageInfo info;
-  const vox::Image img = readAtlasImage(o.file, info);
-  nlohmann::json j = atlasInfoJson(info);
+  vox::AtlasImageInfo info;
+  const vox::Image img = vox::readAtlasImage(o.file, info);
+  nlohmann::json j = vox::atlasInfoJson(info);
   j["file"] = o.file;
   j["kind"] = "atlas";
   j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels},
@@ -113,8 +116,6 @@ int infoAtlas(const InfoOptions& o) {
   return kExitOk;
 }
 
-nlohmann::json rgb(vox::Rgb8 c) { return {c.r, c.g, c.b}; }
-
 nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
   const vox::SceneHeader& h = scene.header();
   const vox::SceneStats s = scene.stats();
@@ -144,9 +145,19 @@ nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
                    {"max", {s.bounds.max.u, s.bounds.max.v, s.bounds.max.w}}};
   nlohmann::json classes = nlohmann::json::array();
   for (const vox::ClassInfo& c : h.classes.classes()) {
-    nlohmann::json cj = {{"id", c.id}, {"name", c.name}, {"color", rgb(c.color)},
-                         {"voxels", 0},  {"mode_voxels", 0}, {"votes", 0}};
-    if (c.faces) cj["faces"] = {{"top", rgb(c.faces->top)}, {"bottom", rgb(c.faces->bottom)}, {"side", rgb(c.faces->side)}};
+    // The stored class entry, with the face palette grouped under "faces", and the counts.
+    nlohmann::json cj = vox::classInfoToJson(c);
+    if (c.faces) {
+      nlohmann::json faces;
+      for (const char* face : {"top", "bottom", "side"}) {
+        faces[face] = cj[face];
+        cj.erase(face);
+      }
+      cj["faces"] = faces;
+    }
+    cj["voxels"] = 0;
+    cj["mode_voxels"] = 0;
+    cj["votes"] = 0;
     for (const auto& p : s.perClass)
       if (p.classId == c.id) {
         cj["voxels"] = p.voxelsWithVotes;
@@ -189,7 +200,7 @@ void printScene(const nlohmann::json& j) {
   if (j.contains("block_world"))
     o << "  block world   worldScale " << j["block_world"]["world_scale"].get<double>() << ", grid "
       << j["block_world"]["grid_size"][0] << "," << j["block_world"]["grid_size"][1] << ","
-      << j["block_world"]["grid_size"][2] << " (seed 002 placement)\n";
+      << j["block_world"]["grid_size"][2] << " (block-map placement)\n";
   if (j["mip_level"].get<int>() != 0) o << "  mip level     " << j["mip_level"] << "\n";
   char pct[32];
   std::snprintf(pct, sizeof pct, "%.3f%%", domain ? 100.0 * double(occupied) / double(domain) : 0.0);
@@ -229,14 +240,16 @@ int runInfo(const InfoOptions& o) {
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
-    if (!img.textValue("vox:canonical").empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
+    if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
     return infoAtlas(o);
   }
   if (vox::pagefile::looksLikePageFile(o.file)) return infoPageFile(o.file, o.json);
   if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlas images");
   if (!vox::looksLikeVdb(o.file))
-    throw vox::Error(vox::ErrorKind::BadInput,
-                     o.file + ": not a file vox knows (expected a scene .vdb or an atlas .png/.exr)");
+    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not a file vox knows (expected " +
+                                                   vox::describe(vox::FileKind::Vdb) + ", " +
+                                                   vox::describe(vox::FileKind::Image) + " or " +
+                                                   vox::describe(vox::FileKind::PageFile) + ")");
   // A .vdb without voxbake metadata (a level set, a fog volume): list its grids.
   const vox::VdbFrame frame = vox::checkVdbStructure(o.file);
   if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {

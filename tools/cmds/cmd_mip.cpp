@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 
+#include "formats/core/file_kinds.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
@@ -14,6 +15,7 @@
 #include "libvox/scene/voxelize_scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
@@ -22,16 +24,24 @@ namespace {
 struct MipOptions {
   std::string input;
   std::string output;
-  int levels = 0;
-  std::string occupancy = "any";
+  int levels = 0;  // 0: automatic (vox::MipSettings::levels)
+  vox::MipOccupancy occupancy = vox::MipOccupancy::Any;
   bool split = false;
   std::vector<std::string> sources;
-  std::string sourceFill = "surface";
+  vox::FillMode sourceFill = vox::FillMode::Surface;
   CommonOptions common;
 };
 
-bool endsWithVdb(const std::string& s) {
-  return s.size() >= 4 && (s.compare(s.size() - 4, 4, ".vdb") == 0 || s.compare(s.size() - 4, 4, ".VDB") == 0);
+const EnumNames<vox::MipOccupancy>& occupancyNames() {
+  static const EnumNames<vox::MipOccupancy> names{
+      {vox::mipOccupancyName(vox::MipOccupancy::Any), vox::MipOccupancy::Any},
+      {vox::mipOccupancyName(vox::MipOccupancy::Majority), vox::MipOccupancy::Majority}};
+  return names;
+}
+
+const EnumNames<vox::FillMode>& sourceFillNames() {
+  static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
+  return names;
 }
 
 /// STEM.vdb -> STEM.mipN.vdb
@@ -51,13 +61,8 @@ nlohmann::json comparisonJson(const vox::MipComparison& c) {
 }
 
 int runMip(const MipOptions& o) {
-  if (!endsWithVdb(o.output)) vox::throwUsage("-o " + o.output + ": the pyramid is written as OpenVDB; name it *.vdb");
-  vox::MipOccupancy mode;
-  if (o.occupancy == "any") mode = vox::MipOccupancy::Any;
-  else if (o.occupancy == "majority") mode = vox::MipOccupancy::Majority;
-  else vox::throwUsage("--occupancy " + o.occupancy + ": expected any or majority");
-  if (o.sourceFill != "surface" && o.sourceFill != "solid")
-    vox::throwUsage("--source-fill " + o.sourceFill + ": expected surface or solid");
+  if (!vox::hasExtension(o.output, ".vdb"))
+    vox::throwUsage("-o " + o.output + ": the pyramid is written as OpenVDB; name it *.vdb");
   if (o.levels < 0) vox::throwUsage("--levels must be >= 0 (0 = automatic)");
 
   Run run("mip", o.common);
@@ -74,7 +79,7 @@ int runMip(const MipOptions& o) {
 
   run.phase("reduce");
   vox::MipSettings settings;
-  settings.occupancy = mode;
+  settings.occupancy = o.occupancy;
   settings.levels = o.levels;
   settings.threads = run.threads();
   nlohmann::json perLevel = nlohmann::json::array();
@@ -101,11 +106,12 @@ int runMip(const MipOptions& o) {
     std::optional<vox::Mesh> mesh;
     std::string meshName;
     for (const std::string& src : o.sources) {
-      if (src == "demo:hamlet") continue;
-      if (src.rfind("demo:", 0) == 0) vox::throwUsage("--source " + src + ": the built-in scene is demo:hamlet");
+      if (src == vox::kHamletName) continue;
+      if (vox::isDemoName(src))
+        vox::throwUsage("--source " + src + ": the built-in scene is " + std::string(vox::kHamletName));
       run.input(src);
       if (!std::filesystem::exists(src)) throw vox::Error(vox::ErrorKind::BadInput, src + ": no such file");
-      if (vox::isMeshFile(src)) {
+      if (vox::fileKindOf(src) == vox::FileKind::Mesh) {
         if (mesh) vox::throwUsage("--source: give one mesh");
         std::vector<std::string> warnings;
         mesh = vox::readMeshFile(src, vox::MeshReadOptions{}, warnings);
@@ -115,11 +121,11 @@ int runMip(const MipOptions& o) {
         refScenes.push_back(vox::readSceneVdb(src));
         refNames.push_back(src);
       } else {
-        throw vox::Error(vox::ErrorKind::BadInput,
-                         src + ": --source takes demo:hamlet, a mesh (.obj .ply .stl .gltf .glb) or a scene .vdb");
+        throw vox::Error(vox::ErrorKind::BadInput, src + ": --source takes " + vox::kHamletName + ", " +
+                                                       vox::describe(vox::FileKind::Mesh) + " or a scene .vdb");
       }
     }
-    const bool demo = std::find(o.sources.begin(), o.sources.end(), "demo:hamlet") != o.sources.end();
+    const bool demo = std::find(o.sources.begin(), o.sources.end(), vox::kHamletName) != o.sources.end();
     std::vector<bool> refUsed(refScenes.size(), false);
     for (const vox::Scene& level : levels) {
       const vox::SceneHeader& h = level.header();
@@ -131,7 +137,7 @@ int runMip(const MipOptions& o) {
       };
       if (demo) {
         if (h.dims.x != h.dims.y || h.dims.x != h.dims.z) {
-          errors.push_back({{"level", h.mipLevel}, {"reference", "demo:hamlet"}, {"skipped", "dims are not a cube"}});
+          errors.push_back({{"level", h.mipLevel}, {"reference", vox::kHamletName}, {"skipped", "dims are not a cube"}});
         } else {
           vox::HamletOptions ho;
           ho.resolution = h.dims.x;
@@ -140,10 +146,10 @@ int runMip(const MipOptions& o) {
           const std::string why = vox::placementMismatch(h, ref.header());
           if (!why.empty())
             errors.push_back({{"level", h.mipLevel},
-                              {"reference", "demo:hamlet --res " + std::to_string(h.dims.x)},
+                              {"reference", std::string(vox::kHamletName) + " --res " + std::to_string(h.dims.x)},
                               {"skipped", "placement differs: " + why}});
           else
-            record("demo:hamlet --res " + std::to_string(h.dims.x), vox::compareWithReference(level, ref));
+            record(std::string(vox::kHamletName) + " --res " + std::to_string(h.dims.x), vox::compareWithReference(level, ref));
         }
       }
       for (size_t i = 0; i < refScenes.size(); ++i)
@@ -157,10 +163,10 @@ int runMip(const MipOptions& o) {
         const vox::ClassMapping mapping = vox::classPerMaterial(*mesh, meshName);
         rh.classes = mapping.table;
         vox::VoxelizeSettings vs;
-        vs.fill = o.sourceFill == "solid" ? vox::FillMode::Solid : vox::FillMode::Surface;
+        vs.fill = o.sourceFill;
         vs.threads = run.threads();
         const vox::Scene ref = vox::voxelizeMesh(*mesh, vox::assignClasses(*mesh, mapping), rh, vs);
-        record(meshName + " (" + o.sourceFill + ")", vox::compareWithReference(level, ref));
+        record(meshName + " (" + nameOf(sourceFillNames(), o.sourceFill) + ")", vox::compareWithReference(level, ref));
       }
     }
     for (size_t i = 0; i < refScenes.size(); ++i)
@@ -179,15 +185,15 @@ int runMip(const MipOptions& o) {
   } else {
     std::vector<const vox::Scene*> all{&base};
     for (const vox::Scene& l : levels) all.push_back(&l);
-    vox::writePyramidVdb(all, mode, outTemp);
+    vox::writePyramidVdb(all, o.occupancy, outTemp);
   }
   run.counts()["levels"] = perLevel;
   run.counts()["level_count"] = levels.size();
-  run.counts()["occupancy"] = o.occupancy;
+  run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
   run.counts()["base_occupied"] = base.occupiedCount();
   run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(o.output, 1) + "...")
                                : o.output) +
-           ": " + std::to_string(levels.size()) + " levels (" + o.occupancy + ")");
+           ": " + std::to_string(levels.size()) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
   return run.finish();
 }
 
@@ -210,11 +216,10 @@ Command registerMip(CLI::App& root) {
   cmd->add_option("-o,--output", opts->output, "Pyramid file (*.vdb), or the stem with --split")->required();
   cmd->add_option("--levels", opts->levels,
                   "Levels to build (default 0 = until one voxel, or until a level holds at most one voxel)");
-  cmd->add_option("--occupancy", opts->occupancy, "any (conservative) or majority (for display)")
-      ->capture_default_str();
+  addEnumOption(*cmd, "--occupancy", opts->occupancy, occupancyNames(), "any (conservative) or majority (for display)");
   cmd->add_flag("--split", opts->split, "One scene file per level (OUT.mip1.vdb, OUT.mip2.vdb, ...)");
   cmd->add_option("--source", opts->sources, "Reference for the error report: demo:hamlet, a mesh or scene .vdb files");
-  cmd->add_option("--source-fill", opts->sourceFill, "Mesh source: surface or solid")->capture_default_str();
+  addEnumOption(*cmd, "--source-fill", opts->sourceFill, sourceFillNames(), "Mesh source: surface or solid");
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runMip(*opts); }};
 }

@@ -1,21 +1,27 @@
-// vox render-canonical: exact canonical-coordinate renders (DESIGN section 8).
-// One ray per pixel centre into a scene or page file; every requested mode
-// (canonical, class, shaded, depth, normal) comes from the same pass; the
-// touched set of a camera path as JSON chunks and as a 2-bit atlas bitmap.
+// vox render-canonical: exact canonical-coordinate renders
+// (docs/render.md; the files are formats/image/RENDER.md). One ray per pixel
+// centre into a scene or page file; every requested mode comes from the same
+// cast; the touched set of a camera path as JSON chunks and as a 2-bit atlas
+// bitmap. The pixels are libvox/render's; this file runs the passes and writes
+// the files.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
+#include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
+#include "formats/image/render_meta.h"
+#include "formats/image/touched_json.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "libvox/core/atlas_content.h"
-#include "libvox/core/bitmap_packing.h"
 #include "libvox/core/error.h"
-#include "libvox/core/morton.h"
 #include "libvox/core/version.h"
-#include "tools/cmds/atlas_files.h"
+#include "libvox/render/render_modes.h"
+#include "libvox/render/touched_voxels.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
@@ -27,42 +33,66 @@ namespace voxcli {
 
 namespace {
 
-const char* kModes[] = {"canonical", "class", "shaded", "depth", "normal"};
-
 struct RenderCanonicalOptions {
   std::string input, output;
-  std::string modes = "canonical";
+  std::vector<vox::RenderMode> modes{vox::RenderMode::Canonical};
   CameraOptions camera;
   std::string touched, touchedBitmap;
-  uint32_t chunk = 16;
+  uint32_t chunk = vox::PackSettings{}.chunkSide;  // the page files' default, so the chunks are theirs
   bool check = false;
-  double checkBudget = 2e9;
+  double checkBudget = vox::kDefaultCheckBudget;
   int level = 0;
   int compression = 4;  // measured on a 1080p RGBA16 render: 2.7x faster than 6 for 25 % more bytes
   CommonOptions common;
 };
 
-uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
-  return (uint64_t(uint32_t(w)) << 42) | (uint64_t(uint32_t(v)) << 21) | uint64_t(uint32_t(u));
-}
-vox::Coord3 keyVoxel(uint64_t k) {
-  return {int32_t(k & 0x1fffff), int32_t((k >> 21) & 0x1fffff), int32_t(k >> 42)};
-}
+constexpr uint32_t kDefaultImageSide = 512;
+constexpr uint64_t kMaxPixelsPerView = uint64_t(1) << 28;  // each needs a 20-byte hit record in memory
 
-std::vector<std::string> parseModes(const std::string& text) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = text.find(',', start);
-    const std::string m = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (std::find(std::begin(kModes), std::end(kModes), m) == std::end(kModes))
-      vox::throwUsage("--mode " + text + ": '" + m + "' is not one of canonical, class, shaded, depth, normal");
+// The modes in the order given, each once.
+std::vector<vox::RenderMode> distinctModes(const std::vector<vox::RenderMode>& given) {
+  std::vector<vox::RenderMode> out;
+  for (vox::RenderMode m : given)
     if (std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
   return out;
 }
+
+bool anyModeNeedsClasses(const std::vector<vox::RenderMode>& modes) {
+  return std::any_of(modes.begin(), modes.end(), vox::modeNeedsClasses);
+}
+
+void checkOutputOptions(const RenderCanonicalOptions& o) {
+  if (o.output.empty() && o.touched.empty() && o.touchedBitmap.empty())
+    vox::throwUsage("nothing to write: give -o FILE (and/or --touched FILE.json, --touched-bitmap FILE.png)");
+  if (o.chunk == 0 || (o.chunk & (o.chunk - 1)) != 0 || o.chunk > 1024)
+    vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
+}
+
+std::vector<vox::CameraView> makeCameras(const CameraOptions& options) {
+  const std::vector<vox::CameraView> views = resolveCameras(options, kDefaultImageSide, kDefaultImageSide);
+  for (const vox::CameraView& v : views) {
+    const uint64_t pixels = uint64_t(v.camera.width) * v.camera.height;
+    if (pixels > kMaxPixelsPerView)
+      vox::throwUsage(v.label + ": " + std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) +
+                      " is " + std::to_string(pixels) + " pixels; at most " + std::to_string(kMaxPixelsPerView) +
+                      " per view (each needs a 20-byte hit record in memory): render tiles with narrower fields of view");
+  }
+  return views;
+}
+
+// Rays are exact only while doubles resolve a voxel at the eye's distance.
+void checkEyesNearGrid(const std::vector<vox::CameraView>& views, const vox::GridFrame& frame) {
+  for (const vox::CameraView& v : views) {
+    for (int a = 0; a < 3; ++a) {
+      const double gridEye = (v.camera.eye[size_t(a)] - frame.origin[size_t(a)]) / frame.voxelSize;
+      if (!(std::fabs(gridEye) < 1e12))
+        vox::throwUsage(v.label + ": the eye is " + std::to_string(gridEye) +
+                        " voxels from the grid on one axis; rays are exact up to 1e12 voxels away");
+    }
+  }
+}
+
+bool pngHolds(vox::PixelSample s) { return s == vox::PixelSample::U8 || s == vox::PixelSample::U16; }
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -70,304 +100,271 @@ std::string lower(std::string s) {
 }
 
 // File of (view, mode): exactly -o for one view and one mode, else
-// STEM[.viewN][.MODE].EXT with EXT what the mode's format needs.
-std::string outputPath(const std::string& output, size_t view, size_t views, const std::string& mode, size_t modes,
-                       const std::string& ext) {
+// STEM[.viewN][.MODE].EXT with EXT what the mode's samples need.
+std::string outputPath(const std::string& output, size_t view, size_t views, vox::RenderMode mode, size_t modes,
+                       vox::PixelSample sample) {
+  const std::string ext = pngHolds(sample) ? ".png" : ".exr";
+  const std::string modeName = vox::renderModeName(mode);
   const fs::path p(output);
   const std::string given = lower(p.extension().string());
   if (views == 1 && modes == 1) {
     if (given != ext)
-      vox::throwUsage("-o " + output + ": a " + mode + " render" +
-                      (mode == "canonical" && ext == ".exr" ? " of this scene needs 32-bit samples, which PNG cannot hold," : "") +
+      vox::throwUsage("-o " + output + ": a " + modeName + " render" +
+                      (mode == vox::RenderMode::Canonical && ext == ".exr"
+                           ? " of this scene needs 32-bit samples, which PNG cannot hold,"
+                           : "") +
                       " is written as " + ext + "; name the file *" + ext);
     return output;
   }
   fs::path stem = (given == ".png" || given == ".exr") ? p.parent_path() / p.stem() : p;
   std::string name = stem.string();
   if (views > 1) name += ".view" + std::to_string(view);
-  if (modes > 1) name += "." + mode;
+  if (modes > 1) name += "." + modeName;
   return name + ext;
 }
 
-nlohmann::json matrixJson(const vox::Mat4d& m) { return nlohmann::json(std::vector<double>(m.begin(), m.end())); }
+struct PlannedImage {
+  size_t view;
+  vox::RenderMode mode;
+  std::string path;
+};
 
-int runRenderCanonical(const RenderCanonicalOptions& o) {
-  Run run("render-canonical", o.common);
-  const std::vector<std::string> modes = parseModes(o.modes);
-  if (o.output.empty() && o.touched.empty() && o.touchedBitmap.empty())
-    vox::throwUsage("nothing to write: give -o FILE (and/or --touched FILE.json, --touched-bitmap FILE.png)");
-  if (o.chunk == 0 || (o.chunk & (o.chunk - 1)) != 0 || o.chunk > 1024)
-    vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
-  const std::vector<vox::CameraView> views = resolveCameras(o.camera, 512, 512);
-  for (const vox::CameraView& v : views) {
-    const uint64_t pixels = uint64_t(v.camera.width) * v.camera.height;
-    if (pixels > (uint64_t(1) << 28))
-      vox::throwUsage(v.label + ": " + std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) +
-                      " is " + std::to_string(pixels) + " pixels; at most 268435456 per view (each needs a 20-byte hit "
-                      "record in memory): render tiles with narrower fields of view");
-  }
+// Every image to write, named before anything is cast so that a bad name fails fast.
+std::vector<PlannedImage> planImages(const std::string& output, size_t views, const std::vector<vox::RenderMode>& modes,
+                                     int canonicalBits) {
+  std::vector<PlannedImage> planned;
+  if (output.empty()) return planned;
+  for (size_t v = 0; v < views; ++v)
+    for (vox::RenderMode m : modes)
+      planned.push_back({v, m, outputPath(output, v, views, m, modes.size(), vox::modeSample(m, canonicalBits))});
+  return planned;
+}
 
-  const bool needSummaries = std::find(modes.begin(), modes.end(), "class") != modes.end() ||
-                             std::find(modes.begin(), modes.end(), "shaded") != modes.end();
-  run.phase("load");
-  run.input(o.input);
-  const RenderInput in = loadRenderInput(o.input, o.level, needSummaries);
-  const vox::RayGrid& grid = *in.grid;
-  const int bits = vox::canonicalBits(in.dims);
-  for (const vox::CameraView& v : views) {
-    for (int a = 0; a < 3; ++a) {
-      const double g = (v.camera.eye[size_t(a)] - in.frame.origin[size_t(a)]) / in.frame.voxelSize;
-      if (!(std::fabs(g) < 1e12))
-        vox::throwUsage(v.label + ": the eye is " + std::to_string(g) +
-                        " voxels from the grid on one axis; rays are exact up to 1e12 voxels away");
-    }
-  }
-
-  // Plan the outputs before casting, so a bad name fails fast.
-  struct Planned {
-    size_t view;
-    std::string mode, path;
-  };
-  std::vector<Planned> planned;
-  if (!o.output.empty())
-    for (size_t v = 0; v < views.size(); ++v)
-      for (const std::string& m : modes) {
-        const std::string ext = (m == "depth" || (m == "canonical" && bits == 32)) ? ".exr" : ".png";
-        planned.push_back({v, m, outputPath(o.output, v, views.size(), m, modes.size(), ext)});
-      }
-
-  run.phase("cast");
-  std::vector<vox::ViewHits> hits;
+struct CastViews {
+  std::vector<vox::ViewHits> hits;  // one per view
   uint64_t rays = 0, hitCount = 0, steps = 0;
-  const auto castStart = std::chrono::steady_clock::now();
+  double seconds = 0;
+};
+
+CastViews castViews(Run& run, const RenderInput& in, const std::vector<vox::CameraView>& views) {
+  CastViews cast;
+  const auto start = std::chrono::steady_clock::now();
   {
     auto progress = run.progress("render");
     for (size_t v = 0; v < views.size(); ++v) {
-      hits.push_back(vox::castView(grid, in.frame, views[v].camera, run.threads(), [&](double f) {
+      cast.hits.push_back(vox::castView(*in.grid, in.frame, views[v].camera, run.threads(), [&](double f) {
         progress->update((double(v) + f) / double(views.size()));
       }));
-      rays += uint64_t(hits.back().width) * hits.back().height;
-      hitCount += hits.back().hitCount;
-      steps += hits.back().steps;
+      cast.rays += uint64_t(cast.hits.back().width) * cast.hits.back().height;
+      cast.hitCount += cast.hits.back().hitCount;
+      cast.steps += cast.hits.back().steps;
     }
     progress->done();
   }
-  const double castSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - castStart).count();
+  cast.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return cast;
+}
 
-  // Voxels hit by any ray (sorted keys), for class/shaded lookups and the touched set.
-  std::vector<uint64_t> hitKeys;
-  std::vector<vox::SummaryTexel> hitSummaries;
-  if (needSummaries || !o.touched.empty() || !o.touchedBitmap.empty()) {
-    run.phase("touched");
-    for (const vox::ViewHits& h : hits)
-      for (const vox::PixelHit& p : h.pixels)
-        if (p.hit) hitKeys.push_back(voxelKey(p.u, p.v, p.w));
-    std::sort(hitKeys.begin(), hitKeys.end());
-    hitKeys.erase(std::unique(hitKeys.begin(), hitKeys.end()), hitKeys.end());
-    if (needSummaries) {
-      std::vector<vox::Coord3> voxels(hitKeys.size());
-      for (size_t i = 0; i < hitKeys.size(); ++i) voxels[i] = keyVoxel(hitKeys[i]);
-      hitSummaries = in.summaries(voxels);
-    }
-  }
-  auto summaryOf = [&](const vox::PixelHit& p) {
-    const auto it = std::lower_bound(hitKeys.begin(), hitKeys.end(), voxelKey(p.u, p.v, p.w));
-    return hitSummaries[size_t(it - hitKeys.begin())];
-  };
-
-  nlohmann::json checkJson;
+struct CheckOutcome {
+  nlohmann::json report;
   uint64_t differing = 0;
-  if (o.check) {
-    run.phase("check");
-    std::vector<vox::Coord3> occupied;
-    occupied.reserve(size_t(grid.occupiedCount()));
-    grid.forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
-    uint64_t checked = 0;
-    nlohmann::json mismatches = nlohmann::json::array();
-    for (size_t v = 0; v < views.size(); ++v) {
-      const uint64_t pixels = uint64_t(hits[v].width) * hits[v].height;
-      const double cost = double(pixels) * double(std::max<size_t>(1, occupied.size()));
-      const uint64_t stride = std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, o.checkBudget))));
-      const vox::ViewCheck c = vox::checkView(hits[v], occupied, in.frame, views[v].camera, stride, run.threads());
-      checked += c.pixelsChecked;
-      differing += c.pixelsDiffering;
-      for (const auto& m : c.first) {
-        if (mismatches.size() >= 10) break;
-        nlohmann::json j = {{"view", v}, {"pixel", {m.x, m.y}}};
-        j["got"] = m.got.hit ? nlohmann::json{m.got.u, m.got.v, m.got.w} : nlohmann::json(nullptr);
-        j["expected"] = m.expected.hit ? nlohmann::json{m.expected.voxel.u, m.expected.voxel.v, m.expected.voxel.w}
-                                       : nlohmann::json(nullptr);
-        mismatches.push_back(j);
-      }
-      if (stride > 1)
-        run.note(views[v].label + ": checked every " + std::to_string(stride) + "th pixel against the brute force (" +
-                 std::to_string(c.pixelsChecked) + " of " + std::to_string(pixels) + "; raise --check-budget for all)");
-    }
-    checkJson = {{"pixels_checked", checked}, {"pixels_differing", differing}, {"first_mismatches", mismatches},
-                 {"reference", "brute force: every occupied voxel against every checked ray"}};
-    if (differing)
-      std::cerr << "vox render-canonical: " << differing << " of " << checked
-                << " checked pixels differ from the brute-force reference; first: " << mismatches[0].dump() << "\n";
-  }
+};
 
-  run.phase("write");
-  for (const Planned& pl : planned) {
-    const vox::ViewHits& h = hits[pl.view];
-    const vox::Camera& cam = views[pl.view].camera;
-    const uint32_t W = h.width, H = h.height;
-    vox::Image img;
-    bool exr = false;
-    if (pl.mode == "canonical") {
-      if (bits == 8) img = vox::Image(W, H, 4, vox::SampleType::U8);
-      else if (bits == 16) img = vox::Image(W, H, 4, vox::SampleType::U16);
-      else img = vox::Image(W, H, 4, vox::SampleType::U32), exr = true;
-      for (size_t i = 0; i < h.pixels.size(); ++i) {
-        const vox::PixelHit& p = h.pixels[i];
-        if (!p.hit) continue;
-        if (bits == 8) {
-          uint8_t* px = img.pixels.data() + i * 4;
-          px[0] = uint8_t(p.u), px[1] = uint8_t(p.v), px[2] = uint8_t(p.w), px[3] = 255;
-        } else if (bits == 16) {
-          uint16_t* px = reinterpret_cast<uint16_t*>(img.pixels.data()) + i * 4;
-          px[0] = uint16_t(p.u), px[1] = uint16_t(p.v), px[2] = uint16_t(p.w), px[3] = 65535;
-        } else {
-          uint32_t* px = reinterpret_cast<uint32_t*>(img.pixels.data()) + i * 4;
-          px[0] = uint32_t(p.u), px[1] = uint32_t(p.v), px[2] = uint32_t(p.w), px[3] = 0xffffffffu;
-        }
-      }
-    } else if (pl.mode == "class") {
-      img = vox::Image(W, H, 4, vox::SampleType::U8);
-      for (size_t i = 0; i < h.pixels.size(); ++i) {
-        const vox::PixelHit& p = h.pixels[i];
-        if (!p.hit) continue;
-        const vox::ClassInfo* info = in.classes.find(summaryOf(p).cls);
-        const vox::Rgb8 c = info ? info->color : vox::Rgb8{128, 128, 128};
-        uint8_t* px = img.pixels.data() + i * 4;
-        px[0] = c.r, px[1] = c.g, px[2] = c.b, px[3] = 255;
-      }
-    } else if (pl.mode == "shaded") {
-      img = vox::Image(W, H, 3, vox::SampleType::U8);
-      auto toByte = [](double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
-      for (size_t i = 0; i < h.pixels.size(); ++i) {
-        const vox::PixelHit& p = h.pixels[i];
-        std::array<double, 3> c = vox::kSkyColor;
-        if (p.hit) {
-          vox::Vec3d o, d;
-          cam.pixelRay(uint32_t(i % W), uint32_t(i / W), o, d);
-          const std::array<int, 3> n = vox::hitNormal(p, d);
-          c = vox::terrainShade(vox::facePaletteColor(in.classes.find(summaryOf(p).cls), n), n);
-        }
-        uint8_t* px = img.pixels.data() + i * 3;
-        for (int k = 0; k < 3; ++k) px[k] = toByte(c[size_t(k)]);
-      }
-    } else if (pl.mode == "depth") {
-      img = vox::Image(W, H, 1, vox::SampleType::F32);
-      exr = true;
-      float* px = reinterpret_cast<float*>(img.pixels.data());
-      for (size_t i = 0; i < h.pixels.size(); ++i)
-        px[i] = h.pixels[i].hit ? h.pixels[i].depth : std::numeric_limits<float>::infinity();
-    } else {  // normal
-      img = vox::Image(W, H, 4, vox::SampleType::U8);
-      for (size_t i = 0; i < h.pixels.size(); ++i) {
-        const vox::PixelHit& p = h.pixels[i];
-        if (!p.hit) continue;
-        vox::Vec3d o, d;
-        cam.pixelRay(uint32_t(i % W), uint32_t(i / W), o, d);
-        const std::array<int, 3> n = vox::hitNormal(p, d);
-        uint8_t* px = img.pixels.data() + i * 4;
-        for (int k = 0; k < 3; ++k) px[k] = uint8_t(n[size_t(k)] < 0 ? 0 : n[size_t(k)] > 0 ? 255 : 128);
-        px[3] = 255;
-      }
+// Every view against the brute force, on as many pixels as the budget allows.
+CheckOutcome checkAgainstBruteForce(Run& run, const RenderInput& in, const std::vector<vox::CameraView>& views,
+                                    const CastViews& cast, double budget) {
+  const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
+  CheckOutcome out;
+  uint64_t checked = 0;
+  nlohmann::json mismatches = nlohmann::json::array();
+  for (size_t v = 0; v < views.size(); ++v) {
+    const vox::ViewHits& hits = cast.hits[v];
+    const uint64_t pixels = uint64_t(hits.width) * hits.height;
+    const uint64_t stride = vox::checkStride(pixels, occupied.size(), budget);
+    const vox::ViewCheck c = vox::checkView(hits, occupied, in.frame, views[v].camera, stride, run.threads());
+    checked += c.pixelsChecked;
+    out.differing += c.pixelsDiffering;
+    for (const auto& m : c.first) {
+      if (mismatches.size() >= 10) break;
+      nlohmann::json j = {{"view", v}, {"pixel", {m.x, m.y}}};
+      j["got"] = m.got.hit ? nlohmann::json{m.got.u, m.got.v, m.got.w} : nlohmann::json(nullptr);
+      j["expected"] = m.expected.hit ? nlohmann::json{m.expected.voxel.u, m.expected.voxel.v, m.expected.voxel.w}
+                                     : nlohmann::json(nullptr);
+      mismatches.push_back(j);
     }
-    nlohmann::json meta = {{"mode", pl.mode},
-                           {"scene", in.path},
-                           {"dims", {in.dims.x, in.dims.y, in.dims.z}},
-                           {"origin", in.frame.origin},
-                           {"voxel_size", in.frame.voxelSize},
-                           {"view", views[pl.view].index},
-                           {"camera", {{"viewMatrix", matrixJson(cam.view)},
-                                       {"projectionMatrix", matrixJson(cam.projection)},
-                                       {"imageSize", {{"width", W}, {"height", H}}}}}};
-    if (pl.mode == "canonical") meta["bits"] = bits;
-    if (in.kind == "pages") meta["level"] = in.level;
-    img.text = {{"vox:canonical", meta.dump()}, {"Software", vox::versionString()}};
+    if (stride > 1)
+      run.note(views[v].label + ": checked every " + std::to_string(stride) + "th pixel against the brute force (" +
+               std::to_string(c.pixelsChecked) + " of " + std::to_string(pixels) + "; raise --check-budget for all)");
+  }
+  out.report = {{"pixels_checked", checked}, {"pixels_differing", out.differing}, {"first_mismatches", mismatches},
+                {"reference", "brute force: every occupied voxel against every checked ray"}};
+  if (out.differing)
+    std::cerr << "vox render-canonical: " << out.differing << " of " << checked
+              << " checked pixels differ from the brute-force reference; first: " << mismatches[0].dump() << "\n";
+  return out;
+}
+
+vox::Image toImage(vox::ModeImage&& pixels) {
+  vox::Image img;
+  img.width = pixels.width;
+  img.height = pixels.height;
+  img.channels = pixels.channels;
+  switch (pixels.sample) {
+    case vox::PixelSample::U8: img.type = vox::SampleType::U8; break;
+    case vox::PixelSample::U16: img.type = vox::SampleType::U16; break;
+    case vox::PixelSample::U32: img.type = vox::SampleType::U32; break;
+    case vox::PixelSample::F32: img.type = vox::SampleType::F32; break;
+  }
+  img.pixels = std::move(pixels.pixels);
+  return img;
+}
+
+vox::RenderMeta renderMeta(const RenderInput& in, const vox::CameraView& view, vox::RenderMode mode, int canonicalBits) {
+  vox::RenderMeta meta;
+  meta.mode = mode;
+  meta.scene = in.path;
+  meta.dims = in.dims;
+  meta.origin = in.frame.origin;
+  meta.voxelSize = in.frame.voxelSize;
+  meta.view = view.index;
+  meta.viewMatrix = view.camera.view;
+  meta.projectionMatrix = view.camera.projection;
+  meta.width = view.camera.width;
+  meta.height = view.camera.height;
+  if (mode == vox::RenderMode::Canonical) meta.bits = canonicalBits;
+  if (in.kind == "pages") meta.level = in.level;
+  return meta;
+}
+
+void writeImages(Run& run, const RenderCanonicalOptions& o, const RenderInput& in,
+                 const std::vector<vox::CameraView>& views, const CastViews& cast,
+                 const std::vector<PlannedImage>& planned, int canonicalBits, const vox::HitSummaries& summaries) {
+  for (const PlannedImage& pl : planned) {
+    const vox::CameraView& view = views[pl.view];
+    const vox::ModeSources sources{&view.camera, canonicalBits, &in.classes, summaries};
+    vox::Image img = toImage(vox::renderModeImage(pl.mode, cast.hits[pl.view], sources));
+    const bool exr = !pngHolds(vox::modeSample(pl.mode, canonicalBits));
+    img.text = {{vox::kRenderMetaKey, vox::renderMetaJson(renderMeta(in, view, pl.mode, canonicalBits))},
+                {"Software", vox::versionString()}};
     const std::string tmp = run.output(pl.path);
     if (exr) vox::writeExr(img, tmp, vox::ExrCompression::Zip);
     else vox::writePngParallel(img, tmp, o.compression, run.threads());
   }
+}
 
-  // The touched set: chunks of C^3 voxels with the count of distinct voxels hit.
-  if (!o.touched.empty()) {
-    std::vector<std::pair<uint64_t, std::array<uint32_t, 3>>> chunkOf;
-    chunkOf.reserve(hitKeys.size());
-    for (uint64_t k : hitKeys) {
-      const vox::Coord3 c = keyVoxel(k);
-      const std::array<uint32_t, 3> ch{uint32_t(c.u) / o.chunk, uint32_t(c.v) / o.chunk, uint32_t(c.w) / o.chunk};
-      chunkOf.push_back({vox::mortonEncode(ch[0], ch[1], ch[2]), ch});
-    }
-    std::sort(chunkOf.begin(), chunkOf.end());
-    nlohmann::json chunks = nlohmann::json::array();
-    for (size_t i = 0; i < chunkOf.size();) {
-      size_t j = i;
-      while (j < chunkOf.size() && chunkOf[j].first == chunkOf[i].first) ++j;
-      chunks.push_back({{"chunk", chunkOf[i].second}, {"morton", chunkOf[i].first}, {"voxels", j - i}});
-      i = j;
-    }
-    nlohmann::json t = {{"format", "voxbake-touched"},
-                        {"scene", in.path},
-                        {"dims", {in.dims.x, in.dims.y, in.dims.z}},
-                        {"chunk_size", o.chunk},
-                        {"views", views.size()},
-                        {"rays", rays},
-                        {"hits", hitCount},
-                        {"voxels_touched", hitKeys.size()},
-                        {"chunks_touched", chunks.size()},
-                        {"chunks", chunks}};
-    vox::writeFileBytes(run.output(o.touched), t.dump(1) + "\n");
-  }
-  if (!o.touchedBitmap.empty()) {
-    const vox::AtlasLayout L = vox::AtlasLayout::make(in.dims);
-    vox::OccupancyBitmap bitmap(L, 2);
-    grid.forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { bitmap.setOccupied(L.toTexel(u, v, w)); });
-    for (uint64_t k : hitKeys) {
-      const vox::Coord3 c = keyVoxel(k);
-      bitmap.setTouched(L.toTexel(uint32_t(c.u), uint32_t(c.v), uint32_t(c.w)));
-    }
-    const fs::path p(o.touchedBitmap);
-    for (uint32_t layer = 0; layer < L.layers; ++layer) {
-      AtlasImageInfo info{L, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
-      vox::Image img(bitmap.rowBytes(), L.height, 1, vox::SampleType::U8);
-      img.pixels = bitmap.layerBytes(layer);
-      img.text = {{kAtlasTextKey, atlasInfoJson(info).dump()}, {"Software", vox::versionString()}};
-      const std::string path =
-          L.layers == 1 ? o.touchedBitmap
-                        : ((p.parent_path() / p.stem()).string() + ".layer" + std::to_string(layer) + ".png");
-      vox::writePng(img, run.output(path), o.compression);
-    }
-  }
+void writeTouchedSet(Run& run, const std::string& path, const RenderInput& in, size_t views, const CastViews& cast,
+                     const vox::TouchedVoxels& touched, uint32_t chunkSide) {
+  vox::TouchedSet set;
+  set.scene = in.path;
+  set.dims = in.dims;
+  set.chunkSide = chunkSide;
+  set.views = views;
+  set.rays = cast.rays;
+  set.hits = cast.hitCount;
+  set.voxelsTouched = touched.size();
+  set.chunks = vox::touchedChunks(touched, chunkSide);
+  vox::writeFileBytes(run.output(path), vox::touchedSetJson(set));
+}
 
-  const double mrays = castSeconds > 0 ? double(rays) / castSeconds / 1e6 : 0;
-  run.counts() = {{"views", views.size()},
-                  {"rays", rays},
-                  {"hits", hitCount},
-                  {"occupied_voxels", grid.occupiedCount()},
-                  {"ray_grid_bytes", grid.memoryBytes()},
-                  {"mean_steps_per_ray", rays ? double(steps) / double(rays) : 0.0},
-                  {"rays_per_second", castSeconds > 0 ? double(rays) / castSeconds : 0.0},
+// One file per atlas layer (FILE.layerN.png when there are several, as build-atlas names them).
+void writeTouchedBitmap(Run& run, const std::string& path, const RenderInput& in, const vox::TouchedVoxels& touched,
+                        int compression) {
+  const vox::AtlasLayout layout = vox::AtlasLayout::make(in.dims);
+  vox::OccupancyBitmap bitmap = vox::touchedBitmap(*in.grid, touched, layout);
+  const fs::path p(path);
+  for (uint32_t layer = 0; layer < layout.layers; ++layer) {
+    const vox::AtlasImageInfo info{layout, vox::AtlasContent::Occupancy2, "bitmap", layer, 0, in.path};
+    vox::Image img(bitmap.rowBytes(), layout.height, 1, vox::SampleType::U8);
+    img.pixels = bitmap.layerBytes(layer);
+    img.text = vox::atlasImageText(info);
+    const std::string layerPath =
+        layout.layers == 1 ? path : ((p.parent_path() / p.stem()).string() + ".layer" + std::to_string(layer) + ".png");
+    vox::writePng(img, run.output(layerPath), compression);
+  }
+}
+
+void reportCounts(Run& run, const RenderInput& in, size_t views, const CastViews& cast, size_t files,
+                  const vox::TouchedVoxels& touched) {
+  const double mrays = cast.seconds > 0 ? double(cast.rays) / cast.seconds / 1e6 : 0;
+  const double stepsPerRay = cast.rays ? double(cast.steps) / double(cast.rays) : 0.0;
+  run.counts() = {{"views", views},
+                  {"rays", cast.rays},
+                  {"hits", cast.hitCount},
+                  {"occupied_voxels", in.grid->occupiedCount()},
+                  {"ray_grid_bytes", in.grid->memoryBytes()},
+                  {"mean_steps_per_ray", stepsPerRay},
+                  {"rays_per_second", cast.seconds > 0 ? double(cast.rays) / cast.seconds : 0.0},
                   {"mrays_per_second", mrays},
-                  {"cast_seconds", castSeconds},
+                  {"cast_seconds", cast.seconds},
                   {"read_seconds", in.readSeconds},
                   {"ray_grid_seconds", in.gridSeconds},
-                  {"files", planned.size() + (o.touched.empty() ? 0 : 1)}};
-  if (!hitKeys.empty()) run.counts()["voxels_touched"] = hitKeys.size();
-  if (o.check) run.error() = checkJson;
+                  {"files", files}};
+  if (!touched.empty()) run.counts()["voxels_touched"] = touched.size();
   char line[160];
   std::snprintf(line, sizeof line, "%llu rays in %.3f s (%.1f Mrays/s, %.1f steps/ray), %llu hits",
-                static_cast<unsigned long long>(rays), castSeconds, mrays, rays ? double(steps) / double(rays) : 0.0,
-                static_cast<unsigned long long>(hitCount));
+                static_cast<unsigned long long>(cast.rays), cast.seconds, mrays, stepsPerRay,
+                static_cast<unsigned long long>(cast.hitCount));
   run.note(line);
-  if (o.check && !differing) run.note("check: every checked pixel equals the brute-force reference");
-  return run.finish(differing ? kExitCheckFailed : kExitOk);
+}
+
+int runRenderCanonical(const RenderCanonicalOptions& o) {
+  Run run("render-canonical", o.common);
+  const std::vector<vox::RenderMode> modes = distinctModes(o.modes);
+  checkOutputOptions(o);
+  const std::vector<vox::CameraView> views = makeCameras(o.camera);
+  const bool needClasses = anyModeNeedsClasses(modes);
+
+  run.phase("load");
+  run.input(o.input);
+  const RenderInput in = loadRenderInput(o.input, o.level, needClasses);
+  const int canonicalBits = vox::canonicalBits(in.dims);
+  checkEyesNearGrid(views, in.frame);
+  const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits);
+
+  run.phase("cast");
+  const CastViews cast = castViews(run, in, views);
+
+  vox::TouchedVoxels touched;
+  std::vector<vox::SummaryTexel> touchedSummaries;
+  if (needClasses || !o.touched.empty() || !o.touchedBitmap.empty()) {
+    run.phase("touched");
+    touched = vox::TouchedVoxels(cast.hits);
+    if (needClasses) touchedSummaries = in.summaries(touched.voxels());
+  }
+
+  CheckOutcome check;
+  if (o.check) {
+    run.phase("check");
+    check = checkAgainstBruteForce(run, in, views, cast, o.checkBudget);
+  }
+
+  run.phase("write");
+  writeImages(run, o, in, views, cast, planned, canonicalBits, vox::HitSummaries{&touched, touchedSummaries});
+  if (!o.touched.empty()) writeTouchedSet(run, o.touched, in, views.size(), cast, touched, o.chunk);
+  if (!o.touchedBitmap.empty()) writeTouchedBitmap(run, o.touchedBitmap, in, touched, o.compression);
+
+  reportCounts(run, in, views.size(), cast, planned.size() + (o.touched.empty() ? 0 : 1), touched);
+  if (o.check) run.error() = check.report;
+  if (o.check && !check.differing) run.note("check: every checked pixel equals the brute-force reference");
+  return run.finish(check.differing ? kExitCheckFailed : kExitOk);
+}
+
+std::string renderModeList() {
+  std::string list;
+  for (vox::RenderMode m : vox::kRenderModes) list += (list.empty() ? "" : ", ") + std::string(vox::renderModeName(m));
+  return list;
+}
+
+// CLI11 reads an enum as its underlying integer: this turns each name of the
+// comma list into that number (and refuses numbers, which are not names).
+CLI::Validator renderModeNames() {
+  auto toNumber = [](std::string& input) -> std::string {
+    const std::optional<vox::RenderMode> mode = vox::renderModeNamed(input);
+    if (!mode) return "'" + input + "' is not one of " + renderModeList();
+    input = std::to_string(static_cast<int>(*mode));
+    return {};
+  };
+  return CLI::Validator(toNumber, "", "");
 }
 
 }  // namespace
@@ -381,7 +378,11 @@ Command registerRenderCanonical(CLI::App& root) {
       "files are STEM[.viewN][.MODE].png|exr. Exit 1 when --check finds a pixel that differs from the brute force.");
   cmd->add_option("input", o->input, "Scene (.vdb) or page file (.vpk)")->required();
   cmd->add_option("-o,--output", o->output, "Image to write (.png; .exr for depth and 32-bit canonical)");
-  cmd->add_option("--mode", o->modes, "Comma list of canonical, class, shaded, depth, normal")->capture_default_str();
+  cmd->add_option("--mode", o->modes, "Comma list of " + renderModeList())
+      ->delimiter(',')
+      ->transform(renderModeNames())
+      ->type_name("LIST")
+      ->default_str(vox::renderModeName(o->modes.front()));
   addCameraOptions(*cmd, o->camera);
   cmd->add_option("--touched", o->touched, "Write the chunks (and voxel counts) hit by any ray, as JSON");
   cmd->add_option("--chunk-size", o->chunk, "Chunk side for --touched")->capture_default_str();

@@ -1,9 +1,10 @@
-// vox voxelize: inputs (the built-in demo scene, seed 002 block maps) -> scene.vdb.
+// vox voxelize: inputs (meshes, the built-in demo scene, block maps, OpenVDB grids) -> scene.vdb.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
 #include <limits>
 
+#include "formats/core/file_kinds.h"
 #include "formats/vdb/blockmap_json.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_grid_input.h"
@@ -29,7 +30,7 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
   run.phase("voxelize");
   auto bar = run.progress("voxelize");
   const vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
-  vox::Scene scene = o.method == "sdf" ? vox::voxelizeMeshSdf(mesh, p.triangleClass, p.header, settings)
+  vox::Scene scene = o.method == VoxelizeMethod::Sdf ? vox::voxelizeMeshSdf(mesh, p.triangleClass, p.header, settings)
                                        : vox::voxelizeMesh(mesh, p.triangleClass, p.header, settings);
   bar->done();
   run.phase("write");
@@ -51,64 +52,77 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
   return finishMeshBake(o, run, p, scene.occupiedCount(), scene.surfaceCount(), scene.classesPresent().size());
 }
 
+/// demo:hamlet at the resolution given (or the default).
+vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  if (input != "demo:hamlet")
+    throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
+  run.phase("generate");
+  vox::HamletOptions h;
+  h.resolution = o.resolutionOrDefault();
+  h.threads = run.threads();
+  auto bar = run.progress("hamlet");
+  h.progress = [&bar](double f) { bar->update(f); };
+  vox::Scene scene = vox::buildHamlet(h);
+  bar->done();
+  return scene;
+}
+
+/// A block map: one block is one voxel, placed in the world grid --grid-size.
+vox::Scene readBlockMapInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  if (o.resolution)
+    throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
+  run.phase("parse");
+  run.input(input);
+  vox::BlockMapOptions b;
+  b.gridSize = parseTriple(o.gridSize, "--grid-size");
+  return vox::readBlockMap(input, b);
+}
+
+/// An OpenVDB level set or fog volume, resampled at the resolution or voxel size.
+vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  run.phase("resample");
+  run.input(input);
+  vox::VdbGridInputOptions v;
+  v.gridName = o.gridName;
+  v.threshold = o.threshold;
+  v.voxelSize = o.voxelSize;
+  v.resolution = o.resolutionUnlessVoxelSize();
+  v.threads = run.threads();
+  auto bar = run.progress("resample");
+  v.progress = [&bar](double f) { bar->update(f); };
+  vox::Scene scene = vox::readVdbGridAsScene(input, v);
+  bar->done();
+  return scene;
+}
+
+/// The scene of one input that is not a mesh, by its kind.
+vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  if (vox::isDemoName(input)) return generateDemo(o, run, input);
+  const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
+  if (kind == vox::FileKind::BlockMap) return readBlockMapInput(o, run, input);
+  if (kind == vox::FileKind::Vdb) return resampleGrid(o, run, input);
+  if (!std::filesystem::exists(input)) throw vox::Error(vox::ErrorKind::BadInput, input + ": no such file");
+  throw vox::Error(vox::ErrorKind::BadInput,
+                   input + ": unsupported input; vox voxelize reads " + vox::describe(vox::FileKind::Mesh) + ", " +
+                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb) or demo:hamlet");
+}
+
 int runVoxelize(const VoxelizeOptions& o) {
   checkVoxelizeOptions(o);
-  const bool allMeshes = allInputsAreMeshes(o);
-  const std::string& input = o.inputs[0];
   Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
-  std::optional<vox::Scene> scene;
-  if (allMeshes) {
-    return runMeshes(o, run, outputTemp);
-  } else if (input.rfind("demo:", 0) == 0) {
-    if (input != "demo:hamlet")
-      throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
-    run.phase("generate");
-    vox::HamletOptions h;
-    h.resolution = o.resolution ? o.resolution : 256;
-    h.threads = run.threads();
-    auto bar = run.progress("hamlet");
-    h.progress = [&bar](double f) { bar->update(f); };
-    scene = vox::buildHamlet(h);
-    bar->done();
-  } else if (endsWithLower(input, ".json")) {
-    if (o.resolution)
-      throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
-    run.phase("parse");
-    run.input(input);
-    vox::BlockMapOptions b;
-    b.gridSize = parseTriple(o.gridSize, "--grid-size");
-    scene = vox::readBlockMap(input, b);
-  } else if (endsWithLower(input, ".vdb")) {
-    run.phase("resample");
-    run.input(input);
-    vox::VdbGridInputOptions v;
-    v.gridName = o.gridName;
-    v.threshold = o.threshold;
-    v.voxelSize = o.voxelSize;
-    v.resolution = o.voxelSize > 0 ? o.resolution : (o.resolution ? o.resolution : 256);
-    v.threads = run.threads();
-    auto bar = run.progress("resample");
-    v.progress = [&bar](double f) { bar->update(f); };
-    scene = vox::readVdbGridAsScene(input, v);
-    bar->done();
-  } else {
-    if (!std::filesystem::exists(input))
-      throw vox::Error(vox::ErrorKind::BadInput, input + ": no such file");
-    throw vox::Error(vox::ErrorKind::BadInput,
-                     input + ": unsupported input; vox voxelize reads meshes (.obj .ply .stl .gltf .glb), demo:hamlet, "
-                             "seed 002 block maps (*.json) and OpenVDB grids (*.vdb)");
-  }
+  if (allInputsAreMeshes(o)) return runMeshes(o, run, outputTemp);
+  const vox::Scene scene = sceneOfInput(o, run, o.inputs[0]);
   run.phase("write");
-  vox::writeSceneVdb(*scene, outputTemp);
-  const uint64_t occupied = scene->occupiedCount();
-  const vox::Dims d = scene->header().dims;
+  vox::writeSceneVdb(scene, outputTemp);
+  const uint64_t occupied = scene.occupiedCount();
+  const vox::Dims d = scene.header().dims;
   run.counts()["dims"] = {d.x, d.y, d.z};
   run.counts()["occupied_voxels"] = occupied;
-  run.counts()["surface_voxels"] = scene->surfaceCount();
-  run.counts()["classes_present"] = scene->classesPresent().size();
+  run.counts()["surface_voxels"] = scene.surfaceCount();
+  run.counts()["classes_present"] = scene.classesPresent().size();
   run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) +
-           " occupied voxels, " + std::to_string(scene->classesPresent().size()) + " classes");
+           " occupied voxels, " + std::to_string(scene.classesPresent().size()) + " classes");
   return run.finish();
 }
 

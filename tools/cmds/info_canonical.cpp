@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/render_input.h"
@@ -13,20 +14,15 @@ namespace voxcli {
 
 int infoCanonical(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& scenePath,
                   bool json) {
-  nlohmann::json meta;
-  try {
-    meta = nlohmann::json::parse(img.textValue("vox:canonical"));
-  } catch (const nlohmann::json::parse_error&) {
-    vox::throwBadInput(path + ": its \"vox:canonical\" entry is not valid JSON");
-  }
+  const vox::RenderMeta meta = *vox::readRenderMeta(img, path);
+  const std::string mode = vox::renderModeName(meta.mode);
   nlohmann::json j = {{"file", path},
                       {"kind", "render"},
-                      {"mode", meta.value("mode", "")},
+                      {"mode", mode},
                       {"image", {{"width", img.width}, {"height", img.height}, {"channels", img.channels},
                                  {"sample", vox::sampleTypeName(img.type)}}},
                       {"file_bytes", vox::fileSizeOrMinusOne(path)},
-                      {"render", meta}};
-  const std::string mode = meta.value("mode", "");
+                      {"render", nlohmann::json::parse(vox::renderMetaJson(meta))}};
   if (!pixel.empty()) {
     const size_t comma = pixel.find(',');
     char* end = nullptr;
@@ -35,32 +31,23 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
     if (comma == std::string::npos || *end != '\0' || x >= img.width || y >= img.height)
       vox::throwUsage("--pixel " + pixel + ": expected x,y inside the " + std::to_string(img.width) + " x " +
                       std::to_string(img.height) + " image (row 0 at the top)");
-    if (mode != "canonical")
+    if (meta.mode != vox::RenderMode::Canonical)
       vox::throwUsage("--pixel: " + path + " is a '" + mode +
                       "' render; picking decodes canonical renders (render with --mode canonical)");
-    const size_t base = (size_t(y) * img.width + x) * 4;
-    uint64_t v[4];
-    for (int c = 0; c < 4; ++c) {
-      switch (img.type) {
-        case vox::SampleType::U8: v[c] = img.pixels[base + size_t(c)]; break;
-        case vox::SampleType::U16: v[c] = reinterpret_cast<const uint16_t*>(img.pixels.data())[base + size_t(c)]; break;
-        default: v[c] = reinterpret_cast<const uint32_t*>(img.pixels.data())[base + size_t(c)]; break;
-      }
-    }
+    vox::requireCanonicalImage(img, path);
+    const std::array<uint64_t, 4> v = vox::canonicalSamples(img, size_t(y) * img.width + x);
     nlohmann::json p = {{"pixel", {x, y}}, {"values", {v[0], v[1], v[2], v[3]}}, {"hit", v[3] != 0}};
     if (v[3] != 0) {
       p["voxel"] = {v[0], v[1], v[2]};
-      if (meta.contains("origin") && meta.contains("voxel_size")) {
-        const double s = meta["voxel_size"].get<double>();
-        nlohmann::json lo = nlohmann::json::array(), hi = nlohmann::json::array();
-        for (int a = 0; a < 3; ++a) {
-          lo.push_back(meta["origin"][size_t(a)].get<double>() + double(v[a]) * s);
-          hi.push_back(meta["origin"][size_t(a)].get<double>() + double(v[a] + 1) * s);
-        }
-        p["world_box"] = {{"min", lo}, {"max", hi}};
+      // The voxel's box in world space: grid point g is origin + g * voxelSize.
+      nlohmann::json worldMin = nlohmann::json::array(), worldMax = nlohmann::json::array();
+      for (size_t a = 0; a < 3; ++a) {
+        worldMin.push_back(meta.origin[a] + double(v[a]) * meta.voxelSize);
+        worldMax.push_back(meta.origin[a] + double(v[a] + 1) * meta.voxelSize);
       }
+      p["world_box"] = {{"min", worldMin}, {"max", worldMax}};
       if (!scenePath.empty()) {
-        const RenderInput in = loadRenderInput(scenePath, meta.value("level", 0), /*needSummaries=*/true);
+        const RenderInput in = loadRenderInput(scenePath, meta.level.value_or(0), /*needSummaries=*/true);
         const vox::Coord3 c{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])};
         const bool inside = v[0] < in.dims.x && v[1] < in.dims.y && v[2] < in.dims.z;
         if (!inside || !in.grid->occupied(c.u, c.v, c.w)) {
@@ -94,12 +81,10 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
   }
   std::cout << path << ": " << mode << " render, " << img.width << " x " << img.height << " x " << img.channels << " "
             << vox::sampleTypeName(img.type) << "\n";
-  if (meta.contains("scene")) std::cout << "  rendered from " << meta["scene"].get<std::string>() << "\n";
-  if (meta.contains("dims")) std::cout << "  scene dims    " << meta["dims"].dump() << "\n";
-  if (meta.contains("camera")) {
-    const auto& v = meta["camera"]["viewMatrix"];
-    std::cout << "  camera        view matrix " << v.dump() << "\n";
-  }
+  const nlohmann::json& render = j["render"];
+  std::cout << "  rendered from " << meta.scene << "\n";
+  std::cout << "  scene dims    " << render["dims"].dump() << "\n";
+  std::cout << "  camera        view matrix " << render["camera"]["viewMatrix"].dump() << "\n";
   if (j.contains("pixel")) {
     const nlohmann::json& p = j["pixel"];
     if (!p["hit"].get<bool>()) {

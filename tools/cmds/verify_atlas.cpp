@@ -7,10 +7,10 @@
 #include <iostream>
 #include <unordered_map>
 
+#include "formats/image/atlas_meta.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
 #include "libvox/core/texel_formats.h"
-#include "tools/cmds/atlas_files.h"
 #include "tools/cli/verify_bijection.h"
 
 namespace voxcli {
@@ -69,8 +69,8 @@ int runAtlasCheck(const VerifyBijectionOptions& o) {
   run.phase("read");
   run.input(o.atlas);
   run.input(o.scene);
-  AtlasImageInfo info;
-  const vox::Image img = readAtlasImage(o.atlas, info);
+  vox::AtlasImageInfo info;
+  const vox::Image img = vox::readAtlasImage(o.atlas, info);
   const vox::Scene scene = vox::readSceneVdb(o.scene);
   const vox::AtlasLayout& L = info.layout;
   if (!(scene.header().dims == L.dims))

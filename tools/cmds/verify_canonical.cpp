@@ -1,16 +1,16 @@
 // vox verify-bijection --canonical IMG --scene S [camera]: checks a canonical
-// render the way idiff checks an image. Every pixel must decode: a hit pixel
-// (alpha at full scale) to an occupied voxel of the scene, a miss pixel to
-// (0, 0, 0, 0). With a camera (the image's own "vox:canonical" camera, or
+// render (formats/image/RENDER.md) the way idiff checks an image. Every pixel
+// must decode: a hit pixel (alpha at full scale) to an occupied voxel of the
+// scene, a miss pixel to (0, 0, 0, 0). With a camera (the image's own `vox:canonical` camera, or
 // --camera/--eye...), every pixel must also be the voxel the exact caster finds,
 // and a sample of pixels (all of them within --check-budget) the voxel a
 // brute-force ray finds. Reports counts and the first offenders with their
 // coordinates and both values; exit 1 when anything differs.
-#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "formats/image/image.h"
+#include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
 #include "libvox/render/render.h"
 #include "tools/cmds/render_input.h"
@@ -19,12 +19,6 @@
 namespace voxcli {
 
 namespace {
-
-struct Decoded {
-  bool valid = true;  // alpha is 0 or full scale, and a miss has RGB 0
-  bool hit = false;
-  uint64_t r = 0, g = 0, b = 0, a = 0;
-};
 
 std::string voxelText(const vox::Coord3& c) { return vox::toString(c); }
 
@@ -38,26 +32,15 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   if (vox::isPngFile(o.canonical)) img = vox::readPng(o.canonical);
   else if (vox::isExrFile(o.canonical)) img = vox::readExr(o.canonical);
   else vox::throwBadInput(o.canonical + ": not a PNG or EXR image");
-  if (img.channels != 4 || !(img.type == vox::SampleType::U8 || img.type == vox::SampleType::U16 ||
-                             img.type == vox::SampleType::U32))
-    vox::throwBadInput(o.canonical + ": a canonical image is RGBA with 8, 16 or 32-bit unsigned samples; this one has " +
-                       std::to_string(img.channels) + " channel(s) of " + vox::sampleTypeName(img.type));
-  nlohmann::json meta;
-  if (const std::string m = img.textValue("vox:canonical"); !m.empty()) {
-    try {
-      meta = nlohmann::json::parse(m);
-    } catch (const nlohmann::json::parse_error&) {
-      vox::throwBadInput(o.canonical + ": its \"vox:canonical\" entry is not valid JSON");
-    }
-  }
-  const int level = meta.is_object() && meta.contains("level") && meta["level"].is_number_integer() ? meta["level"].get<int>() : 0;
+  vox::requireCanonicalImage(img, o.canonical);
+  const std::optional<vox::RenderMeta> meta = vox::readRenderMeta(img, o.canonical);
+  const int level = meta && meta->level ? *meta->level : 0;
   run.input(o.scene);
   const RenderInput in = loadRenderInput(o.scene, level, /*needSummaries=*/false);
-  if (meta.is_object() && meta.contains("dims")) {
-    const nlohmann::json want = {in.dims.x, in.dims.y, in.dims.z};
-    if (meta["dims"] != want)
-      vox::throwBadInput(o.canonical + ": rendered from a " + meta["dims"].dump() + " grid, but " + o.scene + " is " +
-                         want.dump());
+  if (meta && meta->dims != in.dims) {
+    auto dimsText = [](const vox::Dims& d) { return nlohmann::json{d.x, d.y, d.z}.dump(); };
+    vox::throwBadInput(o.canonical + ": rendered from a " + dimsText(meta->dims) + " grid, but " + o.scene + " is " +
+                       dimsText(in.dims));
   }
 
   // The camera: given on the command line, else the image's own.
@@ -70,17 +53,8 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
                       " views; pick the one the image was rendered from with --view INDEX");
     camera = views[0].camera;
     cameraFrom = "command line";
-  } else if (meta.is_object() && meta.contains("camera")) {
-    const nlohmann::json& c = meta["camera"];
-    auto mat = [&](const char* key) {
-      vox::Mat4d m{};
-      if (!c.contains(key) || !c[key].is_array() || c[key].size() != 16)
-        vox::throwBadInput(o.canonical + ": \"vox:canonical\" camera." + key + " must be 16 numbers");
-      for (size_t i = 0; i < 16; ++i) m[i] = c[key][i].get<double>();
-      return m;
-    };
-    camera = vox::Camera::make(mat("viewMatrix"), mat("projectionMatrix"), img.width, img.height,
-                               o.canonical + ": \"vox:canonical\" camera");
+  } else if (meta) {
+    camera = vox::renderCamera(*meta, img, o.canonical);
     cameraFrom = "image metadata";
   }
   if (camera && (camera->width != img.width || camera->height != img.height))
@@ -89,16 +63,8 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
                     "; give --size " + std::to_string(img.width) + "x" + std::to_string(img.height));
 
   run.phase("decode");
-  const uint64_t full = img.type == vox::SampleType::U8 ? 0xff : img.type == vox::SampleType::U16 ? 0xffff : 0xffffffffull;
+  const uint64_t full = vox::canonicalFullScale(img);
   const size_t n = size_t(img.width) * img.height;
-  auto sample = [&](size_t i, int c) -> uint64_t {
-    const size_t k = i * 4 + size_t(c);
-    switch (img.type) {
-      case vox::SampleType::U8: return img.pixels[k];
-      case vox::SampleType::U16: return reinterpret_cast<const uint16_t*>(img.pixels.data())[k];
-      default: return reinterpret_cast<const uint32_t*>(img.pixels.data())[k];
-    }
-  };
   struct Failure {
     uint32_t x, y;
     std::string what;
@@ -111,7 +77,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   };
   std::vector<vox::PixelHit> decoded(n);
   for (size_t i = 0; i < n; ++i) {
-    const uint64_t r = sample(i, 0), g = sample(i, 1), b = sample(i, 2), a = sample(i, 3);
+    const auto [r, g, b, a] = vox::canonicalSamples(img, i);
     if (a == 0) {
       if (r || g || b) {
         ++decodeFailures;
@@ -154,11 +120,8 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
                   (p.hit ? voxelText({p.u, p.v, p.w}) : "nothing"));
     }
     run.phase("brute force");
-    std::vector<vox::Coord3> occupied;
-    occupied.reserve(size_t(in.grid->occupiedCount()));
-    in.grid->forEachOccupied([&](uint32_t u, uint32_t v, uint32_t w) { occupied.push_back({int32_t(u), int32_t(v), int32_t(w)}); });
-    const double cost = double(n) * double(std::max<size_t>(1, occupied.size()));
-    const uint64_t stride = std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, o.checkBudget))));
+    const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
+    const uint64_t stride = vox::checkStride(n, occupied.size(), o.checkBudget);
     vox::ViewHits image;
     image.width = img.width;
     image.height = img.height;

@@ -1,0 +1,27 @@
+// Reading the elements of a JSON document with errors that say where: every
+// function throws vox::Error (BadInput) "CONTEXT: ELEMENT must be ..." (or
+// "CONTEXT: no "KEY"" for a missing member), where CONTEXT names the file (and
+// the entry inside it) and ELEMENT the path to the value ("chunks[3].morton").
+//
+// Thread safety: pure functions.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "libvox/core/types.h"
+
+namespace vox {
+
+/// object[key]; `object` must be a JSON object.
+const nlohmann::json& jsonMember(const nlohmann::json& object, const char* key, const std::string& context);
+std::string jsonString(const nlohmann::json& j, const std::string& context, const std::string& element);
+/// Any JSON number (integers included).
+double jsonNumber(const nlohmann::json& j, const std::string& context, const std::string& element);
+int64_t jsonInteger(const nlohmann::json& j, const std::string& context, const std::string& element);
+uint64_t jsonUnsigned(const nlohmann::json& j, const std::string& context, const std::string& element);
+/// A grid's extent [X, Y, Z], each 1..2^32-1.
+Dims jsonDims(const nlohmann::json& j, const std::string& context, const std::string& element);
+
+}  // namespace vox

@@ -1,0 +1,205 @@
+#include "formats/vdb/vdb_scene_grids.h"
+
+#include <openvdb/io/File.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_structure.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& where, const std::string& what) { throwBadInput(where + ": " + what); }
+
+Coord3 toCoord3(const openvdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
+
+/// OpenVDB's text of an exception from a corrupt file may quote garbage: short and printable.
+std::string printable(const std::exception& e) {
+  std::string why;
+  for (char c : std::string(e.what()).substr(0, 160)) why += (c >= 32 && c < 127) ? c : '?';
+  return why;
+}
+
+}  // namespace
+
+void insertVdbMetadata(openvdb::MetaMap& into, const MetaEntries& entries) {
+  for (const auto& [key, value] : entries) {
+    struct Insert {
+      openvdb::MetaMap& into;
+      const std::string& key;
+      void operator()(const std::string& v) const { into.insertMeta(key, openvdb::StringMetadata(v)); }
+      void operator()(int32_t v) const { into.insertMeta(key, openvdb::Int32Metadata(v)); }
+      void operator()(double v) const { into.insertMeta(key, openvdb::DoubleMetadata(v)); }
+      void operator()(const std::array<int32_t, 3>& v) const {
+        into.insertMeta(key, openvdb::Vec3IMetadata(openvdb::Vec3i(v[0], v[1], v[2])));
+      }
+      void operator()(const std::array<double, 3>& v) const {
+        into.insertMeta(key, openvdb::Vec3DMetadata(openvdb::Vec3d(v[0], v[1], v[2])));
+      }
+      void operator()(const ForeignMetaValue& v) const {
+        throw Error(ErrorKind::Internal, "insertVdbMetadata: '" + key + "' has foreign type " + v.typeName);
+      }
+    };
+    std::visit(Insert{into, key}, value);
+  }
+}
+
+MetaEntries metaEntriesOf(const openvdb::MetaMap& meta) {
+  MetaEntries out;
+  for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
+    const openvdb::Metadata::Ptr& m = it->second;
+    if (auto s = openvdb::DynamicPtrCast<openvdb::StringMetadata>(m)) out[it->first] = s->value();
+    else if (auto i = openvdb::DynamicPtrCast<openvdb::Int32Metadata>(m)) out[it->first] = int32_t(i->value());
+    else if (auto d = openvdb::DynamicPtrCast<openvdb::DoubleMetadata>(m)) out[it->first] = double(d->value());
+    else if (auto v = openvdb::DynamicPtrCast<openvdb::Vec3IMetadata>(m))
+      out[it->first] = std::array<int32_t, 3>{v->value().x(), v->value().y(), v->value().z()};
+    else if (auto w = openvdb::DynamicPtrCast<openvdb::Vec3DMetadata>(m))
+      out[it->first] = std::array<double, 3>{w->value().x(), w->value().y(), w->value().z()};
+    else out[it->first] = ForeignMetaValue{m->typeName()};
+  }
+  return out;
+}
+
+void appendSceneGrids(const Scene& scene, const std::string& prefix, const MetaEntries& extra, openvdb::GridPtrVec& out) {
+  const SceneHeader& h = scene.header();
+  const SceneGrids& g = scene.grids();
+  openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h.voxelSize);
+  xform->postTranslate(openvdb::Vec3d(h.origin[0] + 0.5 * h.voxelSize, h.origin[1] + 0.5 * h.voxelSize,
+                                      h.origin[2] + 0.5 * h.voxelSize));
+  auto add = [&](openvdb::GridBase::ConstPtr grid, const std::string& name, const MetaEntries& gridMeta) {
+    // A shallow copy shares the tree, so the in-memory scene is not modified.
+    openvdb::GridBase::Ptr copy = openvdb::ConstPtrCast<openvdb::GridBase>(grid)->copyGrid();
+    copy->setTransform(xform->copy());
+    copy->setName(prefix + name);
+    copy->setSaveFloatAsHalf(false);
+    insertVdbMetadata(*copy, extra);
+    insertVdbMetadata(*copy, gridMeta);
+    out.push_back(copy);
+    return copy;
+  };
+  add(g.occupancy, kOccupancyGridName, {});
+  for (const ClassGrid& cg : g.votes) add(cg.grid, voteGridName(cg.classId), voteGridMetadata(h.classes, cg.classId));
+  if (g.color) add(g.color, kColorGridName, colorGridMetadata())->setVectorType(openvdb::VEC_INVARIANT);
+}
+
+void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
+                  const std::string& what) {
+  try {
+    openvdb::io::File file(path);
+    file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+    file.write(grids, meta);
+    file.close();
+  } catch (const std::exception& e) {
+    throwIo(path + ": cannot write the " + what + ": " + e.what());
+  }
+}
+
+VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly) {
+  ensureOpenVdbInitialized();
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) bad(path, "cannot open the file (missing or unreadable)");
+  }
+  if (!looksLikeVdb(path)) bad(path, "not an OpenVDB file (wrong magic number)");
+  checkVdbStructure(path);  // refuses truncated files before OpenVDB trusts their lengths
+
+  VdbSceneFile f;
+  openvdb::MetaMap::Ptr meta;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);
+    meta = file.getMetadata();
+    if (!occupancyOnly) {
+      f.grids = *file.getGrids();
+    } else if (file.hasGrid(kOccupancyGridName)) {
+      f.grids.push_back(file.readGrid(kOccupancyGridName));
+    }
+    file.close();
+  } catch (const std::exception& e) {
+    bad(path, "cannot read the OpenVDB file (corrupt?): " + printable(e));
+  }
+  f.metadata = metaEntriesOf(*meta);
+  f.header = sceneHeaderFromMetadata(f.metadata, path);
+  return f;
+}
+
+SceneGrids levelGridsFromVdb(const openvdb::GridPtrVec& fileGrids, const std::string& prefix, const SceneHeader& h,
+                             const std::string& where, bool checkTopology) {
+  SceneGrids g;
+  const openvdb::CoordBBox domain(openvdb::Coord(0),
+                                  openvdb::Coord(int(h.dims.x) - 1, int(h.dims.y) - 1, int(h.dims.z) - 1));
+  for (const openvdb::GridBase::Ptr& base : fileGrids) {
+    const std::string fileName = base->getName();
+    if (fileName.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string name = fileName.substr(prefix.size());
+    const std::string grid = "grid '" + fileName + "'";
+    auto expectType = [&](const auto& typed, const char* type) {
+      if (!typed) bad(where, grid + " has type " + base->type() + ", expected " + type);
+      if (typed->activeVoxelCount() > 0 && !domain.isInside(typed->evalActiveVoxelBoundingBox()))
+        bad(where, grid + " has active voxels outside the dims " + toString(h.dims));
+      typed->tree().voxelizeActiveTiles();  // other writers may store full blocks as tiles
+      typed->setName(name);
+      typed->setTransform(openvdb::math::Transform::createLinearTransform(1.0));  // in memory: index space
+    };
+    if (name == kOccupancyGridName) {
+      g.occupancy = openvdb::GridBase::grid<openvdb::BoolGrid>(base);
+      expectType(g.occupancy, "bool");
+    } else if (looksLikeVoteGridName(name)) {
+      auto votes = openvdb::GridBase::grid<openvdb::Int32Grid>(base);
+      if (!votes) bad(where, grid + " has type " + base->type() + ", expected int32");
+      const std::optional<uint8_t> id = classIdOfVoteGridName(name);
+      if (!id) bad(where, grid + " is not named " + prefix + "votes.<class id 1..255>");
+      if (!h.classes.find(*id))
+        bad(where, grid + " holds votes for class " + std::to_string(*id) + ", which is not in 'vox:classes'");
+      expectType(votes, "int32");
+      for (auto it = votes->cbeginValueOn(); it; ++it)
+        if (*it <= 0)
+          bad(where, grid + " has vote count " + std::to_string(*it) + " at " + toString(toCoord3(it.getCoord())) +
+                         "; counts must be >= 1");
+      g.votes.push_back({*id, votes});
+    } else if (name == kColorGridName) {
+      g.color = openvdb::GridBase::grid<openvdb::Vec3SGrid>(base);
+      expectType(g.color, "vec3s");
+    }
+    // Other grids are ignored, so users may add their own.
+  }
+  if (!g.occupancy)
+    bad(where, "no grid named '" + prefix + kOccupancyGridName + "' (bool)" +
+                   (prefix.empty() ? "; this is not a voxbake scene — convert OpenVDB level sets or fog volumes "
+                                     "with `vox voxelize FILE.vdb`"
+                                   : ""));
+  std::sort(g.votes.begin(), g.votes.end(), [](const ClassGrid& a, const ClassGrid& b) { return a.classId < b.classId; });
+  for (size_t i = 1; i < g.votes.size(); ++i)
+    if (g.votes[i].classId == g.votes[i - 1].classId)
+      bad(where, "two vote grids for class " + std::to_string(g.votes[i].classId));
+  if (!checkTopology) return g;
+
+  // Every vote and colour voxel is occupied and every occupied voxel has a vote.
+  auto occ = g.occupancy->getConstAccessor();
+  for (const ClassGrid& cg : g.votes)
+    for (auto it = cg.grid->cbeginValueOn(); it; ++it)
+      if (!occ.isValueOn(it.getCoord()))
+        bad(where, "grid '" + prefix + cg.grid->getName() + "' has a vote at an unoccupied voxel " +
+                       toString(toCoord3(it.getCoord())));
+  if (g.color)
+    for (auto it = g.color->cbeginValueOn(); it; ++it)
+      if (!occ.isValueOn(it.getCoord()))
+        bad(where, "grid '" + prefix + kColorGridName + "' has a colour at an unoccupied voxel " +
+                       toString(toCoord3(it.getCoord())));
+  std::vector<openvdb::Int32Grid::ConstAccessor> voteAccessors;
+  for (const ClassGrid& cg : g.votes) voteAccessors.push_back(cg.grid->getConstAccessor());
+  for (auto it = g.occupancy->cbeginValueOn(); it; ++it) {
+    bool voted = false;
+    for (auto& a : voteAccessors) voted = voted || a.isValueOn(it.getCoord());
+    if (!voted)
+      bad(where, "occupied voxel " + toString(toCoord3(it.getCoord())) + " has no votes in any '" + prefix +
+                     "votes.<id>' grid");
+  }
+  return g;
+}
+
+}  // namespace vox
