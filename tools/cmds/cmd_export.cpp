@@ -25,21 +25,23 @@
 #include "libvox/scene/class_volume_scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 
 namespace voxcli {
 
 namespace {
 
-enum class ExportFormat { Glb, Gltf, Ply, MagicaVoxel, Vdb };
+enum class ExportFormat { FromExtension, Glb, Gltf, Ply, MagicaVoxel, Vdb };
+enum class Split { None, Classes };
 
 struct ExportOptions {
   std::string input;
   std::string output;
-  std::string format;  // empty: from the output's extension
+  ExportFormat format = ExportFormat::FromExtension;
   int level = 0;
   std::string region;  // "umin,vmin,wmin,umax,vmax,wmax", inclusive
-  std::string color = "palette";
-  std::string split = "none";
+  vox::FaceColor color = vox::FaceColor::Palette;
+  Split split = Split::None;
   bool dedup = false;
   bool greedy = false;
   bool fog = false, levelSet = false;
@@ -48,44 +50,43 @@ struct ExportOptions {
   CommonOptions common;
 };
 
-struct FormatName {
-  ExportFormat format;
-  const char* name;
-  const char* extension;
-};
-constexpr FormatName kFormats[] = {
-    {ExportFormat::Glb, "glb", ".glb"},
-    {ExportFormat::Gltf, "gltf", ".gltf"},
-    {ExportFormat::Ply, "ply", ".ply"},
-    {ExportFormat::MagicaVoxel, "vox", ".vox"},
-    {ExportFormat::Vdb, "vdb", ".vdb"},
-};
-
-std::string formatList() {
-  std::string s;
-  for (const FormatName& f : kFormats) s += std::string(s.empty() ? "" : ", ") + f.name;
-  return s;
+const EnumNames<ExportFormat>& formatNames() {
+  static const EnumNames<ExportFormat> names{{"glb", ExportFormat::Glb},
+                                             {"gltf", ExportFormat::Gltf},
+                                             {"ply", ExportFormat::Ply},
+                                             {"vox", ExportFormat::MagicaVoxel},
+                                             {"vdb", ExportFormat::Vdb}};
+  return names;
 }
 
+const EnumNames<vox::FaceColor>& colorNames() {
+  static const EnumNames<vox::FaceColor> names{{"palette", vox::FaceColor::Palette}, {"voxel", vox::FaceColor::Voxel}};
+  return names;
+}
+
+const EnumNames<Split>& splitNames() {
+  static const EnumNames<Split> names{{"none", Split::None}, {"classes", Split::Classes}};
+  return names;
+}
+
+/// --format, or the output's extension (".glb" for glb, and so on).
 ExportFormat outputFormat(const ExportOptions& o) {
-  for (const FormatName& f : kFormats)
-    if (o.format.empty() ? vox::hasExtension(o.output, f.extension) : o.format == f.name) return f.format;
-  if (!o.format.empty()) vox::throwUsage("--format " + o.format + ": expected one of " + formatList());
+  if (o.format != ExportFormat::FromExtension) return o.format;
+  for (const auto& [name, format] : formatNames())
+    if (vox::hasExtension(o.output, "." + name)) return format;
   vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it .glb .gltf .ply .vox .vdb"
-                  " or give --format (" + formatList() + ")");
+                  " or give --format");
 }
 
 bool isGltf(ExportFormat f) { return f == ExportFormat::Glb || f == ExportFormat::Gltf; }
 
 /// The options that only some formats take.
 void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
-  if (o.color != "palette" && o.color != "voxel") vox::throwUsage("--color " + o.color + ": expected palette or voxel");
-  if (o.split != "none" && o.split != "classes") vox::throwUsage("--split " + o.split + ": expected none or classes");
-  if (!isGltf(f) && (o.dedup || o.greedy || o.split != "none"))
+  if (!isGltf(f) && (o.dedup || o.greedy || o.split != Split::None))
     vox::throwUsage("--dedup, --greedy and --split apply to glTF block meshes (.glb, .gltf)");
   if (f == ExportFormat::Vdb) {
     if (o.fog == o.levelSet) vox::throwUsage("a .vdb export is a fog volume or a level set: give --fog or --level-set");
-    if (o.color != "palette") vox::throwUsage("--color: a .vdb volume has no colour");
+    if (o.color != vox::FaceColor::Palette) vox::throwUsage("--color: a .vdb volume has no colour");
   } else if (o.fog || o.levelSet) {
     vox::throwUsage("--fog and --level-set are .vdb volumes");
   }
@@ -197,7 +198,7 @@ nlohmann::json boxJson(const vox::IndexBox& b) {
 void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& in, Run& run) {
   run.phase("mesh");
   vox::BlockMeshSettings ms;
-  ms.color = o.color == "voxel" ? vox::FaceColor::Voxel : vox::FaceColor::Palette;
+  ms.color = o.color;
   ms.threads = run.threads();
   vox::BlockMesh mesh = vox::meshVisibleFaces(*in.volume, in.classes, ms);
   const uint64_t culledQuads = mesh.quads.size();
@@ -212,7 +213,7 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   scene.frame = in.frame;
   scene.indexed = o.dedup;
   std::vector<std::vector<vox::BlockQuad>> groups;
-  if (o.split == "classes") {
+  if (o.split == Split::Classes) {
     groups = vox::quadsByClass(mesh);
     for (const auto& g : groups) {
       const vox::ClassInfo* c = in.classes.find(g.front().classId);
@@ -261,10 +262,6 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
 }
 
-vox::FaceColor colorMode(const ExportOptions& o) {
-  return o.color == "voxel" ? vox::FaceColor::Voxel : vox::FaceColor::Palette;
-}
-
 void noteUncolored(uint64_t voxels, Run& run) {
   run.counts()["voxels_without_colour"] = voxels;
   if (voxels)
@@ -276,10 +273,10 @@ void noteUncolored(uint64_t voxels, Run& run) {
 void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
   run.phase("write");
   const vox::PlyWriteResult r =
-      vox::writeVoxelPly(*in.volume, in.classes, colorMode(o), in.frame, run.output(o.output));
+      vox::writeVoxelPly(*in.volume, in.classes, o.color, in.frame, run.output(o.output));
   run.counts()["points"] = r.points;
   run.counts()["bytes"] = r.bytes;
-  if (colorMode(o) == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
+  if (o.color == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
   run.note("wrote " + o.output + ": " + std::to_string(r.points) + " points, " + std::to_string(r.bytes) + " bytes");
 }
 
@@ -292,7 +289,7 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
   vox::QuantizedPalette q;
   vox::VoxelColors colors(in.classes, vox::FaceColor::Voxel);  // for indexOf
   nlohmann::json& c = run.counts();
-  if (colorMode(o) == vox::FaceColor::Palette) {
+  if (o.color == vox::FaceColor::Palette) {
     std::array<bool, 256> known{};
     for (const vox::ClassInfo& k : in.classes.classes()) {
       palette[k.id - 1] = k.color;
@@ -363,7 +360,7 @@ int runExport(const ExportOptions& o) {
   const std::optional<vox::IndexBox> region = parseRegion(o.region);
   Run run("export", o.common);
   run.phase("read");
-  const ExportInput in = readInput(o, region, o.color == "voxel", run);
+  const ExportInput in = readInput(o, region, o.color == vox::FaceColor::Voxel, run);
   nlohmann::json& c = run.counts();
   c["input_kind"] = in.kind;
   c["level"] = o.level;
@@ -379,6 +376,7 @@ int runExport(const ExportOptions& o) {
     case ExportFormat::Ply: exportPly(o, in, run); break;
     case ExportFormat::MagicaVoxel: exportMagicaVoxel(o, in, run); break;
     case ExportFormat::Vdb: exportVdbVolume(o, in, run); break;
+    case ExportFormat::FromExtension: throw vox::Error(vox::ErrorKind::Internal, "export: no format chosen");
   }
   return run.finish();
 }
@@ -399,13 +397,13 @@ Command registerExport(CLI::App& root) {
       "Example: vox export hamlet.vdb -o hamlet.glb --split classes --report export.json");
   cmd->add_option("input", opts->input, "Scene or pyramid (.vdb), or page file (.vpk)")->required();
   cmd->add_option("-o,--output", opts->output, "Output file (.glb .gltf .ply .vox .vdb)")->required();
-  cmd->add_option("--format", opts->format, "glb, gltf, ply, vox or vdb (default: from the extension)");
+  addEnumOption(*cmd, "--format", opts->format, formatNames(), "Output format (default: from the extension)");
   cmd->add_option("--level", opts->level, "Pyramid or page file level (0 = full resolution)")->capture_default_str();
   cmd->add_option("--region", opts->region, "Index box umin,vmin,wmin,umax,vmax,wmax (inclusive), default: all");
-  cmd->add_option("--color", opts->color, "Face colours: palette (the class's) or voxel (the baked colour)")
-      ->capture_default_str();
-  cmd->add_option("--split", opts->split, "none (one primitive) or classes (one primitive and material per class)")
-      ->capture_default_str();
+  addEnumOption(*cmd, "--color", opts->color, colorNames(),
+                "Colours: palette (the class's) or voxel (the baked colour)");
+  addEnumOption(*cmd, "--split", opts->split, splitNames(),
+                "glTF: none (one primitive) or classes (one primitive and material per class)");
   cmd->add_flag("--dedup", opts->dedup, "Indexed triangles: 4 vertices per face instead of 6");
   cmd->add_flag("--greedy", opts->greedy, "Merge coplanar faces of one class and colour into rectangles");
   cmd->add_flag("--fog", opts->fog, ".vdb: a fog volume, density 1 in occupied voxels");
