@@ -7,7 +7,8 @@
 #   scripts/install-deps.sh        that, plus the test suite's and benchmarks' tools
 #                                  (GoogleTest, Google Benchmark, OpenVDB and
 #                                  OpenImageIO command-line peers, hyperfine, clang
-#                                  for the fuzzers, gnuplot for the study plot)
+#                                  for the fuzzers, gnuplot for the study plot; numpy,
+#                                  node and Chromium for the export checks)
 set -eu
 [ "${VOX_SKIP_INSTALL:-0}" = 1 ] && exit 0
 profile=${1:-all}
@@ -18,8 +19,11 @@ libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1
 libopenexr-dev libimath-dev libpng-dev
 libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev"
 # The test suite (scripts/test.sh) and the benchmark scripts.
-TEST="libgtest-dev libgmock-dev libbenchmark-dev python3
-libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang"
+TEST="libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy
+libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium"
+# The export tests check vox's files with others' readers from npm
+# (tests/export/setup.sh); any node with npm will do, Debian's if there is none.
+command -v npm >/dev/null 2>&1 || TEST="$TEST nodejs npm"
 
 case $profile in
   demo) PKGS=$BUILD ;;

@@ -6,7 +6,8 @@ from its folders, README "Layout"):
 
   core  libvox/core libvox/render formats/core tools/cli    the launcher `vox`
   bake  libvox/mesh formats/mesh formats/scene tools/bake   vox-bake.so, no OpenVDB
-  full  libvox/scene formats/vdb formats/pagefile formats/image tools/cmds
+  full  libvox/scene formats/vdb formats/pagefile formats/image formats/export
+        tools/cmds
                                                              vox-cmds.so
 
 Rules:
@@ -26,7 +27,8 @@ import sys
 TIERS = {
     "libvox/core": 0, "libvox/render": 0, "formats/core": 0, "tools/cli": 0,
     "libvox/mesh": 1, "formats/mesh": 1, "formats/scene": 1, "tools/bake": 1,
-    "libvox/scene": 2, "formats/vdb": 2, "formats/pagefile": 2, "formats/image": 2, "tools/cmds": 2,
+    "libvox/scene": 2, "formats/vdb": 2, "formats/pagefile": 2, "formats/image": 2, "formats/export": 2,
+    "tools/cmds": 2,
 }
 TIER_NAMES = ["core", "bake", "full"]
 HEAVY = re.compile(r"^(openvdb|nanovdb|OpenImageIO|OpenEXR|Imf|Imath|png\.h)")

@@ -31,5 +31,6 @@ Command registerBuildAtlas(CLI::App& root);
 Command registerMip(CLI::App& root);
 Command registerPackChunks(CLI::App& root);
 Command registerRenderCanonical(CLI::App& root);
+Command registerExport(CLI::App& root);
 
 }  // namespace voxcli

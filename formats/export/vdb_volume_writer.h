@@ -1,0 +1,35 @@
+// OpenVDB volumes of a ClassVolume's occupancy for renderers (vdb_render,
+// Blender, Houdini), which draw float grids but not a scene's bool and int
+// grids (docs/export.md):
+//   * fog: FloatGrid "density", class fog volume, 1 in every occupied voxel and
+//     background 0 elsewhere;
+//   * level set: FloatGrid "surface", class level set, a narrow band of
+//     `halfWidth` voxels on each side of the occupied voxels' boundary
+//     (OpenVDB's topologyToLevelSet), distances in world units.
+// Both carry the scene's placement: index (i, j, k) is the centre of voxel
+// (u, v, w) = (i, j, k), at origin + (index + 0.5) * voxel size
+// (formats/scene/SCENE.md), so they line up with the scene and its exports.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "libvox/core/class_volume.h"
+#include "libvox/render/render.h"
+
+namespace vox {
+
+enum class VdbVolumeKind { Fog, LevelSet };
+
+struct VdbVolumeResult {
+  uint64_t activeVoxels = 0;  // of the float grid (the level set's band included)
+  IndexBox activeBox;         // index bounding box of its active voxels
+  uint64_t bytes = 0;
+};
+
+/// Writes the volume to `path`. `halfWidth` (voxels, >= 1) is used for level sets.
+/// Throws vox::Error (Io) when writing fails.
+VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame, VdbVolumeKind kind,
+                               int halfWidth, const std::string& path);
+
+}  // namespace vox

@@ -1,0 +1,299 @@
+// The exporters' files read back by other code: glTF through tinygltf (an
+// independent parser), PLY and MagicaVoxel byte layouts against their specs,
+// and the palette quantiser.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "formats/core/file_util.h"
+#include "formats/export/gltf_writer.h"
+#include "formats/export/magicavoxel_writer.h"
+#include "formats/export/ply_writer.h"
+#include "libvox/core/color_quantize.h"
+#include "libvox/core/block_mesh.h"
+#include "test_util.h"
+
+namespace {
+
+vox::ClassTable paletteTable() {
+  vox::ClassTable t;
+  t.add({1, "Grass", {87, 173, 92}, vox::FacePalette{{87, 173, 92}, {102, 77, 41}, {115, 148, 77}}});
+  t.add({3, "Stone", {148, 153, 163}, std::nullopt});
+  return t;
+}
+
+// Two blocks of different classes side by side, and one apart.
+vox::BlockMesh smallMesh() {
+  vox::ClassVolume vol({{0, 0, 0}, {7, 7, 7}}, false);
+  vox::ClassVolume::Brick b = vol.makeBrick({0, 0, 0});
+  b.classes[size_t(vox::ClassVolume::voxelIndex(0, 0, 0))] = 1;
+  b.classes[size_t(vox::ClassVolume::voxelIndex(1, 0, 0))] = 3;
+  b.classes[size_t(vox::ClassVolume::voxelIndex(5, 5, 5))] = 1;
+  vol.add(std::move(b));
+  vol.finish();
+  return vox::meshVisibleFaces(vol, paletteTable(), {});
+}
+
+// With VOX_EXPORT_KEEP_DIR set, written files are copied there for the Khronos
+// validator (tests/export/validate_unit_files.sh, a CTest test).
+void keep(const std::string& path) {
+  if (const char* dir = std::getenv("VOX_EXPORT_KEEP_DIR"))
+    std::filesystem::copy_file(path, std::filesystem::path(dir) / std::filesystem::path(path).filename(),
+                               std::filesystem::copy_options::overwrite_existing);
+}
+
+template <typename T>
+std::vector<T> accessorValues(const tinygltf::Model& m, int accessor, size_t components) {
+  const tinygltf::Accessor& a = m.accessors[size_t(accessor)];
+  const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
+  const size_t stride = v.byteStride ? v.byteStride : components * sizeof(T);
+  std::vector<T> out;
+  const uint8_t* base = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+  for (size_t i = 0; i < a.count; ++i)
+    for (size_t c = 0; c < components; ++c) {
+      T x;
+      std::memcpy(&x, base + i * stride + c * sizeof(T), sizeof(T));
+      out.push_back(x);
+    }
+  return out;
+}
+
+tinygltf::Model load(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool ok = path.ends_with(".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                         : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  EXPECT_TRUE(ok) << err;
+  EXPECT_EQ(warn, "");
+  keep(path);
+  for (const tinygltf::Buffer& b : model.buffers)
+    if (!b.uri.empty()) keep((std::filesystem::path(path).parent_path() / b.uri).string());
+  return model;
+}
+
+vox::GltfScene sceneOf(const vox::BlockMesh& mesh, bool indexed) {
+  vox::GltfScene s;
+  s.name = "small";
+  s.generator = "test";
+  s.frame = {{-8.0, 0.0, -8.0}, 2.0};
+  s.indexed = indexed;
+  s.materials = {{"blocks", std::nullopt}};
+  s.primitives = {{mesh.quads, 0}};
+  return s;
+}
+
+TEST(GltfWriter, GlbReadsBackAsTheRenderersVertexStream) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  ASSERT_EQ(mesh.quads.size(), 16u);
+  const vox::GltfScene scene = sceneOf(mesh, false);
+  const vox::GltfWriteResult r = vox::writeGlb(scene, dir.file("a.glb"));
+  EXPECT_EQ(r.vertices, 96u);
+  EXPECT_EQ(r.triangles, 32u);
+  EXPECT_EQ(r.indices, 0u);
+  EXPECT_EQ(r.fileBytes, uint64_t(std::filesystem::file_size(dir.file("a.glb"))));
+  const tinygltf::Model m = load(dir.file("a.glb"));
+  ASSERT_EQ(m.meshes.size(), 1u);
+  ASSERT_EQ(m.meshes[0].primitives.size(), 1u);
+  const tinygltf::Primitive& p = m.meshes[0].primitives[0];
+  EXPECT_EQ(p.indices, -1);
+  EXPECT_EQ(p.mode, TINYGLTF_MODE_TRIANGLES);
+  const auto pos = accessorValues<float>(m, p.attributes.at("POSITION"), 3);
+  const auto nrm = accessorValues<float>(m, p.attributes.at("NORMAL"), 3);
+  const auto col = accessorValues<float>(m, p.attributes.at("COLOR_0"), 3);
+  const auto uv = accessorValues<float>(m, p.attributes.at("TEXCOORD_0"), 2);
+  ASSERT_EQ(pos.size(), 96u * 3);
+  // Six vertices per quad: corners 0,1,2,0,2,3.
+  for (size_t q = 0; q < mesh.quads.size(); ++q) {
+    const auto corners = vox::quadVertices(mesh.quads[q], scene.frame);
+    for (size_t k = 0; k < 6; ++k) {
+      const vox::BlockVertex& v = corners[vox::kQuadTriangles[k]];
+      const size_t i = q * 6 + k;
+      for (size_t a = 0; a < 3; ++a) {
+        ASSERT_EQ(pos[i * 3 + a], v.position[a]);
+        ASSERT_EQ(nrm[i * 3 + a], v.normal[a]);
+        ASSERT_EQ(col[i * 3 + a], v.color[a]);
+      }
+      ASSERT_EQ(uv[i * 2], v.uv[0]);
+      ASSERT_EQ(uv[i * 2 + 1], v.uv[1]);
+    }
+  }
+  // POSITION bounds: blocks (0..1, 0, 0) and (5, 5, 5) at voxel size 2, origin (-8, 0, -8).
+  const tinygltf::Accessor& pa = m.accessors[size_t(p.attributes.at("POSITION"))];
+  EXPECT_EQ(pa.minValues, (std::vector<double>{-8, 0, -8}));
+  EXPECT_EQ(pa.maxValues, (std::vector<double>{4, 12, 4}));
+  EXPECT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].pbrMetallicRoughness.metallicFactor, 0.0);
+}
+
+TEST(GltfWriter, IndexedGltfSharesTheQuadCorners) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  const vox::GltfWriteResult r =
+      vox::writeGltf(sceneOf(mesh, true), dir.file("b.gltf"), dir.file("b.bin"), "b.bin");
+  EXPECT_EQ(r.vertices, 64u);
+  EXPECT_EQ(r.indices, 96u);
+  // 64 vertices * 44 bytes + 96 uint16 indices; 96 vertices * 44 without indices.
+  EXPECT_EQ(r.bufferBytes, 64u * 44 + 96 * 2);
+  EXPECT_EQ(r.unindexedBufferBytes, 96u * 44);
+  EXPECT_EQ(std::filesystem::file_size(dir.file("b.bin")), r.bufferBytes);
+  const tinygltf::Model m = load(dir.file("b.gltf"));
+  const tinygltf::Primitive& p = m.meshes[0].primitives[0];
+  ASSERT_GE(p.indices, 0);
+  EXPECT_EQ(m.accessors[size_t(p.indices)].componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  const auto idx = accessorValues<uint16_t>(m, p.indices, 1);
+  ASSERT_EQ(idx.size(), 96u);
+  for (size_t q = 0; q < 16; ++q)
+    for (size_t k = 0; k < 6; ++k) EXPECT_EQ(idx[q * 6 + k], q * 4 + vox::kQuadTriangles[k]);
+  const auto pos = accessorValues<float>(m, p.attributes.at("POSITION"), 3);
+  const auto corners = vox::quadVertices(mesh.quads[5], {{-8.0, 0.0, -8.0}, 2.0});
+  for (size_t c = 0; c < 4; ++c)
+    for (size_t a = 0; a < 3; ++a) EXPECT_EQ(pos[(5 * 4 + c) * 3 + a], corners[c].position[a]);
+}
+
+TEST(GltfWriter, OnePrimitiveAndMaterialPerClass) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  const auto groups = vox::quadsByClass(mesh);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].size(), 11u);  // Grass: 5 faces + 6 faces
+  EXPECT_EQ(groups[1].size(), 5u);
+  vox::GltfScene s = sceneOf(mesh, false);
+  s.materials = {{"Grass", 1}, {"Stone", 3}};
+  s.primitives = {{groups[0], 0}, {groups[1], 1}};
+  vox::writeGlb(s, dir.file("c.glb"));
+  const tinygltf::Model m = load(dir.file("c.glb"));
+  ASSERT_EQ(m.meshes[0].primitives.size(), 2u);
+  EXPECT_EQ(m.materials[1].name, "Stone");
+  EXPECT_EQ(m.materials[1].extras.Get("vox_class_id").GetNumberAsInt(), 3);
+  EXPECT_EQ(m.accessors[size_t(m.meshes[0].primitives[1].attributes.at("POSITION"))].count, 30u);
+}
+
+TEST(GltfWriter, AnEmptyMeshIsAValidEmptyFile) {
+  voxtest::TempDir dir;
+  vox::GltfScene s;
+  s.name = "empty";
+  vox::writeGlb(s, dir.file("e.glb"));
+  const tinygltf::Model m = load(dir.file("e.glb"));
+  EXPECT_TRUE(m.meshes.empty());
+  EXPECT_TRUE(m.buffers.empty());
+  ASSERT_EQ(m.scenes.size(), 1u);
+  const vox::GltfWriteResult r = vox::writeGltf(s, dir.file("e.gltf"), dir.file("e.bin"), "e.bin");
+  EXPECT_EQ(r.bufferBytes, 0u);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("e.bin")));
+}
+
+}  // namespace
+
+
+namespace {
+
+TEST(ColorQuantize, FewColoursAreExact) {
+  vox::ColorHistogram h{{vox::packRgb({9, 8, 7}), 3}, {vox::packRgb({1, 2, 3}), 1}};
+  const vox::QuantizedPalette p = vox::quantizeColors(h, 255);
+  EXPECT_TRUE(p.exact);
+  ASSERT_EQ(p.colors.size(), 2u);
+  EXPECT_EQ(p.colors[0], (vox::Rgb8{1, 2, 3}));  // ascending 0xRRGGBB
+  EXPECT_EQ(p.slotOf.at(vox::packRgb({9, 8, 7})), 1u);
+  EXPECT_EQ(p.meanError, 0.0);
+}
+
+TEST(ColorQuantize, MedianCutKeepsTheLimitAndMeasuresItsError) {
+  vox::ColorHistogram h;
+  for (int r = 0; r < 256; r += 5)
+    for (int g = 0; g < 256; g += 17) h[vox::packRgb({uint8_t(r), uint8_t(g), 40})] = 1 + uint64_t(r % 3);
+  const vox::QuantizedPalette p = vox::quantizeColors(h, 16);
+  EXPECT_FALSE(p.exact);
+  EXPECT_EQ(p.colors.size(), 16u);
+  // Every colour maps to its nearest entry; the reported errors are those distances.
+  double worst = 0, sum = 0;
+  uint64_t n = 0;
+  for (const auto& [rgb, count] : h) {
+    const vox::Rgb8 c = vox::unpackRgb(rgb);
+    double best = 1e9;
+    for (const vox::Rgb8& e : p.colors)
+      best = std::min(best, std::hypot(double(c.r - e.r), double(c.g - e.g), double(c.b - e.b)));
+    const vox::Rgb8& mine = p.colors[p.slotOf.at(rgb)];
+    EXPECT_DOUBLE_EQ(std::hypot(double(c.r - mine.r), double(c.g - mine.g), double(c.b - mine.b)), best);
+    worst = std::max(worst, best);
+    sum += best * double(count);
+    n += count;
+  }
+  EXPECT_DOUBLE_EQ(p.maxError, worst);
+  EXPECT_NEAR(p.meanError, sum / double(n), 1e-9);
+  EXPECT_LT(p.meanError, 40.0);
+  EXPECT_EQ(vox::quantizeColors(h, 16).colors, p.colors);  // deterministic
+}
+
+vox::ClassVolume oneVoxel(vox::Coord3 at, uint8_t cls, vox::IndexBox box) {
+  vox::ClassVolume vol(box, false);
+  vox::ClassVolume::Brick b = vol.makeBrick({at.u & ~7, at.v & ~7, at.w & ~7});
+  b.classes[size_t(vox::ClassVolume::voxelIndex(at.u & 7, at.v & 7, at.w & 7))] = cls;
+  vol.add(std::move(b));
+  vol.finish();
+  return vol;
+}
+
+uint32_t le32(const std::string& s, size_t at) {
+  return uint32_t(uint8_t(s[at])) | uint32_t(uint8_t(s[at + 1])) << 8 | uint32_t(uint8_t(s[at + 2])) << 16 |
+         uint32_t(uint8_t(s[at + 3])) << 24;
+}
+
+TEST(MagicaVoxelWriter, ChunksFollowTheSpec) {
+  voxtest::TempDir dir;
+  std::array<vox::Rgb8, 255> palette{};
+  palette[2] = {148, 153, 163};
+  const vox::ClassVolume vol = oneVoxel({1, 2, 3}, 3, {{0, 0, 0}, {4, 5, 6}});
+  const vox::MagicaVoxelResult r =
+      vox::writeMagicaVoxel(vol, palette, [](const vox::ClassVolume::Brick&, int) { return uint8_t(3); },
+                            dir.file("a.vox"));
+  const std::string f = vox::readFileBytes(dir.file("a.vox"));
+  ASSERT_EQ(f.size(), r.bytes);
+  EXPECT_EQ(f.substr(0, 4), "VOX ");
+  EXPECT_EQ(le32(f, 4), 150u);
+  EXPECT_EQ(f.substr(8, 4), "MAIN");
+  EXPECT_EQ(le32(f, 12), 0u);
+  EXPECT_EQ(le32(f, 16), f.size() - 20);  // MAIN's children are the rest of the file
+  // SIZE: (u, w, v) extents = (5, 7, 6); XYZI: x = u, y = wmax - w = 3, z = v.
+  EXPECT_EQ(f.substr(20, 4), "SIZE");
+  EXPECT_EQ((std::array<uint32_t, 3>{le32(f, 32), le32(f, 36), le32(f, 40)}), (std::array<uint32_t, 3>{5, 7, 6}));
+  EXPECT_EQ(f.substr(44, 4), "XYZI");
+  EXPECT_EQ(le32(f, 56), 1u);
+  EXPECT_EQ(f.substr(60, 4), std::string("\x01\x03\x02\x03", 4));
+  // Every chunk after MAIN's header: id, content size, children size, walked to the end.
+  std::vector<std::string> ids;
+  for (size_t at = 20; at < f.size(); at += 12 + le32(f, at + 4) + le32(f, at + 8)) ids.push_back(f.substr(at, 4));
+  EXPECT_EQ(ids, (std::vector<std::string>{"SIZE", "XYZI", "nTRN", "nGRP", "nTRN", "nSHP", "RGBA"}));
+  // The palette: entry k is index k + 1.
+  EXPECT_EQ(f.substr(f.size() - 1024 + 8, 4), std::string("\x94\x99\xa3\xff", 4));
+}
+
+TEST(PlyWriter, HeaderAndRecords) {
+  voxtest::TempDir dir;
+  vox::ClassTable t;
+  t.add({5, "Snow", {235, 240, 245}, std::nullopt});
+  const vox::ClassVolume vol = oneVoxel({9, 0, 2}, 5, {{0, 0, 0}, {15, 7, 7}});
+  const vox::PlyWriteResult r =
+      vox::writeVoxelPly(vol, t, vox::FaceColor::Palette, {{1.0, 2.0, 3.0}, 0.5}, dir.file("p.ply"));
+  EXPECT_EQ(r.points, 1u);
+  const std::string f = vox::readFileBytes(dir.file("p.ply"));
+  const size_t body = f.find("end_header\n") + 11;
+  EXPECT_NE(f.find("element vertex 1\n"), std::string::npos);
+  ASSERT_EQ(f.size(), body + 16);
+  float xyz[3];
+  std::memcpy(xyz, f.data() + body, 12);
+  EXPECT_EQ(xyz[0], 1.0f + 9.5f * 0.5f);
+  EXPECT_EQ(xyz[1], 2.0f + 0.25f);
+  EXPECT_EQ(xyz[2], 3.0f + 1.25f);
+  EXPECT_EQ(f.substr(body + 12), std::string("\xeb\xf0\xf5\x05", 4));
+  EXPECT_TRUE(voxtest::throwsVoxError(
+      [&] { vox::writeVoxelPly(vol, vox::ClassTable{}, vox::FaceColor::Palette, {}, dir.file("q.ply")); },
+      vox::ErrorKind::BadInput, {"class 5", "(9, 0, 2)"}));
+}
+
+}  // namespace
