@@ -17,11 +17,12 @@
 #include <vector>
 
 #include "formats/pagefile/layouts.h"
+#include "libvox/core/version.h"
 
 namespace vox::pagefile {
 
 inline constexpr char kMagic[8] = {'V', 'O', 'X', 'P', 'A', 'G', 'E', 'S'};
-inline constexpr uint16_t kVersion = 1;
+inline constexpr uint16_t kVersion = kPageFileFormatVersion;
 inline constexpr uint32_t kHeaderBytes = 128;
 inline constexpr uint32_t kIndexEntryBytes = 32;
 

@@ -31,6 +31,7 @@ case $group in
 version)
   expect_exit 0 "$vox" --version
   expect_stdout "vox 0.1.0 (scene format 1)"
+  expect_stdout "page file .vpk 1"
   expect_exit 0 "$vox" -V
   expect_exit 0 "$vox" --help
   expect_stdout "voxelize"

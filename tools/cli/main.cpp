@@ -64,7 +64,7 @@ int runModule(const char* envVar, const char* file, const char* symbol, const st
 
 int main(int argc, char** argv) {
   if (argc == 2 && (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "-V") == 0)) {
-    std::printf("%s\n", vox::versionString().c_str());
+    std::printf("%s\n", vox::versionReport().c_str());
     return 0;
   }
   // verify-bijection proofs and format checks need no scene: run them here.
