@@ -4,28 +4,14 @@
 # each command; JSON is checked with python3.
 set -u
 group=$1 vox=$2 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# expect_exit CODE CMD...: runs CMD, checks its exit code, keeps stdout/stderr.
-expect_exit() {
-  local want=$1; shift
-  "$@" >out.txt 2>err.txt
-  local got=$?
-  [ "$got" = "$want" ] || fail "exit $got, expected $want: $* (stderr: $(head -c 400 err.txt))"
-}
-expect_stderr() { grep -qF -- "$1" err.txt || fail "stderr lacks '$1': $(head -c 400 err.txt)"; }
-expect_stdout() { grep -qF -- "$1" out.txt || fail "stdout lacks '$1': $(head -c 400 out.txt)"; }
+# shellcheck source=test_lib.sh
+. "$(dirname "$0")/test_lib.sh"
 # no_outputs: nothing but the test's own files in the work dir (no partial or temp files).
 no_outputs() {
   local extra
   extra=$(ls -A | grep -v -E '^(out.txt|err.txt|.*\.json|keep.*)$' || true)
   [ -z "$extra" ] || fail "files left behind after a failed run: $extra"
 }
-jcheck() { python3 -c "import json,sys; d=json.load(open('$1')); $2" || fail "json check failed on $1: $2"; }
 
 case $group in
 version)

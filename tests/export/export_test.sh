@@ -7,19 +7,8 @@
 set -u
 group=$1 vox=$2 data=$3 tools=$4
 here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-expect_exit() {
-  local want=$1; shift
-  "$@" >out.txt 2>err.txt
-  local got=$?
-  [ "$got" = "$want" ] || fail "exit $got, expected $want: $* (stderr: $(head -c 400 err.txt))"
-}
-expect_stderr() { grep -qF -- "$1" err.txt || fail "stderr lacks '$1': $(head -c 400 err.txt)"; }
-jcheck() { python3 -c "import json,sys; d=json.load(open('$1')); $2" || fail "json check failed on $1: $2"; }
+# shellcheck source=../cli/test_lib.sh
+. "$here/../cli/test_lib.sh"
 # summary FILE: gltf_summary.py's JSON of FILE in FILE.summary.json
 summary() { python3 "$here/gltf_summary.py" "$1" >"$1.summary.json" || fail "cannot read $1 back"; }
 # nothing_but LIST: the work dir holds only these files (besides logs), e.g. after a failed run.
