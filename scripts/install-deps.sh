@@ -24,6 +24,8 @@ libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium"
 # The export tests check vox's files with others' readers from npm
 # (tests/export/setup.sh); any node with npm will do, Debian's if there is none.
 command -v npm >/dev/null 2>&1 || TEST="$TEST nodejs npm"
+# npm reaches its registry over HTTPS: without recommends, Debian's npm lacks the CA bundle.
+TEST="$TEST ca-certificates"
 
 case $profile in
   demo) PKGS=$BUILD ;;
