@@ -15,6 +15,7 @@
 #include "formats/export/ply_writer.h"
 #include "libvox/core/color_quantize.h"
 #include "libvox/core/block_mesh.h"
+#include "libvox/core/error.h"
 #include "test_util.h"
 
 namespace {
@@ -186,6 +187,29 @@ TEST(GltfWriter, AnEmptyMeshIsAValidEmptyFile) {
   const vox::GltfWriteResult r = vox::writeGltf(s, dir.file("e.gltf"), dir.file("e.bin"), "e.bin");
   EXPECT_EQ(r.bufferBytes, 0u);
   EXPECT_FALSE(std::filesystem::exists(dir.file("e.bin")));
+}
+
+// A .glb's length fields are 32-bit: a mesh over 4 GiB is refused before a
+// byte is written (the same quads listed by many primitives reach the limit
+// without allocating it).
+TEST(GltfWriter, AGlbOverFourGibIsRefusedAndNothingIsWritten) {
+  voxtest::TempDir dir;
+  std::vector<vox::BlockQuad> quads(1u << 17);  // 264 bytes each unindexed: 34.6 MB per primitive
+  for (size_t i = 0; i < quads.size(); ++i) quads[i].block = {int32_t(i % 512), int32_t(i / 512), 0};
+  vox::GltfScene s;
+  s.name = "huge";
+  s.materials.push_back({"m", std::nullopt});
+  for (int p = 0; p < 130; ++p) s.primitives.push_back({quads, 0});  // 4.5e9 bytes
+  const std::string path = dir.file("huge.glb");
+  try {
+    vox::writeGlb(s, path);
+    FAIL() << "a 4.5 GB .glb was written";
+  } catch (const vox::Error& e) {
+    EXPECT_EQ(e.kind, vox::ErrorKind::BadInput);
+    EXPECT_NE(std::string(e.what()).find("more than a .glb can hold (4 GiB)"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "a temporary was left behind";
 }
 
 }  // namespace
