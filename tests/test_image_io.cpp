@@ -1,6 +1,8 @@
 // PNG and EXR round trips for every sample type the tool writes, text metadata,
 // determinism, and refusal of corrupt files.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <fstream>
@@ -125,10 +127,50 @@ TEST(ImageIo, CorruptFilesAreBadInput) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readPng(dir.file("none.png")); }, ErrorKind::BadInput, {"none.png"}));
 }
 
+TEST(FileUtil, UncommittedTemporariesAreRemovedOnRequest) {
+  voxtest::TempDir dir;
+  vox::AtomicOutput kept(dir.file("kept.bin"));
+  vox::writeFileBytes(kept.tempPath(), "done");
+  kept.commit();
+  vox::AtomicOutput open(dir.file("open.bin"));
+  vox::writeFileBytes(open.tempPath(), "half");
+  vox::removeUncommittedOutputs();  // what the CLI's signal handler does
+  EXPECT_FALSE(std::filesystem::exists(open.tempPath()));
+  EXPECT_EQ(vox::readFileBytes(dir.file("kept.bin")), "done");
+}
+
+TEST(FileUtil, TemporariesOfDeadRunsAreRemovedByTheNextRun) {
+  voxtest::TempDir dir;
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);  // a pid that no longer runs
+  std::string stale, alive, other;
+  {
+    vox::AtomicOutput probe(dir.file("scene.vdb"));  // its name gives this host's tag
+    const std::string t = probe.tempPath();
+    const size_t pidAt = t.find('-', t.rfind(".tmp-") + 5) + 1;
+    const std::string prefix = t.substr(0, pidAt);
+    stale = prefix + std::to_string(child) + "-0";
+    alive = prefix + "1-0";  // init: alive, never ours to remove
+    other = t.substr(0, t.rfind(".tmp-")) + ".tmp-00000000-" + std::to_string(child) + "-0";
+  }
+  if (stale.find(".tmp-00000000-") != std::string::npos)
+    GTEST_SKIP() << "this host's name hashes to 00000000";
+  for (const std::string& f : {stale, alive, other}) voxtest::writeText(f, "x");
+  vox::AtomicOutput next(dir.file("scene.vdb"));
+  EXPECT_FALSE(std::filesystem::exists(stale)) << "a dead run's temporary was kept";
+  EXPECT_TRUE(std::filesystem::exists(alive)) << "a live process's temporary was removed";
+  EXPECT_TRUE(std::filesystem::exists(other)) << "another host's temporary was removed";
+}
+
 TEST(FileUtil, OutputNameMapsTemporariesToTheirOutput) {
   vox::AtomicOutput out("dir/scene.vdb");
   EXPECT_EQ(vox::outputName(out.tempPath()), "dir/scene.vdb");
   EXPECT_EQ(vox::outputName("dir/scene.vdb"), "dir/scene.vdb");
   EXPECT_EQ(vox::outputName(".hidden.tmp"), ".hidden.tmp");
   EXPECT_EQ(vox::outputName("a/.x.tmp12.y"), "a/.x.tmp12.y");
+  EXPECT_EQ(vox::outputName("a/.x.tmp-0123abcd-12-3"), "a/x");
+  EXPECT_EQ(vox::outputName("a/.x.tmp-0123abcd-12"), "a/.x.tmp-0123abcd-12");
+  EXPECT_EQ(vox::outputName("a/.x.tmp-0123ABCD-12-3"), "a/.x.tmp-0123ABCD-12-3");
 }

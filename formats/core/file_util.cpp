@@ -1,6 +1,8 @@
 #include "formats/core/file_util.h"
 
 #include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -11,7 +13,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
+#include <optional>
 
 #include "libvox/core/error.h"
 
@@ -19,38 +23,125 @@ namespace vox {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// ---- Temporary names: ".NAME.tmp-HOST-PID-N" -------------------------------
+// HOST is a hash of the host name (8 hex digits), so a run removing the
+// temporaries of dead runs never touches those of a live run on another
+// machine sharing the directory (a cluster's file system); PID and the
+// counter make the name unique on this machine.
+
+uint32_t hostHash() {
+  static const uint32_t hash = [] {
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+    uint32_t h = 2166136261u;  // FNV-1a
+    for (const char* c = host; *c; ++c) h = (h ^ uint8_t(*c)) * 16777619u;
+    return h;
+  }();
+  return hash;
+}
+
+struct TemporaryName {
+  std::string finalName;  // NAME
+  uint32_t host = 0;
+  long pid = 0;
+};
+
+std::optional<TemporaryName> parseTemporaryName(const std::string& name) {
+  const size_t tmp = name.rfind(".tmp-");
+  if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos || tmp < 2) return std::nullopt;
+  const std::string tail = name.substr(tmp + 5);  // HOST-PID-N
+  const size_t dash1 = tail.find('-'), dash2 = tail.rfind('-');
+  if (dash1 != 8 || dash2 == dash1) return std::nullopt;
+  const std::string host = tail.substr(0, 8), pid = tail.substr(9, dash2 - 9), n = tail.substr(dash2 + 1);
+  const auto all = [](const std::string& s, const char* set) {
+    return !s.empty() && s.size() <= 18 && s.find_first_not_of(set) == std::string::npos;
+  };
+  if (!all(host, "0123456789abcdef") || !all(pid, "0123456789") || !all(n, "0123456789")) return std::nullopt;
+  return TemporaryName{name.substr(1, tmp - 1), uint32_t(std::stoul(host, nullptr, 16)), std::stol(pid)};
+}
+
+// ---- Live temporaries, for signal handlers ---------------------------------
+// A fixed table a signal handler can walk without locks or allocation: a
+// slot's path is written before its state becomes Live and is not rewritten
+// until the slot has been Free again. More live outputs than slots are not
+// tracked (their destructors still remove them on every normal exit).
+enum SlotState : int { kFree = 0, kClaimed = 1, kLive = 2 };
+struct LiveSlot {
+  std::atomic<int> state{kFree};
+  char path[PATH_MAX];
+};
+LiveSlot gLive[256];
+
+int trackTemporary(const std::string& path) {
+  if (path.size() >= PATH_MAX) return -1;
+  for (int i = 0; i < int(std::size(gLive)); ++i) {
+    int expected = kFree;
+    if (!gLive[i].state.compare_exchange_strong(expected, kClaimed)) continue;
+    std::memcpy(gLive[i].path, path.c_str(), path.size() + 1);
+    gLive[i].state.store(kLive);
+    return i;
+  }
+  return -1;
+}
+
+void untrackTemporary(int slot) {
+  if (slot >= 0) gLive[slot].state.store(kFree);
+}
+
+// Removes the temporaries of `finalPath` left by runs on this host that no
+// longer exist (killed with SIGKILL, or by the OOM killer).
+void removeStaleTemporaries(const fs::path& finalPath) {
+  const std::string name = finalPath.filename().string();
+  const fs::path dir = finalPath.parent_path().empty() ? fs::path(".") : finalPath.parent_path();
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (entry.size() <= name.size() + 1 || entry.compare(1, name.size(), name) != 0) continue;
+    const std::optional<TemporaryName> t = parseTemporaryName(entry);
+    if (!t || t->finalName != name || t->host != hostHash() || t->pid == long(getpid())) continue;
+    if (::kill(pid_t(t->pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
+    std::remove(it->path().c_str());
+  }
+}
+
+}  // namespace
+
+int removeUncommittedOutputs() noexcept {
+  int removed = 0;
+  for (LiveSlot& s : gLive)
+    if (s.state.load() == kLive && ::unlink(s.path) == 0) ++removed;
+  return removed;
+}
+
 AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
   static std::atomic<unsigned> counter{0};
   const fs::path p(final_);
+  removeStaleTemporaries(p);
   // Same directory, so the rename is atomic; a dot-name keeps it out of globs.
-  std::string name(1, '.');
-  name.append(p.filename().string()).append(".tmp").append(std::to_string(getpid()));
-  name.append(".").append(std::to_string(counter++));
-  temp_ = (p.parent_path() / name).string();
+  char tag[64];
+  std::snprintf(tag, sizeof tag, ".tmp-%08x-%ld-%u", hostHash(), long(getpid()), counter++);
+  temp_ = (p.parent_path() / ("." + p.filename().string() + tag)).string();
+  slot_ = trackTemporary(temp_);
 }
 
 AtomicOutput::AtomicOutput(AtomicOutput&& o) noexcept
-    : final_(std::move(o.final_)), temp_(std::move(o.temp_)), committed_(o.committed_) {
+    : final_(std::move(o.final_)), temp_(std::move(o.temp_)), committed_(o.committed_), slot_(o.slot_) {
   o.committed_ = true;  // the moved-from object owns nothing
+  o.slot_ = -1;
 }
 
 AtomicOutput::~AtomicOutput() {
   if (!committed_) std::remove(temp_.c_str());
+  untrackTemporary(slot_);
 }
 
 std::string outputName(const std::string& path) {
   const fs::path p(path);
-  const std::string name = p.filename().string();
-  // The temporary's name: "." + final name + ".tmp" + pid + "." + counter.
-  const size_t tmp = name.rfind(".tmp");
-  if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos || tmp < 2) return path;
-  const std::string tail = name.substr(tmp + 4);
-  const size_t dot = tail.find('.');
-  const auto digits = [](const std::string& s) {
-    return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
-  };
-  if (dot == std::string::npos || !digits(tail.substr(0, dot)) || !digits(tail.substr(dot + 1))) return path;
-  return (p.parent_path() / name.substr(1, tmp - 1)).string();
+  const std::optional<TemporaryName> t = parseTemporaryName(p.filename().string());
+  return t ? (p.parent_path() / t->finalName).string() : path;
 }
 
 void AtomicOutput::sync() const {
@@ -68,6 +159,8 @@ void AtomicOutput::renameIntoPlace() {
   if (std::rename(temp_.c_str(), final_.c_str()) != 0)
     throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
   committed_ = true;
+  untrackTemporary(slot_);  // after the rename: a signal before it still removes the temporary
+  slot_ = -1;
   // The rename itself reaches the disk with the directory (best effort: some
   // file systems refuse fsync on directories, and the data is already safe).
   const std::string dir = fs::path(final_).parent_path().string();

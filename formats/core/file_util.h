@@ -17,6 +17,12 @@ namespace vox {
 /// that the writes did not report surfaces here), and only when all of them are
 /// safe are they renamed into place. So a failure leaves every existing output
 /// untouched and no temporary file behind.
+///
+/// The temporary is "DIR/.NAME.tmp-HOST-PID-N" (HOST: 8 hex digits hashing the
+/// host name). Live temporaries are tracked so that removeUncommittedOutputs()
+/// can delete them from a signal handler; creating an AtomicOutput removes the
+/// temporaries of the same output left by dead runs on this host (SIGKILL, the
+/// OOM killer). Thread-safe: outputs may be created and destroyed on any thread.
 class AtomicOutput {
  public:
   explicit AtomicOutput(std::string finalPath);
@@ -39,10 +45,17 @@ class AtomicOutput {
  private:
   std::string final_, temp_;
   bool committed_ = false;
+  int slot_ = -1;  // in the table of live temporaries, -1 when not tracked
 };
 
+/// Deletes the temporary file of every uncommitted AtomicOutput of this
+/// process and returns how many files it deleted. Async-signal-safe (unlink
+/// only): for the CLI's SIGINT/SIGTERM handlers, which then exit without
+/// running destructors.
+int removeUncommittedOutputs() noexcept;
+
 /// The name a user knows a file by: for an AtomicOutput's temporary file
-/// ("dir/.NAME.tmpPID.N") the final output's ("dir/NAME"), else `path`. For messages.
+/// ("dir/.NAME.tmp-HOST-PID-N") the final output's ("dir/NAME"), else `path`. For messages.
 std::string outputName(const std::string& path);
 
 /// Commits outputs together: syncs every one first, then renames them all.

@@ -1,5 +1,8 @@
 #include "formats/vdb/vdb_scene_grids.h"
 
+#include <cerrno>
+#include <cstring>
+
 #include <openvdb/io/File.h>
 
 #include <algorithm>
@@ -89,11 +92,14 @@ void appendSceneGrids(const Scene& scene, const std::string& prefix, const MetaE
 
 void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
                   const std::string& what) {
+  int writeErrno = 0;  // the stream hides it; a failed write leaves it in errno
   try {
     openvdb::io::File file(path);
     file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+    errno = 0;
     file.write(grids, meta);
     file.close();
+    writeErrno = errno;
   } catch (const std::exception& e) {
     throwIo(outputName(path) + ": cannot write the " + what + ": " + e.what());
   }
@@ -103,7 +109,9 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
   try {
     checkVdbStructure(path);
   } catch (const Error&) {
-    throwIo(outputName(path) + ": the " + what + " was not written completely (the file on disk ends early; is the disk full?)");
+    const bool known = writeErrno == ENOSPC || writeErrno == EFBIG || writeErrno == EDQUOT || writeErrno == EIO;
+    throwIo(outputName(path) + ": the " + what + " was not written completely (the file on disk ends early: " +
+            (known ? std::string(std::strerror(writeErrno)) : std::string("is the disk full?")) + ")");
   }
 }
 

@@ -1,4 +1,5 @@
 #include "tools/cli/dispatch.h"
+#include "tools/cli/signal_cleanup.h"
 
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -81,6 +82,7 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
   for (Command& c : commands) {
     if (!c.app->parsed()) continue;
     const std::string name = c.app->get_name();
+    installSignalCleanup(("vox " + name).c_str());
     try {
       return c.run();
     } catch (const vox::Error& e) {

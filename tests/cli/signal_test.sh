@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# Interrupted runs: SIGINT, SIGTERM and SIGHUP while a command computes and
+# while it writes (caught by polling for its temporary file), SIGKILL followed
+# by a rerun, and a `ulimit -f` smaller than the output. Each time: the
+# documented exit code and message, no temporary file left, and an existing
+# output byte for byte as it was.
+# Usage: signal_test.sh GROUP VOX_BINARY DATA_DIR
+set -u
+set -m  # job control: background commands get SIGINT (a script's jobs otherwise ignore it)
+group=$1 vox=$2 data=$3
+# shellcheck source=test_lib.sh
+. "$(dirname "$0")/test_lib.sh"
+
+# temporaries DIR: the temporary outputs (".NAME.tmp-HOST-PID-N") in DIR.
+temporaries() { (cd "$1" && compgen -G '.*.tmp-*' || true); }
+
+handles_sigint() {
+  local caught
+  caught=$(sed -n 's/^SigCgt:[[:space:]]*//p' /proc/$1/status 2>/dev/null) || return 1
+  [ -n "$caught" ] && (( (16#$caught & 2) != 0 ))
+}
+
+# interrupt SIG WHEN OUT CMD...: runs CMD in the background with an existing
+# OUT in place, sends SIG either after WHEN seconds or, for WHEN=write, as
+# soon as a temporary file of OUT's directory exists, and checks the outcome.
+# Returns 1 (without failing) when the command finished before the signal.
+interrupt() {
+  local sig=$1 when=$2 out=$3; shift 3
+  local dir; dir=$(dirname "$out")
+  printf 'previous output\n' >"$out"
+  "$@" >out.txt 2>err.txt &
+  local pid=$! waited=0
+  # Wait until vox handles SIGINT (SigCgt bit 2 in /proc: its handlers are
+  # installed), so the early signal tests the handler, not process start-up.
+  while kill -0 $pid 2>/dev/null && ! handles_sigint $pid; do sleep 0.005; done
+  if [ "$when" = write ]; then
+    while kill -0 $pid 2>/dev/null && [ -z "$(temporaries "$dir")" ]; do
+      sleep 0.005
+    done
+  else
+    sleep "$when"
+  fi
+  kill -"$sig" $pid 2>/dev/null
+  wait $pid
+  local got=$? want
+  case $sig in INT) want=130 ;; TERM) want=143 ;; HUP) want=129 ;; esac
+  if [ "$got" = 0 ]; then
+    waited=1  # finished first: nothing to check but its success
+  else
+    [ "$got" = "$want" ] || fail "SIG$sig ($when): exit $got, expected $want: $* ($(head -c 300 err.txt))"
+    grep -qF "interrupted by SIG$sig" err.txt || fail "SIG$sig ($when): no message: $(head -c 300 err.txt)"
+    if [ "$(head -c 15 "$out")" != "previous output" ]; then
+      # Only a signal after the final rename may leave a new output, and it says so.
+      grep -qF "no output was unfinished" err.txt || fail "SIG$sig ($when): the existing $out was replaced"
+    fi
+  fi
+  local left; left=$(temporaries "$dir")
+  [ -z "$left" ] || fail "SIG$sig ($when): temporaries left in $dir: $left"
+  return $waited
+}
+
+# each_moment OUT CMD...: SIGINT early, then SIGINT, SIGTERM and SIGHUP in the
+# write phase (retried up to 3 times when the command outran the poll).
+each_moment() {
+  local out=$1; shift
+  interrupt INT 0.05 "$out" "$@"
+  local sig tries
+  for sig in INT TERM HUP; do
+    for tries in 1 2 3; do
+      interrupt $sig write "$out" "$@" && break
+      [ $tries = 3 ] && fail "SIG$sig: never caught $* writing (it finished first 3 times)"
+    done
+  done
+}
+
+case $group in
+voxelize)
+  each_moment scene.vdb "$vox" voxelize demo:hamlet --res 384 -o scene.vdb --threads 2
+  mesh=$data/../../scripts/demo/house.obj
+  each_moment mesh.vdb "$vox" voxelize "$mesh" --res 512 --fill solid -o mesh.vdb
+  ;;
+derived)
+  "$vox" voxelize demo:hamlet --res 256 -o h.vdb --quiet || fail "setup bake"
+  each_moment pyramid.vdb "$vox" mip h.vdb -o pyramid.vdb
+  each_moment pages.vpk "$vox" pack-chunks h.vdb -o pages.vpk --mips
+  mkdir -p atlas
+  each_moment atlas/h.summary.png "$vox" build-atlas h.vdb -o atlas --all
+  each_moment shot.png "$vox" render-canonical h.vdb -o shot.png --eye 40,30,40 --target 0,0,0 --size 1600x1200 --mode canonical,class,shaded,depth,normal
+  each_moment h.glb "$vox" export h.vdb -o h.glb
+  ;;
+sigkill)
+  # A run killed outright leaves its temporary; the next run of the same
+  # command removes it and succeeds.
+  printf 'previous output\n' >scene.vdb
+  "$vox" voxelize demo:hamlet --res 384 -o scene.vdb >out.txt 2>err.txt &
+  pid=$!
+  while kill -0 $pid 2>/dev/null && [ -z "$(temporaries .)" ]; do sleep 0.005; done
+  kill -KILL $pid 2>/dev/null
+  wait $pid
+  [ -n "$(temporaries .)" ] || echo "note: the killed run had not created its temporary yet"
+  [ "$(cat scene.vdb)" = "previous output" ] || fail "SIGKILL replaced the existing output"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 32 -o scene.vdb
+  left=$(temporaries .)
+  [ -z "$left" ] || fail "the rerun left the dead run's temporary: $left"
+  expect_exit 0 "$vox" info scene.vdb
+  ;;
+file_size_limit)
+  # ulimit -f (in 1024-byte blocks): the write fails with "File too large".
+  printf 'previous output\n' >scene.vdb
+  (ulimit -f 64; "$vox" voxelize demo:hamlet --res 128 -o scene.vdb >out.txt 2>err.txt)
+  got=$?
+  [ "$got" = 4 ] || fail "ulimit -f: exit $got, expected 4 ($(head -c 300 err.txt))"
+  expect_stderr "scene.vdb"
+  expect_stderr "File too large"
+  [ "$(cat scene.vdb)" = "previous output" ] || fail "ulimit -f: the existing output was replaced"
+  left=$(temporaries .)
+  [ -z "$left" ] || fail "ulimit -f: temporaries left: $left"
+  # The page file writer (not OpenVDB's) fails the same way.
+  "$vox" voxelize demo:hamlet --res 128 -o small.vdb --quiet || fail "setup bake"
+  (ulimit -f 64; "$vox" pack-chunks small.vdb -o pages.vpk >out.txt 2>err.txt)
+  got=$?
+  [ "$got" = 4 ] || fail "ulimit -f pack-chunks: exit $got, expected 4 ($(head -c 300 err.txt))"
+  expect_stderr "pages.vpk"
+  expect_stderr "File too large"
+  [ ! -e pages.vpk ] && [ -z "$(temporaries .)" ] || fail "ulimit -f pack-chunks left files: $(ls -A)"
+  ;;
+*)
+  echo "unknown group $group" >&2
+  exit 2
+  ;;
+esac
+[ $failures = 0 ] || { echo "$failures failure(s) in $group" >&2; exit 1; }
+echo "ok: $group"
