@@ -118,7 +118,7 @@ TEST(BlockMap, BadInputsNameTheBlock) {
 
 TEST(BlockMap, MissingFile) {
   EXPECT_TRUE(throwsVoxError([] { readBlockMap("/nonexistent/map.json"); }, ErrorKind::BadInput,
-                             {"/nonexistent/map.json", "cannot open"}));
+                             {"/nonexistent/map.json", "no such file"}));
 }
 
 TEST(BlockMap, RecordsItsSourceWithSha256) {

@@ -3,6 +3,7 @@
 // the third-party files of ../shared/data when present (skipped with a message
 // otherwise). Complements test_mesh_input.cpp.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstring>
@@ -370,8 +371,28 @@ TEST(StlIo, TruncatedOrPaddedBinaryIsNotSilentlyEmpty) {
   const Read p = readWith(dir.file("p.stl"));
   EXPECT_EQ(p.mesh.triangleCount(), 2u);
   EXPECT_TRUE(anyContains(p.warnings, "4 bytes after"));
-  voxtest::writeText(dir.file("n.stl"), "solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n");
+  voxtest::writeText(dir.file("n.stl"), "solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n"
+                                        "endfacet\nendsolid x\n");
   EXPECT_TRUE(rejects(dir.file("n.stl"), {"n.stl", "1 vertices have NaN"}));
+}
+
+TEST(StlIo, TruncatedAsciiIsRefusedNotReadShort) {
+  voxtest::TempDir dir;
+  const std::string facet = "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
+  const std::string whole = "solid t\n" + facet + facet + "endsolid t\n";
+  EXPECT_EQ(read((voxtest::writeText(dir.file("w.stl"), whole), dir.file("w.stl"))).triangleCount(), 2u);
+  // Cut inside the second facet (after its second vertex, after its endloop).
+  for (const std::string& cut : {"solid t\n" + facet + facet.substr(0, 62), "solid t\n" + facet + facet.substr(0, 88)}) {
+    voxtest::writeText(dir.file("c.stl"), cut);
+    EXPECT_TRUE(rejects(dir.file("c.stl"), {"c.stl", "ends inside the facet of line 9", "truncated"})) << cut;
+  }
+  // Cut at a facet boundary: read, with a warning.
+  voxtest::writeText(dir.file("b.stl"), "solid t\n" + facet);
+  const Read b = readWith(dir.file("b.stl"));
+  EXPECT_EQ(b.mesh.triangleCount(), 1u);
+  EXPECT_TRUE(anyContains(b.warnings, "no 'endsolid'"));
+  voxtest::writeText(dir.file("n.stl"), "solid t\n" + facet.substr(0, 60) + facet);
+  EXPECT_TRUE(rejects(dir.file("n.stl"), {"n.stl", "before the facet of line 2 ended"}));
 }
 
 // ============================== glTF ==============================
@@ -543,6 +564,43 @@ TEST(GltfIo, GlbAndExternalFilesAreRecorded) {
   EXPECT_TRUE(rejects(dir.file("e.gltf"), {"e.gltf", "ext.bin"}));
 }
 
+// Inputs that are not regular files are refused up front by name; a texture
+// image that cannot be read is an error (as a missing OBJ map_Kd is), or a
+// warning with ignoreMissingMaterials.
+TEST(MeshInput, DirectoriesDevicesFifosAndMissingImagesAreRefusedByName) {
+  voxtest::TempDir dir;
+  std::filesystem::create_directory(dir.file("d.obj"));
+  EXPECT_TRUE(rejects(dir.file("d.obj"), {"d.obj", "is a directory"}));
+  ASSERT_EQ(mkfifo(dir.file("f.stl").c_str(), 0600), 0);
+  EXPECT_TRUE(rejects(dir.file("f.stl"), {"f.stl", "FIFO"}));  // never blocks waiting for a writer
+  voxtest::writeText(dir.file("z.obj"), "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_TRUE(rejects(dir.file("z.obj"), {"z.obj", "/dev/zero", "is a device"}));
+
+  std::string bin;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) putLE(bin, f);
+  voxtest::writeText(dir.file("t.bin"), bin);
+  const auto gltf = [&](const std::string& image, const std::string& buffer) {
+    return kGltfHead + R"("scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+    "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],
+    "textures":[{"source":0}],"images":[{"uri":")" + image + R"("}],
+    "buffers":[{"byteLength":36,"uri":")" + buffer + R"("}],"bufferViews":[{"buffer":0,"byteLength":36}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+  };
+  voxtest::writeText(dir.file("b.gltf"), gltf("missing.png", "d.obj"));  // a buffer naming a directory
+  EXPECT_TRUE(rejects(dir.file("b.gltf"), {"b.gltf", "d.obj", "is a directory"}));
+  voxtest::writeText(dir.file("m.gltf"), gltf("missing.png", "t.bin"));
+  EXPECT_TRUE(rejects(dir.file("m.gltf"), {"m.gltf", "image 0 'missing.png'", "no such file"}));
+  voxtest::writeText(dir.file("i.gltf"), gltf("d.obj", "t.bin"));  // an image naming a directory
+  EXPECT_TRUE(rejects(dir.file("i.gltf"), {"i.gltf", "image 0 'd.obj'", "is a directory"}));
+  MeshReadOptions lenient;
+  lenient.ignoreMissingMaterials = true;
+  const Read r = readWith(dir.file("m.gltf"), lenient);
+  EXPECT_EQ(r.mesh.triangleCount(), 1u);
+  EXPECT_TRUE(r.mesh.textures.empty());
+  EXPECT_TRUE(anyContains(r.warnings, "missing.png"));
+}
+
 TEST(GltfIo, CompressionExtensionsAreRefusedByName) {
   voxtest::TempDir dir;
   for (const std::string ext : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
@@ -577,7 +635,50 @@ TEST(GltfIo, MalformedFilesNameTheElement) {
     "buffers":[{"byteLength":44,"uri":")" + dataUri(bin) + R"("}],
     "bufferViews":[{"buffer":0,"byteLength":36}],
     "accessors":[{"bufferView":0,"componentType":5126,"count":4611686018427387904,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})");
-  EXPECT_TRUE(rejects(dir.file("c.gltf"), {"c.gltf", "accessor 0 (POSITION)", "count"}));
+  EXPECT_TRUE(rejects(dir.file("c.gltf"), {"c.gltf", "accessors[0].count", "above its limit"}));
+  // What tinygltf would coerce or never check, each refused by its element
+  // (a negative byteOffset used to read the normals as positions).
+  const std::string buffers = R"("buffers":[{"byteLength":44,"uri":")" + dataUri(bin) + R"("}],)";
+  const std::string prim = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)";
+  const std::string position = R"("componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0])";
+  struct Case {
+    const char* file;
+    std::string body;
+    std::vector<std::string> says;
+  };
+  const std::vector<Case> cases = {
+      {"neg_offset.gltf", prim + buffers + R"("bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"byteOffset":-12,)" + position + "}]}",
+       {"accessors[0].byteOffset", "-12"}},
+      {"stride.gltf", prim + buffers + R"("bufferViews":[{"buffer":0,"byteLength":36,"byteStride":8}],
+        "accessors":[{"bufferView":0,)" + position + "}]}",
+       {"accessor 0 (POSITION)", "byteStride 8", "12-byte element"}},
+      {"stride_odd.gltf", prim + buffers + R"("bufferViews":[{"buffer":0,"byteLength":36,"byteStride":14}],
+        "accessors":[{"bufferView":0,)" + position + "}]}",
+       {"bufferViews[0].byteStride", "multiple of 4"}},
+      {"material.gltf", R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":3}]}],"materials":[{}],)" +
+                            buffers + R"("bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,)" + position + "}]}",
+       {"meshes[0].primitives[0].material", "is 3", "0..0"}},
+      {"texture.gltf", prim + R"("materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":2}}}],)" + buffers +
+                           R"("bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,)" + position + "}]}",
+       {"materials[0].pbrMetallicRoughness.baseColorTexture.index", "no", "textures"}},
+      {"sparse.gltf", prim + buffers + R"("bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,)" + position + R"(,"sparse":{"count":4000000000,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":0}}}]})",
+       {"accessors[0].sparse.count", "4000000000"}},
+      {"required.gltf", R"("extensionsRequired":["KHR_texture_transform"],)" + prim + buffers +
+                            R"("bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,)" + position + "}]}",
+       {"KHR_texture_transform", "could change the voxels"}},
+  };
+  for (const Case& c : cases) {
+    voxtest::writeText(dir.file(c.file), kGltfHead + scene + c.body);
+    EXPECT_TRUE(rejects(dir.file(c.file), {c.file})) << c.file;
+    for (const std::string& needle : c.says) EXPECT_TRUE(rejects(dir.file(c.file), {needle})) << c.file;
+  }
+  // Required extensions that cannot change the voxels are read.
+  voxtest::writeText(dir.file("unlit.gltf"), kGltfHead + scene + R"("extensionsUsed":["KHR_materials_unlit","KHR_mesh_quantization"],
+    "extensionsRequired":["KHR_materials_unlit","KHR_mesh_quantization"],)" + prim + buffers +
+                                               R"("bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,)" + position + "}]}");
+  EXPECT_EQ(read(dir.file("unlit.gltf")).triangleCount(), 1u);
   // A node reached twice (two parents): an error, not an exponential walk.
   std::string nodes;
   for (int i = 0; i < 48; ++i)

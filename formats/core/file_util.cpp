@@ -181,9 +181,24 @@ void commitAll(std::vector<AtomicOutput*> outputs) {
   for (AtomicOutput* o : outputs) o->renameIntoPlace();
 }
 
+void requireRegularFile(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) throwBadInput(path + ": no such file");
+    throwBadInput(path + ": cannot open the file: " + std::strerror(err));
+  }
+  if (S_ISREG(st.st_mode)) return;
+  const char* what = S_ISDIR(st.st_mode)    ? "a directory"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                                                                   : "not a regular file";
+  throwBadInput(path + ": is " + what + ", expected a regular file");
+}
+
 std::string readFileBytes(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throwBadInput(path + ": is a directory, expected a file");
+  requireRegularFile(path);
   // One allocation and one read: a stringstream copy costs more than parsing.
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
@@ -201,8 +216,7 @@ std::string readFileBytes(const std::string& path) {
 }
 
 FileView::FileView(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throwBadInput(path + ": is a directory, expected a file");
+  requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwBadInput(path + ": cannot open the file (missing or unreadable)");
   struct stat st {};
@@ -215,7 +229,7 @@ FileView::FileView(const std::string& path) {
     }
   }
   ::close(fd);
-  if (!mapped_) {  // pipes, devices, empty files, or mmap refused: read it
+  if (!mapped_) {  // empty files, or mmap refused: read it
     owned_ = readFileBytes(path);
     data_ = owned_.data();
     size_ = owned_.size();

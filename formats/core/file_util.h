@@ -62,13 +62,19 @@ std::string outputName(const std::string& path);
 /// Nothing is renamed unless every file reached the disk.
 void commitAll(std::vector<AtomicOutput*> outputs);
 
-/// Reads a whole file. Throws vox::Error (BadInput) naming the file if it is
-/// missing or unreadable.
+/// The one check every input file passes before it is opened: it must exist
+/// and be a regular file (or a symbolic link to one). Directories, FIFOs,
+/// sockets and devices are refused up front (reading /dev/zero or a FIFO
+/// would never end). Throws vox::Error (BadInput) naming `path` and what it is.
+void requireRegularFile(const std::string& path);
+
+/// Reads a whole file (requireRegularFile first). Throws vox::Error (BadInput)
+/// naming the file if it is missing or unreadable.
 std::string readFileBytes(const std::string& path);
 
-/// A whole file, read-only, mapped into memory when it is a regular file (no
+/// A whole file (requireRegularFile first), read-only, mapped into memory (no
 /// copy and no fresh pages to fault in, which is most of what reading a large
-/// mesh cost), else read into memory. Throws vox::Error (BadInput) like
+/// mesh cost), or read into memory when mapping is refused. Throws vox::Error (BadInput) like
 /// readFileBytes. Not copyable.
 class FileView {
  public:

@@ -12,9 +12,7 @@ namespace vox {
 VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame, VdbVolumeKind kind,
                                int halfWidth, const std::string& path) {
   ensureOpenVdbInitialized();
-  openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(frame.voxelSize);
-  xf->postTranslate(openvdb::Vec3d(frame.origin[0] + frame.voxelSize / 2, frame.origin[1] + frame.voxelSize / 2,
-                                   frame.origin[2] + frame.voxelSize / 2));
+  openvdb::math::Transform::Ptr xf = voxelCentreTransform(frame.voxelSize, frame.origin);
   // Occupancy: a brick is an OpenVDB leaf (8^3 at a multiple of 8).
   openvdb::BoolGrid::Ptr occupancy = openvdb::BoolGrid::create(false);
   occupancy->setTransform(xf);

@@ -6,6 +6,7 @@
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
 
+#include "formats/core/file_util.h"
 #include "formats/image/image.h"
 #include "libvox/core/error.h"
 
@@ -52,6 +53,7 @@ void writeExr(const Image& image, const std::string& path, ExrCompression compre
 }
 
 Image readExr(const std::string& path) {
+  requireRegularFile(path);
   if (!isExrFile(path)) throwBadInput(path + ": not an OpenEXR file (wrong magic number or unreadable)");
   Image image;
   try {

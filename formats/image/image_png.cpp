@@ -1,5 +1,7 @@
 #include <png.h>
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -43,6 +45,8 @@ namespace {
 using FilePtr = std::unique_ptr<FILE, int (*)(FILE*)>;
 
 bool hasMagic(const std::string& path, const uint8_t* magic, size_t n) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;  // never block on a FIFO
   FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) return false;
   uint8_t buf[8] = {};
@@ -151,6 +155,7 @@ void writePng(const Image& image, const std::string& path, int zlibLevel) {
 }
 
 Image readPng(const std::string& path) {
+  requireRegularFile(path);
   FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
   if (!isPngFile(path)) throwBadInput(path + ": not a PNG file (wrong signature)");

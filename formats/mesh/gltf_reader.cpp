@@ -8,6 +8,8 @@
 #include <optional>
 
 #include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "formats/mesh/gltf_json_check.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -105,6 +107,9 @@ class Accessors {
     const int csize = tinygltf::GetComponentSizeInBytes(uint32_t(componentType));
     const size_t elem = size_t(csize) * size_t(comps);
     const size_t stride = v.byteStride ? v.byteStride : elem;
+    if (stride < elem)
+      throwBadInput(who + ": bufferView " + std::to_string(viewIndex) + " has byteStride " + std::to_string(stride) +
+                    ", less than the " + std::to_string(elem) + "-byte element it holds");
     const size_t start = v.byteOffset + offset;
     if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
       throwBadInput(who + ": bufferView " + std::to_string(viewIndex) + " overruns its buffer (" +
@@ -141,20 +146,32 @@ MeshTexture::Wrap wrapOf(int mode) {
   return MeshTexture::Wrap::Repeat;
 }
 
+/// tinygltf's file reader for external buffers and images, through the one
+/// input-file check: a URI naming a directory or a device is refused by name
+/// (tinygltf's own reader asks a directory for 2^63 bytes).
+bool readWholeGltfFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    const std::string bytes = readFileBytes(path);
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+}
+
 /// Loads the container (tinygltf: JSON or GLB, buffers, images decoded).
-/// Refuses compressed meshes by the extension's name.
+/// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
 tinygltf::Model loadModel(const std::string& path, std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeGltfFile,
+                         &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warn;
-  std::error_code existsError;
-  if (!std::filesystem::exists(path, existsError)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  requireRegularFile(path);
+  checkGltfJson(path);
   const bool ok = hasExtension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                              : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  for (const std::string& ext : model.extensionsRequired)
-    if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
-      throwBadInput(path + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
-                    "decompress it first (e.g. gltf-transform copy)");
   if (!ok) {
     std::string why = (err.empty() ? warn : err).substr(0, 300);
     while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
@@ -172,6 +189,34 @@ void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& 
     if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / b.uri).string());
   for (const tinygltf::Image& im : model.images)
     if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / im.uri).string());
+}
+
+/// An external image that a texture uses and that could not be read is an
+/// error, as a missing OBJ map_Kd is (tinygltf only warns and leaves it
+/// empty); with ignoreMissingMaterials it is a warning and the texture is left out.
+void refuseMissingImages(const tinygltf::Model& model, const std::string& path, const MeshReadOptions& options,
+                         std::vector<std::string>& warnings) {
+  std::vector<bool> used(model.images.size(), false);
+  for (const tinygltf::Texture& t : model.textures)
+    if (t.source >= 0 && size_t(t.source) < used.size()) used[size_t(t.source)] = true;
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const tinygltf::Image& im = model.images[i];
+    if (!used[i] || !im.image.empty() || im.uri.empty() || im.uri.rfind("data:", 0) == 0) continue;
+    const std::string file = (std::filesystem::path(path).parent_path() / im.uri).string();
+    if (options.ignoreMissingMaterials) {
+      warnings.push_back(path + ": image " + std::to_string(i) + " (" + im.uri + ") could not be read; its textures are left out");
+      continue;
+    }
+    std::string why = "cannot be read or decoded";
+    try {
+      requireRegularFile(file);
+    } catch (const Error& e) {
+      why = e.what();
+    }
+    throwBadInput(path + ": image " + std::to_string(i) + " '" + im.uri + "': " + why +
+                      "; restore the file, or leave its textures out",
+                  Setting::IgnoreMissingMaterials);
+  }
 }
 
 /// glTF texture `ti` as a MeshTexture (its image as 8-bit RGBA, its sampler),
@@ -425,6 +470,7 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
   const tinygltf::Model model = loadModel(path, warnings);
   Mesh mesh;
   listFilesRead(model, path, mesh);
+  refuseMissingImages(model, path, options, warnings);
   const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
   for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);

@@ -53,8 +53,12 @@ void readBinaryStl(const char* data, Mesh& mesh) {
   }
 }
 
-/// ASCII STL: "solid", then facets whose loops have three "vertex x y z".
-void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& mesh) {
+/// ASCII STL: "solid", then facets ("facet normal ..", "outer loop", three
+/// "vertex x y z", "endloop", "endfacet"), then "endsolid". A file that ends
+/// inside a facet is refused (a cut-off download or copy); one that ends after
+/// a complete facet without "endsolid" is read with a warning.
+void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& mesh,
+                  std::vector<std::string>& warnings) {
   const char* p = data;
   const char* end = data + size;
   size_t line = 1;
@@ -68,12 +72,19 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
   if (size_t(end - p) < 5 || std::strncmp(p, "solid", 5) != 0)
     throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
   size_t corners = 0;
+  size_t facetLine = 0;  // line of the open "facet", 0 outside one
+  bool ended = false;
   while (p < end) {
     skipSpace();
     const char* w = p;
     while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
     const std::string_view word(w, size_t(p - w));
-    if (word == "vertex") {
+    if (word == "facet") {
+      if (facetLine)
+        throwBadInput(name + ":" + std::to_string(line) + ": a facet starts before the facet of line " +
+                      std::to_string(facetLine) + " ended ('endfacet' missing)");
+      facetLine = line;
+    } else if (word == "vertex") {
       std::array<double, 3> v;
       for (int k = 0; k < 3; ++k) {
         skipSpace();
@@ -90,8 +101,19 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
       const uint32_t b = uint32_t(mesh.positions.size() - 3);
       mesh.triangles.push_back({b, b + 1, b + 2});
       corners = 0;
+    } else if (word == "endfacet") {
+      facetLine = 0;
+    } else if (word == "endsolid") {
+      ended = true;
+      break;
     }
   }
+  if (facetLine || corners)
+    throwBadInput(name + ": the file ends inside the facet of line " + std::to_string(facetLine ? facetLine : line) +
+                  " (" + std::to_string(corners) + " of its 3 vertices read): the file is truncated; re-export or copy it again");
+  if (!ended)
+    warnings.push_back(name + ": no 'endsolid' after facet " + std::to_string(mesh.triangles.size()) +
+                       ": the file may be truncated");
 }
 
 }  // namespace
@@ -102,7 +124,7 @@ Mesh parseStl(const char* data, size_t size, const std::string& name, const Mesh
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
   if (isBinaryStl(data, size, name, warnings)) readBinaryStl(data, mesh);
-  else readAsciiStl(data, size, name, mesh);
+  else readAsciiStl(data, size, name, mesh, warnings);
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
   checkFinite(mesh, name, options, warnings);

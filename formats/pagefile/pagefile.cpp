@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "formats/core/file_util.h"
 #include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
@@ -79,6 +80,8 @@ std::string hex(uint32_t v) {
 }  // namespace
 
 bool looksLikePageFile(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;  // never block on a FIFO
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return false;
   char magic[8] = {};
@@ -155,6 +158,7 @@ Reader::~Reader() {
 Reader Reader::open(const std::string& path) {
   Reader r;
   r.name_ = path;
+  requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwBadInput(path + ": cannot open the page file (missing or unreadable)");
   struct stat st {};

@@ -162,6 +162,8 @@ SceneHeader sceneHeaderFromMetadata(const MetaEntries& meta, const std::string& 
   h.voxelSize = requiredMeta<double>(meta, path, "vox:voxel_size");
   if (!(h.voxelSize > 0) || !std::isfinite(h.voxelSize)) bad(path, "metadata 'vox:voxel_size' must be finite and > 0");
   h.origin = requiredMeta<std::array<double, 3>>(meta, path, "vox:origin");
+  if (const std::string problem = placementProblem(h.voxelSize, h.origin, h.dims); !problem.empty())
+    bad(path, "metadata 'vox:voxel_size' and 'vox:origin': " + problem);
   h.mipLevel = requiredMeta<int32_t>(meta, path, "vox:mip_level");
   h.classes = classTableFromJson(parseJsonMeta(requiredMeta<std::string>(meta, path, "vox:classes"), path, "vox:classes"),
                                  ClassJsonForm::Stored, path + ": metadata 'vox:classes'");

@@ -102,6 +102,10 @@ Scene parseBlockMap(const std::string& text, const std::string& path, const Bloc
   header.dims = {maxp[0] + 1, maxp[1] + 1, maxp[2] + 1};
   header.voxelSize = scale;
   header.origin = {-double(options.gridSize[0]) / 2.0 * scale, 0.0, -double(options.gridSize[2]) / 2.0 * scale};
+  if (const std::string problem = placementProblem(header.voxelSize, header.origin, header.dims); !problem.empty())
+    bad("'worldScale' " + doc["worldScale"].dump() + " with the grid size " + std::to_string(options.gridSize[0]) + "," +
+        std::to_string(options.gridSize[1]) + "," + std::to_string(options.gridSize[2]) + ": " + problem +
+        "; use a worldScale near 1");
   header.classes = blockPalette();
   header.blockWorld = BlockWorldPlacement{scale, options.gridSize};
 

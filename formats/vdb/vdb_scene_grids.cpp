@@ -71,9 +71,7 @@ MetaEntries metaEntriesOf(const openvdb::MetaMap& meta) {
 void appendSceneGrids(const Scene& scene, const std::string& prefix, const MetaEntries& extra, openvdb::GridPtrVec& out) {
   const SceneHeader& h = scene.header();
   const SceneGrids& g = scene.grids();
-  openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(h.voxelSize);
-  xform->postTranslate(openvdb::Vec3d(h.origin[0] + 0.5 * h.voxelSize, h.origin[1] + 0.5 * h.voxelSize,
-                                      h.origin[2] + 0.5 * h.voxelSize));
+  openvdb::math::Transform::Ptr xform = voxelCentreTransform(h.voxelSize, h.origin);
   auto add = [&](openvdb::GridBase::ConstPtr grid, const std::string& name, const MetaEntries& gridMeta) {
     // A shallow copy shares the tree, so the in-memory scene is not modified.
     openvdb::GridBase::Ptr copy = openvdb::ConstPtrCast<openvdb::GridBase>(grid)->copyGrid();

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -38,6 +40,38 @@ struct BlockWorldPlacement {
   std::array<uint32_t, 3> gridSize = kDefaultBlockWorldGrid;
   bool operator==(const BlockWorldPlacement&) const = default;
 };
+
+/// The range of placements a scene may have: voxel edges from kMinVoxelSize
+/// world units (OpenVDB refuses a transform whose scale cubed is below 3e-15,
+/// as nearly singular: edges under 1.45e-5) and every grid corner within
+/// +-kMaxWorldCoordinate (beyond it doubles no longer resolve a unit, so no
+/// position is exact).
+inline constexpr double kMinVoxelSize = 1.5e-5;
+inline constexpr double kMaxWorldCoordinate = 1e15;
+
+/// Why (voxelSize, origin, dims) is outside that range, or "" when it fits.
+inline std::string placementProblem(double voxelSize, const std::array<double, 3>& origin, const Dims& dims) {
+  if (!std::isfinite(voxelSize) || !(voxelSize >= kMinVoxelSize)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  std::isfinite(voxelSize) ? "the voxel size %g is below 1.5e-5 world units, the smallest an OpenVDB "
+                                             "transform holds"
+                                           : "the voxel size %g is not finite",
+                  voxelSize);
+    return text;
+  }
+  const double extent[3] = {double(dims.x), double(dims.y), double(dims.z)};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = origin[size_t(a)], hi = lo + extent[a] * voxelSize;
+    if (!std::isfinite(lo) || !(std::fabs(lo) <= kMaxWorldCoordinate) || !(std::fabs(hi) <= kMaxWorldCoordinate)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "the grid would span %g..%g world units on axis %c, beyond +-1e15", lo, hi,
+                    "xyz"[a]);
+      return text;
+    }
+  }
+  return {};
+}
 
 struct SceneHeader {
   Dims dims;                             // every axis >= 1

@@ -42,6 +42,10 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
   header.dims = d;
   header.voxelSize = vs;
   header.origin = {lo[0] - o.pad * vs, lo[1] - o.pad * vs, lo[2] - o.pad * vs};
+  const std::string problem = placementProblem(header.voxelSize, header.origin, header.dims);
+  if (!problem.empty())
+    throwUsage("cannot place the grid: " + problem + "; use a lower --res or a larger --voxel-size, or scale the input up (e.g. export it in millimetres)",
+               Setting::VoxelSpacing);
 }
 
 }  // namespace vox

@@ -100,7 +100,8 @@ Camera Camera::make(const Mat4d& view, const Mat4d& projection, uint32_t width, 
   }
   c.eye = {c.cameraToWorld[12], c.cameraToWorld[13], c.cameraToWorld[14]};
   for (double e : c.eye)
-    if (!std::isfinite(e) || std::fabs(e) > 1e15) throwBadInput(what + ": the eye position is not finite");
+    if (!std::isfinite(e) || std::fabs(e) > kMaxCameraCoordinate)
+      throwBadInput(what + ": the eye position is not finite or beyond +-1e15 world units");
   return c;
 }
 
@@ -108,7 +109,9 @@ Camera Camera::lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up, do
                       uint32_t width, uint32_t height) {
   for (const Vec3d* v : {&eye, &target, &up})
     for (double x : *v)
-      if (!std::isfinite(x)) throwUsage("camera: the eye, target and up vector must be finite", Setting::CameraPose);
+      if (!std::isfinite(x) || std::fabs(x) > kMaxCameraCoordinate)
+        throwUsage("camera: the eye, target and up vector must be finite numbers within +-1e15 world units",
+                   Setting::CameraPose);
   if (!(fovYDegrees > 0 && fovYDegrees < 180))
     throwUsage("camera: the vertical field of view must be in (0, 180) degrees", Setting::FieldOfView);
   if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)

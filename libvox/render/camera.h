@@ -28,6 +28,8 @@
 #include <cstdint>
 #include <string>
 
+#include "libvox/core/scene_header.h"
+
 namespace vox {
 
 using Vec3d = std::array<double, 3>;
@@ -39,6 +41,9 @@ inline constexpr double kLookAtFovYDegrees = 60;  // vertical
 inline constexpr uint32_t kDefaultImageSide = 512;  // when nothing gives the image size
 /// The block-map format's near and far planes; rays ignore them.
 inline constexpr double kLookAtNear = 0.1, kLookAtFar = 500;
+/// Cameras farther than this from the world origin, on any axis, are refused:
+/// beyond it doubles no longer resolve a unit, so no ray could be exact.
+inline constexpr double kMaxCameraCoordinate = kMaxWorldCoordinate;
 /// The largest image side a camera renders.
 inline constexpr uint32_t kMaxImageSide = 65536;
 

@@ -16,6 +16,12 @@ void ensureOpenVdbInitialized() {
   std::call_once(once, [] { openvdb::initialize(); });
 }
 
+openvdb::math::Transform::Ptr voxelCentreTransform(double voxelSize, const std::array<double, 3>& origin) {
+  openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  xform->postTranslate(openvdb::Vec3d(origin[0] + 0.5 * voxelSize, origin[1] + 0.5 * voxelSize, origin[2] + 0.5 * voxelSize));
+  return xform;
+}
+
 namespace {
 
 openvdb::Coord toVdb(Coord3 c) { return openvdb::Coord(c.u, c.v, c.w); }

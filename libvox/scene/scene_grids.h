@@ -14,6 +14,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,5 +33,10 @@ struct SceneGrids {
 
 /// openvdb::initialize() once, thread-safe.
 void ensureOpenVdbInitialized();
+
+/// The index-to-world transform of a scene's grids: voxel (i,j,k) centred at
+/// origin + (i + 0.5, j + 0.5, k + 0.5) * voxelSize. voxelSize must be at least
+/// kMinVoxelSize (libvox/core/scene_header.h), as placementProblem checks.
+openvdb::math::Transform::Ptr voxelCentreTransform(double voxelSize, const std::array<double, 3>& origin);
 
 }  // namespace vox

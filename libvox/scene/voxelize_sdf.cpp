@@ -38,9 +38,7 @@ Scene voxelizeMeshSdf(const Mesh& mesh, const std::vector<uint8_t>& triangleClas
     for (double c : p)
       if (!std::isfinite(c))
         throwBadInput("a vertex has a non-finite coordinate; drop the triangles that touch it", Setting::DropInvalid);
-  openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(header.voxelSize);
-  xform->postTranslate(openvdb::Vec3d(header.origin[0] + 0.5 * header.voxelSize, header.origin[1] + 0.5 * header.voxelSize,
-                                      header.origin[2] + 0.5 * header.voxelSize));
+  openvdb::math::Transform::Ptr xform = voxelCentreTransform(header.voxelSize, header.origin);
   openvdb::Int32Grid closest(0);
   const Adapter adapter{mesh, header};
   openvdb::FloatGrid::Ptr sdf = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, 2.0f, 2.0f, 0, &closest);

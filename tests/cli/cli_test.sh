@@ -369,7 +369,8 @@ OBJ
   # Voxels below what an OpenVDB transform holds: a usage error from both paths, no output.
   printf 'v 0 0 0\nv 0.0001 0 0\nv 0 0.0001 0\nf 1 2 3\n' > keep_micro.obj
   expect_exit 2 "$vox" voxelize keep_micro.obj --res 64 -o micro.vdb
-  expect_stderr "scale the mesh up"
+  expect_stderr "below 1.5e-5 world units"
+  expect_stderr "scale the input up"
   expect_exit 2 "$vox" voxelize keep_micro.obj --res 64 -o micro.vdb --check
   [ -e micro.vdb ] && fail "micro.vdb written despite the error"
   # Without the light module, vox falls back to the full one.

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <limits>
@@ -22,6 +23,7 @@
 #include "libvox/core/sha256.h"
 #include "libvox/mesh/voxelize.h"
 #include "tools/cli/enum_option.h"
+#include "tools/cli/number_checks.h"
 
 namespace voxcli {
 
@@ -42,8 +44,8 @@ std::array<double, 6> parseBounds(const std::string& text) {
     const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
     char* stop = nullptr;
     b[size_t(i)] = std::strtod(part.c_str(), &stop);
-    if (part.empty() || *stop != '\0')
-      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects six numbers, got '" + text + "'");
+    if (part.empty() || *stop != '\0' || !std::isfinite(b[size_t(i)]))
+      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects six finite numbers, got '" + text + "'");
     pos = end + 1;
   }
   return b;
@@ -151,7 +153,6 @@ void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
   for (const std::string& in : o.inputs) {
     run.input(in);
     const int64_t size = vox::fileSizeOrMinusOne(in);
-    if (size < 0) throw vox::Error(vox::ErrorKind::BadInput, in + ": no such file");
     p.bytesRead += uint64_t(size);
     vox::Mesh m = vox::readMeshFile(in, ro, p.warnings);
     for (const std::string& f : m.filesRead) run.input(f);
@@ -182,18 +183,6 @@ void placeScene(const VoxelizeOptions& o, const vox::Mesh& mesh, vox::SceneHeade
   place.pad = o.pad;
   if (!o.bounds.empty()) place.bounds = parseBounds(o.bounds);
   vox::placeGrid(lo, hi, place, header);
-  // OpenVDB refuses a transform whose scale has a determinant below 3e-15
-  // (math::ScaleMap), i.e. voxels smaller than ~1.44e-5 world units: say so
-  // now, before any work, whichever writer would run.
-  const double s = header.voxelSize;
-  if (!(s * s * s >= 3e-15)) {
-    char size[32];
-    std::snprintf(size, sizeof size, "%.3g", s);
-    throw vox::Error(vox::ErrorKind::Usage,
-                     std::string("the voxel size would be ") + size +
-                         " world units, below what an OpenVDB transform can hold (about 1.44e-5); use a lower --res "
-                         "or a larger --voxel-size, or scale the mesh up (e.g. export it in millimetres)");
-  }
 }
 
 }  // namespace
@@ -215,9 +204,9 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
   cmd->add_option("--res", o.resolution, "Voxels on the longest axis (default " + res + ")")->check(CLI::Range(1u, 4096u));
   cmd->add_option("--grid-size", o.gridSize, "Block maps: the world grid X,Y,Z")->capture_default_str();
-  cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(CLI::PositiveNumber);
+  cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(FinitePositive);
   cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
-  cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T");
+  cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T")->check(Finite);
   addEnumOption(*cmd, "--fill", o.fill, fillModeNames(),
                 "Meshes: surface (voxels a triangle touches) or solid (plus the inside)");
   addEnumOption(*cmd, "--method", o.method, methodNames(),
@@ -255,6 +244,7 @@ bool isLightBake(const VoxelizeOptions& o) {
 
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   PreparedMeshes p;
+  for (const std::string& in : o.inputs) vox::requireRegularFile(in);  // before the hasher opens (and a FIFO blocks) it
   InputHasher hasher(o.inputs);
   readMeshes(o, run, p);
   run.phase("prepare");  // classes, placement, provenance hashes

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "libvox/core/error.h"
+#include "tools/cli/number_checks.h"
 
 namespace voxcli {
 
@@ -51,7 +52,7 @@ void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
   cmd.add_option("--eye", o.eye, "Camera position X,Y,Z (world units)");
   cmd.add_option("--target", o.target, "Point the camera looks at X,Y,Z");
   cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll)")->default_str(vecText(vox::kLookAtUp));
-  cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->capture_default_str();
+  cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(FinitePositive)->capture_default_str();
   const std::string side = std::to_string(vox::kDefaultImageSide);
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default " + side + "x" + side + ", or the camera file's)");
   cmd.add_option("--camera", o.cameraFile, "Camera JSON, or a block-map metadata.json (views[] with matrices)");

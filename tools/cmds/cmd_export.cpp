@@ -138,7 +138,7 @@ vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Di
 
 ExportInput readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& region, bool withColor, Run& run) {
   run.input(o.input);
-  if (!std::filesystem::exists(o.input)) vox::throwBadInput(o.input + ": no such file");
+  vox::requireRegularFile(o.input);
   ExportInput in;
   if (vox::pagefile::looksLikePageFile(o.input)) {
     in.kind = "pages";

@@ -236,8 +236,7 @@ void printScene(const nlohmann::json& j) {
 }
 
 int runInfo(const InfoOptions& o) {
-  if (vox::fileSizeOrMinusOne(o.file) < 0 && !std::filesystem::exists(o.file))
-    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": no such file");
+  vox::requireRegularFile(o.file);
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
     if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);

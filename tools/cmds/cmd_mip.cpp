@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 
+#include "formats/core/file_util.h"
 #include "formats/core/file_kinds.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/vdb/pyramid_vdb.h"
@@ -60,7 +61,7 @@ int runMip(const MipOptions& o) {
 
   run.phase("read");
   run.input(o.input);
-  if (!std::filesystem::exists(o.input)) throw vox::Error(vox::ErrorKind::BadInput, o.input + ": no such file");
+  vox::requireRegularFile(o.input);
   vox::Scene base = vox::readSceneVdb(o.input);
   if (base.header().mipLevel != 0)
     run.note("note: " + o.input + " is already mip level " + std::to_string(base.header().mipLevel) +
@@ -99,7 +100,7 @@ int runMip(const MipOptions& o) {
       if (vox::isDemoName(src))
         vox::throwUsage("--source " + src + ": the built-in scene is " + std::string(vox::kHamletName));
       run.input(src);
-      if (!std::filesystem::exists(src)) throw vox::Error(vox::ErrorKind::BadInput, src + ": no such file");
+      vox::requireRegularFile(src);
       if (vox::fileKindOf(src) == vox::FileKind::Mesh) {
         if (mesh) vox::throwUsage("--source: give one mesh");
         std::vector<std::string> warnings;

@@ -93,7 +93,7 @@ int runVerify(const PackOptions& o) {
 std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSettings& pack) {
   run.phase("read");
   run.input(o.input);
-  if (!std::filesystem::exists(o.input)) throw vox::Error(vox::ErrorKind::BadInput, o.input + ": no such file");
+  vox::requireRegularFile(o.input);
   std::vector<vox::Scene> levels;
   if (o.mips && vox::isPyramidVdb(o.input) && o.levels == 0) {
     pack.mipOccupancy = "from " + o.input;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "formats/core/file_util.h"
 #include "formats/core/file_kinds.h"
 #include "formats/vdb/blockmap_json.h"
 #include "formats/vdb/scene_vdb.h"
@@ -101,7 +102,7 @@ vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& i
   const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
   if (kind == vox::FileKind::BlockMap) return readBlockMapInput(o, run, input);
   if (kind == vox::FileKind::Vdb) return resampleGrid(o, run, input);
-  if (!std::filesystem::exists(input)) throw vox::Error(vox::ErrorKind::BadInput, input + ": no such file");
+  vox::requireRegularFile(input);
   throw vox::Error(vox::ErrorKind::BadInput,
                    input + ": unsupported input; vox voxelize reads " + vox::describe(vox::FileKind::Mesh) + ", " +
                        vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb) or demo:hamlet");

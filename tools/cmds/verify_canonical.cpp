@@ -56,6 +56,10 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   } else if (meta) {
     camera = vox::renderCamera(*meta, img, o.canonical);
     cameraFrom = "image metadata";
+  } else {
+    // Without a camera only the decoding could be checked, not a single ray.
+    vox::throwBadInput(o.canonical + ": has no render metadata (its text chunk was dropped, e.g. by an image "
+                       "optimizer), so its rays cannot be checked; give the camera with --camera FILE or --eye/--target");
   }
   if (camera && (camera->width != img.width || camera->height != img.height))
     vox::throwUsage("the camera renders " + std::to_string(camera->width) + " x " + std::to_string(camera->height) +

@@ -1,0 +1,233 @@
+#include "formats/mesh/gltf_json_check.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <nlohmann/json.hpp>
+
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+using nlohmann::json;
+
+// Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
+// component type and the normalized flag), and extensions that only change
+// shading, lights or variants that vox does not bake, so the voxels cannot change.
+constexpr std::array<const char*, 1> kHonoured = {"KHR_mesh_quantization"};
+constexpr std::array<const char*, 13> kNoEffectOnVoxels = {
+    "KHR_materials_unlit",        "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_specular",     "KHR_materials_transmission",      "KHR_materials_volume",
+    "KHR_materials_clearcoat",    "KHR_materials_sheen",             "KHR_materials_iridescence",
+    "KHR_materials_anisotropy",   "KHR_materials_dispersion",        "KHR_lights_punctual",
+    "KHR_materials_pbrSpecularGlossiness"};
+
+template <size_t N>
+bool listed(const std::array<const char*, N>& names, const std::string& s) {
+  for (const char* n : names)
+    if (s == n) return true;
+  return false;
+}
+
+/// The JSON text: the whole .gltf, or the first chunk of a .glb (its header is
+/// checked here only as far as finding that chunk needs; tinygltf checks the rest).
+std::string jsonText(const std::string& path) {
+  if (!hasExtension(path, ".glb")) return readFileBytes(path);
+  std::ifstream in(path, std::ios::binary);
+  uint32_t header[5] = {};
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+  if (header[0] != 0x46546C67u || header[4] != 0x4E4F534Au) return {};  // "glTF", chunk type "JSON"
+  const uint64_t length = header[3];
+  const uint64_t fileBytes = std::filesystem::file_size(path);
+  if (length > fileBytes - sizeof header) return {};  // tinygltf reports the truncation
+  std::string text(size_t(length), '\0');
+  if (!in.read(text.data(), std::streamsize(length))) return {};
+  return text;
+}
+
+class Checker {
+ public:
+  Checker(const json& doc, const std::string& path) : doc_(doc), path_(path) {}
+
+  void run() {
+    extensions();
+    for (size_t i = 0; i < size("bufferViews"); ++i) bufferView(i);
+    for (size_t i = 0; i < size("accessors"); ++i) accessor(i);
+    for (size_t i = 0; i < size("meshes"); ++i) mesh(i);
+    for (size_t i = 0; i < size("nodes"); ++i) node(i);
+    for (size_t i = 0; i < size("scenes"); ++i) scene(i);
+    for (size_t i = 0; i < size("materials"); ++i) material(i);
+    for (size_t i = 0; i < size("textures"); ++i) texture(i);
+  }
+
+ private:
+  size_t size(const char* array) const {
+    auto it = doc_.find(array);
+    return it != doc_.end() && it->is_array() ? it->size() : 0;
+  }
+
+  [[noreturn]] void bad(const std::string& element, const std::string& what) const {
+    throwBadInput(path_ + ": " + element + " " + what + "; the file is malformed (re-export it, or check it with "
+                  "the Khronos glTF validator)");
+  }
+
+  /// obj[key] when present: an integer in [lo, hi], else an error naming `element.key`.
+  std::optional<int64_t> integer(const json& obj, const char* key, const std::string& element, int64_t lo,
+                                 int64_t hi) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return std::nullopt;
+    const std::string name = element + "." + key;
+    if (it->is_number_unsigned() && it->get<uint64_t>() > uint64_t(hi))
+      bad(name, "is " + it->dump() + ", above its limit " + std::to_string(hi));
+    if (!it->is_number_integer()) bad(name, "is " + it->dump().substr(0, 40) + ", not an integer");
+    const int64_t v = it->get<int64_t>();
+    if (v < lo || v > hi)
+      bad(name, "is " + std::to_string(v) + ", outside " + std::to_string(lo) + ".." + std::to_string(hi));
+    return v;
+  }
+
+  /// obj[key], when present, indexes an existing element of the top-level array `target`.
+  void reference(const json& obj, const char* key, const std::string& element, const char* target) const {
+    const size_t n = size(target);
+    auto it = obj.find(key);
+    if (it == obj.end()) return;
+    const std::string name = element + "." + key;
+    if (n == 0) bad(name, "refers to " + std::string(target) + " but the file has none");
+    if (!it->is_number_integer() || it->get<int64_t>() < 0 || uint64_t(it->get<int64_t>()) >= n)
+      bad(name, "is " + it->dump().substr(0, 40) + ", but the file's " + target + " are 0.." + std::to_string(n - 1));
+  }
+
+  void extensions() const {
+    auto it = doc_.find("extensionsRequired");
+    if (it == doc_.end() || !it->is_array()) return;
+    for (const json& e : *it) {
+      if (!e.is_string()) bad("extensionsRequired", "holds a non-string entry");
+      const std::string ext = e.get<std::string>();
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
+        throwBadInput(path_ + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
+                      "decompress it first (e.g. gltf-transform copy)");
+      if (!listed(kHonoured, ext) && !listed(kNoEffectOnVoxels, ext))
+        throwBadInput(path_ + ": requires the extension " + ext + ", which vox does not support and which could "
+                      "change the voxels; convert the file without it (e.g. with gltf-transform)");
+    }
+  }
+
+  void bufferView(size_t i) const {
+    const json& v = doc_["bufferViews"][i];
+    const std::string el = "bufferViews[" + std::to_string(i) + "]";
+    if (!v.is_object()) bad(el, "is not an object");
+    reference(v, "buffer", el, "buffers");
+    integer(v, "byteOffset", el, 0, INT64_MAX);
+    integer(v, "byteLength", el, 1, INT64_MAX);
+    if (auto stride = integer(v, "byteStride", el, 4, 252); stride && *stride % 4 != 0)
+      bad(el + ".byteStride", "is " + std::to_string(*stride) + ", not a multiple of 4");
+  }
+
+  void accessor(size_t i) const {
+    const json& a = doc_["accessors"][i];
+    const std::string el = "accessors[" + std::to_string(i) + "]";
+    if (!a.is_object()) bad(el, "is not an object");
+    reference(a, "bufferView", el, "bufferViews");
+    integer(a, "byteOffset", el, 0, INT64_MAX);
+    integer(a, "count", el, 1, INT32_MAX);
+    auto sparse = a.find("sparse");
+    if (sparse != a.end() && sparse->is_object()) {
+      const int64_t count = integer(a, "count", el, 1, INT32_MAX).value_or(0);
+      integer(*sparse, "count", el + ".sparse", 1, std::max<int64_t>(count, 1));
+      for (const char* part : {"indices", "values"}) {
+        auto p = sparse->find(part);
+        if (p == sparse->end() || !p->is_object()) continue;
+        const std::string pel = el + ".sparse." + part;
+        reference(*p, "bufferView", pel, "bufferViews");
+        integer(*p, "byteOffset", pel, 0, INT64_MAX);
+      }
+    }
+  }
+
+  void mesh(size_t i) const {
+    const json& m = doc_["meshes"][i];
+    auto prims = m.find("primitives");
+    if (prims == m.end() || !prims->is_array()) return;
+    for (size_t p = 0; p < prims->size(); ++p) {
+      const json& prim = (*prims)[p];
+      const std::string el = "meshes[" + std::to_string(i) + "].primitives[" + std::to_string(p) + "]";
+      if (!prim.is_object()) bad(el, "is not an object");
+      reference(prim, "material", el, "materials");
+      reference(prim, "indices", el, "accessors");
+      auto attrs = prim.find("attributes");
+      if (attrs != prim.end() && attrs->is_object())
+        for (auto it = attrs->begin(); it != attrs->end(); ++it) reference(*attrs, it.key().c_str(), el + ".attributes", "accessors");
+    }
+  }
+
+  void node(size_t i) const {
+    const json& n = doc_["nodes"][i];
+    const std::string el = "nodes[" + std::to_string(i) + "]";
+    if (!n.is_object()) bad(el, "is not an object");
+    reference(n, "mesh", el, "meshes");
+    auto children = n.find("children");
+    if (children != n.end() && children->is_array())
+      for (size_t c = 0; c < children->size(); ++c) {
+        const json& child = (*children)[c];
+        if (!child.is_number_integer() || child.get<int64_t>() < 0 || child.get<int64_t>() >= int64_t(size("nodes")))
+          bad(el + ".children[" + std::to_string(c) + "]", "is " + child.dump().substr(0, 40) + ", not a node index");
+      }
+  }
+
+  void scene(size_t i) const {
+    const json& s = doc_["scenes"][i];
+    auto nodes = s.find("nodes");
+    if (nodes == s.end() || !nodes->is_array()) return;
+    for (size_t c = 0; c < nodes->size(); ++c) {
+      const json& n = (*nodes)[c];
+      if (!n.is_number_integer() || n.get<int64_t>() < 0 || n.get<int64_t>() >= int64_t(size("nodes")))
+        bad("scenes[" + std::to_string(i) + "].nodes[" + std::to_string(c) + "]",
+            "is " + n.dump().substr(0, 40) + ", not a node index");
+    }
+  }
+
+  void material(size_t i) const {
+    const json& m = doc_["materials"][i];
+    const std::string el = "materials[" + std::to_string(i) + "]";
+    if (!m.is_object()) bad(el, "is not an object");
+    auto pbr = m.find("pbrMetallicRoughness");
+    if (pbr != m.end() && pbr->is_object())
+      for (const char* t : {"baseColorTexture", "metallicRoughnessTexture"}) {
+        auto tex = pbr->find(t);
+        if (tex != pbr->end() && tex->is_object()) reference(*tex, "index", el + ".pbrMetallicRoughness." + t, "textures");
+      }
+    for (const char* t : {"normalTexture", "occlusionTexture", "emissiveTexture"}) {
+      auto tex = m.find(t);
+      if (tex != m.end() && tex->is_object()) reference(*tex, "index", el + "." + t, "textures");
+    }
+  }
+
+  void texture(size_t i) const {
+    const json& t = doc_["textures"][i];
+    const std::string el = "textures[" + std::to_string(i) + "]";
+    if (!t.is_object()) bad(el, "is not an object");
+    reference(t, "source", el, "images");
+    reference(t, "sampler", el, "samplers");
+  }
+
+  const json& doc_;
+  const std::string& path_;
+};
+
+}  // namespace
+
+void checkGltfJson(const std::string& path) {
+  const std::string text = jsonText(path);
+  const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object()) return;  // tinygltf names the parse error
+  Checker(doc, path).run();
+}
+
+}  // namespace vox

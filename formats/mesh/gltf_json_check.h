@@ -1,0 +1,23 @@
+// The glTF JSON checked against the ranges the glTF 2.0 specification gives,
+// before tinygltf reads it: tinygltf coerces what it cannot represent (a
+// negative byteOffset becomes 0, a count of 4e9 wraps to a negative int) and
+// never checks indices between objects, so a malformed file would otherwise be
+// read as something it does not say.
+#pragma once
+
+#include <string>
+
+namespace vox {
+
+/// Checks the JSON of the .gltf file or the JSON chunk of the .glb file at
+/// `path`: every extensionsRequired entry is one vox honours or one that cannot
+/// change the voxels; accessor and bufferView offsets, lengths, strides and
+/// counts are integers in their ranges; every index from one object to another
+/// (node -> mesh, primitive -> accessor/material, material -> texture,
+/// texture -> image/sampler, bufferView -> buffer) names an existing object.
+/// Throws BadInput naming the file and the element (e.g.
+/// "accessors[3].byteOffset") on the first violation; JSON that does not parse
+/// is left for tinygltf to report.
+void checkGltfJson(const std::string& path);
+
+}  // namespace vox

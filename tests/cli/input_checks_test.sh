@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# Inputs that are not what they claim and numbers at the edge of what a scene
+# can hold: each gets a clear message naming the file or option and element,
+# its documented exit code (2 usage, 3 bad input), and no output.
+# Usage: input_checks_test.sh GROUP VOX_BINARY DATA_DIR
+set -u
+group=$1 vox=$2 data=$3
+# shellcheck source=test_lib.sh
+. "$(dirname "$0")/test_lib.sh"
+
+no_output() { [ ! -e "$1" ] || fail "$1 was written by a failed run"; }
+
+case "$group" in
+numbers)
+  # NaN and infinities pass CLI11's own range checks; these options refuse them.
+  for v in nan inf -1 0; do
+    expect_exit 2 "$vox" voxelize demo:hamlet --voxel-size "$v" -o x.vdb
+    expect_stderr "--voxel-size"
+    no_output x.vdb
+  done
+  expect_exit 2 "$vox" voxelize demo:hamlet --res 16 --fov nan -o x.vdb 2>/dev/null || true
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb
+  expect_exit 2 "$vox" render-canonical h.vdb -o r.png --eye 0,5,40 --target 0,0,0 --fov nan
+  expect_stderr "--fov"
+  no_output r.png
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > t.stl
+  expect_exit 2 "$vox" voxelize t.stl --bounds 0,0,0,nan,1,1 -o x.vdb
+  expect_stderr "--bounds expects six finite numbers"
+  # Cameras: one limit (1e15 world units) with one exit code, however far.
+  expect_exit 2 "$vox" render-canonical h.vdb -o r.png --eye 0,0,1e16 --target 0,0,0
+  expect_stderr "within +-1e15 world units"
+  expect_exit 2 "$vox" render-canonical h.vdb -o r.png --eye 0,0,1e300 --target 0,0,0
+  expect_stderr "within +-1e15 world units"
+  no_output r.png
+  # Placements a scene cannot hold: block-map worldScale and tiny meshes.
+  for s in 1e308 1e-300 1e-7; do
+    printf '{"worldScale":%s,"blocks":[{"position":[0,0,0],"blockType":"Stone"}]}' "$s" > w.json
+    expect_exit 3 "$vox" voxelize w.json -o x.vdb
+    expect_stderr "w.json: 'worldScale' "
+    expect_stderr "use a worldScale near 1"
+    no_output x.vdb
+  done
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e-4 0 0\nvertex 0 1e-4 0\nendloop\nendfacet\nendsolid t\n' > tiny.stl
+  expect_exit 2 "$vox" voxelize tiny.stl --res 64 -o x.vdb
+  expect_stderr "below 1.5e-5 world units"
+  no_output x.vdb
+  expect_exit 0 "$vox" voxelize tiny.stl --res 4 -o ok.vdb
+  ;;
+files)
+  # Only regular files are inputs: directories, FIFOs and devices are refused up front.
+  mkdir d.obj
+  expect_exit 3 "$vox" voxelize d.obj -o x.vdb
+  expect_stderr "d.obj: is a directory"
+  mkfifo p.stl
+  expect_exit 3 timeout 10 "$vox" voxelize p.stl -o x.vdb
+  expect_stderr "p.stl"
+  expect_exit 3 "$vox" info /dev/zero
+  printf 'mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > m.obj
+  expect_exit 3 timeout 10 "$vox" voxelize m.obj -o x.vdb
+  expect_stderr "/dev/zero"
+  no_output x.vdb
+  # A truncated ASCII STL: refused, not read short.
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
+  expect_exit 3 "$vox" voxelize cut.stl -o x.vdb
+  expect_stderr "truncated"
+  no_output x.vdb
+  # A canonical render whose metadata chunk was dropped cannot pass a check it cannot make.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb
+  expect_exit 0 "$vox" render-canonical h.vdb -o c.png --eye 20,20,20 --target 0,0,0 --size 32x24
+  python3 - <<'PY' || fail "could not strip the PNG's text chunks"
+import struct
+data = open("c.png", "rb").read()
+out, pos = bytearray(data[:8]), 8
+while pos < len(data):
+    n, = struct.unpack(">I", data[pos:pos + 4])
+    kind = data[pos + 4:pos + 8]
+    if kind not in (b"tEXt", b"iTXt", b"zTXt"):
+        out += data[pos:pos + 12 + n]
+    pos += 12 + n
+open("stripped.png", "wb").write(bytes(out))
+PY
+  expect_exit 0 "$vox" verify-bijection --canonical c.png --scene h.vdb
+  expect_exit 3 "$vox" verify-bijection --canonical stripped.png --scene h.vdb
+  expect_stderr "stripped.png: has no render metadata"
+  expect_exit 0 "$vox" verify-bijection --canonical stripped.png --scene h.vdb --eye 20,20,20 --target 0,0,0
+  ;;
+*)
+  echo "unknown group $group" >&2
+  exit 2
+  ;;
+esac
+[ "$failures" = 0 ] || { echo "$failures failure(s) in input_checks.$group" >&2; exit 1; }
+echo "input_checks.$group: ok"
