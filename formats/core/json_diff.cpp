@@ -113,6 +113,12 @@ struct Walker {
           return j.is_number_unsigned() ? __int128(j.get<uint64_t>()) : __int128(j.get<int64_t>());
         };
         if (wide(a) == wide(b)) return;
+        if (o.relTolerance == 0) {  // past 2^53 the doubles below may be equal
+          const double x = a.get<double>(), y = b.get<double>();
+          const double scale = std::max(std::fabs(x), std::fabs(y));
+          note(ptr, a.dump(), b.dump(), scale > 0 ? std::fabs(x - y) / scale : 0.0);
+          return;
+        }
       }
       const double x = a.get<double>(), y = b.get<double>();
       if (x == y) return;
