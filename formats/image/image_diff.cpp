@@ -91,6 +91,12 @@ void maskRow(const Image& img, uint32_t y, const std::array<uint8_t, 3>& backgro
     }
     return;
   }
+  if (img.channels == 1 && (img.type == SampleType::F16 || img.type == SampleType::F32)) {
+    // Depth images: a miss is +infinity.
+    channelRow(img, y, 0, true, tmp.data());
+    for (uint32_t x = 0; x < img.width; ++x) hit[x] = std::isfinite(tmp[x]);
+    return;
+  }
   if (hasAlpha(img.channels)) {
     channelRow(img, y, img.channels - 1, true, tmp.data());
     for (uint32_t x = 0; x < img.width; ++x) hit[x] = tmp[x] > 0;
@@ -199,7 +205,11 @@ ImageDiff diffImages(const Image& a, const Image& b, const ImageDiffOptions& o) 
   }
   d.channels = channels;
   d.pixels = uint64_t(a.width) * a.height;
+  const bool depth = a.channels == 1 && b.channels == 1 &&
+                     (a.type == SampleType::F16 || a.type == SampleType::F32) &&
+                     (b.type == SampleType::F16 || b.type == SampleType::F32);
   d.maskSource = o.maskNonZero ? "non-zero texels"
+                 : depth       ? "finite depth"
                  : hasAlpha(a.channels) && hasAlpha(b.channels)     ? "alpha"
                  : !hasAlpha(a.channels) && !hasAlpha(b.channels) ? "background"
                  : hasAlpha(a.channels)                           ? "alpha (A), background (B)"

@@ -24,7 +24,8 @@
 //     A pixel is a hit when its alpha is > 0 (images with alpha), otherwise
 //     when its colour differs from the background colour (default the terrain
 //     shading's sky, 135,207,235 in 8 bits: what shaded renders write for misses);
-//     with maskNonZero (atlases), when any sample is non-zero.
+//     with maskNonZero (atlases), when any sample is non-zero; one-channel
+//     half/float images (depth renders) when the sample is finite (a miss is +inf).
 // Sums of integer samples are exact (64-bit integers), so results are the
 // same at any thread count and match an independent float64 computation.
 //

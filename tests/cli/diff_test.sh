@@ -120,6 +120,21 @@ EOF
   "$vox" build-atlas m3.vdb -o a3b --occupancy --quiet
   expect_exit 1 "$vox" diff a1/m1.occupancy.png a3b/m3.occupancy.png --json
   jq_py "assert d['max_error_at']['voxel']==[0,5,0], d['max_error_at']"
+  # EXR, 32-bit integer samples: any difference fails by default (0 thresholds).
+  "$vox" build-atlas m1.vdb -o x1 --identity --format rgba32ui --quiet
+  "$vox" build-atlas m3.vdb -o x3 --identity --format rgba32ui --quiet
+  expect_exit 0 "$vox" diff x1/m1.identity.exr x1/m1.identity.exr
+  expect_exit 1 "$vox" diff x1/m1.identity.exr x3/m3.identity.exr --json
+  jq_py "assert d['pixels_differing']==1 and d['fail']['threshold']==0 and d['max_error_at']['voxel']==[0,5,0] and d['max_error_at']['b']==[0,5,0,4294967295], d"
+  # Depth renders (one float channel, +inf for misses): the class change of
+  # m2 leaves the geometry alone; m3's extra block does not.
+  for m in m1 m2 m3; do
+    "$vox" render-canonical $m.vdb -o d$m.exr --mode depth --eye 4,9,12 --target 3,3,3 --size 24x20 --quiet
+  done
+  expect_exit 0 "$vox" diff dm1.exr dm2.exr
+  expect_stdout "hit/miss mask agrees on 100.0000% of pixels (finite depth)"
+  expect_exit 1 "$vox" diff dm1.exr dm3.exr --json
+  jq_py "assert d['mask_source']=='finite depth' and d['mask_agreement']<1 and d['pixels_differing']>0, d"
   # Layouts must match (m4's dims are 6 x 7 x 6).
   "$vox" build-atlas m4.vdb -o a4 --summary --quiet
   expect_exit 1 "$vox" diff a1/m1.summary.png a4/m4.summary.png

@@ -158,8 +158,11 @@ int diffSceneFiles(const DiffOptions& o) {
   auto [la, lb] =
       readBoth<std::vector<vox::Scene>>(o, [](const std::string& p) { return vox::readPyramidVdb(p); });
   bool same = la.size() == lb.size();
-  const vox::JsonDiff meta = vox::diffJson(vox::parseJsonDocument(vox::readPyramidMetadata(o.a).empty() ? "null" : vox::readPyramidMetadata(o.a), o.a),
-                                           vox::parseJsonDocument(vox::readPyramidMetadata(o.b).empty() ? "null" : vox::readPyramidMetadata(o.b), o.b));
+  auto metadata = [](const std::string& path) {  // "" for a plain scene
+    const std::string text = vox::readPyramidMetadata(path);
+    return vox::parseJsonDocument(text.empty() ? "null" : text, path + " vox:pyramid");
+  };
+  const vox::JsonDiff meta = vox::diffJson(metadata(o.a), metadata(o.b));
   same = same && meta.same();
   std::vector<vox::SceneDiff> diffs;
   uint64_t compared = 0, differing = 0;
