@@ -40,17 +40,20 @@ ratio() {  # ratio JSON: mean of command 0 / mean of command 1, and both means
 import json, sys
 r = json.load(open(sys.argv[1]))["results"]
 a, b = r[0]["mean"], r[1]["mean"]
-print(f"{a:.3f} s | {b:.3f} s | {a / b:.2f}")
+# CPU seconds (user + system, as hyperfine measures them): steadier than wall
+# time on a machine shared with other jobs.
+ca, cb = r[0]["user"] + r[0]["system"], r[1]["user"] + r[1]["system"]
+print(f"{a:.3f} s | {b:.3f} s | {a / b:.2f} | {ca:.2f} s | {cb:.2f} s | {ca / cb:.2f}")
 PY
 }
 bench() {  # bench NAME CMD_VOX CMD_REF
   hyperfine --warmup 1 --runs "$runs" -i --export-json "$1.json" "$2" "$3" >&2
-  echo "| $1 | \`$2\` | \`$3\` | $(ratio "$1.json") |"
+  echo "| $1 | \`${2//$vox/vox}\` | \`${3//$vox/vox}\` | $(ratio "$1.json") |"
 }
-echo "| case | vox diff | reference | vox diff | reference | ratio |"
-echo "| --- | --- | --- | --- | --- | --- |"
+echo "| case | vox diff | reference | vox diff wall | reference wall | ratio | vox diff CPU | reference CPU | CPU ratio |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 bench "atlases 4096^2, 1% salt noise" "$vox diff a.png b.png" "idiff a.png b.png"
 bench "atlases 4096^2, identical" "$vox diff a.png same.png" "idiff a.png same.png"
 bench "scenes $res^3, identical" "$vox diff s1.vdb s1copy.vdb" "sh -c '$vox info s1.vdb >/dev/null && $vox info s1copy.vdb >/dev/null'"
 bench "scenes $res^3 vs $((res - 1))^3" "$vox diff s1.vdb s2.vdb" "sh -c '$vox info s1.vdb >/dev/null && $vox info s2.vdb >/dev/null'"
-echo "(hyperfine, $runs runs after 1 warm-up, $(nproc) cores, $(date -u +%Y-%m-%d))"
+echo "(hyperfine, $runs runs after 1 warm-up, $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end, $(date -u +%Y-%m-%d))"

@@ -166,45 +166,6 @@ VoxelValues valuesAt(const SideLeaves& l, const std::vector<uint8_t>& ids, openv
   return v;
 }
 
-double votesMagnitude(const VoxelValues& a, const VoxelValues& b) {
-  double worst = 0;
-  size_t i = 0, j = 0;
-  while (i < a.votes.size() || j < b.votes.size()) {
-    uint32_t va = 0, vb = 0;
-    if (j == b.votes.size() || (i < a.votes.size() && a.votes[i].classId < b.votes[j].classId)) {
-      va = a.votes[i++].votes;
-    } else if (i == a.votes.size() || b.votes[j].classId < a.votes[i].classId) {
-      vb = b.votes[j++].votes;
-    } else {
-      va = a.votes[i++].votes;
-      vb = b.votes[j++].votes;
-    }
-    worst = std::max(worst, std::fabs(double(va) - double(vb)));
-  }
-  return worst;
-}
-
-double colorMagnitude(const VoxelValues& a, const VoxelValues& b) {
-  if (a.color.has_value() != b.color.has_value()) return 1.0;
-  if (!a.color) return 0.0;
-  return std::max({std::fabs(double(a.color->r) - b.color->r), std::fabs(double(a.color->g) - b.color->g),
-                   std::fabs(double(a.color->b) - b.color->b)});
-}
-
-uint64_t totalVotes(const VoxelValues& v) {
-  uint64_t t = 0;
-  for (const ClassVotes& c : v.votes) t += c.votes;
-  return t;
-}
-
-void noteExample(VoxelKindDiff& k, Coord3 at, double magnitude, const VoxelValues& a, const VoxelValues& b) {
-  ++k.count;
-  if (!k.first || orderKey(at) < orderKey(k.first->at)) k.first = VoxelDiffExample{at, magnitude, a, b};
-  if (!k.worst || magnitude > k.worst->magnitude ||
-      (magnitude == k.worst->magnitude && orderKey(at) < orderKey(k.worst->at)))
-    k.worst = VoxelDiffExample{at, magnitude, a, b};
-}
-
 void mergeKind(VoxelKindDiff& into, const VoxelKindDiff& from) {
   into.count += from.count;
   if (from.first && (!into.first || orderKey(from.first->at) < orderKey(into.first->at))) into.first = from.first;
@@ -272,36 +233,61 @@ SceneDiff diffScenes(const Scene& a, const Scene& b, const SceneDiffOptions& o) 
       for (size_t k = 0; same && k < ids.size(); ++k) same = sameLeaf(la.votes[k], lb.votes[k]);
       if (same) continue;
       for (auto it = either.beginOn(); it; ++it) {
+        // Magnitudes straight from the leaves; the voxel's values are built
+        // only when it becomes a first or worst example (most differing
+        // voxels of two scenes that differ everywhere never do).
         const openvdb::Index n = it.pos();
-        const VoxelValues va = valuesAt(la, ids, n), vb = valuesAt(lb, ids, n);
-        if (va == vb) continue;
+        const bool occA = la.occ && la.occ->isValueOn(n), occB = lb.occ && lb.occ->isValueOn(n);
+        bool dOcc = false, dVotes = false, dColor = false, dSurface = false;
+        double mOcc = 0, mVotes = 0, mColor = 0;
+        if (occA != occB) {
+          dOcc = true;
+          const SideLeaves& l = occA ? la : lb;
+          for (size_t k = 0; k < ids.size(); ++k)
+            if (l.votes[k] && l.votes[k]->isValueOn(n)) mOcc += double(l.votes[k]->getValue(n));
+        } else {
+          for (size_t k = 0; k < ids.size(); ++k) {
+            const int64_t va = la.votes[k] && la.votes[k]->isValueOn(n) ? la.votes[k]->getValue(n) : 0;
+            const int64_t vb = lb.votes[k] && lb.votes[k]->isValueOn(n) ? lb.votes[k]->getValue(n) : 0;
+            mVotes = std::max(mVotes, double(va > vb ? va - vb : vb - va));
+          }
+          dVotes = mVotes > o.votesTolerance;
+          const bool ca = la.color && la.color->isValueOn(n), cb = lb.color && lb.color->isValueOn(n);
+          if (ca != cb) {
+            mColor = 1.0, dColor = true;
+          } else if (ca) {
+            const openvdb::Vec3s& x = la.color->getValue(n);
+            const openvdb::Vec3s& y = lb.color->getValue(n);
+            for (int q = 0; q < 3; ++q) mColor = std::max(mColor, std::fabs(double(x[q]) - double(y[q])));
+            dColor = mColor > o.colorTolerance;
+          }
+          dSurface = la.occ->getValue(n) != lb.occ->getValue(n);
+        }
+        if (!(dOcc || dVotes || dColor || dSurface)) continue;
         const openvdb::Coord c = BoolLeaf::offsetToLocalCoord(n) + origins[i];
         const Coord3 at{c.x(), c.y(), c.z()};
-        bool differs = false;
-        if (va.occupied != vb.occupied) {
-          differs = true;
-          (va.occupied ? part.onlyInA : part.onlyInB) += 1;
-          noteExample(part.kinds[size_t(VoxelDiffKind::Occupancy)], at, double(totalVotes(va.occupied ? va : vb)),
-                      va, vb);
-        } else {
-          const double mv = votesMagnitude(va, vb);
-          if (mv > o.votesTolerance) {
-            differs = true;
-            noteExample(part.kinds[size_t(VoxelDiffKind::Votes)], at, mv, va, vb);
-          }
-          const double mc = colorMagnitude(va, vb);
-          if (mc > o.colorTolerance || va.color.has_value() != vb.color.has_value()) {
-            differs = true;
-            noteExample(part.kinds[size_t(VoxelDiffKind::Color)], at, mc, va, vb);
-          }
-          if (va.surface != vb.surface) {
-            differs = true;
-            noteExample(part.kinds[size_t(VoxelDiffKind::Surface)], at, 1.0, va, vb);
-          }
+        std::optional<VoxelValues> va, vb;
+        auto example = [&](double magnitude) {
+          if (!va) va = valuesAt(la, ids, n), vb = valuesAt(lb, ids, n);
+          return VoxelDiffExample{at, magnitude, *va, *vb};
+        };
+        auto consider = [&](VoxelDiffKind kind, double magnitude) {
+          VoxelKindDiff& k = part.kinds[size_t(kind)];
+          ++k.count;
+          if (!k.first || orderKey(at) < orderKey(k.first->at)) k.first = example(magnitude);
+          if (!k.worst || magnitude > k.worst->magnitude ||
+              (magnitude == k.worst->magnitude && orderKey(at) < orderKey(k.worst->at)))
+            k.worst = example(magnitude);
+        };
+        if (dOcc) {
+          (occA ? part.onlyInA : part.onlyInB) += 1;
+          consider(VoxelDiffKind::Occupancy, mOcc);
         }
-        if (!differs) continue;
+        if (dVotes) consider(VoxelDiffKind::Votes, mVotes);
+        if (dColor) consider(VoxelDiffKind::Color, mColor);
+        if (dSurface) consider(VoxelDiffKind::Surface, 1.0);
         ++part.differing;
-        if (!part.first || orderKey(at) < orderKey(part.first->at)) part.first = VoxelDiffExample{at, 0, va, vb};
+        if (!part.first || orderKey(at) < orderKey(part.first->at)) part.first = example(0);
       }
     }
   });
