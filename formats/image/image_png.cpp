@@ -186,3 +186,42 @@ Image readPng(const std::string& path) {
 }
 
 }  // namespace vox
+
+// ---------------------------------------------------------------- from memory
+// (declared in formats/image/png_memory.h)
+
+namespace vox {
+
+Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
+  static const uint8_t magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size < 8 || std::memcmp(data, magic, 8) != 0) throwBadInput(name + ": not a PNG image (wrong signature)");
+  // fmemopen gives libpng the FILE* its reader expects, over the caller's bytes.
+  FilePtr f(fmemopen(const_cast<uint8_t*>(data), size, "rb"), &std::fclose);
+  if (!f) throwIo(name + ": cannot read the PNG bytes from memory");
+  std::string message;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, pngError, pngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) throwIo(name + ": libpng could not start");
+  Image image;
+  int depth = 8;
+  bool ok = pngReadHeader(png, info, f.get(), &image.width, &image.height, &image.channels, &depth);
+  if (ok) {
+    image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
+    image.pixels.assign(image.rowBytes() * image.height, 0);
+    std::vector<png_bytep> rows(image.height);
+    for (uint32_t y = 0; y < image.height; ++y) rows[y] = image.pixels.data() + y * image.rowBytes();
+    ok = pngReadRows(png, info, rows.data());
+  }
+  if (ok) {
+    png_textp texts = nullptr;
+    int count = 0;
+    png_get_text(png, info, &texts, &count);
+    for (int i = 0; i < count; ++i)
+      image.text.emplace_back(texts[i].key, std::string(texts[i].text, texts[i].text_length));
+  }
+  png_destroy_read_struct(&png, &info, nullptr);
+  if (!ok) throwBadInput(name + ": corrupt or truncated PNG: " + message);
+  return image;
+}
+
+}  // namespace vox

@@ -1,66 +1,152 @@
-// vox diff A B: compares two artefacts semantically (for scenes: header and
-// every voxel, ignoring OpenVDB's random file UUID). Exit 0 when they are the
-// same, 1 when they differ (like idiff), 3 when an input cannot be read.
+// vox diff A B: compares two artefacts in the voxel's terms (docs/diff.md),
+// like OpenImageIO's idiff for images: exit 0 when they are the same (or
+// within the tolerances), 1 when they differ, 2 when the two files are of
+// different kinds (or the options make no sense), 3 when an input cannot be
+// read. The kind is sniffed from the content: scenes and pyramids (.vdb),
+// page files (.vpk), images (.png, .exr), JSON (reports, touched sets), and a
+// render against a block-map metadata.json's reference image (--view N).
 #include <CLI/CLI.hpp>
 #include <filesystem>
-#include <iostream>
+#include <fstream>
 
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "formats/image/image.h"
+#include "formats/pagefile/pagefile.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cmds/diff_common.h"
 
 namespace voxcli {
 
 namespace {
 
-struct DiffOptions {
-  std::string a, b;
-  bool json = false;
-  bool ignoreSources = false;
+enum class DiffKind { Scene, Pages, Image, Json };
+
+const char* kindText(DiffKind k) {
+  switch (k) {
+    case DiffKind::Scene: return "a scene or pyramid (.vdb)";
+    case DiffKind::Pages: return "a page file (.vpk)";
+    case DiffKind::Image: return "an image (.png, .exr)";
+    case DiffKind::Json: return "a JSON file";
+  }
+  return "?";
+}
+
+bool looksLikeJson(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char c = 0;
+  while (in.get(c))
+    if (!std::isspace(static_cast<unsigned char>(c))) return c == '{' || c == '[';
+  return false;
+}
+
+DiffKind kindOf(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw vox::Error(vox::ErrorKind::BadInput, path + ": no such file");
+  if (std::filesystem::is_directory(path, ec))
+    throw vox::Error(vox::ErrorKind::BadInput, path + ": is a directory, not a file");
+  if (!std::ifstream(path, std::ios::binary))
+    throw vox::Error(vox::ErrorKind::BadInput, path + ": cannot open the file (permissions?)");
+  if (vox::looksLikeVdb(path)) return DiffKind::Scene;
+  if (vox::pagefile::looksLikePageFile(path)) return DiffKind::Pages;
+  if (vox::isPngFile(path) || vox::isExrFile(path)) return DiffKind::Image;
+  if (vox::hasExtension(path, ".json") || looksLikeJson(path)) return DiffKind::Json;
+  throw vox::Error(vox::ErrorKind::BadInput,
+                   path + ": not a file vox diff reads (expected a scene or pyramid .vdb, a page file .vpk, a "
+                          "PNG or EXR image, or JSON; the content decides, not the name)");
+}
+
+struct DiffCommand {
+  DiffOptions o;
+  CommonOptions common;
+  CLI::App* app = nullptr;
 };
 
-int runDiff(const DiffOptions& o) {
-  for (const std::string* p : {&o.a, &o.b})
-    if (!vox::looksLikeVdb(*p) && std::filesystem::exists(*p))
-      throw vox::Error(vox::ErrorKind::BadInput, *p + ": vox diff compares scenes (.vdb) in this version");
-  const vox::Scene a = vox::readSceneVdb(o.a);
-  const vox::Scene b = vox::readSceneVdb(o.b);
-  const vox::SceneDifference d = vox::compareScenes(a, b, o.ignoreSources);
-  if (o.json) {
-    nlohmann::json j = {{"a", o.a},
-                        {"b", o.b},
-                        {"same", d.same()},
-                        {"header_differs", d.headerDiffers},
-                        {"header_note", d.headerNote},
-                        {"voxels_compared", d.voxelsCompared},
-                        {"voxels_differing", d.voxelsDiffering}};
-    if (d.firstDifference)
-      j["first_difference"] = {{"voxel", {d.firstDifference->u, d.firstDifference->v, d.firstDifference->w}},
-                               {"values", d.firstNote}};
-    std::cout << j.dump(2) << "\n";
-  } else {
-    std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
-              << d.voxelsDiffering << " differ";
-    if (d.headerDiffers) std::cout << "; header: " << d.headerNote;
-    std::cout << "\n";
-    if (d.firstDifference)
-      std::cout << "  first difference at voxel " << vox::toString(*d.firstDifference) << " (smallest w, v, u): "
-                << d.firstNote << "\n";
+int runDiff(DiffCommand& c) {
+  DiffOptions& o = c.o;
+  Run run("diff", c.common);
+  o.threads = run.threads();
+  run.input(o.a);
+  run.input(o.b);
+  const DiffKind ka = kindOf(o.a), kb = kindOf(o.b);
+  // Options that belong to another kind are refused rather than ignored.
+  auto given = [&](const char* name) { return c.app->count(name) > 0; };
+  const bool imageOptions = given("--fail") || given("--warn") || given("--failpercent") || given("--warnpercent") ||
+                            given("--hardfail") || given("--hardwarn") || given("--diff-image") ||
+                            given("--background");
+  if (ka == DiffKind::Image && kb == DiffKind::Json) {
+    const int code = diffRenderReference(o, run);
+    return run.finish(code);
   }
-  return d.same() ? kExitOk : kExitCheckFailed;
+  if (given("--view"))
+    throw vox::Error(vox::ErrorKind::Usage, "--view applies to a render compared with a metadata.json (vox diff RENDER.png metadata.json --view N)");
+  if (ka != kb)
+    throw vox::Error(vox::ErrorKind::Usage, o.a + " is " + kindText(ka) + " but " + o.b + " is " + kindText(kb) +
+                                                ": vox diff compares two files of one kind (or a render with a "
+                                                "metadata.json and --view N)");
+  if (imageOptions && ka != DiffKind::Image)
+    throw vox::Error(vox::ErrorKind::Usage, "--fail, --warn, --hardfail, --diff-image ... apply to images, not to " +
+                                                std::string(kindText(ka)));
+  int code = kExitOk;
+  switch (ka) {
+    case DiffKind::Scene: code = diffSceneFiles(o); break;
+    case DiffKind::Pages: code = diffPageFiles(o); break;
+    case DiffKind::Image: code = diffImageFiles(o, run); break;
+    case DiffKind::Json: code = diffJsonFiles(o); break;
+  }
+  return run.finish(code);
 }
 
 }  // namespace
 
 Command registerDiff(CLI::App& root) {
-  auto opts = std::make_shared<DiffOptions>();
-  CLI::App* cmd = root.add_subcommand("diff", "Compare two scenes voxel for voxel (exit 1 if they differ)");
-  cmd->add_option("a", opts->a, "First file")->required();
-  cmd->add_option("b", opts->b, "Second file")->required();
-  cmd->add_flag("--json", opts->json, "Print the comparison as JSON on stdout");
-  cmd->add_flag("--ignore-sources", opts->ignoreSources, "Do not compare the recorded source files");
-  return {cmd, [opts] { return runDiff(*opts); }};
+  auto c = std::make_shared<DiffCommand>();
+  DiffOptions& o = c->o;
+  CLI::App* cmd = root.add_subcommand(
+      "diff",
+      "Compare two scenes, pyramids, page files, images (atlases, bitmaps, renders) or JSON files; exit 0 same, 1 "
+      "differs, 2 different kinds, 3 unreadable (docs/diff.md)");
+  c->app = cmd;
+  cmd->add_option("a", o.a, "First file (or the render, with a metadata.json as the second)")->required();
+  cmd->add_option("b", o.b, "Second file (the golden / reference one)")->required();
+  cmd->add_flag("--json", o.json, "Print the comparison as JSON on stdout");
+  cmd->add_flag("--ignore-sources", o.ignoreSources, "Scenes: do not compare the recorded source files");
+  cmd->add_option("--votes-tolerance", o.votesTolerance,
+                  "Scenes: votes of one class may differ by this many per voxel")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--color-tolerance", o.colorTolerance,
+                  "Scenes: colour channels (linear, 0..1) may differ by this much; page files: x 255 in sRGB8 units")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--fail", o.fail, "Images: a pixel fails when a channel differs by more than this (idiff; default 1e-6, 0 for 32-bit samples)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--failpercent", o.failPercent, "Images: allow this percentage of failing pixels (default 0)")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--hardfail", o.hardFail, "Images: fail if any one pixel differs by more than this (default inf)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--warn", o.warn, "Images: warning threshold (idiff; default 1e-6, 0 for 32-bit samples)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--warnpercent", o.warnPercent, "Images: allow this percentage of warnings (default 0)")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--hardwarn", o.hardWarn, "Images: warn if any one pixel differs by more than this (default inf)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--diff-image", o.diffImage, "Images: write |A - B| as an RGB8 PNG here");
+  cmd->add_option("--diff-scale", o.diffScale, "Images: multiply the difference image by this (default 1)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--background", o.background,
+                  "Images without alpha: the miss colour R,G,B (0..255) for the hit/miss mask (default 135,207,235, "
+                  "the shaded sky)");
+  cmd->add_option("--view", o.view, "Render vs metadata.json: the view's index whose rgbBase64 image is the reference");
+  cmd->add_option("--rel-tolerance", o.relTolerance, "JSON: numbers may differ by this fraction of the larger")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--ignore-key", o.ignoreKeys, "JSON: also skip keys matching this pattern ('*' wildcard); repeatable");
+  cmd->add_flag("--no-default-ignores", o.noDefaultIgnores,
+                "JSON: compare timings and paths too (default: seconds, *_seconds, *_per_second, *_per_s, threads, "
+                "argv, inputs, outputs, scene, file, path are skipped)");
+  addCommonOptions(*cmd, c->common);
+  return {cmd, [c] { return runDiff(*c); }};
 }
 
 }  // namespace voxcli

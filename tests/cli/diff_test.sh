@@ -1,0 +1,269 @@
+#!/usr/bin/env bash
+# End-to-end tests of `vox diff` (docs/diff.md), one group per kind of file.
+# Usage: diff_test.sh GROUP VOX TESTS_DIR
+set -u
+group=$1
+vox=$2
+tests=$3
+. "$tests/cli/test_lib.sh"
+
+# Block maps that differ by exactly one block: m2 turns the block at (5, 5, 5)
+# from Grass into Dirt (one voxel whose votes differ, class 1:1 -> 2:1); m3
+# adds an isolated block at (0, 5, 0) (one voxel only in B, no neighbour whose
+# surface flag could change); m4 one at (0, 6, 0), which makes the dims 6 x 7 x 6.
+maps() {
+  cat > m1.json <<'EOF'
+{"worldScale": 1.0, "blocks": [{"position": [1, 1, 1], "blockType": "Stone"}, {"position": [2, 1, 1], "blockType": "Stone"},
+ {"position": [5, 5, 5], "blockType": "Grass"}, {"position": [3, 4, 2], "blockType": "Plank"}]}
+EOF
+  sed 's/"Grass"/"Dirt"/' m1.json > m2.json
+  sed 's/"blocks": \[/"blocks": [{"position": [0, 5, 0], "blockType": "Snow"}, /' m1.json > m3.json
+  sed 's/"blocks": \[/"blocks": [{"position": [0, 6, 0], "blockType": "Snow"}, /' m1.json > m4.json
+  for m in m1 m2 m3 m4; do
+    "$vox" voxelize $m.json -o $m.vdb --grid-size 8,8,8 --quiet || fail "voxelize $m"
+  done
+}
+
+jq_py() { python3 -c "import json,sys; d=json.load(open('out.txt')); $1" || fail "json check: $1 ($(head -c 300 out.txt))"; }
+
+case $group in
+scenes)
+  maps
+  expect_exit 0 "$vox" diff m1.vdb m1.vdb
+  expect_stdout "same"
+  # One voxel whose votes differ: a vote difference, not an occupancy one.
+  expect_exit 1 "$vox" diff m1.vdb m2.vdb --ignore-sources
+  expect_stdout "DIFFERENT: 4 voxels compared, 1 differ"
+  expect_stdout "votes      1"
+  expect_stdout "first voxel (5, 5, 5) world (1.5, 5.5, 1.5): A surface votes{1:1} | B surface votes{2:1}"
+  expect_exit 1 "$vox" diff m1.vdb m2.vdb --ignore-sources --json
+  jq_py "k=d['kinds']; assert d['voxels_differing']==1 and k['votes']['count']==1 and k['occupancy']['count']==0 and k['surface']['count']==0, d; assert k['votes']['first']['voxel']==[5,5,5] and k['votes']['first']['a']['votes']=={'1':1} and k['votes']['first']['b']['votes']=={'2':1}"
+  # The tolerance at its boundary: the largest difference of one class is 1 vote.
+  expect_exit 0 "$vox" diff m1.vdb m2.vdb --ignore-sources --votes-tolerance 1
+  expect_exit 1 "$vox" diff m1.vdb m2.vdb --ignore-sources --votes-tolerance 0
+  # Without --ignore-sources the map files' digests differ too.
+  expect_exit 1 "$vox" diff m1.vdb m2.vdb --votes-tolerance 1
+  expect_stdout "header sources"
+  # One voxel only in B.
+  expect_exit 1 "$vox" diff m1.vdb m3.vdb --ignore-sources --json
+  jq_py "assert d['voxels_differing']==1 and d['only_in_b']==1 and d['only_in_a']==0 and d['kinds']['occupancy']['first']['voxel']==[0,5,0], d"
+  # Header differences are named (dims of the hamlet at two resolutions).
+  "$vox" voxelize demo:hamlet --res 12 -o h12.vdb --quiet
+  "$vox" voxelize demo:hamlet --res 11 -o h11.vdb --quiet
+  expect_exit 1 "$vox" diff h12.vdb h11.vdb
+  expect_stdout "header dims: 12 x 12 x 12 vs 11 x 11 x 11"
+  expect_stdout "header voxel_size"
+  # Pyramids: per level, and a level count that differs.
+  "$vox" mip h12.vdb -o p12.vdb --quiet
+  "$vox" mip h12.vdb -o p12b.vdb --quiet --threads 1
+  "$vox" mip h12.vdb -o p12c.vdb --quiet --levels 2
+  expect_exit 0 "$vox" diff p12.vdb p12b.vdb
+  expect_stdout "level 3"
+  expect_exit 1 "$vox" diff p12.vdb p12c.vdb --json
+  jq_py "assert d['kind']=='pyramid' and d['levels_a']==5 and d['levels_b']==3 and not d['same'], d['levels_a']"
+  # The same results at any thread count.
+  "$vox" diff h12.vdb h11.vdb --json --threads 1 > t1.json
+  "$vox" diff h12.vdb h11.vdb --json --threads 2 > t2.json
+  cmp -s t1.json t2.json || fail "diff --json differs between --threads 1 and 2"
+  ;;
+images)
+  maps
+  "$vox" build-atlas m1.vdb -o a1 --summary --occupancy --quiet
+  "$vox" build-atlas m2.vdb -o a2 --summary --occupancy --quiet
+  "$vox" build-atlas m3.vdb -o a3 --summary --quiet
+  expect_exit 0 "$vox" diff a1/m1.summary.png a1/m1.summary.png
+  expect_stdout "PASS"
+  # One texel: named by its pixel, channel and voxel.
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.png
+  expect_stdout "1 pixels (0.463%) differ"
+  expect_stdout "= voxel (5, 5, 5)  values are 1, 255, 16, 255 vs 2, 255, 16, 255"
+  expect_stdout "FAILURE"
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --json
+  jq_py "assert d['pixels_differing']==1 and d['max_error_at']['voxel']==[5,5,5] and d['max_error_at']['channel']=='R' and abs(d['max_error']-1/255)<1e-15, d"
+  # The difference image: one pixel of 255 * |1 - 2| / 255 = 1 in red, x 50 with --diff-scale.
+  python3 - <<'EOF' || fail "difference image"
+import struct, zlib
+def read(p):
+    b = open(p, 'rb').read(); i = 8; idat = b''; w = h = 0
+    while i < len(b):
+        n, t = struct.unpack('>I4s', b[i:i + 8]); d = b[i + 8:i + 8 + n]
+        if t == b'IHDR': w, h, depth, ctype = struct.unpack('>IIBB', d[:10]); assert depth == 8 and ctype == 2
+        if t == b'IDAT': idat += d
+        i += 12 + n
+    raw = zlib.decompress(idat); stride = w * 3; rows = []; prev = bytearray(stride)
+    for y in range(h):
+        f = raw[y * (stride + 1)]; line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - 3] if x >= 3 else 0; up = prev[x]; c = prev[x - 3] if x >= 3 else 0
+            if f == 1: line[x] = (line[x] + a) & 255
+            elif f == 2: line[x] = (line[x] + up) & 255
+            elif f == 3: line[x] = (line[x] + (a + up) // 2) & 255
+            elif f == 4:
+                p = a + up - c; pa, pb, pc = abs(p - a), abs(p - up), abs(p - c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
+        rows.append(line); prev = line
+    return w, h, rows
+w, h, rows = read('d.png')
+nonzero = [(x, y, tuple(rows[y][3 * x:3 * x + 3])) for y in range(h) for x in range(w) if any(rows[y][3 * x:3 * x + 3])]
+assert nonzero == [(11, 17, (1, 0, 0))], nonzero
+EOF
+  # idiff's thresholds: the error is 1/255 = 0.0039.
+  expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004
+  expect_stdout "WARNING"
+  expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004 --warn 0.004
+  expect_stdout "PASS"
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.0039
+  expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 0.47 --warnpercent 0.47
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 0.46
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 1 --hardfail 0.0039
+  # Bitmaps: the differing bit's voxel (m3's extra block at (0, 5, 0)).
+  "$vox" build-atlas m3.vdb -o a3b --occupancy --quiet
+  expect_exit 1 "$vox" diff a1/m1.occupancy.png a3b/m3.occupancy.png --json
+  jq_py "assert d['max_error_at']['voxel']==[0,5,0], d['max_error_at']"
+  # EXR, 32-bit integer samples: any difference fails by default (0 thresholds).
+  "$vox" build-atlas m1.vdb -o x1 --identity --format rgba32ui --quiet
+  "$vox" build-atlas m3.vdb -o x3 --identity --format rgba32ui --quiet
+  expect_exit 0 "$vox" diff x1/m1.identity.exr x1/m1.identity.exr
+  expect_exit 1 "$vox" diff x1/m1.identity.exr x3/m3.identity.exr --json
+  jq_py "assert d['pixels_differing']==1 and d['fail']['threshold']==0 and d['max_error_at']['voxel']==[0,5,0] and d['max_error_at']['b']==[0,5,0,4294967295], d"
+  # Depth renders (one float channel, +inf for misses): the class change of
+  # m2 leaves the geometry alone; m3's extra block does not.
+  for m in m1 m2 m3; do
+    "$vox" render-canonical $m.vdb -o d$m.exr --mode depth --eye 4,9,12 --target 3,3,3 --size 24x20 --quiet
+  done
+  expect_exit 0 "$vox" diff dm1.exr dm2.exr
+  expect_stdout "hit/miss mask agrees on 100.0000% of pixels (finite depth)"
+  expect_exit 1 "$vox" diff dm1.exr dm3.exr --json
+  jq_py "assert d['mask_source']=='finite depth' and d['mask_agreement']<1 and d['pixels_differing']>0, d"
+  # Layouts must match (m4's dims are 6 x 7 x 6).
+  "$vox" build-atlas m4.vdb -o a4 --summary --quiet
+  expect_exit 1 "$vox" diff a1/m1.summary.png a4/m4.summary.png
+  expect_stdout "atlas layouts differ"
+  ;;
+pages)
+  maps
+  "$vox" pack-chunks m1.vdb -o p1.vpk --chunk 8 --quiet
+  "$vox" pack-chunks m1.vdb -o p1s.vpk --chunk 8 --layout svo --quiet
+  "$vox" pack-chunks m2.vdb -o p2.vpk --chunk 8 --quiet
+  "$vox" pack-chunks m3.vdb -o p3.vpk --chunk 8 --quiet
+  expect_exit 0 "$vox" diff p1.vpk p1.vpk
+  expect_stdout "same: page files"
+  # One chunk, named by level and chunk coordinates, its voxel by both.
+  expect_exit 1 "$vox" diff p1.vpk p2.vpk --json
+  jq_py "assert d['chunks_differing']==1 and d['voxels_differing']==1 and d['voxel_kinds']['summary']==1; c=d['first_chunk']; assert c['level']==0 and c['chunk']==[0,0,0] and c['first_voxel']['voxel']==[5,5,5] and c['first_voxel']['a']['summary'][0]==1 and c['first_voxel']['b']['summary'][0]==2, c"
+  expect_exit 1 "$vox" diff p1.vpk p3.vpk
+  expect_stdout "first voxel (0, 5, 0) of level 0"
+  # Another layout of the same voxels: the header differs, no chunk does.
+  expect_exit 1 "$vox" diff p1.vpk p1s.vpk --json
+  jq_py "assert d['chunks_differing']==0 and [h['field'] for h in d['header']]==['layout'], d['header']"
+  ;;
+json)
+  maps
+  "$vox" voxelize m1.json -o r1.vdb --grid-size 8,8,8 --report r1.json --quiet
+  "$vox" voxelize m1.json -o r2.vdb --grid-size 8,8,8 --report r2.json --quiet
+  # Timings and paths differ; they are ignored by default.
+  expect_exit 0 "$vox" diff r1.json r2.json
+  expect_stdout "same: JSON"
+  expect_exit 1 "$vox" diff r1.json r2.json --no-default-ignores
+  # One number: its JSON pointer and both values; the relative tolerance at its boundary.
+  python3 -c "
+import json
+d = json.load(open('r1.json')); d['counts']['probe'] = 1000; json.dump(d, open('n1.json', 'w'))
+d['counts']['probe'] = 1001; json.dump(d, open('n2.json', 'w'))"
+  expect_exit 1 "$vox" diff n1.json n2.json
+  expect_stdout "/counts/probe: 1000 vs 1001"
+  expect_exit 1 "$vox" diff n1.json n2.json --json
+  jq_py "assert d['values_differing']==1 and d['first_difference']['pointer']=='/counts/probe' and d['first_difference']['a']=='1000' and d['first_difference']['b']=='1001'"
+  expect_exit 0 "$vox" diff n1.json n2.json --rel-tolerance 0.000999001
+  expect_exit 1 "$vox" diff n1.json n2.json --rel-tolerance 0.000999
+  expect_exit 0 "$vox" diff n1.json n2.json --ignore-key probe
+  # Touched sets (a render's --touched output).
+  "$vox" render-canonical m1.vdb -o r.png --eye 4,9,12 --target 3,3,3 --size 32x32 --touched t1.json --quiet
+  python3 -c "
+import json
+d = json.load(open('t1.json')); d['chunks'][0]['voxels'] += 1; json.dump(d, open('t2.json', 'w'))"
+  expect_exit 0 "$vox" diff t1.json t1.json
+  expect_exit 1 "$vox" diff t1.json t2.json
+  expect_stdout "/chunks/0/voxels"
+  printf '{"a": 1' > broken.json
+  expect_exit 3 "$vox" diff t1.json broken.json
+  expect_stderr "broken.json: not valid JSON"
+  ;;
+render_reference)
+  maps
+  "$vox" render-canonical m1.vdb -o s1.png --mode shaded --eye 4,9,12 --target 3,3,3 --size 40x30 --quiet
+  "$vox" render-canonical m2.vdb -o s2.png --mode shaded --eye 4,9,12 --target 3,3,3 --size 40x30 --quiet
+  python3 -c "
+import base64, json
+def b64(p): return base64.b64encode(open(p, 'rb').read()).decode()
+json.dump({'imageSize': {'width': 40, 'height': 30}, 'views': [
+  {'index': 0, 'id': 'view_000', 'rgbBase64': b64('s1.png')},
+  {'index': 1, 'id': 'view_001', 'rgbBase64': 'data:image/png;base64,' + b64('s2.png')},
+  {'index': 2, 'id': 'view_002'}]}, open('metadata.json', 'w'))"
+  expect_exit 0 "$vox" diff s1.png metadata.json --view 0
+  expect_stdout "PASS"
+  expect_stdout "hit/miss mask agrees on 100.0000% of pixels (background)"
+  expect_exit 1 "$vox" diff s1.png metadata.json --view 1 --json
+  jq_py "assert d['kind']=='render vs reference' and d['view']==1 and d['view_id']=='view_001' and d['pixels_differing']>0 and d['mask_agreement']==1.0 and d['psnr']>0 and d['ssim']<1, d"
+  expect_exit 3 "$vox" diff s1.png metadata.json --view 2
+  expect_stderr "carries no reference image"
+  expect_exit 3 "$vox" diff s1.png metadata.json --view 7
+  expect_exit 2 "$vox" diff s1.png metadata.json
+  expect_stderr "choose one with --view N"
+  ;;
+kinds)
+  maps
+  "$vox" build-atlas m1.vdb -o a1 --summary --quiet
+  "$vox" pack-chunks m1.vdb -o p1.vpk --quiet
+  expect_exit 2 "$vox" diff m1.vdb a1/m1.summary.png
+  expect_stderr "m1.vdb is a scene or pyramid (.vdb) but a1/m1.summary.png is an image"
+  expect_exit 2 "$vox" diff p1.vpk m1.vdb
+  expect_exit 2 "$vox" diff m1.vdb p1.vpk
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --fail 0.1
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --view 0
+  expect_exit 3 "$vox" diff m1.vdb missing.vdb
+  expect_stderr "missing.vdb: no such file"
+  printf 'hello' > junk.bin
+  expect_exit 3 "$vox" diff junk.bin junk.bin
+  expect_stderr "not a file vox diff reads"
+  head -c 100 m1.vdb > cut.vdb
+  expect_exit 3 "$vox" diff m1.vdb cut.vdb
+  ;;
+metrics_numpy)
+  py=""
+  for c in python3 /usr/bin/python3; do
+    if command -v "$c" >/dev/null && "$c" -c "import numpy" 2>/dev/null; then py=$c; break; fi
+  done
+  if [ -z "$py" ]; then
+    echo "SKIP: no python3 with numpy (scripts/install-deps.sh test installs python3-numpy)"
+  else
+    "$py" "$tests/diff/image_metrics.py" "$vox" "$work" || fail "image metrics differ from numpy's"
+  fi
+  ;;
+golden_demo)
+  # CI-style: today's bake of the demo against the committed golden files
+  # (tests/golden/diff/, made by the same commands), then a perturbed bake
+  # that must fail. Refresh the goldens with: tests/golden/diff/refresh.sh VOX
+  golden=$tests/golden/diff
+  "$vox" voxelize demo:hamlet --res 16 -o hamlet16.vdb --quiet
+  "$vox" build-atlas hamlet16.vdb -o atlas --summary --quiet
+  "$vox" pack-chunks hamlet16.vdb -o hamlet16.vpk --chunk 8 --quiet
+  expect_exit 0 "$vox" diff hamlet16.vdb "$golden/hamlet16.vdb"
+  expect_exit 0 "$vox" diff atlas/hamlet16.summary.png "$golden/hamlet16.summary.png"
+  expect_exit 0 "$vox" diff hamlet16.vpk "$golden/hamlet16.vpk"
+  # Perturbed: the hamlet at 15 voxels instead of 16.
+  "$vox" voxelize demo:hamlet --res 15 -o bad.vdb --quiet
+  "$vox" build-atlas bad.vdb -o badatlas --summary --quiet
+  "$vox" pack-chunks bad.vdb -o bad.vpk --chunk 8 --quiet
+  expect_exit 1 "$vox" diff bad.vdb "$golden/hamlet16.vdb"
+  expect_stdout "header dims: 15 x 15 x 15 vs 16 x 16 x 16"
+  expect_exit 1 "$vox" diff badatlas/bad.summary.png "$golden/hamlet16.summary.png"
+  expect_exit 1 "$vox" diff bad.vpk "$golden/hamlet16.vpk"
+  ;;
+*)
+  echo "unknown group $group" >&2
+  exit 2
+  ;;
+esac
+[ "$failures" = 0 ] || { echo "$failures failure(s) in diff.$group" >&2; exit 1; }
+echo "diff.$group: ok"

@@ -1,0 +1,206 @@
+// vox diff of scenes and pyramids (.vdb): the report of vox::diffScenes, per
+// level for pyramids.
+#include <cstdio>
+#include <future>
+#include <iostream>
+#include <sstream>
+
+#include "formats/core/json_diff.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/scene/scene_diff.h"
+#include "tools/cli/cli.h"
+#include "tools/cmds/diff_common.h"
+
+namespace voxcli {
+
+namespace {
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+nlohmann::json valuesJson(const vox::VoxelValues& v) {
+  if (!v.occupied) return nullptr;
+  nlohmann::json votes = nlohmann::json::object();
+  for (const vox::ClassVotes& c : v.votes) votes[std::to_string(c.classId)] = c.votes;
+  nlohmann::json j = {{"surface", v.surface}, {"votes", votes}};
+  j["color"] = v.color ? nlohmann::json{v.color->r, v.color->g, v.color->b} : nlohmann::json(nullptr);
+  return j;
+}
+
+nlohmann::json exampleJson(const vox::VoxelDiffExample& e, const vox::SceneHeader& h) {
+  const auto w = vox::voxelCentreWorld(h, e.at);
+  return {{"voxel", coordJson(e.at)}, {"world", {w[0], w[1], w[2]}}, {"magnitude", e.magnitude},
+          {"a", valuesJson(e.a)},      {"b", valuesJson(e.b)}};
+}
+
+std::string exampleText(const vox::VoxelDiffExample& e, const vox::SceneHeader& h) {
+  const auto w = vox::voxelCentreWorld(h, e.at);
+  return "voxel " + vox::toString(e.at) + " world (" + num(w[0]) + ", " + num(w[1]) + ", " + num(w[2]) +
+         "): A " + vox::describeVoxel(e.a) + " | B " + vox::describeVoxel(e.b);
+}
+
+nlohmann::json sceneDiffJson(const vox::SceneDiff& d, const vox::SceneHeader& h, const DiffOptions& o) {
+  nlohmann::json header = nlohmann::json::array(), classes = nlohmann::json::array();
+  for (const auto& f : d.header) header.push_back({{"field", f.field}, {"a", f.a}, {"b", f.b}});
+  for (const auto& c : d.classes) classes.push_back({{"id", c.id}, {"a", c.a}, {"b", c.b}});
+  nlohmann::json j = {{"same", d.same()},
+                      {"header_differs", !d.header.empty() || !d.classes.empty()},
+                      {"header_note", d.header.empty() ? (d.classes.empty() ? "" : "class table differs")
+                                                       : d.header[0].field + " " + d.header[0].a + " vs " + d.header[0].b},
+                      {"header", header},
+                      {"classes", classes},
+                      {"voxels_a", d.voxelsA},
+                      {"voxels_b", d.voxelsB},
+                      {"voxels_compared", d.voxelsCompared},
+                      {"voxels_differing", d.voxelsDiffering},
+                      {"only_in_a", d.onlyInA},
+                      {"only_in_b", d.onlyInB},
+                      {"tolerances", {{"votes", o.votesTolerance}, {"color", o.colorTolerance}}}};
+  nlohmann::json kinds = nlohmann::json::object();
+  for (int k = 0; k < vox::kVoxelDiffKinds; ++k) {
+    const vox::VoxelKindDiff& kd = d.kinds[size_t(k)];
+    nlohmann::json e = {{"count", kd.count}};
+    e["first"] = kd.first ? exampleJson(*kd.first, h) : nlohmann::json(nullptr);
+    e["worst"] = kd.worst ? exampleJson(*kd.worst, h) : nlohmann::json(nullptr);
+    kinds[vox::voxelDiffKindName(vox::VoxelDiffKind(k))] = e;
+  }
+  j["kinds"] = kinds;
+  if (d.first) {
+    nlohmann::json f = exampleJson(*d.first, h);
+    f["values"] = vox::describeVoxel(d.first->a) + " vs " + vox::describeVoxel(d.first->b);
+    j["first_difference"] = f;
+  }
+  return j;
+}
+
+std::string sceneDiffText(const vox::SceneDiff& d, const vox::SceneHeader& h, const DiffOptions& o,
+                          const std::string& indent) {
+  std::ostringstream s;
+  for (const auto& f : d.header) s << indent << "header " << f.field << ": " << f.a << " vs " << f.b << "\n";
+  for (const auto& c : d.classes) s << indent << "class " << int(c.id) << ": " << c.a << " vs " << c.b << "\n";
+  s << indent << "voxels: " << d.voxelsCompared << " compared (A " << d.voxelsA << ", B " << d.voxelsB << "), "
+    << d.voxelsDiffering << " differ\n";
+  if (d.voxelsDiffering == 0) return s.str();
+  for (int k = 0; k < vox::kVoxelDiffKinds; ++k) {
+    const auto kind = vox::VoxelDiffKind(k);
+    const vox::VoxelKindDiff& kd = d.kinds[size_t(k)];
+    char name[16];
+    std::snprintf(name, sizeof name, "%-10s", vox::voxelDiffKindName(kind));
+    s << indent << "  " << name << " " << kd.count;
+    if (kind == vox::VoxelDiffKind::Occupancy) s << " (only in A " << d.onlyInA << ", only in B " << d.onlyInB << ")";
+    if (kind == vox::VoxelDiffKind::Votes) s << " (tolerance " << o.votesTolerance << " votes per class)";
+    if (kind == vox::VoxelDiffKind::Color) s << " (tolerance " << num(o.colorTolerance) << " per linear channel)";
+    s << "\n";
+    if (kd.first) s << indent << "    first " << exampleText(*kd.first, h) << "\n";
+    if (kd.worst && kd.count > 1) {
+      s << indent << "    worst " << exampleText(*kd.worst, h);
+      if (kind == vox::VoxelDiffKind::Votes) s << " (" << num(kd.worst->magnitude) << " votes)";
+      if (kind == vox::VoxelDiffKind::Color) s << " (" << num(kd.worst->magnitude) << ")";
+      s << "\n";
+    }
+  }
+  if (d.first)
+    s << indent << "first difference at voxel " << vox::toString(d.first->at)
+      << " (smallest w, v, u): " << vox::describeVoxel(d.first->a) << " vs " << vox::describeVoxel(d.first->b)
+      << "\n";
+  return s.str();
+}
+
+vox::SceneDiffOptions sceneOptions(const DiffOptions& o) {
+  vox::SceneDiffOptions so;
+  so.votesTolerance = o.votesTolerance;
+  so.colorTolerance = o.colorTolerance;
+  so.ignoreSources = o.ignoreSources;
+  so.threads = o.threads;
+  return so;
+}
+
+// Both files read at once: the two reads are independent and most of the time.
+template <typename T, typename Read>
+std::pair<T, T> readBoth(const DiffOptions& o, Read read) {
+  auto second = std::async(std::launch::async, [&] { return read(o.b); });
+  T first;
+  try {
+    first = read(o.a);
+  } catch (...) {
+    try {
+      second.get();
+    } catch (...) {
+    }
+    throw;
+  }
+  return {std::move(first), second.get()};
+}
+
+}  // namespace
+
+int diffSceneFiles(const DiffOptions& o) {
+  const bool pyramid = vox::isPyramidVdb(o.a) || vox::isPyramidVdb(o.b);
+  if (!pyramid) {
+    auto [a, b] = readBoth<vox::Scene>(o, [](const std::string& p) { return vox::readSceneVdb(p); });
+    const vox::SceneDiff d = vox::diffScenes(a, b, sceneOptions(o));
+    if (o.json) {
+      nlohmann::json j = sceneDiffJson(d, a.header(), o);
+      j["kind"] = "scene";
+      j["a"] = o.a, j["b"] = o.b;
+      std::cout << j.dump(2) << "\n";
+    } else {
+      std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
+                << d.voxelsDiffering << " differ (scenes " << vox::toString(a.header().dims) << ")\n";
+      std::cout << sceneDiffText(d, a.header(), o, "  ");
+    }
+    return d.same() ? kExitOk : kExitCheckFailed;
+  }
+  auto [la, lb] =
+      readBoth<std::vector<vox::Scene>>(o, [](const std::string& p) { return vox::readPyramidVdb(p); });
+  bool same = la.size() == lb.size();
+  auto metadata = [](const std::string& path) {  // "" for a plain scene
+    const std::string text = vox::readPyramidMetadata(path);
+    return vox::parseJsonDocument(text.empty() ? "null" : text, path + " vox:pyramid");
+  };
+  const vox::JsonDiff meta = vox::diffJson(metadata(o.a), metadata(o.b));
+  same = same && meta.same();
+  std::vector<vox::SceneDiff> diffs;
+  uint64_t compared = 0, differing = 0;
+  for (size_t i = 0; i < std::min(la.size(), lb.size()); ++i) {
+    diffs.push_back(vox::diffScenes(la[i], lb[i], sceneOptions(o)));
+    same = same && diffs.back().same();
+    compared += diffs.back().voxelsCompared, differing += diffs.back().voxelsDiffering;
+  }
+  if (o.json) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (size_t i = 0; i < diffs.size(); ++i) {
+      nlohmann::json l = sceneDiffJson(diffs[i], la[i].header(), o);
+      l["level"] = i;
+      levels.push_back(l);
+    }
+    nlohmann::json j = {{"kind", "pyramid"},           {"a", o.a},
+                        {"b", o.b},                    {"same", same},
+                        {"levels_a", la.size()},       {"levels_b", lb.size()},
+                        {"voxels_compared", compared}, {"voxels_differing", differing},
+                        {"levels", levels},            {"metadata_same", meta.same()}};
+    if (!meta.same() && !meta.differences.empty())
+      j["metadata_first_difference"] = {{"pointer", meta.differences[0].pointer},
+                                        {"a", meta.differences[0].a},
+                                        {"b", meta.differences[0].b}};
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << (same ? "same" : "DIFFERENT") << ": pyramids of " << la.size() << " and " << lb.size()
+              << " levels, " << compared << " voxels compared, " << differing << " differ\n";
+    if (!meta.same() && !meta.differences.empty())
+      std::cout << "  pyramid metadata differs at " << meta.differences[0].pointer << ": " << meta.differences[0].a
+                << " vs " << meta.differences[0].b << "\n";
+    for (size_t i = 0; i < diffs.size(); ++i) {
+      std::cout << "  level " << i << " (" << vox::toString(la[i].header().dims) << "): "
+                << (diffs[i].same() ? "same" : "DIFFERENT") << "\n";
+      if (!diffs[i].same()) std::cout << sceneDiffText(diffs[i], la[i].header(), o, "    ");
+    }
+  }
+  return same ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace voxcli
