@@ -47,7 +47,9 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   std::optional<vox::Camera> camera;
   std::string cameraFrom;
   if (o.camera.given()) {
-    std::vector<vox::CameraView> views = resolveCameras(o.camera, img.width, img.height);
+    std::vector<vox::CameraView> views = resolveCameras(
+        o.camera, img.width, img.height,
+        o.camera.needsFraming() ? std::optional<vox::WorldBox>(in.occupiedWorldBox()) : std::nullopt);
     if (views.size() != 1)
       vox::throwUsage("--camera " + o.camera.cameraFile + " holds " + std::to_string(views.size()) +
                       " views; pick the one the image was rendered from with --view INDEX");
@@ -106,7 +108,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     decoded[i] = {c.u, c.v, c.w, 0, -1, 0, true};
   }
 
-  uint64_t castDiffer = 0, bruteChecked = 0, bruteDiffer = 0;
+  uint64_t castDiffer = 0, bruteChecked = 0, bruteDiffer = 0, bruteStride = 1;
   if (camera) {
     run.phase("cast");
     const vox::ViewHits ours = vox::castView(*in.grid, in.frame, *camera, run.threads());
@@ -122,6 +124,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     run.phase("brute force");
     const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
     const uint64_t stride = vox::checkStride(n, occupied.size(), o.checkBudget);
+    bruteStride = stride;
     vox::ViewHits image;
     image.width = img.width;
     image.height = img.height;
@@ -149,6 +152,8 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     j["pixels_differing_from_ray"] = castDiffer;
     j["brute_force_pixels_checked"] = bruteChecked;
     j["brute_force_pixels_differing"] = bruteDiffer;
+    j["brute_force_sampled_one_in"] = bruteStride;
+    j["brute_force_fraction_checked"] = n ? double(bruteChecked) / double(n) : 1.0;
   }
   nlohmann::json fj = nlohmann::json::array();
   for (const Failure& f : failures) fj.push_back({{"pixel", {f.x, f.y}}, {"what", f.what}});
@@ -162,7 +167,9 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
               << " do not decode to an occupied voxel of " << o.scene << "\n";
     if (camera)
       std::cout << "  camera from the " << cameraFrom << ": " << castDiffer << " pixels differ from the exact ray, "
-                << bruteDiffer << " of " << bruteChecked << " differ from the brute-force ray\n";
+                << bruteDiffer << " of " << bruteChecked << " pixels checked against the brute-force ray differ"
+                << (bruteStride > 1 ? " (sampled 1 in " + std::to_string(bruteStride) + ")" : std::string(" (every pixel)"))
+                << "\n";
     else
       std::cout << "  no camera (the image has none and none was given): decoding checked only\n";
     for (const Failure& f : failures) std::cout << "  pixel (" << f.x << ", " << f.y << "): " << f.what << "\n";
