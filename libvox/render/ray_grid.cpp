@@ -118,6 +118,7 @@ void RayGrid::finish() {
     bool any = false;
     for (uint64_t m : mask) any |= m != 0;
     if (!any) continue;
+    includeInOccupiedBox(bx, by, bz, mask);
     if (skey == curBrickKey) {  // the same brick again: OR
       for (int i = 0; i < 8; ++i) bricks_.back()[i] |= mask[i];
       continue;
@@ -144,7 +145,6 @@ void RayGrid::finish() {
     regions_[size_t(curRegion)].mask[bbit >> 6] |= uint64_t(1) << (bbit & 63);
     bricks_.push_back(mask);
     brickKeys.push_back(pending_[idx].first);
-    includeInOccupiedBox(bx, by, bz, mask);
     curBrickKey = skey;
   }
   pending_.clear();
