@@ -90,9 +90,10 @@ void CameraOptions::check() const {
 }
 
 std::string lookAtFlags(const vox::LookAtCamera& c) {
-  return "--eye " + vecText(c.eye) + " --target " + vecText(c.target) + " --up " + vecText(c.up) + " --fov " +
-         [&] { char t[32]; std::snprintf(t, sizeof t, "%g", c.fovYDegrees); return std::string(t); }() + " --size " +
-         std::to_string(c.width) + "x" + std::to_string(c.height);
+  char fov[32];
+  std::snprintf(fov, sizeof fov, "%g", c.fovYDegrees);
+  return "--eye " + vecText(c.eye) + " --target " + vecText(c.target) + " --up " + vecText(c.up) + " --fov " + fov +
+         " --size " + std::to_string(c.width) + "x" + std::to_string(c.height);
 }
 
 std::vector<vox::CameraView> resolveCameras(const CameraOptions& o, uint32_t fallbackWidth, uint32_t fallbackHeight,
