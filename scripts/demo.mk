@@ -26,7 +26,7 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
 	@echo "  hamlet_mips.vdb    LOD pyramid (levels 1..n, error per level vs the hamlet voxelized directly: hamlet_mips.report.json)"
 	@echo "  hamlet.vpk         page file of the hamlet and its mips (16^3 chunks), verified: hamlet.vpk.verify.txt"
 	@echo "  render/            hamlet.{canonical,shaded,class,normal}.png, hamlet.depth.exr from one exact pass,"
-	@echo "                     checked: $$(sed -n 's/^vox render-canonical: check: //p' $(OUT)/render/hamlet.check.txt 2>/dev/null)"
+	@echo "                     $$(sed -n 's/^vox render-canonical: \(check: \)/\1/p' $(OUT)/render/hamlet.check.txt 2>/dev/null)"
 	@echo "                     (hamlet.check.txt); the chunks it touched (hamlet.touched.json),"
 	@echo "                     the same view from the page file, and village.png (the block map, shaded)"
 	@echo "  house.vdb          a mesh with materials (scripts/demo/house.obj) through class rules"
