@@ -15,10 +15,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-uint64_t blockKey(int64_t u, int64_t v, int64_t w) {
-  return (uint64_t(u >> 2) << 42) | (uint64_t(v >> 2) << 21) | uint64_t(w >> 2);
+uint64_t brickKey(int64_t u, int64_t v, int64_t w) {
+  return (uint64_t(u >> 3) << 42) | (uint64_t(v >> 3) << 21) | uint64_t(w >> 3);
 }
-int blockBit(int64_t u, int64_t v, int64_t w) { return int(((u & 3) << 4) | ((v & 3) << 2) | (w & 3)); }
+int brickBit(int64_t u, int64_t v, int64_t w) { return int(((u & 7) << 6) | ((v & 7) << 3) | (w & 7)); }
 
 // One axis of the walk, in the mirrored frame where the ray moves up (or not at all).
 struct Axis {
@@ -33,22 +33,37 @@ struct Axis {
 
 }  // namespace
 
-VoxelWalk::VoxelWalk(std::span<const Coord3> occupied) {
-  for (const Coord3& c : occupied) {
-    blocks_[blockKey(c.u, c.v, c.w)] |= uint64_t(1) << blockBit(c.u, c.v, c.w);
-    const int64_t p[3] = {c.u, c.v, c.w};
-    for (size_t a = 0; a < 3; ++a) {
-      boxMin_[a] = empty_ ? p[a] : std::min(boxMin_[a], p[a]);
-      boxEnd_[a] = empty_ ? p[a] + 1 : std::max(boxEnd_[a], p[a] + 1);
-    }
-    empty_ = false;
+void VoxelWalk::add(int64_t u, int64_t v, int64_t w) {
+  const uint64_t key = brickKey(u, v, w);
+  if (key != lastKey_) {  // neighbouring voxels come together: one hash lookup per brick, mostly
+    lastKey_ = key;
+    last_ = &bricks_.try_emplace(key, Brick{}).first->second;
   }
+  const int bit = brickBit(u, v, w);
+  (*last_)[size_t(bit >> 6)] |= uint64_t(1) << (bit & 63);
+  const int64_t p[3] = {u, v, w};
+  for (size_t a = 0; a < 3; ++a) {
+    boxMin_[a] = empty_ ? p[a] : std::min(boxMin_[a], p[a]);
+    boxEnd_[a] = empty_ ? p[a] + 1 : std::max(boxEnd_[a], p[a] + 1);
+  }
+  empty_ = false;
+}
+
+VoxelWalk::VoxelWalk(std::span<const Coord3> occupied) {
+  for (const Coord3& c : occupied) add(c.u, c.v, c.w);
+  last_ = nullptr;
+}
+
+VoxelWalk::VoxelWalk(const RayGrid& grid) {
+  grid.forEachOccupied([this](uint32_t u, uint32_t v, uint32_t w) { add(u, v, w); });
+  last_ = nullptr;
 }
 
 bool VoxelWalk::occupied(int64_t u, int64_t v, int64_t w) const {
   if (u < 0 || v < 0 || w < 0) return false;
-  const auto it = blocks_.find(blockKey(u, v, w));
-  return it != blocks_.end() && ((it->second >> blockBit(u, v, w)) & 1);
+  const auto it = bricks_.find(brickKey(u, v, w));
+  const int bit = brickBit(u, v, w);
+  return it != bricks_.end() && ((it->second[size_t(bit >> 6)] >> (bit & 63)) & 1);
 }
 
 RayHit VoxelWalk::cast(const Ray& rayIn) const {
@@ -98,15 +113,18 @@ RayHit VoxelWalk::cast(const Ray& rayIn) const {
     x.cell = c;
   }
 
-  uint64_t cachedKey = ~uint64_t(0), cachedBits = 0;
-  auto isOccupied = [&](int64_t u, int64_t v, int64_t w) {
-    const uint64_t key = blockKey(u, v, w);
+  uint64_t cachedKey = ~uint64_t(0);
+  const Brick* cached = nullptr;
+  auto isOccupied = [&](int64_t u, int64_t v, int64_t w) -> bool {
+    const uint64_t key = brickKey(u, v, w);
     if (key != cachedKey) {
       cachedKey = key;
-      const auto it = blocks_.find(key);
-      cachedBits = it == blocks_.end() ? 0 : it->second;
+      const auto it = bricks_.find(key);
+      cached = it == bricks_.end() ? nullptr : &it->second;
     }
-    return (cachedBits >> blockBit(u, v, w)) & 1;
+    if (!cached) return false;
+    const int bit = brickBit(u, v, w);
+    return ((*cached)[size_t(bit >> 6)] >> (bit & 63)) & 1;
   };
 
   double t = t0;

@@ -22,6 +22,8 @@
 //     and the tie rule picks among them.
 // Its cost is the number of voxels the ray crosses inside the occupied box
 // (no empty-space skipping): a few hundred steps per ray on a 256^3 scene.
+// The occupancy is read once, voxel by voxel, into a hash table of 8^3 bit
+// bricks (64 bytes per non-empty brick).
 //
 // Thread safety: immutable after construction; cast() may run on any number
 // of threads.
@@ -33,6 +35,7 @@
 #include <unordered_map>
 
 #include "libvox/core/types.h"
+#include "libvox/render/ray_grid.h"
 #include "libvox/render/raycast.h"
 
 namespace vox {
@@ -41,6 +44,10 @@ class VoxelWalk {
  public:
   /// The walker over `occupied` (grid coordinates, any order; repeats are harmless).
   explicit VoxelWalk(std::span<const Coord3> occupied);
+  /// The walker over the occupied voxels of `grid`, read voxel by voxel
+  /// (RayGrid::forEachOccupied, as the brute force's voxel list is): only the
+  /// occupancy is shared with the hierarchical caster, not the walk.
+  explicit VoxelWalk(const RayGrid& grid);
 
   /// The first occupied voxel along `ray` (grid space), with t, exit and the
   /// entry face as castRay reports them; `steps` counts the events visited.
@@ -49,8 +56,12 @@ class VoxelWalk {
   bool occupied(int64_t u, int64_t v, int64_t w) const;
 
  private:
-  // Occupancy in 4^3 blocks of 64 bits, found by hashing the block's coordinates.
-  std::unordered_map<uint64_t, uint64_t> blocks_;
+  using Brick = std::array<uint64_t, 8>;  // bit (x << 6) | (y << 3) | z of an 8^3 brick
+  void add(int64_t u, int64_t v, int64_t w);
+  // Occupancy in 8^3 bricks, found by hashing the brick's coordinates.
+  std::unordered_map<uint64_t, Brick> bricks_;
+  uint64_t lastKey_ = ~uint64_t(0);
+  Brick* last_ = nullptr;  // while adding
   std::array<int64_t, 3> boxMin_{}, boxEnd_{};  // the occupied voxels' bounding box
   bool empty_ = true;
 };

@@ -220,29 +220,35 @@ std::string percentText(double fraction) {
 CheckOutcome checkRender(Run& run, const RenderCanonicalOptions& o, const RenderInput& in,
                          const std::vector<vox::CameraView>& views, const CastViews& cast) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
   const bool brute = o.checkReference == CheckReference::BruteForce;
+  std::vector<vox::Coord3> occupied;  // the brute force's voxel list
   std::optional<vox::VoxelWalk> walk;
   vox::ReferenceCaster reference;
   if (brute) {
+    occupied = in.grid->occupiedVoxels();
     reference = [&occupied](const vox::Ray& r) { return vox::castRayBruteForce(occupied, r); };
   } else {
-    walk.emplace(occupied);
+    walk.emplace(*in.grid);
     reference = [&walk](const vox::Ray& r) { return walk->cast(r); };
   }
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const std::string referenceName = brute ? "brute-force" : "voxel-walk";
   CheckOutcome out;
   uint64_t checked = 0, pixelsTotal = 0, largestStride = 1;
   nlohmann::json mismatches = nlohmann::json::array(), perView = nlohmann::json::array();
   auto progress = run.progress("check");
-  const double secondsPerView = o.checkSeconds / double(views.size());
   // A pilot of the brute force costs rays x occupied voxels: keep it near 2e8 tests.
   const uint64_t pilotRays =
       brute ? std::clamp<uint64_t>(uint64_t(2e8 / double(std::max<size_t>(1, occupied.size()))), 8, 2048) : 2048;
   for (size_t v = 0; v < views.size(); ++v) {
     const vox::ViewHits& hits = cast.hits[v];
     const uint64_t pixels = uint64_t(hits.width) * hits.height;
-    uint64_t stride = strideForSeconds(hits, reference, in.frame, views[v].camera, run.threads(), secondsPerView, pilotRays);
+    // What is left of --check-seconds after reading the occupancy and the views before, shared by the views left
+    // (at least 5 % of it, so that a slow setup still leaves a sample).
+    const double seconds = o.checkSeconds > 0 ? std::max(o.checkSeconds - elapsed(), 0.05 * o.checkSeconds) /
+                                                    double(views.size() - v)
+                                              : 0.0;
+    uint64_t stride = strideForSeconds(hits, reference, in.frame, views[v].camera, run.threads(), seconds, pilotRays);
     if (brute) stride = std::max(stride, vox::checkStride(pixels, occupied.size(), o.checkBudget));
     const vox::ViewCheck c = vox::checkView(hits, reference, in.frame, views[v].camera, stride, run.threads(),
                                             [&](double f) { progress->update((double(v) + f) / double(views.size())); });
@@ -262,7 +268,7 @@ CheckOutcome checkRender(Run& run, const RenderCanonicalOptions& o, const Render
     }
   }
   progress->done();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = elapsed();
   const double fraction = pixelsTotal ? double(checked) / double(pixelsTotal) : 1.0;
   const nlohmann::json summary = {{"reference", referenceName},
                                   {"pixels", pixelsTotal},
