@@ -25,8 +25,9 @@ all: $(OUT)/hamlet.vdb $(OUT)/hamlet.info.txt $(OUT)/village.vdb $(OUT)/village.
 	@echo "  bijection.txt      proof of the $(RES)^3 voxel<->texel mapping"
 	@echo "  hamlet_mips.vdb    LOD pyramid (levels 1..n, error per level vs the hamlet voxelized directly: hamlet_mips.report.json)"
 	@echo "  hamlet.vpk         page file of the hamlet and its mips (16^3 chunks), verified: hamlet.vpk.verify.txt"
-	@echo "  render/            hamlet.{canonical,shaded,class,normal}.png, hamlet.depth.exr from one exact pass (checked"
-	@echo "                     pixel by pixel against a brute-force caster), the chunks it touched (hamlet.touched.json),"
+	@echo "  render/            hamlet.{canonical,shaded,class,normal}.png, hamlet.depth.exr from one exact pass,"
+	@echo "                     $$(sed -n 's/^vox render-canonical: \(check: \)/\1/p' $(OUT)/render/hamlet.check.txt 2>/dev/null)"
+	@echo "                     (hamlet.check.txt); the chunks it touched (hamlet.touched.json),"
 	@echo "                     the same view from the page file, and village.png (the block map, shaded)"
 	@echo "  house.vdb          a mesh with materials (scripts/demo/house.obj) through class rules"
 	@echo "                     (scripts/demo/classes.json: wall, roof, trim), solid; render/house.png shaded"
@@ -61,7 +62,8 @@ $(OUT)/hamlet.vpk.verify.txt: $(OUT)/hamlet.vpk
 $(OUT)/render/hamlet.canonical.png: $(OUT)/hamlet.vdb
 	mkdir -p $(OUT)/render
 	$(VOX) render-canonical $< -o $(OUT)/render/hamlet.png $(CAMERA) --mode canonical,shaded,class,depth,normal \
-	  --touched $(OUT)/render/hamlet.touched.json --check --depfile $@.d --report $(OUT)/render/hamlet.report.json
+	  --touched $(OUT)/render/hamlet.touched.json --check --depfile $@.d --report $(OUT)/render/hamlet.report.json \
+	  2>$(OUT)/render/hamlet.check.txt; s=$$?; cat $(OUT)/render/hamlet.check.txt >&2; exit $$s
 
 $(OUT)/render/hamlet.verify.txt: $(OUT)/render/hamlet.canonical.png
 	$(VOX) verify-bijection --canonical $< --scene $(OUT)/hamlet.vdb > $@.tmp && mv $@.tmp $@

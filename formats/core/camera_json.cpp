@@ -55,13 +55,19 @@ CameraView lookAtCamera(const json& c, const std::string& name, const std::strin
     h = side(s[1], name, where + ".size[1]");
   }
   if (size) std::tie(w, h) = *size;
+  std::string chosen;
+  if (c.contains("view")) {
+    if (!c["view"].is_string()) bad(name, where + ".view must be a string (the view vox chose, e.g. \"front\")");
+    chosen = c["view"].get<std::string>();
+  }
   CameraView v;
   try {
     v.camera = Camera::lookAt(eye, target, up, fov, w, h);
   } catch (const Error& e) {
     bad(name, where + ": " + e.what());
   }
-  v.label = "camera " + std::to_string(index);
+  v.lookAt = LookAtCamera{eye, target, up, fov, w, h, chosen};
+  v.label = chosen.empty() ? "camera " + std::to_string(index) : chosen;
   v.index = index;
   return v;
 }
@@ -120,6 +126,27 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
     return out;
   }
   bad(name, "expected \"views\" (a block-map metadata.json), \"cameras\", or a camera with \"eye\" and \"target\"");
+}
+
+namespace {
+
+json lookAtJson(const LookAtCamera& c) {
+  json j = {{"eye", c.eye}, {"target", c.target}, {"up", c.up}, {"fov", c.fovYDegrees}, {"size", {c.width, c.height}}};
+  if (!c.view.empty()) j["view"] = c.view;
+  return j;
+}
+
+}  // namespace
+
+std::string lookAtCameraFileJson(const std::vector<LookAtCamera>& cameras) {
+  json doc;
+  if (cameras.size() == 1) {
+    doc = lookAtJson(cameras[0]);
+  } else {
+    doc["cameras"] = json::array();
+    for (const LookAtCamera& c : cameras) doc["cameras"].push_back(lookAtJson(c));
+  }
+  return doc.dump(2) + "\n";
 }
 
 std::vector<CameraView> readCameraFile(const std::string& path, std::optional<std::pair<uint32_t, uint32_t>> size) {

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/camera_json.h"
 #include "formats/core/json_fields.h"
 #include "libvox/core/error.h"
 
@@ -42,6 +43,7 @@ std::string renderMetaJson(const RenderMeta& m) {
                            {"imageSize", {{"width", m.width}, {"height", m.height}}}}}};
   if (m.bits) meta["bits"] = *m.bits;
   if (m.level) meta["level"] = *m.level;
+  if (m.lookAt) meta["look_at"] = json::parse(lookAtCameraFileJson({*m.lookAt}));
   return meta.dump();
 }
 
@@ -56,7 +58,7 @@ RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {
   if (!j.is_object()) throwBadInput(where + " is not a JSON object");
   RenderMeta m;
   const std::optional<RenderMode> mode = renderModeNamed(jsonString(jsonMember(j, "mode", where), where, "mode"));
-  if (!mode) throwBadInput(where + ": mode must be one of canonical, class, shaded, depth, normal");
+  if (!mode) throwBadInput(where + ": mode must be one of canonical, class, color, shaded, depth, normal");
   m.mode = *mode;
   m.scene = jsonString(jsonMember(j, "scene", where), where, "scene");
   m.dims = jsonDims(jsonMember(j, "dims", where), where, "dims");
@@ -77,6 +79,11 @@ RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {
     m.bits = int(bits);
   }
   if (j.contains("level")) m.level = int(jsonUnsigned(j["level"], where, "level"));
+  if (j.contains("look_at")) {
+    const std::vector<CameraView> views = parseCameraJson(j["look_at"].dump(), where + ": look_at", std::nullopt);
+    if (views.size() != 1 || !views[0].lookAt) throwBadInput(where + ": look_at must be one look-at camera");
+    m.lookAt = views[0].lookAt;
+  }
   return m;
 }
 

@@ -17,6 +17,7 @@
 #include "libvox/core/types.h"
 #include "libvox/render/camera.h"
 #include "libvox/render/render_modes.h"
+#include "libvox/render/view_framing.h"
 
 namespace vox {
 
@@ -35,6 +36,7 @@ struct RenderMeta {
   uint32_t width = 0, height = 0;          // the image size the camera was made for
   std::optional<int> bits;                // canonical renders: bits per sample (8, 16 or 32)
   std::optional<int> level;               // renders of a page file: the level rendered
+  std::optional<LookAtCamera> lookAt;     // a camera vox chose (a named view, an orbit): its look-at form
   bool operator==(const RenderMeta&) const = default;
 };
 

@@ -34,11 +34,15 @@ RayGrid rayGridFromPages(const pagefile::Reader& reader, int level) {
   return grid;
 }
 
-std::vector<SummaryTexel> pageSummaries(const pagefile::Reader& reader, int level, std::span<const Coord3> voxels) {
+namespace {
+
+// Calls fn(i, decoded voxel) for every request i of `voxels` that is occupied;
+// each chunk is decoded once.
+template <typename Fn>
+void forEachStoredVoxel(const pagefile::Reader& reader, int level, std::span<const Coord3> voxels, Fn&& fn) {
   const uint32_t C = reader.header().chunkSide();
   // Group the requests by chunk so that each chunk is decoded once.
   std::map<const pagefile::IndexEntry*, std::vector<size_t>> byChunk;
-  std::vector<SummaryTexel> out(voxels.size());
   for (size_t i = 0; i < voxels.size(); ++i) {
     const Coord3& c = voxels[i];
     if (c.u < 0 || c.v < 0 || c.w < 0) continue;
@@ -55,10 +59,28 @@ std::vector<SummaryTexel> pageSummaries(const pagefile::Reader& reader, int leve
       const uint32_t local = uint32_t(c.u) % C + C * (uint32_t(c.v) % C + C * (uint32_t(c.w) % C));
       const auto it = std::lower_bound(decoded.begin(), decoded.end(), local,
                                        [](const pagefile::DecodedVoxel& d, uint32_t k) { return d.index < k; });
-      if (it != decoded.end() && it->index == local)
-        out[i] = {it->summary[0], it->summary[1], it->summary[2], it->summary[3]};
+      if (it != decoded.end() && it->index == local) fn(i, *it);
     }
   }
+}
+
+}  // namespace
+
+std::vector<SummaryTexel> pageSummaries(const pagefile::Reader& reader, int level, std::span<const Coord3> voxels) {
+  std::vector<SummaryTexel> out(voxels.size());
+  forEachStoredVoxel(reader, level, voxels, [&](size_t i, const pagefile::DecodedVoxel& d) {
+    out[i] = {d.summary[0], d.summary[1], d.summary[2], d.summary[3]};
+  });
+  return out;
+}
+
+std::vector<std::array<uint8_t, 4>> pageColors(const pagefile::Reader& reader, int level,
+                                               std::span<const Coord3> voxels) {
+  std::vector<std::array<uint8_t, 4>> out(voxels.size(), std::array<uint8_t, 4>{0, 0, 0, 0});
+  if (!(reader.header().flags & pagefile::kFlagColor)) return out;
+  forEachStoredVoxel(reader, level, voxels, [&](size_t i, const pagefile::DecodedVoxel& d) {
+    if (d.color[3] == 255) out[i] = d.color;
+  });
   return out;
 }
 

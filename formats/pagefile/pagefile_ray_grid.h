@@ -19,4 +19,9 @@ RayGrid rayGridFromPages(const pagefile::Reader& reader, int level);
 /// per call.
 std::vector<SummaryTexel> pageSummaries(const pagefile::Reader& reader, int level, std::span<const Coord3> voxels);
 
+/// The colour bytes stored for `voxels` of `level` (sRGB8 + alpha 255, or all
+/// zero for a voxel without colour, an empty voxel, or a file without colour).
+std::vector<std::array<uint8_t, 4>> pageColors(const pagefile::Reader& reader, int level,
+                                               std::span<const Coord3> voxels);
+
 }  // namespace vox

@@ -47,6 +47,42 @@ void RayGrid::addVoxel(uint32_t u, uint32_t v, uint32_t w) {
   pending_.back().second[bit >> 6] |= uint64_t(1) << (bit & 63);
 }
 
+// Grows the occupied box by the voxels of one brick. Within a mask, word x
+// holds the voxels of slab x; byte y of a word the row y; bit z of a byte the
+// voxel z: so OR-ing the words and then their bytes gives the y and z extents.
+void RayGrid::includeInOccupiedBox(uint32_t bx, uint32_t by, uint32_t bz, const Mask512& mask) {
+  uint64_t words = 0;
+  int xlo = 8, xhi = -1;
+  for (int x = 0; x < 8; ++x) {
+    if (!mask[size_t(x)]) continue;
+    words |= mask[size_t(x)];
+    xlo = std::min(xlo, x);
+    xhi = x;
+  }
+  if (xhi < 0) return;
+  uint32_t bytes = 0;
+  int ylo = 8, yhi = -1;
+  for (int y = 0; y < 8; ++y) {
+    const uint32_t row = uint32_t((words >> (8 * y)) & 0xff);
+    if (!row) continue;
+    bytes |= row;
+    ylo = std::min(ylo, y);
+    yhi = y;
+  }
+  const int zlo = std::countr_zero(bytes), zhi = 31 - std::countl_zero(bytes);
+  const int64_t lo[3] = {int64_t(bx) * 8 + xlo, int64_t(by) * 8 + ylo, int64_t(bz) * 8 + zlo};
+  const int64_t hi[3] = {int64_t(bx) * 8 + xhi + 1, int64_t(by) * 8 + yhi + 1, int64_t(bz) * 8 + zhi + 1};
+  for (size_t a = 0; a < 3; ++a) {
+    if (occupiedEnd_[a] == 0) {  // the first brick
+      occupiedMin_[a] = lo[a];
+      occupiedEnd_[a] = hi[a];
+    } else {
+      occupiedMin_[a] = std::min(occupiedMin_[a], lo[a]);
+      occupiedEnd_[a] = std::max(occupiedEnd_[a], hi[a]);
+    }
+  }
+}
+
 void RayGrid::finish() {
   if (finished_) throw Error(ErrorKind::Internal, "RayGrid::finish called twice");
   finished_ = true;
@@ -82,6 +118,7 @@ void RayGrid::finish() {
     bool any = false;
     for (uint64_t m : mask) any |= m != 0;
     if (!any) continue;
+    includeInOccupiedBox(bx, by, bz, mask);
     if (skey == curBrickKey) {  // the same brick again: OR
       for (int i = 0; i < 8; ++i) bricks_.back()[i] |= mask[i];
       continue;

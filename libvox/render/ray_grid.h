@@ -69,6 +69,10 @@ class RayGrid {
   /// holding every occupied voxel. Empty grid: both zero.
   const std::array<int64_t, 3>& contentMin() const { return contentMin_; }
   const std::array<int64_t, 3>& contentEnd() const { return contentEnd_; }
+  /// [occupiedMin, occupiedEnd): the smallest box of voxels holding every
+  /// occupied voxel (exact, unlike the content box). Empty grid: both zero.
+  const std::array<int64_t, 3>& occupiedMin() const { return occupiedMin_; }
+  const std::array<int64_t, 3>& occupiedEnd() const { return occupiedEnd_; }
   size_t brickCount() const { return bricks_.size(); }
   size_t memoryBytes() const;
   /// Every occupied voxel, in brick order then bit order. Serial.
@@ -128,6 +132,8 @@ class RayGrid {
   std::vector<Mask512> bricks_;
   std::array<uint32_t, 3> brickDims_{};
   std::array<int64_t, 3> contentMin_{}, contentEnd_{};
+  std::array<int64_t, 3> occupiedMin_{}, occupiedEnd_{};
+  void includeInOccupiedBox(uint32_t bx, uint32_t by, uint32_t bz, const Mask512& mask);
   std::vector<uint8_t> brickDist_;  // (bx+1, by+1, bz+1) in a 1-brick padded box; see emptyBricksAround
   void buildDistanceField(const std::vector<uint64_t>& brickKeys);
   std::vector<std::pair<uint64_t, Mask512>> pending_;  // (brick key, mask) until finish()

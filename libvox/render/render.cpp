@@ -3,10 +3,35 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
 
 #include "libvox/core/parallel.h"
 
 namespace vox {
+
+namespace {
+
+// Workers finish rows out of order and race to report them: a worker that
+// counted 48 % may print after one that counted 50 %. Reports go through a
+// lock and only a larger count than the last one reported is passed on.
+class MonotoneProgress {
+ public:
+  explicit MonotoneProgress(const std::function<void(double)>& fn) : fn_(fn) {}
+  void report(uint64_t done, uint64_t total) {
+    if (!fn_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (done <= reported_) return;
+    reported_ = done;
+    fn_(double(done) / double(total));
+  }
+
+ private:
+  const std::function<void(double)>& fn_;
+  std::mutex mutex_;
+  uint64_t reported_ = 0;
+};
+
+}  // namespace
 
 PixelRays::PixelRays(const Camera& camera, const GridFrame& frame)
     : m_(camera.cameraToWorld), invVoxelSize_(1.0 / frame.voxelSize), voxelSize_(frame.voxelSize) {
@@ -38,6 +63,7 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   out.pixels.resize(size_t(camera.width) * camera.height);
   std::atomic<uint64_t> hits{0}, steps{0};  // sums: the same in any order
   std::atomic<uint32_t> rowsDone{0};
+  MonotoneProgress monotone(progress);
   const PixelRays rays(camera, frame);
   parallelForEach(camera.height, threads, 1, [&](size_t rowIndex) {
     const uint32_t y = uint32_t(rowIndex);
@@ -62,7 +88,7 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
     hits += rowHits;
     steps += rowSteps;
     const uint32_t done = ++rowsDone;
-    if (progress && (done & 15) == 0) progress(double(done) / camera.height);
+    if ((done & 15) == 0) monotone.report(done, camera.height);
   });
   out.hitCount = hits;
   out.steps = steps;
@@ -74,19 +100,33 @@ uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget) {
   return std::max<uint64_t>(1, uint64_t(std::ceil(cost / std::max(1.0, budget))));
 }
 
-ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
-                    const Camera& camera, uint64_t stride, unsigned threads) {
-  if (stride == 0) stride = 1;
+uint64_t sampledPixelCount(uint64_t pixels, uint64_t stride) {
+  stride = std::max<uint64_t>(1, stride);
+  return (pixels + stride - 1) / stride;
+}
+
+uint64_t sampledPixel(uint64_t sample, uint64_t pixels, uint64_t stride) {
+  if (stride <= 1) return sample;
+  const uint64_t begin = sample * stride, run = std::min(stride, pixels - begin);
+  const uint64_t h = (sample + 1) * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing: offsets spread over the run
+  return begin + (h >> 32) % run;
+}
+
+ViewCheck checkView(const ViewHits& hits, const ReferenceCaster& reference, const GridFrame& frame,
+                    const Camera& camera, uint64_t stride, unsigned threads,
+                    const std::function<void(double)>& progress) {
   const uint64_t total = uint64_t(hits.width) * hits.height;
-  const uint64_t samples = (total + stride - 1) / stride;
+  const uint64_t samples = sampledPixelCount(total, stride);
   std::vector<uint8_t> differs(size_t(samples), 0);
   std::vector<RayHit> expected(static_cast<size_t>(samples));
   const PixelRays rays(camera, frame);
+  MonotoneProgress monotone(progress);
+  std::atomic<uint64_t> done{0};
   // Each sample writes its own slots; the mismatches are collected afterwards in pixel order.
   parallelForEach(size_t(samples), threads, 1, [&](size_t s) {
-    const uint64_t i = s * stride;
+    const uint64_t i = sampledPixel(s, total, stride);
     const uint32_t x = uint32_t(i % hits.width), y = uint32_t(i / hits.width);
-    const RayHit ref = castRayBruteForce(occupied, rays.ray(x, y));
+    const RayHit ref = reference(rays.ray(x, y));
     const PixelHit& got = hits.pixels[size_t(i)];
     const bool same =
         ref.hit == got.hit && (!ref.hit || (ref.voxel.u == got.u && ref.voxel.v == got.v && ref.voxel.w == got.w));
@@ -94,6 +134,8 @@ ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, cons
       differs[s] = 1;
       expected[s] = ref;
     }
+    const uint64_t n = ++done;
+    if ((n & 255) == 0) monotone.report(n, samples);
   });
   ViewCheck c;
   c.pixelsChecked = samples;
@@ -101,11 +143,17 @@ ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, cons
     if (!differs[size_t(s)]) continue;
     ++c.pixelsDiffering;
     if (c.first.size() < 10) {
-      const uint64_t i = s * stride;
+      const uint64_t i = sampledPixel(s, total, stride);
       c.first.push_back({uint32_t(i % hits.width), uint32_t(i / hits.width), hits.pixels[size_t(i)], expected[size_t(s)]});
     }
   }
   return c;
+}
+
+ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
+                    const Camera& camera, uint64_t stride, unsigned threads) {
+  return checkView(
+      hits, [occupied](const Ray& ray) { return castRayBruteForce(occupied, ray); }, frame, camera, stride, threads);
 }
 
 }  // namespace vox

@@ -75,11 +75,12 @@ class PixelRays {
 /// The grid-space ray of pixel (x, y) (PixelRays, for one-off use).
 Ray gridRay(const Camera& camera, const GridFrame& frame, uint32_t x, uint32_t y);
 
-/// Casts every pixel of `camera`. `progress` (may be empty) gets fractions.
+/// Casts every pixel of `camera`. `progress` (may be empty) gets fractions
+/// done, one call at a time and never smaller than the previous one.
 ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& camera, unsigned threads,
                   const std::function<void(double)>& progress = {});
 
-/// Comparison of a view against the brute-force reference on a sample of pixels.
+/// Comparison of a view against a reference caster on a sample of pixels.
 struct ViewCheck {
   uint64_t pixelsChecked = 0;
   uint64_t pixelsDiffering = 0;
@@ -91,16 +92,31 @@ struct ViewCheck {
   std::vector<Mismatch> first;  // up to 10, in pixel order
 };
 
-/// The check's default budget: ray-voxel tests per view.
+/// The brute force's default budget: ray-voxel tests per view.
 inline constexpr double kDefaultCheckBudget = 2e9;
 
 /// The pixel stride that keeps a check of `pixels` rays against `occupied`
 /// voxels within `budget` ray-voxel tests (1 = every pixel).
 uint64_t checkStride(uint64_t pixels, uint64_t occupied, double budget);
 
-/// Checks `hits` against castRayBruteForce over `occupied` on every `stride`-th
-/// pixel (row-major order; stride 1 = all pixels). A pixel differs when the hit
-/// flag or the voxel differs.
+/// The pixels a check with `stride` K samples: one in each run of K
+/// consecutive pixels (row-major), at an offset that varies from run to run
+/// (a fixed hash of the run's index) so that a stride that divides the width
+/// does not check one column only. Every pixel when K = 1.
+uint64_t sampledPixelCount(uint64_t pixels, uint64_t stride);
+uint64_t sampledPixel(uint64_t sample, uint64_t pixels, uint64_t stride);
+
+/// A reference caster: the hit of one grid-space ray (thread-safe).
+using ReferenceCaster = std::function<RayHit(const Ray&)>;
+
+/// Checks `hits` against `reference` on the pixels sampledPixel picks for
+/// `stride`. A pixel differs when the hit flag or the voxel differs.
+/// `progress` as castView's.
+ViewCheck checkView(const ViewHits& hits, const ReferenceCaster& reference, const GridFrame& frame,
+                    const Camera& camera, uint64_t stride, unsigned threads,
+                    const std::function<void(double)>& progress = {});
+
+/// The same against castRayBruteForce over `occupied`.
 ViewCheck checkView(const ViewHits& hits, std::span<const Coord3> occupied, const GridFrame& frame,
                     const Camera& camera, uint64_t stride, unsigned threads);
 

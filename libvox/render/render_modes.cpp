@@ -10,6 +10,7 @@ const char* renderModeName(RenderMode mode) {
   switch (mode) {
     case RenderMode::Canonical: return "canonical";
     case RenderMode::Class: return "class";
+    case RenderMode::Color: return "color";
     case RenderMode::Shaded: return "shaded";
     case RenderMode::Depth: return "depth";
     case RenderMode::Normal: return "normal";
@@ -23,7 +24,13 @@ std::optional<RenderMode> renderModeNamed(std::string_view name) {
   return std::nullopt;
 }
 
-bool modeNeedsClasses(RenderMode mode) { return mode == RenderMode::Class || mode == RenderMode::Shaded; }
+bool modeNeedsClasses(RenderMode mode) {
+  return mode == RenderMode::Class || mode == RenderMode::Color || mode == RenderMode::Shaded;
+}
+
+bool modeNeedsColors(RenderMode mode, ShadeColor shadeColor) {
+  return mode == RenderMode::Color || (mode == RenderMode::Shaded && shadeColor == ShadeColor::Voxel);
+}
 
 PixelSample modeSample(RenderMode mode, int canonicalBits) {
   switch (mode) {
@@ -97,8 +104,27 @@ ModeImage classImage(const ViewHits& hits, const ClassTable& classes, const HitS
   return img;
 }
 
+ModeImage colorImage(const ViewHits& hits, const ClassTable& classes, const HitSummaries& summaries,
+                     const HitColors& colors) {
+  ModeImage img = blankImage(hits, 4, PixelSample::U8);
+  for (size_t i = 0; i < hits.pixels.size(); ++i) {
+    const PixelHit& p = hits.pixels[i];
+    if (!p.hit) continue;
+    uint8_t* px = img.pixels.data() + i * 4;
+    if (const VoxelColor8* c = colors.of(p)) {
+      px[0] = (*c)[0], px[1] = (*c)[1], px[2] = (*c)[2];
+    } else {
+      const ClassInfo* info = classes.find(summaries.of(p).cls);
+      const Rgb8 c8 = info ? info->color : Rgb8{128, 128, 128};
+      px[0] = c8.r, px[1] = c8.g, px[2] = c8.b;
+    }
+    px[3] = 255;
+  }
+  return img;
+}
+
 ModeImage shadedImage(const ViewHits& hits, const Camera& camera, const ClassTable& classes,
-                      const HitSummaries& summaries) {
+                      const HitSummaries& summaries, ShadeColor shadeColor, const HitColors& colors) {
   ModeImage img = blankImage(hits, 3, PixelSample::U8);
   // No sRGB curve: the terrain shading writes its linear result as is.
   auto toByte = [](double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
@@ -107,7 +133,11 @@ ModeImage shadedImage(const ViewHits& hits, const Camera& camera, const ClassTab
     std::array<double, 3> c = kSkyColor;
     if (p.hit) {
       const std::array<int, 3> n = hitNormal(p, pixelDirection(camera, i));
-      c = terrainShade(facePaletteColor(classes.find(summaries.of(p).cls), n), n);
+      const VoxelColor8* own = shadeColor == ShadeColor::Voxel ? colors.of(p) : nullptr;
+      const std::array<double, 3> base =
+          own ? std::array<double, 3>{(*own)[0] / 255.0, (*own)[1] / 255.0, (*own)[2] / 255.0}
+              : facePaletteColor(classes.find(summaries.of(p).cls), n);
+      c = terrainShade(base, n);
     }
     uint8_t* px = img.pixels.data() + i * 3;
     for (int k = 0; k < 3; ++k) px[k] = toByte(c[size_t(k)]);
@@ -140,7 +170,10 @@ ModeImage renderModeImage(RenderMode mode, const ViewHits& hits, const ModeSourc
   switch (mode) {
     case RenderMode::Canonical: return canonicalImage(hits, sources.canonicalBits);
     case RenderMode::Class: return classImage(hits, *sources.classes, sources.summaries);
-    case RenderMode::Shaded: return shadedImage(hits, *sources.camera, *sources.classes, sources.summaries);
+    case RenderMode::Color: return colorImage(hits, *sources.classes, sources.summaries, sources.colors);
+    case RenderMode::Shaded:
+      return shadedImage(hits, *sources.camera, *sources.classes, sources.summaries, sources.shadeColor,
+                         sources.colors);
     case RenderMode::Depth: return depthImage(hits);
     case RenderMode::Normal: return normalImage(hits, *sources.camera);
   }

@@ -6,8 +6,12 @@
 //              type for the grid (canonicalBits).
 //   class      RGBA8: the display colour of the voxel's winning class, alpha
 //              255; a miss is transparent.
+//   color      RGBA8: the voxel's own colour (linear in the scene, written
+//              sRGB-encoded), or its class's display colour where it has
+//              none; alpha 255; a miss is transparent.
 //   shaded     RGB8: the terrain shading (terrainShade) of the class's palette
-//              colour for the face entered; a miss is the sky colour.
+//              colour for the face entered (or, with ShadeColor::Voxel, of
+//              the voxel's colour where it has one); a miss is the sky colour.
 //   depth      one float: the world distance to the entry point; a miss is +inf.
 //   normal     RGBA8: the entry face's outward normal, -1/0/+1 as 0/128/255.
 // formats/image/RENDER.md specifies them as files.
@@ -33,19 +37,25 @@
 
 namespace vox {
 
-enum class RenderMode { Canonical, Class, Shaded, Depth, Normal };
+enum class RenderMode { Canonical, Class, Shaded, Depth, Normal, Color };
 
 /// Every mode, in the order they are listed to users.
-inline constexpr std::array<RenderMode, 5> kRenderModes{RenderMode::Canonical, RenderMode::Class, RenderMode::Shaded,
-                                                        RenderMode::Depth, RenderMode::Normal};
+inline constexpr std::array<RenderMode, 6> kRenderModes{RenderMode::Canonical, RenderMode::Class, RenderMode::Color,
+                                                        RenderMode::Shaded,    RenderMode::Depth, RenderMode::Normal};
 
-/// "canonical", "class", "shaded", "depth", "normal": the names in files and options.
+/// What the shaded mode lights: the class's palette colour (the block-map
+/// renderer's look, the default) or the voxel's own colour where it has one.
+enum class ShadeColor { Class, Voxel };
+
+/// "canonical", "class", "color", "shaded", "depth", "normal": the names in files and options.
 const char* renderModeName(RenderMode mode);
 /// The mode named `name` (exactly as renderModeName spells it), if any.
 std::optional<RenderMode> renderModeNamed(std::string_view name);
 
 /// Whether the mode reads the hit voxels' summary bytes (their class).
 bool modeNeedsClasses(RenderMode mode);
+/// Whether the mode reads the hit voxels' colours (color; shaded with ShadeColor::Voxel).
+bool modeNeedsColors(RenderMode mode, ShadeColor shadeColor);
 
 enum class PixelSample { U8, U16, U32, F32 };
 
@@ -70,13 +80,31 @@ struct HitSummaries {
   const SummaryTexel& of(const PixelHit& hit) const { return summaries[voxels->indexOf(hit)]; }
 };
 
+/// A voxel's colour as displayed: 8-bit sRGB, alpha 255 when the voxel has a
+/// colour and 0 when it has none (the page files' per-voxel colour bytes).
+using VoxelColor8 = std::array<uint8_t, 4>;
+
+/// The colour of each voxel a view hit, in TouchedVoxels order.
+struct HitColors {
+  const TouchedVoxels* voxels = nullptr;
+  std::span<const VoxelColor8> colors;  // colors[i] is voxels->voxel(i)'s
+  const VoxelColor8* of(const PixelHit& hit) const {
+    if (colors.empty()) return nullptr;
+    const VoxelColor8& c = colors[voxels->indexOf(hit)];
+    return c[3] ? &c : nullptr;
+  }
+};
+
 /// What the modes read beyond the hits. `summaries` and `classes` are needed by
-/// the class and shaded modes only (modeNeedsClasses).
+/// the class, color and shaded modes only (modeNeedsClasses); `colors` by the
+/// modes modeNeedsColors names (empty: no voxel has a colour).
 struct ModeSources {
   const Camera* camera = nullptr;  // the camera the hits were cast with
   int canonicalBits = 8;
   const ClassTable* classes = nullptr;
   HitSummaries summaries;
+  HitColors colors;
+  ShadeColor shadeColor = ShadeColor::Class;
 };
 
 /// The image of `mode` for `hits`.
@@ -84,8 +112,14 @@ ModeImage renderModeImage(RenderMode mode, const ViewHits& hits, const ModeSourc
 
 ModeImage canonicalImage(const ViewHits& hits, int canonicalBits);
 ModeImage classImage(const ViewHits& hits, const ClassTable& classes, const HitSummaries& summaries);
+ModeImage colorImage(const ViewHits& hits, const ClassTable& classes, const HitSummaries& summaries,
+                     const HitColors& colors);
+/// With ShadeColor::Voxel, a voxel with a colour is lit from that colour's
+/// sRGB bytes / 255 on every face (as a class palette's bytes are), so a voxel
+/// coloured like its class's display colour shades like the class.
 ModeImage shadedImage(const ViewHits& hits, const Camera& camera, const ClassTable& classes,
-                      const HitSummaries& summaries);
+                      const HitSummaries& summaries, ShadeColor shadeColor = ShadeColor::Class,
+                      const HitColors& colors = {});
 ModeImage depthImage(const ViewHits& hits);
 ModeImage normalImage(const ViewHits& hits, const Camera& camera);
 

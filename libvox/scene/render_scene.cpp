@@ -1,6 +1,7 @@
 // Scene -> RayGrid and summary lookups (the OpenVDB side of render_scene.h).
 #include <openvdb/openvdb.h>
 
+#include "libvox/core/color.h"
 #include "libvox/scene/render_scene.h"
 #include "libvox/scene/scene_grids.h"
 
@@ -50,6 +51,19 @@ std::vector<SummaryTexel> sceneSummaries(const Scene& scene, std::span<const Coo
       if (acc[k].probeValue(c, n) && n > 0) votes.push_back({g.votes[k].classId, uint32_t(n)});
     }
     out[i] = summarize(votes);
+  }
+  return out;
+}
+
+std::vector<VoxelColor8> sceneColors(const Scene& scene, std::span<const Coord3> voxels) {
+  std::vector<VoxelColor8> out(voxels.size(), VoxelColor8{0, 0, 0, 0});
+  const SceneGrids& g = scene.grids();
+  if (!g.color) return out;
+  auto acc = g.color->getConstAccessor();
+  for (size_t i = 0; i < voxels.size(); ++i) {
+    openvdb::Vec3s c;
+    if (!acc.probeValue(openvdb::Coord(voxels[i].u, voxels[i].v, voxels[i].w), c)) continue;
+    out[i] = {linearToSrgb8(c[0]), linearToSrgb8(c[1]), linearToSrgb8(c[2]), 255};
   }
   return out;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "libvox/render/render.h"
+#include "libvox/render/render_modes.h"
 #include "libvox/core/summary_bytes.h"
 #include "libvox/scene/scene.h"
 
@@ -24,5 +25,11 @@ RayGrid rayGridFromScene(const Scene& scene);
 /// observations, margin) of each voxel in `voxels` (empty voxels: all zero).
 /// Serial, one accessor per grid.
 std::vector<SummaryTexel> sceneSummaries(const Scene& scene, std::span<const Coord3> voxels);
+
+/// The colour of each voxel in `voxels` as displayed (render_modes.h
+/// VoxelColor8): the scene's linear colour encoded to 8-bit sRGB
+/// (linearToSrgb8, as page files store it), alpha 255; all zero for a voxel
+/// without colour and for every voxel of a scene without colour. Serial.
+std::vector<VoxelColor8> sceneColors(const Scene& scene, std::span<const Coord3> voxels);
 
 }  // namespace vox

@@ -56,30 +56,99 @@ void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
   const std::string side = std::to_string(vox::kDefaultImageSide);
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default " + side + "x" + side + ", or the camera file's)");
   cmd.add_option("--camera", o.cameraFile, "Camera JSON, or a block-map metadata.json (views[] with matrices)");
-  cmd.add_option("--view", o.view, "With --camera: render only views[INDEX] (default: every view)");
+  cmd.add_option("--view", o.view,
+                 "A view framed on the scene: front, back, right (or side), left, top, bottom, iso; with --camera: "
+                 "render only views[INDEX] (default: every view)")
+      ->type_name("NAME|INDEX");
+  cmd.add_option("--orbit", o.orbit, "N views around the scene at the iso elevation, framed on it (files NAME_000...)");
 }
 
-std::vector<vox::CameraView> resolveCameras(const CameraOptions& o, uint32_t fallbackWidth, uint32_t fallbackHeight) {
+namespace {
+
+bool isIndex(const std::string& text) {
+  return !text.empty() && text.size() < 10 && text.find_first_not_of("0123456789") == std::string::npos;
+}
+
+std::string viewNames() {
+  std::string names;
+  for (vox::NamedView v : vox::kNamedViews) names += std::string(names.empty() ? "" : ", ") + vox::namedViewName(v);
+  return names + " (side = right)";
+}
+
+}  // namespace
+
+bool CameraOptions::needsFraming() const { return orbit > 0 || (!view.empty() && !isIndex(view)); }
+
+void CameraOptions::check() const {
+  if (!view.empty() && !isIndex(view) && !vox::namedViewFrom(view))
+    vox::throwUsage("--view " + view + ": expected one of " + viewNames() + ", or with --camera a view INDEX");
+  if (!needsFraming()) return;
+  const std::string what = orbit > 0 ? "--orbit" : "--view " + view;
+  if (orbit > 0 && !view.empty()) vox::throwUsage("--orbit and --view " + view + " both choose the cameras; give one");
+  if (!cameraFile.empty() || !eye.empty() || !target.empty() || !up.empty())
+    vox::throwUsage(what + " frames the camera on the scene (eye, target and up); drop --camera/--eye/--target/--up");
+  if (orbit > 1000) vox::throwUsage("--orbit " + std::to_string(orbit) + ": at most 1000 views");
+}
+
+std::string lookAtFlags(const vox::LookAtCamera& c) {
+  char fov[32];
+  std::snprintf(fov, sizeof fov, "%g", c.fovYDegrees);
+  return "--eye " + vecText(c.eye) + " --target " + vecText(c.target) + " --up " + vecText(c.up) + " --fov " + fov +
+         " --size " + std::to_string(c.width) + "x" + std::to_string(c.height);
+}
+
+std::vector<vox::CameraView> resolveCameras(const CameraOptions& o, uint32_t fallbackWidth, uint32_t fallbackHeight,
+                                            const std::optional<vox::WorldBox>& framing) {
+  o.check();
   std::optional<std::pair<uint32_t, uint32_t>> size;
   if (!o.size.empty()) size = parseImageSize(o.size);
+  if (o.needsFraming()) {
+    if (!framing) vox::throwUsage("--view NAME and --orbit need a scene to frame");
+    const auto [w, h] = size.value_or(std::make_pair(fallbackWidth, fallbackHeight));
+    std::vector<vox::CameraView> views;
+    const uint32_t count = o.orbit > 0 ? o.orbit : 1;
+    for (uint32_t i = 0; i < count; ++i) {
+      vox::Vec3d toEye, up{0, 1, 0};
+      std::string name;
+      if (o.orbit > 0) {
+        toEye = vox::orbitDirection(i, count);
+        name = "orbit " + std::to_string(i) + "/" + std::to_string(count);
+      } else {
+        const vox::NamedView nv = *vox::namedViewFrom(o.view);
+        vox::namedViewDirection(nv, toEye, up);
+        name = vox::namedViewName(nv);
+      }
+      vox::LookAtCamera look = vox::frameBox(*framing, toEye, up, o.fov, w, h);
+      look.view = name;
+      vox::CameraView v;
+      v.camera = look.camera();
+      v.lookAt = look;
+      v.label = name;
+      v.index = int(i);
+      views.push_back(std::move(v));
+    }
+    return views;
+  }
   if (!o.cameraFile.empty()) {
     if (!o.eye.empty() || !o.target.empty())
       vox::throwUsage("--camera and --eye/--target describe the camera twice; give one");
     std::vector<vox::CameraView> views = vox::readCameraFile(o.cameraFile, size);
-    if (o.view >= 0) {
-      if (size_t(o.view) >= views.size())
-        vox::throwUsage("--view " + std::to_string(o.view) + ": " + o.cameraFile + " has " +
-                        std::to_string(views.size()) + " view(s), 0.." + std::to_string(views.size() - 1));
-      return {views[size_t(o.view)]};
+    if (!o.view.empty()) {
+      const unsigned long index = std::stoul(o.view);
+      if (index >= views.size())
+        vox::throwUsage("--view " + o.view + ": " + o.cameraFile + " has " + std::to_string(views.size()) +
+                        " view(s), 0.." + std::to_string(views.size() - 1));
+      return {views[index]};
     }
     return views;
   }
-  if (o.view >= 0) vox::throwUsage("--view needs --camera FILE");
+  if (!o.view.empty()) vox::throwUsage("--view " + o.view + " (an index) needs --camera FILE");
   if (o.eye.empty() || o.target.empty()) vox::throwUsage("give --eye X,Y,Z and --target X,Y,Z, or --camera FILE");
   const auto [w, h] = size.value_or(std::make_pair(fallbackWidth, fallbackHeight));
   vox::CameraView v;
   const vox::Vec3d up = o.up.empty() ? vox::kLookAtUp : parseVec(o.up, "--up");
   v.camera = vox::Camera::lookAt(parseVec(o.eye, "--eye"), parseVec(o.target, "--target"), up, o.fov, w, h);
+  v.lookAt = vox::LookAtCamera{parseVec(o.eye, "--eye"), parseVec(o.target, "--target"), up, o.fov, w, h, ""};
   v.label = "camera";
   return {v};
 }

@@ -1,7 +1,10 @@
 // Camera options shared by render-canonical and verify-bijection --canonical:
-// --eye/--target/--up/--fov/--size, or --camera FILE [--view N].
+// --eye/--target/--up/--fov/--size, --camera FILE [--view N], or a camera vox
+// frames on the scene: --view front|back|right|left|top|bottom|iso (side =
+// right) or --orbit N (libvox/render/view_framing.h).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,18 +22,28 @@ struct CameraOptions {
   double fov = vox::kLookAtFovYDegrees;
   std::string size;        // "WIDTHxHEIGHT"
   std::string cameraFile;  // camera JSON or a block-map metadata.json
-  int view = -1;           // with --camera: one view (default: all)
+  std::string view;        // with --camera: one view's INDEX; else a named view
+  uint32_t orbit = 0;      // --orbit N: N framed views around the scene
 
-  bool given() const { return !eye.empty() || !target.empty() || !cameraFile.empty(); }
+  bool given() const { return !eye.empty() || !target.empty() || !cameraFile.empty() || needsFraming(); }
+  /// --view NAME or --orbit: the cameras depend on the scene's occupied box.
+  bool needsFraming() const;
+  /// Refuses contradictory options (before anything is read). Throws vox::Error (Usage).
+  void check() const;
 };
 
 /// Adds the options to `cmd`.
 void addCameraOptions(CLI::App& cmd, CameraOptions& options);
 
 /// The cameras the options describe; `fallbackSize` is used when neither
-/// --size nor the file gives one. Throws vox::Error (Usage / BadInput).
+/// --size nor the file gives one; `framing` is the world box named views and
+/// orbits frame (required when needsFraming()). Throws vox::Error (Usage / BadInput).
 std::vector<vox::CameraView> resolveCameras(const CameraOptions& options, uint32_t fallbackWidth,
-                                            uint32_t fallbackHeight);
+                                            uint32_t fallbackHeight,
+                                            const std::optional<vox::WorldBox>& framing = std::nullopt);
+
+/// A camera as flags a person can paste: "--eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov F --size WxH".
+std::string lookAtFlags(const vox::LookAtCamera& camera);
 
 /// Parses "WxH" (also "W,H"); throws vox::Error (Usage).
 std::pair<uint32_t, uint32_t> parseImageSize(const std::string& text);

@@ -158,7 +158,7 @@ Command registerVerifyBijection(CLI::App& root) {
   cmd->add_option("--canonical", o->canonical, "A canonical image written by vox render-canonical");
   addCameraOptions(*cmd, o->camera);
   cmd->add_option("--check-budget", o->checkBudget,
-                  "--canonical: ray-voxel tests the brute force may spend; past it, every k-th pixel is checked")
+                  "--canonical: ray-voxel tests the brute force may spend; past it, 1 pixel in K is checked (sampled 1 in K)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as JSON on stdout");
   addCommonOptions(*cmd, o->common);

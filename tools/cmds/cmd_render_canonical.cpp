@@ -22,9 +22,11 @@
 #include "libvox/core/version.h"
 #include "libvox/render/render_modes.h"
 #include "libvox/render/touched_voxels.h"
+#include "libvox/render/voxel_walk.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
 #include "tools/cmds/render_input.h"
 
 namespace fs = std::filesystem;
@@ -33,13 +35,25 @@ namespace voxcli {
 
 namespace {
 
+// The caster --check compares the render with.
+enum class CheckReference { Walk, BruteForce };
+
+const EnumNames<CheckReference>& checkReferenceNames() {
+  static const EnumNames<CheckReference> names{{"walk", CheckReference::Walk}, {"brute-force", CheckReference::BruteForce}};
+  return names;
+}
+
 struct RenderCanonicalOptions {
   std::string input, output;
   std::vector<vox::RenderMode> modes{vox::RenderMode::Canonical};
   CameraOptions camera;
   std::string touched, touchedBitmap;
   uint32_t chunk = vox::PackSettings{}.chunkSide;  // the page files' default, so the chunks are theirs
+  vox::ShadeColor shadeColor = vox::ShadeColor::Class;
+  std::string cameraOut;
   bool check = false;
+  CheckReference checkReference = CheckReference::Walk;
+  double checkSeconds = 10;  // 0: every pixel
   double checkBudget = vox::kDefaultCheckBudget;
   int level = 0;
   int compression = 4;  // measured on a 1080p RGBA16 render: 2.7x faster than 6 for 25 % more bytes
@@ -68,8 +82,9 @@ void checkOutputOptions(const RenderCanonicalOptions& o) {
     vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
 }
 
-std::vector<vox::CameraView> makeCameras(const CameraOptions& options) {
-  const std::vector<vox::CameraView> views = resolveCameras(options, kDefaultImageSide, kDefaultImageSide);
+std::vector<vox::CameraView> makeCameras(const CameraOptions& options,
+                                         const std::optional<vox::WorldBox>& framing = std::nullopt) {
+  const std::vector<vox::CameraView> views = resolveCameras(options, kDefaultImageSide, kDefaultImageSide, framing);
   for (const vox::CameraView& v : views) {
     const uint64_t pixels = uint64_t(v.camera.width) * v.camera.height;
     if (pixels > kMaxPixelsPerView)
@@ -102,12 +117,12 @@ std::string lower(std::string s) {
 // File of (view, mode): exactly -o for one view and one mode, else
 // STEM[.viewN][.MODE].EXT with EXT what the mode's samples need.
 std::string outputPath(const std::string& output, size_t view, size_t views, vox::RenderMode mode, size_t modes,
-                       vox::PixelSample sample) {
+                       vox::PixelSample sample, bool orbit) {
   const std::string ext = pngHolds(sample) ? ".png" : ".exr";
   const std::string modeName = vox::renderModeName(mode);
   const fs::path p(output);
   const std::string given = lower(p.extension().string());
-  if (views == 1 && modes == 1) {
+  if (views == 1 && modes == 1 && !orbit) {
     if (given != ext)
       vox::throwUsage("-o " + output + ": a " + modeName + " render" +
                       (mode == vox::RenderMode::Canonical && ext == ".exr"
@@ -118,7 +133,13 @@ std::string outputPath(const std::string& output, size_t view, size_t views, vox
   }
   fs::path stem = (given == ".png" || given == ".exr") ? p.parent_path() / p.stem() : p;
   std::string name = stem.string();
-  if (views > 1) name += ".view" + std::to_string(view);
+  if (orbit) {
+    char n[16];
+    std::snprintf(n, sizeof n, "_%03zu", view);
+    name += n;
+  } else if (views > 1) {
+    name += ".view" + std::to_string(view);
+  }
   if (modes > 1) name += "." + modeName;
   return name + ext;
 }
@@ -131,12 +152,12 @@ struct PlannedImage {
 
 // Every image to write, named before anything is cast so that a bad name fails fast.
 std::vector<PlannedImage> planImages(const std::string& output, size_t views, const std::vector<vox::RenderMode>& modes,
-                                     int canonicalBits) {
+                                     int canonicalBits, bool orbit) {
   std::vector<PlannedImage> planned;
   if (output.empty()) return planned;
   for (size_t v = 0; v < views; ++v)
     for (vox::RenderMode m : modes)
-      planned.push_back({v, m, outputPath(output, v, views, m, modes.size(), vox::modeSample(m, canonicalBits))});
+      planned.push_back({v, m, outputPath(output, v, views, m, modes.size(), vox::modeSample(m, canonicalBits), orbit)});
   return planned;
 }
 
@@ -170,20 +191,73 @@ struct CheckOutcome {
   uint64_t differing = 0;
 };
 
-// Every view against the brute force, on as many pixels as the budget allows.
-CheckOutcome checkAgainstBruteForce(Run& run, const RenderInput& in, const std::vector<vox::CameraView>& views,
-                                    const CastViews& cast, double budget) {
-  const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
+// The sampling stride that makes checking `pixels` pixels take about `seconds`,
+// from the rate measured on a pilot sample of about `pilotRays` pixels (spread
+// over the image). 1 (every pixel) when the estimate fits or seconds <= 0.
+uint64_t strideForSeconds(const vox::ViewHits& hits, const vox::ReferenceCaster& reference,
+                          const vox::GridFrame& frame, const vox::Camera& camera, unsigned threads, double seconds,
+                          uint64_t pilotRays) {
+  const uint64_t pixels = uint64_t(hits.width) * hits.height;
+  if (!(seconds > 0)) return 1;
+  const uint64_t pilotStride = std::max<uint64_t>(1, pixels / std::max<uint64_t>(1, pilotRays));
+  const auto start = std::chrono::steady_clock::now();
+  const vox::ViewCheck pilot = vox::checkView(hits, reference, frame, camera, pilotStride, threads);
+  const double elapsed = std::max(1e-6, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  const double rate = double(pilot.pixelsChecked) / elapsed;  // pixels per second
+  if (double(pixels) / rate <= seconds) return 1;
+  return std::max<uint64_t>(1, uint64_t(std::ceil(double(pixels) / (rate * seconds))));
+}
+
+std::string percentText(double fraction) {
+  char t[32];
+  std::snprintf(t, sizeof t, fraction >= 0.01 ? "%.1f %%" : "%.3f %%", fraction * 100);
+  return t;
+}
+
+// Every view against the reference (the voxel walk, or the brute force), on
+// every pixel or on a sample sized by --check-seconds (and, for the brute force,
+// --check-budget).
+CheckOutcome checkRender(Run& run, const RenderCanonicalOptions& o, const RenderInput& in,
+                         const std::vector<vox::CameraView>& views, const CastViews& cast) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool brute = o.checkReference == CheckReference::BruteForce;
+  std::vector<vox::Coord3> occupied;  // the brute force's voxel list
+  std::optional<vox::VoxelWalk> walk;
+  vox::ReferenceCaster reference;
+  if (brute) {
+    occupied = in.grid->occupiedVoxels();
+    reference = [&occupied](const vox::Ray& r) { return vox::castRayBruteForce(occupied, r); };
+  } else {
+    walk.emplace(*in.grid);
+    reference = [&walk](const vox::Ray& r) { return walk->cast(r); };
+  }
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const std::string referenceName = brute ? "brute-force" : "voxel-walk";
   CheckOutcome out;
-  uint64_t checked = 0;
-  nlohmann::json mismatches = nlohmann::json::array();
+  uint64_t checked = 0, pixelsTotal = 0, largestStride = 1;
+  nlohmann::json mismatches = nlohmann::json::array(), perView = nlohmann::json::array();
+  auto progress = run.progress("check");
+  // A pilot of the brute force costs rays x occupied voxels: keep it near 2e8 tests.
+  const uint64_t pilotRays =
+      brute ? std::clamp<uint64_t>(uint64_t(2e8 / double(std::max<size_t>(1, occupied.size()))), 8, 2048) : 2048;
   for (size_t v = 0; v < views.size(); ++v) {
     const vox::ViewHits& hits = cast.hits[v];
     const uint64_t pixels = uint64_t(hits.width) * hits.height;
-    const uint64_t stride = vox::checkStride(pixels, occupied.size(), budget);
-    const vox::ViewCheck c = vox::checkView(hits, occupied, in.frame, views[v].camera, stride, run.threads());
+    // What is left of --check-seconds after reading the occupancy and the views before, shared by the views left
+    // (at least 5 % of it, so that a slow setup still leaves a sample).
+    const double seconds = o.checkSeconds > 0 ? std::max(o.checkSeconds - elapsed(), 0.05 * o.checkSeconds) /
+                                                    double(views.size() - v)
+                                              : 0.0;
+    uint64_t stride = strideForSeconds(hits, reference, in.frame, views[v].camera, run.threads(), seconds, pilotRays);
+    if (brute) stride = std::max(stride, vox::checkStride(pixels, occupied.size(), o.checkBudget));
+    const vox::ViewCheck c = vox::checkView(hits, reference, in.frame, views[v].camera, stride, run.threads(),
+                                            [&](double f) { progress->update((double(v) + f) / double(views.size())); });
     checked += c.pixelsChecked;
+    pixelsTotal += pixels;
+    largestStride = std::max(largestStride, stride);
     out.differing += c.pixelsDiffering;
+    perView.push_back({{"view", v}, {"pixels", pixels}, {"checked", c.pixelsChecked}, {"differing", c.pixelsDiffering},
+                       {"sampled_one_in", stride}});
     for (const auto& m : c.first) {
       if (mismatches.size() >= 10) break;
       nlohmann::json j = {{"view", v}, {"pixel", {m.x, m.y}}};
@@ -192,15 +266,39 @@ CheckOutcome checkAgainstBruteForce(Run& run, const RenderInput& in, const std::
                                      : nlohmann::json(nullptr);
       mismatches.push_back(j);
     }
-    if (stride > 1)
-      run.note(views[v].label + ": checked every " + std::to_string(stride) + "th pixel against the brute force (" +
-               std::to_string(c.pixelsChecked) + " of " + std::to_string(pixels) + "; raise --check-budget for all)");
   }
-  out.report = {{"pixels_checked", checked}, {"pixels_differing", out.differing}, {"first_mismatches", mismatches},
-                {"reference", "brute force: every occupied voxel against every checked ray"}};
-  if (out.differing)
-    std::cerr << "vox render-canonical: " << out.differing << " of " << checked
-              << " checked pixels differ from the brute-force reference; first: " << mismatches[0].dump() << "\n";
+  progress->done();
+  const double seconds = elapsed();
+  const double fraction = pixelsTotal ? double(checked) / double(pixelsTotal) : 1.0;
+  const nlohmann::json summary = {{"reference", referenceName},
+                                  {"pixels", pixelsTotal},
+                                  {"checked", checked},
+                                  {"differing", out.differing},
+                                  {"fraction", fraction},
+                                  {"sampled_one_in", largestStride},
+                                  {"seconds", seconds},
+                                  {"views", perView}};
+  run.report()["check"] = summary;
+  out.report = {{"pixels_checked", checked},
+                {"pixels_differing", out.differing},
+                {"fraction_checked", fraction},
+                {"sampled_one_in", largestStride},
+                {"first_mismatches", mismatches},
+                {"reference", brute ? "brute force: every occupied voxel against every checked ray"
+                                    : "voxel walk: Amanatides-Woo DDA through every voxel the ray crosses"}};
+  char time[32];
+  std::snprintf(time, sizeof time, "%.2f s", seconds);
+  std::string verdict = "check: ";
+  if (checked == pixelsTotal)
+    verdict += "all " + std::to_string(pixelsTotal) + " pixels checked";
+  else
+    verdict += std::to_string(checked) + " of " + std::to_string(pixelsTotal) + " pixels checked (sampled 1 in " +
+               std::to_string(largestStride) + ", " + percentText(fraction) + "; raise --check-seconds for all)";
+  verdict += " against the " + referenceName + " reference in " + std::string(time) + ": " +
+             (out.differing ? std::to_string(out.differing) + " differ; first: " + mismatches[0].dump()
+                            : std::string("none differ"));
+  if (out.differing) std::cerr << "vox render-canonical: " << verdict << "\n";
+  else run.note(verdict);
   return out;
 }
 
@@ -233,15 +331,17 @@ vox::RenderMeta renderMeta(const RenderInput& in, const vox::CameraView& view, v
   meta.height = view.camera.height;
   if (mode == vox::RenderMode::Canonical) meta.bits = canonicalBits;
   if (in.kind == "pages") meta.level = in.level;
+  if (view.lookAt && !view.lookAt->view.empty()) meta.lookAt = view.lookAt;  // a camera vox chose
   return meta;
 }
 
 void writeImages(Run& run, const RenderCanonicalOptions& o, const RenderInput& in,
                  const std::vector<vox::CameraView>& views, const CastViews& cast,
-                 const std::vector<PlannedImage>& planned, int canonicalBits, const vox::HitSummaries& summaries) {
+                 const std::vector<PlannedImage>& planned, int canonicalBits, const vox::HitSummaries& summaries,
+                 const vox::HitColors& colors) {
   for (const PlannedImage& pl : planned) {
     const vox::CameraView& view = views[pl.view];
-    const vox::ModeSources sources{&view.camera, canonicalBits, &in.classes, summaries};
+    const vox::ModeSources sources{&view.camera, canonicalBits, &in.classes, summaries, colors, o.shadeColor};
     vox::Image img = toImage(vox::renderModeImage(pl.mode, cast.hits[pl.view], sources));
     const bool exr = !pngHolds(vox::modeSample(pl.mode, canonicalBits));
     img.text = {{vox::kRenderMetaKey, vox::renderMetaJson(renderMeta(in, view, pl.mode, canonicalBits))},
@@ -307,45 +407,69 @@ void reportCounts(Run& run, const RenderInput& in, size_t views, const CastViews
   run.note(line);
 }
 
+// --camera-out: the cameras in the camera-file form --camera reads.
+void writeCameraFile(Run& run, const std::string& path, const std::vector<vox::CameraView>& views) {
+  std::vector<vox::LookAtCamera> cameras;
+  for (const vox::CameraView& v : views) {
+    if (!v.lookAt)
+      vox::throwUsage("--camera-out " + path + ": " + v.label +
+                      " is given by matrices (a metadata.json view); --camera-out writes look-at cameras only");
+    cameras.push_back(*v.lookAt);
+  }
+  vox::writeFileBytes(run.output(path), vox::lookAtCameraFileJson(cameras));
+}
+
 int runRenderCanonical(const RenderCanonicalOptions& o) {
   Run run("render-canonical", o.common);
   const std::vector<vox::RenderMode> modes = distinctModes(o.modes);
   checkOutputOptions(o);
-  const std::vector<vox::CameraView> views = makeCameras(o.camera);
+  o.camera.check();
+  // Cameras vox frames wait for the scene's occupied box; the others are checked before anything is read.
+  std::vector<vox::CameraView> views;
+  if (!o.camera.needsFraming()) views = makeCameras(o.camera);
   const bool needClasses = anyModeNeedsClasses(modes);
+  const bool needColors = std::any_of(modes.begin(), modes.end(),
+                                      [&](vox::RenderMode m) { return vox::modeNeedsColors(m, o.shadeColor); });
 
   run.phase("load");
   run.input(o.input);
   const RenderInput in = loadRenderInput(o.input, o.level, needClasses);
+  if (o.camera.needsFraming()) {
+    views = makeCameras(o.camera, in.occupiedWorldBox());
+    for (const vox::CameraView& v : views) run.note(v.label + ": " + lookAtFlags(*v.lookAt));
+  }
   const int canonicalBits = vox::canonicalBits(in.dims);
   checkEyesNearGrid(views, in.frame);
-  const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits);
+  const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits, o.camera.orbit > 0);
 
   run.phase("cast");
   const CastViews cast = castViews(run, in, views);
 
   vox::TouchedVoxels touched;
   std::vector<vox::SummaryTexel> touchedSummaries;
+  std::vector<vox::VoxelColor8> touchedColors;
   if (needClasses || !o.touched.empty() || !o.touchedBitmap.empty()) {
     run.phase("touched");
     touched = vox::TouchedVoxels(cast.hits);
     if (needClasses) touchedSummaries = in.summaries(touched.voxels());
+    if (needColors && in.hasColor()) touchedColors = in.colors(touched.voxels());
   }
 
   CheckOutcome check;
   if (o.check) {
     run.phase("check");
-    check = checkAgainstBruteForce(run, in, views, cast, o.checkBudget);
+    check = checkRender(run, o, in, views, cast);
   }
 
   run.phase("write");
-  writeImages(run, o, in, views, cast, planned, canonicalBits, vox::HitSummaries{&touched, touchedSummaries});
+  writeImages(run, o, in, views, cast, planned, canonicalBits, vox::HitSummaries{&touched, touchedSummaries},
+              vox::HitColors{&touched, touchedColors});
   if (!o.touched.empty()) writeTouchedSet(run, o.touched, in, views.size(), cast, touched, o.chunk);
   if (!o.touchedBitmap.empty()) writeTouchedBitmap(run, o.touchedBitmap, in, touched, o.compression);
+  if (!o.cameraOut.empty()) writeCameraFile(run, o.cameraOut, views);
 
   reportCounts(run, in, views.size(), cast, planned.size() + (o.touched.empty() ? 0 : 1), touched);
   if (o.check) run.error() = check.report;
-  if (o.check && !check.differing) run.note("check: every checked pixel equals the brute-force reference");
   return run.finish(check.differing ? kExitCheckFailed : kExitOk);
 }
 
@@ -371,11 +495,12 @@ CLI::Validator renderModeNames() {
 
 Command registerRenderCanonical(CLI::App& root) {
   auto o = std::make_shared<RenderCanonicalOptions>();
-  CLI::App* cmd = root.add_subcommand("render-canonical", "Exact canonical-coordinate renders (and class, shaded, depth, normal)");
+  CLI::App* cmd = root.add_subcommand("render-canonical", "Exact canonical-coordinate renders (and class, color, shaded, depth, normal)");
   cmd->footer(
       "One ray per pixel centre; RGB = (u, v, w) of the first voxel entered, alpha = hit, in the narrowest exact\n"
       "format (RGBA8 PNG up to 255, RGBA16 PNG up to 65535, RGBA32UI EXR beyond). With several views or modes,\n"
-      "files are STEM[.viewN][.MODE].png|exr. Exit 1 when --check finds a pixel that differs from the brute force.");
+      "files are STEM[.viewN][.MODE].png|exr (orbits: STEM_000[.MODE]...). --view NAME and --orbit frame the\n"
+      "box of occupied voxels (docs/render.md). Exit 1 when --check finds a pixel that differs from its reference.");
   cmd->add_option("input", o->input, "Scene (.vdb) or page file (.vpk)")->required();
   cmd->add_option("-o,--output", o->output, "Image to write (.png; .exr for depth and 32-bit canonical)");
   cmd->add_option("--mode", o->modes, "Comma list of " + renderModeList())
@@ -387,9 +512,20 @@ Command registerRenderCanonical(CLI::App& root) {
   cmd->add_option("--touched", o->touched, "Write the chunks (and voxel counts) hit by any ray, as JSON");
   cmd->add_option("--chunk-size", o->chunk, "Chunk side for --touched")->capture_default_str();
   cmd->add_option("--touched-bitmap", o->touchedBitmap, "Write the 2-bit occupied+touched atlas bitmap (.png)");
-  cmd->add_flag("--check", o->check, "Compare pixels with a brute-force reference; report differences (exit 1)");
+  addEnumOption(*cmd, "--shade-color", o->shadeColor,
+                EnumNames<vox::ShadeColor>{{"class", vox::ShadeColor::Class}, {"voxel", vox::ShadeColor::Voxel}},
+                "What shaded lights: the class palette, or the voxel's colour where it has one");
+  cmd->add_option("--camera-out", o->cameraOut, "Write the cameras used as a camera file (.json) --camera reads");
+  cmd->add_flag("--check", o->check,
+                "Compare pixels with a reference caster; verdict on stderr, differences give exit 1");
+  addEnumOption(*cmd, "--check-reference", o->checkReference, checkReferenceNames(),
+                "The reference: a plain voxel-by-voxel DDA, or every voxel against every ray");
+  cmd->add_option("--check-seconds", o->checkSeconds,
+                  "About how long the check may take (a measured rate decides how many pixels: 1 in K); 0 = every pixel")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--check-budget", o->checkBudget,
-                  "Ray-voxel tests the check may spend per view; past it, every k-th pixel is checked")
+                  "brute-force: ray-voxel tests the check may spend per view; past it, 1 pixel in K is checked")
       ->capture_default_str();
   cmd->add_option("--level", o->level, "Page files: the level to render")->capture_default_str();
   cmd->add_option("--compression", o->compression, "PNG zlib level 0-9")->check(CLI::Range(0, 9))->capture_default_str();

@@ -13,6 +13,27 @@ std::vector<vox::SummaryTexel> RenderInput::summaries(std::span<const vox::Coord
   return vox::pageSummaries(*pages, level, voxels);
 }
 
+std::vector<vox::VoxelColor8> RenderInput::colors(std::span<const vox::Coord3> voxels) const {
+  if (scene) return vox::sceneColors(*scene, voxels);
+  return vox::pageColors(*pages, level, voxels);
+}
+
+vox::WorldBox RenderInput::occupiedWorldBox() const {
+  std::array<int64_t, 3> lo = grid->occupiedMin(), hi = grid->occupiedEnd();
+  if (grid->occupiedCount() == 0) lo = {0, 0, 0}, hi = {dims.x, dims.y, dims.z};
+  vox::WorldBox box;
+  for (size_t a = 0; a < 3; ++a) {
+    box.min[a] = frame.origin[a] + double(lo[a]) * frame.voxelSize;
+    box.max[a] = frame.origin[a] + double(hi[a]) * frame.voxelSize;
+  }
+  return box;
+}
+
+bool RenderInput::hasColor() const {
+  if (scene) return scene->hasColor();
+  return (pages->header().flags & vox::pagefile::kFlagColor) != 0;
+}
+
 RenderInput loadRenderInput(const std::string& path, int level, bool needSummaries) {
   RenderInput in;
   const auto t0 = std::chrono::steady_clock::now();

@@ -10,6 +10,7 @@
 
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_ray_grid.h"
+#include "libvox/render/view_framing.h"
 #include "libvox/scene/render_scene.h"
 
 namespace voxcli {
@@ -28,6 +29,13 @@ struct RenderInput {
 
   /// Summary bytes of `voxels` (empty voxels: zeros).
   std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const;
+  /// Display colours of `voxels` (render_modes.h VoxelColor8; no colour: zeros).
+  std::vector<vox::VoxelColor8> colors(std::span<const vox::Coord3> voxels) const;
+  /// The world box of the occupied voxels (the grid's box when none is
+  /// occupied): what --view NAME and --orbit frame.
+  vox::WorldBox occupiedWorldBox() const;
+  /// Whether the input stores per-voxel colour.
+  bool hasColor() const;
 };
 
 /// Loads a scene .vdb or a page file (sniffed by magic); `level` selects a page

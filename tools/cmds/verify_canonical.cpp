@@ -3,7 +3,8 @@
 // must decode: a hit pixel (alpha at full scale) to an occupied voxel of the
 // scene, a miss pixel to (0, 0, 0, 0). With a camera (the image's own `vox:canonical` camera, or
 // --camera/--eye...), every pixel must also be the voxel the exact caster finds,
-// and a sample of pixels (all of them within --check-budget) the voxel a
+// the voxel a plain voxel walk finds (voxel_walk.h, an independent caster), and
+// a sample of pixels (all of them within --check-budget) the voxel a
 // brute-force ray finds. Reports counts and the first offenders with their
 // coordinates and both values; exit 1 when anything differs.
 #include <iostream>
@@ -13,6 +14,7 @@
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
 #include "libvox/render/render.h"
+#include "libvox/render/voxel_walk.h"
 #include "tools/cmds/render_input.h"
 #include "tools/cli/verify_bijection.h"
 
@@ -47,7 +49,9 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   std::optional<vox::Camera> camera;
   std::string cameraFrom;
   if (o.camera.given()) {
-    std::vector<vox::CameraView> views = resolveCameras(o.camera, img.width, img.height);
+    std::vector<vox::CameraView> views = resolveCameras(
+        o.camera, img.width, img.height,
+        o.camera.needsFraming() ? std::optional<vox::WorldBox>(in.occupiedWorldBox()) : std::nullopt);
     if (views.size() != 1)
       vox::throwUsage("--camera " + o.camera.cameraFile + " holds " + std::to_string(views.size()) +
                       " views; pick the one the image was rendered from with --view INDEX");
@@ -110,7 +114,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     decoded[i] = {c.u, c.v, c.w, 0, -1, 0, true};
   }
 
-  uint64_t castDiffer = 0, bruteChecked = 0, bruteDiffer = 0;
+  uint64_t castDiffer = 0, walkDiffer = 0, bruteChecked = 0, bruteDiffer = 0, bruteStride = 1;
   if (camera) {
     run.phase("cast");
     const vox::ViewHits ours = vox::castView(*in.grid, in.frame, *camera, run.threads());
@@ -123,13 +127,26 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
       fail(i, std::string("image has ") + (d.hit ? voxelText({d.u, d.v, d.w}) : "a miss") + ", the ray hits " +
                   (p.hit ? voxelText({p.u, p.v, p.w}) : "nothing"));
     }
-    run.phase("brute force");
     const std::vector<vox::Coord3> occupied = in.grid->occupiedVoxels();
-    const uint64_t stride = vox::checkStride(n, occupied.size(), o.checkBudget);
     vox::ViewHits image;
     image.width = img.width;
     image.height = img.height;
     image.pixels = decoded;
+    // Every pixel against the plain voxel walk, which shares no code with the caster above.
+    run.phase("voxel walk");
+    const vox::VoxelWalk walk(occupied);
+    const vox::ViewCheck wc = vox::checkView(
+        image, [&walk](const vox::Ray& r) { return walk.cast(r); }, in.frame, *camera, 1, run.threads());
+    walkDiffer = wc.pixelsDiffering;
+    for (const auto& m : wc.first) {
+      if (failures.size() >= 10) break;
+      failures.push_back({m.x, m.y,
+                          std::string("image has ") + (m.got.hit ? voxelText({m.got.u, m.got.v, m.got.w}) : "a miss") +
+                              ", the voxel-walk ray hits " + (m.expected.hit ? voxelText(m.expected.voxel) : "nothing")});
+    }
+    run.phase("brute force");
+    const uint64_t stride = vox::checkStride(n, occupied.size(), o.checkBudget);
+    bruteStride = stride;
     const vox::ViewCheck c = vox::checkView(image, occupied, in.frame, *camera, stride, run.threads());
     bruteChecked = c.pixelsChecked;
     bruteDiffer = c.pixelsDiffering;
@@ -141,7 +158,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     }
   }
 
-  const bool ok = decodeFailures == 0 && castDiffer == 0 && bruteDiffer == 0;
+  const bool ok = decodeFailures == 0 && castDiffer == 0 && walkDiffer == 0 && bruteDiffer == 0;
   nlohmann::json j = {{"image", o.canonical},
                       {"scene", o.scene},
                       {"pixels", n},
@@ -151,8 +168,11 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
                       {"ok", ok}};
   if (camera) {
     j["pixels_differing_from_ray"] = castDiffer;
+    j["pixels_differing_from_voxel_walk"] = walkDiffer;
     j["brute_force_pixels_checked"] = bruteChecked;
     j["brute_force_pixels_differing"] = bruteDiffer;
+    j["brute_force_sampled_one_in"] = bruteStride;
+    j["brute_force_fraction_checked"] = n ? double(bruteChecked) / double(n) : 1.0;
   }
   nlohmann::json fj = nlohmann::json::array();
   for (const Failure& f : failures) fj.push_back({{"pixel", {f.x, f.y}}, {"what", f.what}});
@@ -166,7 +186,10 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
               << " do not decode to an occupied voxel of " << o.scene << "\n";
     if (camera)
       std::cout << "  camera from the " << cameraFrom << ": " << castDiffer << " pixels differ from the exact ray, "
-                << bruteDiffer << " of " << bruteChecked << " differ from the brute-force ray\n";
+                << walkDiffer << " from the voxel-walk ray (every pixel), "
+                << bruteDiffer << " of " << bruteChecked << " pixels checked against the brute-force ray differ"
+                << (bruteStride > 1 ? " (sampled 1 in " + std::to_string(bruteStride) + ")" : std::string(" (every pixel)"))
+                << "\n";
     else
       std::cout << "  no camera (the image has none and none was given): decoding checked only\n";
     for (const Failure& f : failures) std::cout << "  pixel (" << f.x << ", " << f.y << "): " << f.what << "\n";
