@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/pagefile/layouts.h"
 #include "formats/pagefile/pack_chunks.h"
@@ -165,6 +166,9 @@ int runPack(const PackOptions& o) {
   }
   if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
   if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
+  if (!vox::hasExtension(o.output, ".vpk"))
+    vox::throwUsage("-o " + o.output + ": a page file is written; name it *.vpk (vox info and render-canonical tell "
+                    "files apart by that extension)");
 
   Run run("pack-chunks", o.common);
   const std::string temp = run.output(o.output);
