@@ -292,7 +292,7 @@ EOF2
   expect_exit 0 "$vox" export world.vdb -o world_dedup.glb --dedup
   expect_exit 0 "$vox" render-canonical world.vdb -o ref.png --camera metadata.json --mode shaded,canonical,normal
   for glb in world world_dedup; do
-    python3 "$here/pixel_match.py" $glb.glb metadata.json ref "$chromium" >$glb.match.jsonl 2>match.err ||
+    python3 "$here/pixel_match.py" $glb.glb metadata.json ref "$chromium" "$vox" >$glb.match.jsonl 2>match.err ||
       fail "$glb.glb does not match render-canonical: $(cat $glb.match.jsonl match.err)"
     cat $glb.match.jsonl
     [ "$(grep -c '"pass": true' $glb.match.jsonl)" = 3 ] || fail "$glb.glb: not every view was compared"

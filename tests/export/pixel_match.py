@@ -12,9 +12,16 @@ worst pixel (is it on a silhouette, i.e. next to a pixel whose mask differs?). P
 dB and MSE < 0.001 (the acceptance numbers of the block renderer's own
 validation). Prints one JSON line per view; exit 1 on a failed view.
 
-Usage: pixel_match.py MESH.glb METADATA.json VOX_PREFIX CHROMIUM
+The acceptance numbers (mask agreement, MSE, PSNR, worst pixel) come from
+`vox diff` of the Chromium image (written as a PNG) against the shaded render;
+this script's own MSE is an independent cross-check of vox diff's, and its
+masks (a WebGL pass drawing hits white, the canonical image's alpha) place the
+differing pixels on silhouettes and block edges.
+
+Usage: pixel_match.py MESH.glb METADATA.json VOX_PREFIX CHROMIUM VOX
   VOX_PREFIX: render-canonical's -o without .png (--mode shaded,canonical,normal:
   PREFIX.viewN.shaded.png, PREFIX.viewN.canonical.png, PREFIX.viewN.normal.png).
+  VOX: the vox binary (for vox diff).
 Only the standard library: PNGs are decoded here (8-bit, non-interlaced).
 """
 import base64
@@ -149,8 +156,24 @@ draw(document.getElementById("mask"), true);
 """
 
 
+def write_png(path, w, h, rows):
+    """An 8-bit RGB PNG of `rows` (h rows of w * 3 bytes)."""
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+    raw = b"".join(b"\x00" + bytes(r) for r in rows)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                           chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+
+
+def vox_diff(vox, a, b):
+    """vox diff's JSON for images a and b (exit 0 same, 1 differs; anything else is an error)."""
+    run = subprocess.run([vox, "diff", a, b, "--json"], capture_output=True, text=True, timeout=300)
+    assert run.returncode in (0, 1), f"vox diff {a} {b}: exit {run.returncode}: {run.stderr}"
+    return json.loads(run.stdout)
+
+
 def main():
-    glb_path, meta_path, prefix, chromium = sys.argv[1:5]
+    glb_path, meta_path, prefix, chromium, vox = sys.argv[1:6]
     meta = json.load(open(meta_path))
     w, h = meta["imageSize"]["width"], meta["imageSize"]["height"]
     glb64 = base64.b64encode(open(glb_path, "rb").read()).decode("ascii")
@@ -199,13 +222,19 @@ def main():
                             off_edges.append([x, y])
                     if max(d) > worst[0]:
                         worst = (max(d), x, y)
-            mse = se / (w * h)
-            psnr = float("inf") if mse == 0 else 10 * math.log10(1 / mse)
-            _, wx, wy = worst
-            result = {"view": i, "pixels": w * h, "mask_agreement": agree / (w * h), "mse": mse,
-                      "psnr_db": psnr if psnr != float("inf") else 999.0, "hits": sum(map(sum, mask_vox)),
+            own_mse = se / (w * h)
+            web = os.path.join(tmp, f"web{i}.png")
+            write_png(web, w, h, [[srows[y][x * sch + c] for x in range(w) for c in range(3)] for y in range(h)])
+            d = vox_diff(vox, web, f"{prefix}.view{i}.shaded.png")
+            mse = d["mse"]
+            psnr = d["psnr"] if d["psnr"] is not None else 999.0
+            wx, wy = d["max_error_at"]["pixel"] if d.get("max_error_at") else (worst[1], worst[2])
+            result = {"view": i, "pixels": w * h, "mask_agreement": d["mask_agreement"], "mse": mse,
+                      "psnr_db": psnr, "ssim": d.get("ssim"), "hits": sum(map(sum, mask_vox)),
+                      "mask_agreement_own": agree / (w * h), "mse_own": own_mse,
                       "pixels_differing": differing, "differing_inside_faces": off_edges[:20],
-                      "worst_pixel": {"x": wx, "y": wy, "error": worst[0], "on_silhouette": near_edge(wx, wy)}}
+                      "worst_pixel": {"x": wx, "y": wy, "error": d["max_error"], "on_silhouette": near_edge(wx, wy)}}
+            assert abs(own_mse - mse) <= 1e-9 + 1e-6 * mse, f"vox diff's MSE {mse} differs from this script's {own_mse}"
             ok = result["mask_agreement"] >= 0.999 and psnr >= 40 and mse < 0.001
             result["pass"] = ok
             failed += not ok
