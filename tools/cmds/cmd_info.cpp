@@ -9,6 +9,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/image/atlas_meta.h"
+#include "formats/image/atlas_preview.h"
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "formats/pagefile/pagefile.h"
@@ -184,6 +185,33 @@ int runInfo(const InfoOptions& o) {
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
     if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
+    if (const std::string preview = img.textValue(vox::kPreviewTextKey); !preview.empty()) {
+      // A build-atlas --preview image: for looking at, not for sampling.
+      nlohmann::json j = nlohmann::json::parse(preview, nullptr, false);
+      if (j.is_discarded() || !j.is_object())
+        throw vox::Error(vox::ErrorKind::BadInput, o.file + ": its 'vox:preview' entry is not a JSON object");
+      j["file"] = o.file;
+      j["kind"] = "preview";
+      j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels}};
+      if (o.json) {
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::cout << o.file << ": preview of " << j.value("atlas", std::string("?")) << " ("
+                  << j.value("content", std::string("?")) << "), " << img.width << " x " << img.height
+                  << (img.channels == 1 ? " gray" : " RGB") << "\n"
+                  << infotext::line("note", "a picture for people; vox info the atlas itself to decode texels");
+        for (const auto& [k, v] : j.items()) {
+          if (k == "atlas" || k == "content" || k == "file" || k == "kind" || k == "image") continue;
+          if (!v.is_array()) {
+            std::cout << infotext::line(k, v.is_string() ? v.get<std::string>() : v.dump());
+            continue;
+          }
+          for (size_t i = 0; i < v.size(); ++i)
+            std::cout << infotext::line(i ? "" : k, v[i].is_string() ? v[i].get<std::string>() : v[i].dump());
+        }
+      }
+      return kExitOk;
+    }
     return infoAtlas(o.file, img, o.pixel, o.scene, o.json);
   }
   if (vox::pagefile::looksLikePageFile(o.file)) {

@@ -34,18 +34,19 @@ std::optional<vox::ClassTable> classTableOf(const std::string& path) {
   return vox::readSceneVdb(path, vox::SceneParts::OccupancyOnly).header().classes;
 }
 
-std::string explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes) {
-  if (cls == 0 && conf == 0 && obs == 0 && mrg == 0) return "empty (no voxel, or no votes)";
-  std::string s;
+std::vector<std::string> explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes) {
+  if (cls == 0 && conf == 0 && obs == 0 && mrg == 0) return {"empty (no voxel, or no votes)"};
+  std::vector<std::string> out;
   const vox::ClassInfo* ci = classes ? classes->find(uint8_t(cls)) : nullptr;
-  s = ci ? ci->name + " (class " + std::to_string(cls) + ")" : "class " + std::to_string(cls);
-  s += ", confidence " + percent(conf / 255.0) + " (" + std::to_string(conf) + "/255)";
+  out.push_back(ci ? ci->name + " (class " + std::to_string(cls) + ")" : "class " + std::to_string(cls));
+  out.push_back("confidence " + percent(conf / 255.0) + " (" + std::to_string(conf) + "/255)");
   // obs = floor(16 log2(total + 1)): total lies in [2^(obs/16) - 1, 2^((obs+1)/16) - 1).
   const double lo = std::ceil(std::exp2(obs / 16.0) - 1 - 1e-9), hi = std::ceil(std::exp2((obs + 1) / 16.0) - 1 - 1e-9) - 1;
-  s += ", observations " + std::to_string(obs) + " (total votes ";
-  s += obs >= 255 ? ">= " + count(uint64_t(lo)) : lo >= hi ? count(uint64_t(lo)) : count(uint64_t(lo)) + ".." + count(uint64_t(hi));
-  s += "), margin " + percent(mrg / 255.0) + " of the votes";
-  return s;
+  std::string o = "observations " + std::to_string(obs) + " (total votes ";
+  o += obs >= 255 ? ">= " + count(uint64_t(lo)) : lo >= hi ? count(uint64_t(lo)) : count(uint64_t(lo)) + ".." + count(uint64_t(hi));
+  out.push_back(o + ")");
+  out.push_back("margin " + percent(mrg / 255.0) + " (" + std::to_string(mrg) + "/255) of the votes");
+  return out;
 }
 
 namespace {
@@ -83,7 +84,7 @@ std::vector<std::string> channelMeaning(const vox::AtlasImageInfo& info, const s
     case vox::AtlasContent::Summary:
       return {"R cls   class with the most votes (ties: lowest id); 0 = empty",
               "G conf  top votes / all votes, 255 = 100%",
-              "B obs   16 log2(all votes + 1): 16 = 1 vote, 32 = 3, 64 = 15, 128 = 255",
+              "B obs   16 log2(all votes + 1): 16 = 1 vote, 64 = 15, 128 = 255",
               "A mrg   (top - second) votes / all votes, 255 = 100%"};
     case vox::AtlasContent::Identity:
       return {"RGB     (u, v, w) of the texel's voxel", "A       full scale where occupied; 0 = empty"};
@@ -92,11 +93,12 @@ std::vector<std::string> channelMeaning(const vox::AtlasImageInfo& info, const s
     case vox::AtlasContent::Votes:
       return {"R       votes for " + className + " at the voxel (0 = none)"};
     case vox::AtlasContent::Occupancy:
-      return {"1 bit per voxel, 8 voxels per byte along x: texel (x, y) is byte (x >> 3, y), bit x & 7",
-              "(bit 0 the least significant); 1 = occupied"};
+      return {"1 bit per voxel, 8 voxels per byte along x: texel (x, y) is",
+              "bit x & 7 of byte (x >> 3, y), bit 0 the lowest; 1 = occupied"};
     case vox::AtlasContent::Occupancy2:
-      return {"2 bits per voxel, 4 per byte along x: texel (x, y) is byte (x >> 2, y),",
-              "bit 2 (x & 3) = occupied, bit 2 (x & 3) + 1 = touched (by a camera path)"};
+      return {"2 bits per voxel, 4 voxels per byte along x: texel (x, y) is",
+              "bits 2(x & 3) (occupied) and 2(x & 3) + 1 (touched by a camera",
+              "path) of byte (x >> 2, y)"};
   }
   return {};
 }
@@ -274,8 +276,9 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
   o << line("scene dims", std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " x " + std::to_string(L.dims.z) +
                               " voxels");
   o << line("atlas", std::to_string(L.width) + " x " + std::to_string(L.height) + " texels: " +
-                         std::to_string(L.tilesPerRow) + " tiles of " + std::to_string(L.dims.x) + " x " +
-                         std::to_string(L.dims.y) + " per row, " + std::to_string(L.rowsPerLayer) + " tile rows");
+                         std::to_string(L.tilesPerRow) + (L.tilesPerRow == 1 ? " tile" : " tiles") + " of " +
+                         std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " per row, " +
+                         std::to_string(L.rowsPerLayer) + (L.rowsPerLayer == 1 ? " tile row" : " tile rows"));
   const int64_t fileBytes = vox::fileSizeOrMinusOne(path);
   o << line("image", std::to_string(img.width) + " x " + std::to_string(img.height) + " x " +
                          std::to_string(img.channels) + " " + vox::sampleTypeName(img.type) +
@@ -323,8 +326,9 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
     }
     if (p.contains("summary")) {
       const auto& s = p["summary"];
-      o << line("meaning", explainSummary(s["cls"].get<int>(), s["conf"].get<int>(), s["obs"].get<int>(),
-                                          s["mrg"].get<int>(), classes ? &*classes : nullptr));
+      const auto lines = explainSummary(s["cls"].get<int>(), s["conf"].get<int>(), s["obs"].get<int>(),
+                                        s["mrg"].get<int>(), classes ? &*classes : nullptr);
+      for (size_t i = 0; i < lines.size(); ++i) o << line(i ? "" : "meaning", lines[i]);
     }
     if (p.contains("scene_voxel")) {
       if (p["scene_voxel"].is_null()) {

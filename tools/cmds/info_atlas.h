@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "formats/image/image.h"
 #include "libvox/core/classes.h"
@@ -22,8 +23,9 @@ int infoAtlas(const std::string& path, const vox::Image& image, const std::strin
 /// file does not exist. Throws vox::Error when it exists but cannot be read.
 std::optional<vox::ClassTable> classTableOf(const std::string& path);
 
-/// The summary bytes explained in words, e.g. "Stone (class 3), confidence
-/// 78% (200/255), observations 57 (total votes 10.7..11.4), margin 4.7%".
-std::string explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes);
+/// The summary bytes explained in words, one short line each: "Stone (class
+/// 3)", "confidence 78% (200/255)", "observations 57 (total votes 10..11)",
+/// "margin 4.71% (12/255) of the votes" (one line for an empty texel).
+std::vector<std::string> explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes);
 
 }  // namespace voxcli

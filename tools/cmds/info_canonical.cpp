@@ -1,5 +1,6 @@
 #include "tools/cmds/info_canonical.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -111,6 +112,10 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
     eye[a] = -(V[size_t(a * 4 + 0)] * V[12] + V[size_t(a * 4 + 1)] * V[13] + V[size_t(a * 4 + 2)] * V[14]);
     fwd[a] = -V[size_t(a * 4 + 2)];
   }
+  // Rounding noise of the matrix product (1.8e-15 for an eye at x = 0) is 0 to a person.
+  const double scale = std::max({std::fabs(eye[0]), std::fabs(eye[1]), std::fabs(eye[2]), 1.0});
+  for (double& e : eye)
+    if (std::fabs(e) < 1e-12 * scale) e = 0;
   o << line("camera", "eye " + triple(eye[0], eye[1], eye[2], 5) + ", looking along " + triple(fwd[0], fwd[1], fwd[2], 3));
   const double p11 = meta.projectionMatrix[5];
   if (p11 > 0) o << line("", "vertical field of view " + real(2.0 * std::atan(1.0 / p11) * 180.0 / M_PI, 4) + " degrees, view " +
@@ -120,8 +125,8 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
                           " pixels show a voxel (" +
                           percent(double(j["hit_pixels"].get<uint64_t>()) / double(uint64_t(img.width) * img.height)) + ")");
   if (meta.mode == vox::RenderMode::Canonical)
-    o << line("channels", "RGB = (u, v, w) of the first voxel a pixel's ray enters, A = full scale")
-      << line("", "on a hit; vox info FILE --pixel x,y [--scene S] decodes one");
+    o << line("channels", "RGB = (u, v, w) of the first voxel a pixel's ray enters,")
+      << line("", "A = full scale on a hit; --pixel x,y [--scene S] decodes one");
   if (j.contains("pixel")) {
     const nlohmann::json& p = j["pixel"];
     const std::string at = "(" + p["pixel"][0].dump() + ", " + p["pixel"][1].dump() + ")";
@@ -143,8 +148,9 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
           vox::ClassTable names;  // the one class the summary names
           if (sv.contains("class_name"))
             names.add({uint8_t(s["cls"].get<int>()), sv["class_name"].get<std::string>(), {}, std::nullopt});
-          o << line("summary", explainSummary(s["cls"].get<int>(), s["conf"].get<int>(), s["obs"].get<int>(),
-                                              s["mrg"].get<int>(), &names));
+          const auto lines = explainSummary(s["cls"].get<int>(), s["conf"].get<int>(), s["obs"].get<int>(),
+                                            s["mrg"].get<int>(), &names);
+          for (size_t i = 0; i < lines.size(); ++i) o << line(i ? "" : "summary", lines[i]);
           if (sv.contains("votes")) {
             std::string v;
             for (const auto& [name, n] : sv["votes"].items()) v += (v.empty() ? "" : ", ") + name + " " + n.dump();

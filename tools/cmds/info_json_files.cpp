@@ -42,11 +42,11 @@ int infoTouchedSet(const std::string& path, bool asJson) {
   o << line("scene", t.scene);
   o << line("dims", std::to_string(t.dims.x) + " x " + std::to_string(t.dims.y) + " x " + std::to_string(t.dims.z) +
                         " voxels, chunks of " + std::to_string(C) + "^3");
-  o << line("views", count(t.views) + ", " + count(t.rays) + " rays, " + count(t.hits) + " hits (" +
+  o << line("views", count(t.views) + ", " + count(t.rays) + " rays, " + count(t.hits) + " hit a voxel (" +
                          percent(t.rays ? double(t.hits) / double(t.rays) : 0) + ")");
   o << line("chunks", count(t.chunks.size()) + " of " + count(gridChunks) + " touched (" +
                           percent(gridChunks ? double(t.chunks.size()) / double(gridChunks) : 0) + ")");
-  o << line("voxels", count(t.voxelsTouched) + " distinct voxels hit; at most " + count(maxVoxels) + " in one chunk (of " +
+  o << line("voxels", count(t.voxelsTouched) + " distinct hit; at most " + count(maxVoxels) + " in one chunk (of " +
                           count(C * C * C) + ")");
   if (!t.chunks.empty()) {
     // The busiest chunks: where a streamer's budget goes.
@@ -57,7 +57,7 @@ int infoTouchedSet(const std::string& path, bool asJson) {
     for (const auto& c : top)
       tab.row({"(" + std::to_string(c.chunk[0]) + ", " + std::to_string(c.chunk[1]) + ", " + std::to_string(c.chunk[2]) + ")",
                std::to_string(c.morton), count(c.voxels), percent(double(c.voxels) / double(C * C * C))});
-    o << line("busiest", std::to_string(top.size()) + " chunks with the most voxels hit:");
+    o << line("busiest", "the chunks with the most voxels hit:");
     o << tab.str();
   }
   std::cout << o.str();
