@@ -238,6 +238,10 @@ mip)
   jcheck m2.json "E=d['error']['levels']; assert [e['level'] for e in E]==[1,2,3,4] and all(0<e['iou']<=1 and e['iou_reason'] is None for e in E[:2]), E"
   jcheck m2.json "E=d['error']['levels']; assert all(e['iou'] is None and e['iou_reason']=='no reference voxels' and e['mip_voxels']>0 for e in E[2:]), E"
   expect_stderr "IoU"
+  # The report, read by a person: tables too wide for 80 columns become wrapped lines.
+  expect_exit 0 "$vox" info m2.json
+  fits info m2.json
+  expect_stdout "iou_reason no reference voxels"
   ;;
 *)
   echo "unknown group $group" >&2

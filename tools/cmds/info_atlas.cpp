@@ -291,7 +291,9 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
                 " of the layout's voxels)");
   if (info.content == vox::AtlasContent::Occupancy2) o << line("touched", count(touched) + " voxels");
   if (info.content == vox::AtlasContent::Votes && occupied)
-    o << line("votes", "max " + count(uint64_t(maxValue)) + ", mean " + real(sumValue / double(occupied), 4) +
+    o << line("votes", "max " + count(uint64_t(maxValue)) + ", mean " +
+                           (sumValue / double(occupied) >= 1000 ? count(uint64_t(sumValue / double(occupied) + 0.5))
+                                                                : real(sumValue / double(occupied), 4)) +
                            " per texel with votes");
   if (info.content == vox::AtlasContent::Summary && occupied) {
     Table t({{"id", true}, {"class", false, true}, {"texels", true}, {"share", true}, {"conf", true},

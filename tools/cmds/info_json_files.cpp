@@ -94,6 +94,36 @@ std::string brief(const nlohmann::json& v) {
   return std::to_string(v.size()) + " keys";
 }
 
+// True when every line of `text` fits kWidth display columns.
+bool fitsWidth(const std::string& text) {
+  size_t cols = 0;
+  for (unsigned char c : text) {
+    if (c == '\n') {
+      cols = 0;
+      continue;
+    }
+    cols += (c & 0xc0) != 0x80;
+    if (cols > kWidth) return false;
+  }
+  return true;
+}
+
+// `parts` joined by ", " after `indent` + `head`, wrapped at kWidth.
+std::string wrap(const std::string& head, const std::vector<std::string>& parts, const std::string& indent) {
+  std::string out, cur = indent + head;
+  const std::string cont = indent + std::string(head.size(), ' ');
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string piece = parts[i] + (i + 1 < parts.size() ? "," : "");
+    if (cur.size() + 1 + piece.size() > kWidth && cur.size() > cont.size()) {
+      out += cur + "\n";
+      cur = cont + piece;
+    } else {
+      cur += (cur.size() == indent.size() + head.size() ? "" : " ") + piece;
+    }
+  }
+  return out + cur + "\n";
+}
+
 // An object's entries as key-value lines; arrays of objects as tables.
 void describeObject(std::ostringstream& o, const nlohmann::json& obj, const std::string& indent) {
   for (const auto& [key, v] : obj.items()) {
@@ -111,7 +141,19 @@ void describeObject(std::ostringstream& o, const nlohmann::json& obj, const std:
         for (const auto& k : keys) cells.push_back(e.contains(k) ? brief(e[k]) : "");
         t.row(cells);
       }
-      o << indent << key << ":\n" << t.str();
+      const std::string table = t.str();
+      if (fitsWidth(table)) {
+        o << indent << key << ":\n" << table;
+        continue;
+      }
+      // Too wide for a table: one wrapped "key value, ..." paragraph per element.
+      o << indent << key << ":\n";
+      for (size_t i = 0; i < v.size(); ++i) {
+        std::vector<std::string> parts;
+        for (const auto& [k, x] : v[i].items())
+          if (!x.is_null()) parts.push_back(k + " " + brief(x));
+        o << wrap("[" + std::to_string(i) + "] ", parts, "    ");
+      }
     } else if (v.is_object() && !v.empty()) {
       o << indent << key << ":\n";
       describeObject(o, v, indent + "  ");
