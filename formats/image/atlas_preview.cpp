@@ -53,28 +53,73 @@ std::string previewPath(const std::string& atlasPath) {
   return stem + ".preview.png";
 }
 
-Image atlasPreview(const Image& atlas, const AtlasImageInfo& info, const ClassTable& classes,
-                   const std::string& atlasFileName) {
+std::array<uint8_t, 3> AtlasPreview::rgb(uint32_t x, uint32_t y) const {
+  const size_t i = size_t(y) * image.width + x;
+  if (!palette.empty()) return palette[image.pixels[i]];
+  if (image.channels == 1) return {image.pixels[i], image.pixels[i], image.pixels[i]};
+  return {image.pixels[i * 3], image.pixels[i * 3 + 1], image.pixels[i * 3 + 2]};
+}
+
+void writeAtlasPreview(const AtlasPreview& preview, const std::string& path, unsigned threads) {
+  constexpr int kPreviewZlibLevel = 1;
+  if (preview.palette.empty()) writePngParallel(preview.image, path, kPreviewZlibLevel, threads);
+  else writeIndexedPngParallel(preview.image, preview.palette, path, kPreviewZlibLevel, threads);
+}
+
+AtlasPreview atlasPreview(const Image& atlas, const AtlasImageInfo& info, const ClassTable& classes,
+                          const std::string& atlasFileName) {
   const AtlasLayout& L = info.layout;
   const uint32_t W = L.width, H = L.height;
   nlohmann::json meta = {{"atlas", atlasFileName}, {"content", atlasContentName(info.content)}};
-  Image out;
+  AtlasPreview result;
+  Image& out = result.image;
   switch (info.content) {
     case AtlasContent::Summary: {
       // Three panels side by side: class colour | confidence | observations.
-      out = Image(3 * W, H, 3, SampleType::U8);
-      std::array<std::array<uint8_t, 3>, 256> classColor;
-      classColor.fill({kUnknownClassColor.r, kUnknownClassColor.g, kUnknownClassColor.b});
-      for (const ClassInfo& c : classes.classes()) classColor[c.id] = {c.color.r, c.color.g, c.color.b};
-      for (uint32_t y = 0; y < H; ++y) {
-        const uint8_t* s = atlas.pixels.data() + size_t(y) * W * 4;
-        uint8_t* row = out.pixels.data() + size_t(y) * out.rowBytes();
-        for (uint32_t x = 0; x < W; ++x, s += 4) {
-          if (!(s[0] | s[1] | s[2] | s[3])) continue;  // empty: black
-          put(row + size_t(x) * 3, classColor[s[0]]);
-          put(row + size_t(W + x) * 3, ramp(s[1]));
-          put(row + size_t(2 * W + x) * 3, ramp(s[2]));
+      const size_t classEntries = classes.size() + 1;  // + the unknown-class colour
+      const size_t levels = 256 - 1 - classEntries;
+      if (levels >= 64) {
+        auto& pal = result.palette;
+        pal.push_back({0, 0, 0});
+        std::array<uint8_t, 256> classIndex;
+        classIndex.fill(uint8_t(classEntries));  // unknown ids: the last class entry
+        for (const ClassInfo& c : classes.classes()) {
+          classIndex[c.id] = uint8_t(pal.size());
+          pal.push_back({c.color.r, c.color.g, c.color.b});
         }
+        pal.push_back({kUnknownClassColor.r, kUnknownClassColor.g, kUnknownClassColor.b});
+        const size_t base = pal.size(), L1 = levels - 1;
+        for (size_t j = 0; j < levels; ++j) pal.push_back(ramp(uint8_t((2 * j * 255 + L1) / (2 * L1))));
+        std::array<uint8_t, 256> rampIndex;
+        for (size_t v = 0; v < 256; ++v) rampIndex[v] = uint8_t(base + (2 * v * L1 + 255) / 510);
+        out = Image(3 * W, H, 1, SampleType::U8);
+        for (uint32_t y = 0; y < H; ++y) {
+          const uint8_t* s = atlas.pixels.data() + size_t(y) * W * 4;
+          uint8_t* row = out.pixels.data() + size_t(y) * out.width;
+          for (uint32_t x = 0; x < W; ++x, s += 4) {
+            if (!(s[0] | s[1] | s[2] | s[3])) continue;  // empty: black (index 0)
+            row[x] = classIndex[s[0]];
+            row[W + x] = rampIndex[s[1]];
+            row[2 * W + x] = rampIndex[s[2]];
+          }
+        }
+        meta["ramp_levels"] = levels;
+      } else {
+        out = Image(3 * W, H, 3, SampleType::U8);
+        std::array<std::array<uint8_t, 3>, 256> classColor;
+        classColor.fill({kUnknownClassColor.r, kUnknownClassColor.g, kUnknownClassColor.b});
+        for (const ClassInfo& c : classes.classes()) classColor[c.id] = {c.color.r, c.color.g, c.color.b};
+        for (uint32_t y = 0; y < H; ++y) {
+          const uint8_t* s = atlas.pixels.data() + size_t(y) * W * 4;
+          uint8_t* row = out.pixels.data() + size_t(y) * out.rowBytes();
+          for (uint32_t x = 0; x < W; ++x, s += 4) {
+            if (!(s[0] | s[1] | s[2] | s[3])) continue;  // empty: black
+            put(row + size_t(x) * 3, classColor[s[0]]);
+            put(row + size_t(W + x) * 3, ramp(s[1]));
+            put(row + size_t(2 * W + x) * 3, ramp(s[2]));
+          }
+        }
+        meta["ramp_levels"] = 256;
       }
       meta["panels"] = {"left: class colour", "middle: confidence byte 0..255", "right: observations byte 0..255"};
       meta["ramp"] = "viridis, black = empty";
@@ -141,7 +186,7 @@ Image atlasPreview(const Image& atlas, const AtlasImageInfo& info, const ClassTa
     }
   }
   out.text = {{kPreviewTextKey, meta.dump()}, {"Software", versionString()}};
-  return out;
+  return result;
 }
 
 }  // namespace vox

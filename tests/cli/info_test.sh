@@ -140,14 +140,15 @@ preview)
   python3 - <<'PY' || fail "preview pixels"
 import struct, zlib, json
 def png(path):
-    b = open(path, 'rb').read(); i = 8; idat = b''; hdr = None; text = {}
+    b = open(path, 'rb').read(); i = 8; idat = b''; hdr = None; text = {}; plte = None
     while i < len(b):
         n, t = struct.unpack('>I', b[i:i+4])[0], b[i+4:i+8]; d = b[i+8:i+8+n]
         if t == b'IHDR': hdr = struct.unpack('>IIBBBBB', d)
+        if t == b'PLTE': plte = [tuple(d[k:k+3]) for k in range(0, len(d), 3)]
         if t == b'IDAT': idat += d
         if t == b'tEXt': k, v = d.split(b'\0', 1); text[k.decode()] = v.decode()
         i += 12 + n
-    w, h, depth, ctype = hdr[:4]; ch = {0: 1, 2: 3, 6: 4}[ctype]; bpp = ch; raw = zlib.decompress(idat)
+    w, h, depth, ctype = hdr[:4]; ch = {0: 1, 2: 3, 3: 1, 6: 4}[ctype]; bpp = ch; raw = zlib.decompress(idat)
     rows = []; prev = bytearray(w * bpp); p = 0
     for y in range(h):
         f = raw[p]; line = bytearray(raw[p+1:p+1+w*bpp]); p += 1 + w * bpp
@@ -160,6 +161,8 @@ def png(path):
                 pa, pb, pc = abs(up - c), abs(a - c), abs(a + up - 2 * c)
                 line[x] = (line[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
         rows.append(line); prev = line
+    if ctype == 3:  # indexed colour: expand through the palette to RGB
+        rows = [bytearray(c for v in r for c in plte[v]) for r in rows]; ch = 3
     return w, h, ch, rows, text
 atlas = json.load(open('a/small.atlas.json'))['layout']
 W, H = atlas['width'], atlas['height']

@@ -24,10 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Previews are for looking at: the fastest zlib level (they are mostly black,
-/// so level 1 costs little size).
-constexpr int kPreviewZlibLevel = 1;
-
 struct BuildAtlasOptions {
   std::string scene, outDir, stem;
   bool summary = false, occupancy = false, occupancy2 = false, identity = false, color = false, votes = false,
@@ -187,8 +183,9 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     try {
       if (i >= outs.size()) {
         const Output& out = outs[i - outs.size()];
-        const vox::Image preview = vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
-        vox::writePngParallel(preview, out.previewTempPath, kPreviewZlibLevel, run.threads());
+        const vox::AtlasPreview preview =
+            vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
+        vox::writeAtlasPreview(preview, out.previewTempPath, run.threads());
       } else if (outs[i].exr) {
         vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
       } else {
