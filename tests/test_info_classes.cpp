@@ -80,10 +80,10 @@ TEST(InfoClasses, BlocksAreRenumberedWithTheTable) {
   blocks.addVotes({1, 2, 3}, 5, 10, true);
   blocks.addVotes({1, 2, 3}, 2, 7, true);
   blocks.addRun({9, 0, 0}, 4, 5, 65536, false);
-  const std::array<bool, 256> used = classesWithVotes(blocks);
-  for (int i = 0; i < 256; ++i) EXPECT_EQ(used[size_t(i)], i == 2 || i == 5) << i;
   ClassTable t;
   for (int i = 1; i <= 5; ++i) t.add({uint8_t(i), "c" + std::to_string(i), {}, std::nullopt});
+  const std::array<bool, 256> used = classesWithVotes(blocks, t);
+  for (int i = 0; i < 256; ++i) EXPECT_EQ(used[size_t(i)], i == 2 || i == 5) << i;
   const ClassRemap r = compactClassTable(t, used, ClassIds::Dense);
   remapBlockClasses(blocks, r);
   std::vector<uint8_t> ids;
@@ -95,6 +95,6 @@ TEST(InfoClasses, BlocksAreRenumberedWithTheTable) {
   std::sort(ids.begin(), ids.end());
   EXPECT_EQ(ids, (std::vector<uint8_t>{1, 2})) << "class 2 -> 1, class 5 -> 2";
   EXPECT_EQ(runClass, 2) << "run votes follow their class";
-  const std::array<bool, 256> after = classesWithVotes(blocks);
+  const std::array<bool, 256> after = classesWithVotes(blocks, t);
   EXPECT_TRUE(after[1] && after[2] && !after[5]);
 }

@@ -29,15 +29,20 @@ std::array<bool, 256> classesOfTriangles(const std::vector<uint8_t>& triangleCla
   return used;
 }
 
-std::array<bool, 256> classesWithVotes(VoxelBlocks& blocks) {
-  std::array<bool, 256> used{};
+std::array<bool, 256> classesWithVotes(VoxelBlocks& blocks, const ClassTable& table) {
+  std::array<bool, 256> used{}, wanted{};
+  size_t missing = 0;
+  for (const ClassInfo& c : table.classes()) wanted[c.id] = true, ++missing;
+  auto mark = [&](uint8_t id) {
+    if (wanted[id] && !used[id]) used[id] = true, --missing;
+  };
   for (const VoxelBlock* b : blocks.sortedBlocks()) {
+    if (missing == 0) break;
     for (const auto& cb : b->classes)
       if (!used[cb->classId] && std::any_of(cb->votes.begin(), cb->votes.end(), [](uint32_t v) { return v != 0; }))
-        used[cb->classId] = true;
-    if (b->runVotes != 0 && b->hasRuns()) used[b->runClass] = true;
+        mark(cb->classId);
+    if (b->runVotes != 0 && b->hasRuns()) mark(b->runClass);
   }
-  used[0] = false;
   return used;
 }
 

@@ -37,8 +37,9 @@ ClassRemap compactClassTable(ClassTable& table, const std::array<bool, 256>& use
 /// Which ids appear in a per-triangle class list.
 std::array<bool, 256> classesOfTriangles(const std::vector<uint8_t>& triangleClass);
 
-/// Which class ids have at least one vote in `blocks`.
-std::array<bool, 256> classesWithVotes(VoxelBlocks& blocks);
+/// Which class ids of `table` have at least one vote in `blocks`. Stops as
+/// soon as every class of the table has one (the usual case: a few blocks).
+std::array<bool, 256> classesWithVotes(VoxelBlocks& blocks, const ClassTable& table);
 
 /// Rewrites class ids through `remap` in place: per-triangle lists...
 void remapTriangleClasses(std::vector<uint8_t>& triangleClass, const ClassRemap& remap);

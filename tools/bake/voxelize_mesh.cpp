@@ -308,7 +308,8 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   bar->done();
   // Classes whose triangles left no vote (outside --bounds, zero area) are left out too.
   const size_t classesBefore = p.header.classes.size();
-  const vox::ClassRemap remap = vox::compactClassTable(p.header.classes, vox::classesWithVotes(blocks), classIdPolicy(o));
+  const vox::ClassRemap remap = vox::compactClassTable(p.header.classes, vox::classesWithVotes(blocks, p.header.classes),
+                                                              classIdPolicy(o));
   if (p.header.classes.size() != classesBefore) vox::remapBlockClasses(blocks, remap);
   run.phase("write");
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
