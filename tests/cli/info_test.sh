@@ -117,10 +117,17 @@ json)
   expect_exit 0 "$vox" info a/small.summary.png --json --pixel 0,0
   jcheck out.txt "p=d['pixel']; assert d['kind']=='atlas' and p['voxel']==[0,0,0] and p['summary']=={'cls':3,'conf':255,'obs':16,'mrg':255,'class_name':'Stone'}, p"
   jcheck out.txt "t=d['texels']; assert t['nonzero']==5 and [c['id'] for c in t['per_class']]==[1,3,4,7] and t['per_class'][1]['texels']==2"
+  # The atlas sidecar: the files of the run.
+  expect_exit 0 "$vox" info a/small.atlas.json
+  fits info small.atlas.json
+  expect_stdout "atlas sidecar"
+  expect_stdout "small.occupancy.png"
+  expect_exit 0 "$vox" info a/small.atlas.json --json
+  jcheck out.txt "assert d['kind']=='atlas_sidecar' and len(d['files'])==2"
   # Unsupported files: the error lists every kind vox info reads.
   echo '{"hello": 1}' >keep_other.json
   expect_exit 3 "$vox" info keep_other.json
-  for kind in ".vdb" ".png" ".exr" ".vpk" "touched set" "run report" "canonical render" "occupancy bitmap"; do
+  for kind in ".vdb" ".png" ".exr" ".vpk" "touched set" "run report" "canonical render" "occupancy bitmap" "atlas sidecar"; do
     expect_stderr "$kind"
   done
   echo 'plain text' >keep_text.txt

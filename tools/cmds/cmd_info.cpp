@@ -159,8 +159,8 @@ void printScene(const nlohmann::json& j) {
 /// Every kind `vox info` reads, for the "unsupported file" message.
 std::string kindsRead() {
   return "a scene or pyramid (.vdb), an OpenVDB grid file (.vdb), an atlas or occupancy bitmap (.png, .exr), a "
-         "canonical render (.png, .exr), a page file (.vpk), a touched set (.json from render-canonical --touched) or a "
-         "run report (.json from --report)";
+         "canonical render (.png, .exr), a page file (.vpk), a touched set (.json from render-canonical --touched), an "
+         "atlas sidecar (STEM.atlas.json) or a run report (.json from --report)";
 }
 
 int infoJsonFile(const InfoOptions& o) {
@@ -173,9 +173,11 @@ int infoJsonFile(const InfoOptions& o) {
   const std::string kind = voxJsonKind(doc);
   if (kind.empty())
     throw vox::Error(vox::ErrorKind::BadInput,
-                     o.file + ": a JSON file vox info does not know (neither \"format\": \"voxbake-touched\" nor a "
-                              "report with \"tool\": \"vox\"); vox info reads " + kindsRead());
+                     o.file + ": a JSON file vox info does not know (not a touched set, \"format\": "
+                              "\"voxbake-touched\", an atlas sidecar or a report, \"tool\": \"vox\"); vox info reads " +
+                         kindsRead());
   if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
+  if (kind == "atlas_sidecar") return infoAtlasSidecar(o.file, o.json);
   return kind == "touched" ? infoTouchedSet(o.file, o.json) : infoReport(o.file, doc, o.json);
 }
 
@@ -262,7 +264,7 @@ Command registerInfo(CLI::App& root) {
   auto opts = std::make_shared<InfoOptions>();
   CLI::App* cmd = root.add_subcommand(
       "info", "Describe a scene or pyramid (.vdb), an OpenVDB file, an atlas or bitmap (.png/.exr), a canonical render, "
-              "a page file (.vpk), a touched set or a run report (.json)");
+              "a page file (.vpk), a touched set, atlas sidecar or run report (.json)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
   cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values; canonical renders: the voxel under pixel x,y");

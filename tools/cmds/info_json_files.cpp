@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "formats/core/file_util.h"
+#include "formats/image/atlas_meta.h"
 #include "formats/image/touched_json.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/info_text.h"
@@ -18,7 +19,39 @@ std::string voxJsonKind(const nlohmann::json& doc) {
   if (!doc.is_object()) return "";
   if (doc.contains("format") && doc["format"] == vox::kTouchedSetFormat) return "touched";
   if (doc.value("tool", std::string()) == "vox" && doc.contains("command") && doc.contains("phases")) return "report";
+  if (doc.contains("layout") && doc.contains("files") && doc.contains("scene")) return "atlas_sidecar";
   return "";
+}
+
+int infoAtlasSidecar(const std::string& path, bool asJson) {
+  const std::string text = vox::readFileBytes(path);
+  const std::vector<vox::AtlasSidecarEntry> files = vox::atlasSidecarFromJson(text, path);
+  if (asJson) {
+    nlohmann::json j = nlohmann::json::parse(text);
+    j["file"] = path;
+    j["kind"] = "atlas_sidecar";
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::ostringstream o;
+  o << path << ": atlas sidecar (the layout and files of one build-atlas run)\n";
+  if (!files.empty()) {
+    const vox::AtlasLayout& L = files[0].info.layout;
+    o << line("built from", files[0].info.scene);
+    o << line("scene dims", std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " x " +
+                                std::to_string(L.dims.z) + " voxels");
+    o << line("atlas", std::to_string(L.width) + " x " + std::to_string(L.height) + " texels, " +
+                           std::to_string(L.tilesPerRow) + " tiles per row, " + std::to_string(L.layers) +
+                           (L.layers == 1 ? " layer" : " layers"));
+  }
+  Table t({{"file", false, true}, {"content", false}, {"format", false}, {"layer", true}, {"class", true}});
+  for (const auto& f : files)
+    t.row({f.file, vox::atlasContentName(f.info.content), f.info.format, std::to_string(f.info.layer),
+           f.info.content == vox::AtlasContent::Votes ? std::to_string(f.info.classId) : ""});
+  o << line("files", std::to_string(files.size()));
+  o << t.str();
+  std::cout << o.str();
+  return kExitOk;
 }
 
 int infoTouchedSet(const std::string& path, bool asJson) {
