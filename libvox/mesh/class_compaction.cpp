@@ -72,4 +72,12 @@ void remapBlockClasses(VoxelBlocks& blocks, const ClassRemap& remap) {
   }
 }
 
+bool leaveOutClassesWithoutVotes(VoxelBlocks& blocks, ClassTable& table, ClassIds ids) {
+  const size_t before = table.size();
+  const ClassRemap remap = compactClassTable(table, classesWithVotes(blocks, table), ids);
+  if (table.size() == before) return false;
+  remapBlockClasses(blocks, remap);
+  return true;
+}
+
 }  // namespace vox

@@ -47,4 +47,9 @@ void remapTriangleClasses(std::vector<uint8_t>& triangleClass, const ClassRemap&
 /// blocks are removed).
 void remapBlockClasses(VoxelBlocks& blocks, const ClassRemap& remap);
 
+/// The after-voxelizing step in one call: leaves out of `table` the classes
+/// with no vote in `blocks` and renumbers both (with ClassIds::Dense).
+/// Returns true when the table changed.
+bool leaveOutClassesWithoutVotes(VoxelBlocks& blocks, ClassTable& table, ClassIds ids);
+
 }  // namespace vox

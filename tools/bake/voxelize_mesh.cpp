@@ -307,10 +307,7 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, voxelizeSettings(o, run, *bar));
   bar->done();
   // Classes whose triangles left no vote (outside --bounds, zero area) are left out too.
-  const size_t classesBefore = p.header.classes.size();
-  const vox::ClassRemap remap = vox::compactClassTable(p.header.classes, vox::classesWithVotes(blocks, p.header.classes),
-                                                              classIdPolicy(o));
-  if (p.header.classes.size() != classesBefore) vox::remapBlockClasses(blocks, remap);
+  vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
   run.phase("write");
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
   return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size());
