@@ -45,10 +45,12 @@ TEST(ClassMapping, RulesInOrderWithFieldsAndDefault) {
 }
 
 TEST(ClassMapping, TooManyMaterialsAskForClassRules) {
+  // Classes are per material name: 256 distinct names do not fit.
   Mesh m = twoParts();
   m.materials.resize(256);
+  for (size_t i = 0; i < m.materials.size(); ++i) m.materials[i].name = "m" + std::to_string(i);
   EXPECT_TRUE(voxtest::throwsVoxError([&] { classPerMaterial(m, "m.glb"); }, ErrorKind::BadInput,
-                                      {"m.glb", "256 materials", "at most 255 classes", "class rules"}));
+                                      {"m.glb", "256 distinct material names", "at most 255 classes", "class rules"}));
   EXPECT_EQ(voxtest::settingOfError([&] { classPerMaterial(m, "m.glb"); }), Setting::ClassRules);
   m.materials.resize(255);
   EXPECT_EQ(classPerMaterial(m, "m.glb").table.size(), 255u) << "255 materials still fit";

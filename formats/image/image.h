@@ -10,6 +10,7 @@
 // identical inputs: no timestamps are written).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -53,6 +54,10 @@ void writePng(const Image& image, const std::string& path, int zlibLevel = kDefa
 /// The bytes depend on the image only, not on `threads`; they differ from
 /// writePng's (one deflate stream) but decode to the same pixels.
 void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);
+/// writePngParallel for an indexed-colour PNG: `indices` is 1-channel U8, each
+/// sample an index into `palette` (1..256 sRGB colours, the PLTE chunk).
+void writeIndexedPngParallel(const Image& indices, const std::vector<std::array<uint8_t, 3>>& palette,
+                             const std::string& path, int zlibLevel, unsigned threads);
 /// Reads 8/16-bit gray/GA/RGB/RGBA PNGs (palette and < 8-bit images are expanded
 /// to 8 bits). Throws vox::Error (BadInput) naming the file.
 Image readPng(const std::string& path);

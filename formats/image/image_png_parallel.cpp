@@ -11,6 +11,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 
@@ -38,7 +39,12 @@ void chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, s
 
 }  // namespace
 
-void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads) {
+namespace {
+
+// Both public writers: `palette` empty for gray/RGB(A), else an indexed-colour
+// PNG (colour type 3) of the 1-channel 8-bit `image` with that PLTE.
+void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>& palette, const std::string& path,
+                   int zlibLevel, unsigned threads) {
   if (image.type != SampleType::U8 && image.type != SampleType::U16)
     throw Error(ErrorKind::Internal, "writePngParallel: PNG holds 8 or 16-bit samples only");
   if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)
@@ -112,11 +118,16 @@ void writePngParallel(const Image& image, const std::string& path, int zlibLevel
   put32(ihdr, image.height);
   static const uint8_t colorType[5] = {0, 0, 4, 2, 6};
   ihdr.push_back(uint8_t(sb * 8));
-  ihdr.push_back(colorType[image.channels]);
+  ihdr.push_back(palette.empty() ? colorType[image.channels] : uint8_t(3));
   ihdr.push_back(0);
   ihdr.push_back(0);
   ihdr.push_back(0);
   chunk(file, "IHDR", ihdr.data(), ihdr.size());
+  if (!palette.empty()) {
+    std::vector<uint8_t> plte;
+    for (const auto& c : palette) plte.insert(plte.end(), c.begin(), c.end());
+    chunk(file, "PLTE", plte.data(), plte.size());
+  }
   for (const auto& [key, value] : image.text) {
     std::vector<uint8_t> t(key.begin(), key.end());
     t.push_back(0);
@@ -129,6 +140,19 @@ void writePngParallel(const Image& image, const std::string& path, int zlibLevel
   chunk(file, "IEND", nullptr, 0);
 
   writeFileBytes(path, file.data(), file.size());
+}
+
+}  // namespace
+
+void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads) {
+  writeParallel(image, {}, path, zlibLevel, threads);
+}
+
+void writeIndexedPngParallel(const Image& indices, const std::vector<std::array<uint8_t, 3>>& palette,
+                             const std::string& path, int zlibLevel, unsigned threads) {
+  if (indices.channels != 1 || indices.type != SampleType::U8 || palette.empty() || palette.size() > 256)
+    throw Error(ErrorKind::Internal, "writeIndexedPngParallel: 1-channel 8-bit indices and 1..256 colours");
+  writeParallel(indices, palette, path, zlibLevel, threads);
 }
 
 }  // namespace vox

@@ -28,11 +28,24 @@ struct ClassMapping {
   ClassTable table;
   std::vector<ClassRule> rules;  // in priority order
   std::optional<uint8_t> defaultClass;
+  /// classPerMaterial only: the class of each material (index = material).
+  /// Empty for a rules file.
+  std::vector<uint8_t> materialClass;
 };
 
-/// Without a mapping file: one class per material (ids 1.. in material order,
-/// named after the material or "material N", coloured with its base colour
-/// factor in sRGB). More than 255 materials is an error.
+/// The class of triangles that have no material (readers give them an
+/// unnamed, white, untextured material): named "default" and drawn grey, so a
+/// plain mesh shows up on a white background.
+inline constexpr const char* kDefaultClassName = "default";
+inline constexpr Rgb8 kDefaultClassColor{150, 150, 150};  // #969696
+
+/// Without a mapping file: one class per material name, in order of first
+/// appearance (ids 1..). Materials that share a name share a class (coloured
+/// with the first one's base colour factor in sRGB). An unnamed material is
+/// "material N" (N = its index), except the unnamed white untextured material
+/// readers give triangles without one, which is the class kDefaultClassName in
+/// kDefaultClassColor (all such materials share it). More than 255 classes is
+/// an error.
 ClassMapping classPerMaterial(const Mesh& mesh, const std::string& meshName);
 
 /// The class id of every triangle. Throws vox::Error (BadInput) for a triangle

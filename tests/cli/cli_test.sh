@@ -129,7 +129,8 @@ info)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o s.vdb
   expect_exit 0 "$vox" info s.vdb
   expect_stdout "dims          4 x 3 x 2 (24 voxels)"
-  expect_stdout "occupied      5 (20.833% of the domain): 5 surface, 0 interior"
+  expect_stdout "occupied      5 voxels (20.8% of the domain)"
+  expect_stdout "5 surface (100%), 0 interior"
   expect_stdout "block world   worldScale 2, grid 64,48,64"
   [ ! -s err.txt ] || fail "info printed on stderr: $(cat err.txt)"
   if command -v vdb_print >/dev/null; then

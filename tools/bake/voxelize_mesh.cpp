@@ -17,6 +17,7 @@
 #include "formats/mesh/classes_json.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/scene/scene_vdb_direct.h"
+#include "libvox/mesh/class_compaction.h"
 #include "libvox/mesh/class_mapping.h"
 #include "libvox/core/error.h"
 #include "libvox/mesh/placement.h"
@@ -162,6 +163,12 @@ void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
   for (const std::string& w : p.warnings) run.note("warning: " + w);
 }
 
+/// Per-material class ids are derived, so a bake renumbers them densely; the
+/// ids of a --classes file are the user's and stay.
+vox::ClassIds classIdPolicy(const VoxelizeOptions& o) {
+  return o.classes.empty() ? vox::ClassIds::Dense : vox::ClassIds::Keep;
+}
+
 /// The classes: from the --classes rules, else one per material.
 vox::ClassMapping classMapping(const VoxelizeOptions& o, Run& run, const vox::Mesh& mesh) {
   vox::ClassMapping mapping = o.classes.empty() ? vox::classPerMaterial(mesh, o.inputs[0]) : vox::readClassMapping(o.classes);
@@ -251,8 +258,11 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   if (p.mesh.triangles.empty())
     throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
                                                    ": no triangles; there is nothing to voxelize");
-  const vox::ClassMapping mapping = classMapping(o, run, p.mesh);
+  vox::ClassMapping mapping = classMapping(o, run, p.mesh);
   p.triangleClass = vox::assignClasses(p.mesh, mapping);
+  // A scene lists the classes it holds: leave out those no triangle uses.
+  vox::remapTriangleClasses(p.triangleClass, vox::compactClassTable(mapping.table, vox::classesOfTriangles(p.triangleClass),
+                                                                    classIdPolicy(o)));
   placeScene(o, p.mesh, p.header);
   p.header.classes = mapping.table;
   p.header.sources = hasher.sources();
@@ -286,6 +296,8 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   auto bar = run.progress("voxelize");
   vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, voxelizeSettings(o, run, *bar));
   bar->done();
+  // Classes whose triangles left no vote (outside --bounds, zero area) are left out too.
+  vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
   run.phase("write");
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
   return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size());

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "formats/image/atlas_meta.h"
+#include "formats/image/atlas_preview.h"
 #include "formats/image/image.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/atlas_content.h"
@@ -26,7 +27,7 @@ namespace fs = std::filesystem;
 struct BuildAtlasOptions {
   std::string scene, outDir, stem;
   bool summary = false, occupancy = false, occupancy2 = false, identity = false, color = false, votes = false,
-       all = false;
+       all = false, preview = false;
   vox::TexelFormat identityFormat = vox::TexelFormat::Rgba8;
   CLI::Option* identityFormatOption = nullptr;  // given: identityFormat; else the narrowest exact format
   uint32_t tilesPerRow = 0, maxSide = vox::kDefaultAtlasMaxSide;
@@ -39,6 +40,7 @@ struct Output {
   vox::AtlasImageInfo info;
   vox::Image image;
   std::string path, tempPath;
+  std::string previewTempPath;  // --preview: where its preview goes
   bool exr = false;
 };
 
@@ -90,6 +92,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
       out.path = (fs::path(o.outDir) / (name + (exr ? ".exr" : ".png"))).string();
       out.image.text = vox::atlasImageText(out.info);
       out.tempPath = run.output(out.path);
+      if (o.preview) out.previewTempPath = run.output(vox::previewPath(out.path));
       outs.push_back(std::move(out));
     }
   };
@@ -168,13 +171,26 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   }
 
   // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not
-  // depend on it. The first failing file, in file order, is reported.
+  // depend on it. --preview adds one job per file after the data files: a
+  // preview is drawn from its data image (so it shows exactly what was
+  // written) and deflated in row slices, so previews fill the cores the
+  // serial data encoders leave idle (docs/bench-atlas.md). The first failing
+  // file, in file order, is reported.
   run.phase("write");
-  std::vector<std::exception_ptr> errors(outs.size());
-  vox::parallelForEach(outs.size(), run.threads(), 1, [&](size_t i) {
+  const size_t jobs = outs.size() * (o.preview ? 2 : 1);
+  std::vector<std::exception_ptr> errors(jobs);
+  vox::parallelForEach(jobs, run.threads(), 1, [&](size_t i) {
     try {
-      if (outs[i].exr) vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
-      else vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+      if (i >= outs.size()) {
+        const Output& out = outs[i - outs.size()];
+        const vox::AtlasPreview preview =
+            vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
+        vox::writeAtlasPreview(preview, out.previewTempPath, run.threads());
+      } else if (outs[i].exr) {
+        vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
+      } else {
+        vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+      }
     } catch (...) {
       errors[i] = std::current_exception();
     }
@@ -188,9 +204,10 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const std::string sidePath = (fs::path(o.outDir) / (stem + ".atlas.json")).string();
   vox::writeFileBytes(run.output(sidePath), vox::atlasSidecarJson(o.scene, L, sideFiles));
 
-  run.counts() = {{"occupied_voxels", stats.occupied}, {"files", outs.size() + 1}, {"layers", L.layers},
-                  {"atlas", {L.width, L.height}}};
-  run.note("wrote " + std::to_string(outs.size() + 1) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
+  const size_t files = outs.size() * (o.preview ? 2 : 1) + 1;
+  run.counts() = {{"occupied_voxels", stats.occupied}, {"files", files}, {"layers", L.layers},
+                  {"atlas", {L.width, L.height}}, {"previews", o.preview ? outs.size() : 0}};
+  run.note("wrote " + std::to_string(files) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
   return run.finish();
 }
@@ -211,7 +228,8 @@ Command registerBuildAtlas(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("build-atlas", "Write a scene's atlases and occupancy bitmaps (PNG/EXR)");
   cmd->footer(
       "Without content flags: --summary and --occupancy. Files are DIR/STEM.CONTENT[.CLASS][.layerN].png|exr\n"
-      "plus DIR/STEM.atlas.json; every image also carries its layout in a \"vox:atlas\" text entry.");
+      "plus DIR/STEM.atlas.json; every image also carries its layout in a \"vox:atlas\" text entry.\n"
+      "--preview adds DIR/NAME.preview.png beside each file (not listed in the .atlas.json).");
   cmd->add_option("scene", o->scene, "Scene (.vdb)")->required();
   cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing)")->required();
   cmd->add_option("--stem", o->stem, "File name stem (default: the scene's)");
@@ -222,6 +240,9 @@ Command registerBuildAtlas(CLI::App& root) {
   cmd->add_flag("--color", o->color, "Colour atlas RGBA8 sRGB (scenes with colour)");
   cmd->add_flag("--votes", o->votes, "One vote layer per class present (narrowest exact: R8, R16 PNG or R32UI EXR)");
   cmd->add_flag("--all", o->all, "Every content that applies to the scene");
+  cmd->add_flag("--preview", o->preview,
+                "Also a viewable NAME.preview.png beside each file: class colours, ramps, black/white bitmaps "
+                "(formats/image/ATLAS.md \"Previews\")");
   o->identityFormatOption =
       addEnumOption(*cmd, "--format", o->identityFormat, texelFormatNames(), "Identity atlas format (default: narrowest exact)")
           ->default_str("");

@@ -9,6 +9,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/image/atlas_meta.h"
+#include "formats/image/atlas_preview.h"
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "formats/pagefile/pagefile.h"
@@ -19,8 +20,11 @@
 #include "libvox/core/texel_formats.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cmds/info_atlas.h"
 #include "tools/cmds/info_canonical.h"
+#include "tools/cmds/info_json_files.h"
 #include "tools/cmds/info_pages.h"
+#include "tools/cmds/info_text.h"
 
 namespace voxcli {
 
@@ -32,89 +36,6 @@ struct InfoOptions {
   std::string pixel;  // "x,y" for atlases
   std::string scene;  // with --pixel: the scene, for class names and votes
 };
-
-int infoAtlas(const InfoOptions& o) {
-  vox::AtlasImageInfo info;
-  const vox::Image img = vox::readAtlasImage(o.file, info);
-  nlohmann::json j = vox::atlasInfoJson(info);
-  j["file"] = o.file;
-  j["kind"] = "atlas";
-  j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels},
-                {"sample", vox::sampleTypeName(img.type)}};
-  j["file_bytes"] = vox::fileSizeOrMinusOne(o.file);
-  if (!o.pixel.empty()) {
-    const size_t comma = o.pixel.find(',');
-    char* end = nullptr;
-    const unsigned long x = std::strtoul(o.pixel.c_str(), &end, 10);
-    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(o.pixel.c_str() + comma + 1, &end, 10);
-    if (comma == std::string::npos || *end != '\0' || x >= info.layout.width || y >= info.layout.height)
-      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + o.pixel + ": expected x,y inside the " +
-                                                  std::to_string(info.layout.width) + " x " +
-                                                  std::to_string(info.layout.height) + " atlas");
-    nlohmann::json p = {{"texel", {info.layer, x, y}}};
-    const auto voxel = info.layout.toVoxel(info.layer, uint32_t(x), uint32_t(y));
-    p["voxel"] = voxel ? nlohmann::json{voxel->u, voxel->v, voxel->w} : nlohmann::json(nullptr);
-    const bool bitmap = info.content == vox::AtlasContent::Occupancy || info.content == vox::AtlasContent::Occupancy2;
-    if (bitmap) {
-      const uint32_t perByte = info.content == vox::AtlasContent::Occupancy ? 8 : 4;
-      const uint8_t byte = img.pixels[size_t(y) * img.width + x / perByte];
-      const int bits = 8 / int(perByte), shift = bits * int(x % perByte);
-      p["occupied"] = bool((byte >> shift) & 1);
-      if (bits == 2) p["touched"] = bool((byte >> (shift + 1)) & 1);
-    } else {
-      nlohmann::json values = nlohmann::json::array();
-      const size_t base = (size_t(y) * img.width + x) * img.channels;
-      for (uint32_t c = 0; c < img.channels; ++c) {
-        const size_t i = base + c;
-        switch (img.type) {
-          case vox::SampleType::U8: values.push_back(img.pixels[i]); break;
-          case vox::SampleType::U16: values.push_back(reinterpret_cast<const uint16_t*>(img.pixels.data())[i]); break;
-          case vox::SampleType::U32: values.push_back(reinterpret_cast<const uint32_t*>(img.pixels.data())[i]); break;
-          case vox::SampleType::F16: values.push_back(vox::halfToFloat(reinterpret_cast<const uint16_t*>(img.pixels.data())[i])); break;
-          case vox::SampleType::F32: values.push_back(reinterpret_cast<const float*>(img.pixels.data())[i]); break;
-        }
-      }
-      p["values"] = values;
-      if (info.content == vox::AtlasContent::Summary)
-        p["summary"] = {{"cls", values[0]}, {"conf", values[1]}, {"obs", values[2]}, {"mrg", values[3]}};
-    }
-    if (!o.scene.empty() && voxel) {
-      const vox::Scene scene = vox::readSceneVdb(o.scene);
-      std::vector<vox::ClassVotes> storage;
-      const auto v = scene.voxel(*voxel, storage);
-      if (!v) {
-        p["scene_voxel"] = nullptr;
-      } else {
-        nlohmann::json votes = nlohmann::json::object();
-        for (const vox::ClassVotes& c : v->votes) {
-          const vox::ClassInfo* ci = scene.header().classes.find(c.classId);
-          votes[ci ? ci->name : std::to_string(c.classId)] = c.votes;
-        }
-        p["scene_voxel"] = {{"surface", v->surface}, {"votes", votes}};
-        if (p.contains("summary")) {
-          const vox::ClassInfo* ci = scene.header().classes.find(uint8_t(p["summary"]["cls"].get<int>()));
-          if (ci) p["summary"]["class_name"] = ci->name;
-        }
-      }
-    }
-    j["pixel"] = p;
-  }
-  if (o.json) {
-    std::cout << j.dump(2) << "\n";
-    return kExitOk;
-  }
-  const vox::AtlasLayout& L = info.layout;
-  std::cout << o.file << ": " << vox::atlasContentName(info.content) << " atlas (" << info.format << "), layer "
-            << info.layer << " of " << L.layers << "\n"
-            << "  scene dims    " << vox::toString(L.dims) << "\n"
-            << "  atlas         " << L.width << " x " << L.height << ", " << L.tilesPerRow << " tiles per row, "
-            << L.rowsPerLayer << " tile rows per layer\n"
-            << "  image         " << img.width << " x " << img.height << " x " << img.channels << " "
-            << vox::sampleTypeName(img.type) << "\n"
-            << "  built from    " << info.scene << "\n";
-  if (j.contains("pixel")) std::cout << "  pixel         " << j["pixel"].dump() << "\n";
-  return kExitOk;
-}
 
 nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
   const vox::SceneHeader& h = scene.header();
@@ -175,64 +96,89 @@ nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
   return j;
 }
 
-std::string humanBytes(uint64_t b) {
-  char buf[64];
-  if (b < 10 * 1024) std::snprintf(buf, sizeof buf, "%llu B", (unsigned long long)b);
-  else if (b < 10ull * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
-  else std::snprintf(buf, sizeof buf, "%.1f MiB", b / 1048576.0);
-  return buf;
+std::string v3(const nlohmann::json& a) {
+  return infotext::triple(a[0].get<double>(), a[1].get<double>(), a[2].get<double>(), 6);
+}
+
+std::string dimsText(const nlohmann::json& d) {
+  return d[0].dump() + " x " + d[1].dump() + " x " + d[2].dump();
 }
 
 void printScene(const nlohmann::json& j) {
+  using namespace infotext;
   std::ostringstream o;
-  auto v3 = [](const nlohmann::json& a) {
-    std::ostringstream s;
-    s << "(" << a[0].dump() << ", " << a[1].dump() << ", " << a[2].dump() << ")";
-    return s.str();
-  };
   const uint64_t domain = j["dims"][0].get<uint64_t>() * j["dims"][1].get<uint64_t>() * j["dims"][2].get<uint64_t>();
-  const uint64_t occupied = j["occupied"];
+  const uint64_t occupied = j["occupied"], surface = j["surface"], interior = j["interior"];
   o << j["file"].get<std::string>() << ": voxbake scene\n";
-  o << "  dims          " << j["dims"][0] << " x " << j["dims"][1] << " x " << j["dims"][2] << " (" << domain
-    << " voxels)\n";
-  o << "  voxel size    " << j["voxel_size"].get<double>() << " world units\n";
-  o << "  world bounds  " << v3(j["world_bounds"]["min"]) << " .. " << v3(j["world_bounds"]["max"]) << "\n";
+  o << line("dims", dimsText(j["dims"]) + " (" + count(domain) + " voxels)");
+  o << line("voxel size", real(j["voxel_size"].get<double>(), 6) + " world units");
+  o << line("world bounds", v3(j["world_bounds"]["min"]) + " .. " + v3(j["world_bounds"]["max"]));
   if (j.contains("block_world"))
-    o << "  block world   worldScale " << j["block_world"]["world_scale"].get<double>() << ", grid "
-      << j["block_world"]["grid_size"][0] << "," << j["block_world"]["grid_size"][1] << ","
-      << j["block_world"]["grid_size"][2] << " (block-map placement)\n";
-  if (j["mip_level"].get<int>() != 0) o << "  mip level     " << j["mip_level"] << "\n";
-  char pct[32];
-  std::snprintf(pct, sizeof pct, "%.3f%%", domain ? 100.0 * double(occupied) / double(domain) : 0.0);
-  o << "  occupied      " << occupied << " (" << pct << " of the domain): " << j["surface"] << " surface, "
-    << j["interior"] << " interior" << (j["has_color"].get<bool>() ? ", " + j["colored"].dump() + " coloured" : "")
-    << "\n";
-  if (j["bounds"].is_null())
-    o << "  bounds        (empty scene)\n";
+    o << line("block world", "worldScale " + real(j["block_world"]["world_scale"].get<double>(), 6) + ", grid " +
+                                 j["block_world"]["grid_size"][0].dump() + "," + j["block_world"]["grid_size"][1].dump() +
+                                 "," + j["block_world"]["grid_size"][2].dump() + " (block-map placement)");
+  if (j["mip_level"].get<int>() != 0) o << line("mip level", j["mip_level"].dump());
+  o << line("occupied", count(occupied) + " voxels (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
+                            " of the domain)");
+  o << line("", count(surface) + " surface (" + percent(occupied ? double(surface) / double(occupied) : 0.0) + "), " +
+                    count(interior) + " interior");
+  if (j["has_color"].get<bool>())
+    o << line("colour", count(j["colored"].get<uint64_t>()) + " voxels coloured (" +
+                            percent(occupied ? double(j["colored"].get<uint64_t>()) / double(occupied) : 0.0) + ")");
   else
-    o << "  bounds        " << v3(j["bounds"]["min"]) << " .. " << v3(j["bounds"]["max"]) << " (index, inclusive)\n";
-  o << "  classes       " << j["classes"].size() << "\n";
-  char line[256];
-  std::snprintf(line, sizeof line, "    %3s  %-14s %-9s %12s %12s %14s\n", "id", "name", "colour", "voxels",
-                "mode voxels", "votes");
-  o << line;
-  for (const auto& c : j["classes"]) {
-    char hex[16];
-    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c["color"][0].get<int>(), c["color"][1].get<int>(),
-                  c["color"][2].get<int>());
-    std::snprintf(line, sizeof line, "    %3d  %-14s %-9s %12llu %12llu %14llu\n", c["id"].get<int>(),
-                  c["name"].get<std::string>().c_str(), hex, (unsigned long long)c["voxels"].get<uint64_t>(),
-                  (unsigned long long)c["mode_voxels"].get<uint64_t>(), (unsigned long long)c["votes"].get<uint64_t>());
-    o << line;
+    o << line("colour", "none (class colours only)");
+  if (j["bounds"].is_null())
+    o << line("bounds", "(empty scene)");
+  else
+    o << line("bounds", v3(j["bounds"]["min"]) + " .. " + v3(j["bounds"]["max"]) + " (index, inclusive)");
+  const int64_t fileBytes = j["file_bytes"].get<int64_t>();
+  o << line("memory", bytes(j["memory_bytes"].get<uint64_t>()) + " in OpenVDB trees" +
+                          (fileBytes >= 0 ? "; file " + bytes(uint64_t(fileBytes)) : ""));
+  o << line("classes", std::to_string(j["classes"].size()) +
+                           (j["classes"].empty() ? "" : ": voxels with a vote, voxels the class wins, votes"));
+  if (!j["classes"].empty()) {
+    Table t({{"id", true}, {"name", false, true}, {"colour", false}, {"voxels", true}, {"share", true},
+             {"wins", true}, {"votes", true}});
+    for (const auto& c : j["classes"]) {
+      const uint64_t v = c["voxels"], wins = c["mode_voxels"], votes = c["votes"];
+      t.row({c["id"].dump(), c["name"].get<std::string>(),
+             hexColor(c["color"][0].get<int>(), c["color"][1].get<int>(), c["color"][2].get<int>()), count(v),
+             percent(occupied ? double(v) / double(occupied) : 0.0), count(wins), compact(votes)});
+    }
+    o << t.str();
   }
-  o << "  memory        " << humanBytes(j["memory_bytes"]) << " in OpenVDB trees; file "
-    << humanBytes(j["file_bytes"].get<int64_t>() < 0 ? 0 : j["file_bytes"].get<uint64_t>()) << "\n";
   for (const auto& s : j["sources"]) {
-    o << "  source        " << s["path"].get<std::string>() << " (" << s["kind"].get<std::string>();
-    if (!s["sha256"].get<std::string>().empty()) o << ", sha256 " << s["sha256"].get<std::string>().substr(0, 16) << "…";
-    o << ")\n";
+    std::string text = s["path"].get<std::string>() + " (" + s["kind"].get<std::string>();
+    if (s["bytes"].get<uint64_t>()) text += ", " + bytes(s["bytes"].get<uint64_t>());
+    if (!s["sha256"].get<std::string>().empty()) text += ", sha256 " + s["sha256"].get<std::string>().substr(0, 12) + "…";
+    o << line("source", fit(text + ")", infotext::kWidth - 16));
   }
   std::cout << o.str();
+}
+
+/// Every kind `vox info` reads, for the "unsupported file" message.
+std::string kindsRead() {
+  return "a scene or pyramid (.vdb), an OpenVDB grid file (.vdb), an atlas or occupancy bitmap (.png, .exr), a "
+         "canonical render (.png, .exr), a page file (.vpk), a touched set (.json from render-canonical --touched), an "
+         "atlas sidecar (STEM.atlas.json) or a run report (.json from --report)";
+}
+
+int infoJsonFile(const InfoOptions& o) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(vox::readFileBytes(o.file));
+  } catch (const nlohmann::json::exception& e) {
+    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not valid JSON (" + e.what() + "); vox info reads " + kindsRead());
+  }
+  const std::string kind = voxJsonKind(doc);
+  if (kind.empty())
+    throw vox::Error(vox::ErrorKind::BadInput,
+                     o.file + ": a JSON file vox info does not know (not a touched set, \"format\": "
+                              "\"voxbake-touched\", an atlas sidecar or a report, \"tool\": \"vox\"); vox info reads " +
+                         kindsRead());
+  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
+  if (kind == "atlas_sidecar") return infoAtlasSidecar(o.file, o.json);
+  return kind == "touched" ? infoTouchedSet(o.file, o.json) : infoReport(o.file, doc, o.json);
 }
 
 int runInfo(const InfoOptions& o) {
@@ -240,15 +186,43 @@ int runInfo(const InfoOptions& o) {
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
     if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
-    return infoAtlas(o);
+    if (const std::string preview = img.textValue(vox::kPreviewTextKey); !preview.empty()) {
+      // A build-atlas --preview image: for looking at, not for sampling.
+      nlohmann::json j = nlohmann::json::parse(preview, nullptr, false);
+      if (j.is_discarded() || !j.is_object())
+        throw vox::Error(vox::ErrorKind::BadInput, o.file + ": its 'vox:preview' entry is not a JSON object");
+      j["file"] = o.file;
+      j["kind"] = "preview";
+      j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels}};
+      if (o.json) {
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::cout << o.file << ": preview of " << j.value("atlas", std::string("?")) << " ("
+                  << j.value("content", std::string("?")) << "), " << img.width << " x " << img.height
+                  << (img.channels == 1 ? " gray" : " RGB") << "\n"
+                  << infotext::line("note", "a picture for people; vox info the atlas itself to decode texels");
+        for (const auto& [k, v] : j.items()) {
+          if (k == "atlas" || k == "content" || k == "file" || k == "kind" || k == "image") continue;
+          if (!v.is_array()) {
+            std::cout << infotext::line(k, v.is_string() ? v.get<std::string>() : v.dump());
+            continue;
+          }
+          for (size_t i = 0; i < v.size(); ++i)
+            std::cout << infotext::line(i ? "" : k, v[i].is_string() ? v[i].get<std::string>() : v[i].dump());
+        }
+      }
+      return kExitOk;
+    }
+    return infoAtlas(o.file, img, o.pixel, o.scene, o.json);
   }
-  if (vox::pagefile::looksLikePageFile(o.file)) return infoPageFile(o.file, o.json);
-  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlas images");
+  if (vox::pagefile::looksLikePageFile(o.file)) {
+    if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
+    return infoPageFile(o.file, o.json);
+  }
+  if (vox::hasExtension(o.file, ".json")) return infoJsonFile(o);
+  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
   if (!vox::looksLikeVdb(o.file))
-    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not a file vox knows (expected " +
-                                                   vox::describe(vox::FileKind::Vdb) + ", " +
-                                                   vox::describe(vox::FileKind::Image) + " or " +
-                                                   vox::describe(vox::FileKind::PageFile) + ")");
+    throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not a file vox info reads; it reads " + kindsRead());
   // A .vdb without voxbake metadata (a level set, a fog volume): list its grids.
   const vox::VdbFrame frame = vox::checkVdbStructure(o.file);
   if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {
@@ -264,7 +238,9 @@ int runInfo(const InfoOptions& o) {
       std::cout << j.dump(2) << "\n";
     } else {
       std::cout << o.file << ": OpenVDB file (format " << frame.fileVersion << "), not a voxbake scene\n";
-      for (const vox::VdbGridFrame& g : frame.grids) std::cout << "  grid  " << g.uniqueName << "  (" << g.type << ")\n";
+      infotext::Table t({{"grid", false, true}, {"type", false}});
+      for (const vox::VdbGridFrame& g : frame.grids) t.row({g.uniqueName, g.type});
+      std::cout << infotext::line("grids", std::to_string(frame.grids.size())) << t.str();
       std::cout << "  make a scene of it with: vox voxelize " << o.file << " --res N -o scene.vdb\n";
     }
     return kExitOk;
@@ -285,11 +261,15 @@ int runInfo(const InfoOptions& o) {
 
 Command registerInfo(CLI::App& root) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* cmd = root.add_subcommand("info", "Describe a scene or pyramid (.vdb), an OpenVDB file, an atlas (.png/.exr) or a page file (.vpk)");
+  CLI::App* cmd = root.add_subcommand(
+      "info", "Describe a scene or pyramid (.vdb), an OpenVDB file, an atlas or bitmap (.png/.exr), a canonical render, "
+              "a page file (.vpk), a touched set, atlas sidecar or run report (.json)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
   cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values; canonical renders: the voxel under pixel x,y");
-  cmd->add_option("--scene", opts->scene, "With --pixel: the scene (or page file), for class names, summary and votes");
+  cmd->add_option("--scene", opts->scene,
+                  "Atlases and renders: the scene (or page file) for class names and, with --pixel, votes "
+                  "(default for atlases: the scene they name, when it exists)");
   return {cmd, [opts] { return runInfo(*opts); }};
 }
 

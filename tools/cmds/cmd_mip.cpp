@@ -2,6 +2,7 @@
 // (formats/scene/SCENE.md "Pyramids") or one scene file per level (--split), with the
 // error of every level against a direct voxelization of the source (--source).
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 
 #include "formats/core/file_util.h"
@@ -34,13 +35,22 @@ struct MipOptions {
   CommonOptions common;
 };
 
-/// STEM.vdb -> STEM.mipN.vdb
-std::string splitName(const std::string& output, int level) {
-  return output.substr(0, output.size() - 4) + ".mip" + std::to_string(level) + ".vdb";
+/// --split: "-o OUT" or "-o OUT.vdb" both name the stem OUT.
+std::string splitStem(const std::string& output) {
+  return vox::hasExtension(output, ".vdb") ? output.substr(0, output.size() - 4) : output;
 }
 
+/// STEM -> STEM.mipN.vdb
+std::string splitName(const std::string& stem, int level) { return stem + ".mip" + std::to_string(level) + ".vdb"; }
+
+/// Why a level has no IoU: an empty reference makes the ratio meaningless (0
+/// for any non-empty level), so the report says so instead of a number.
+constexpr const char* kNoReferenceVoxels = "no reference voxels";
+
 nlohmann::json comparisonJson(const vox::MipComparison& c) {
-  return {{"iou", c.iou},
+  const bool noReference = c.referenceVoxels == 0;
+  return {{"iou", noReference ? nlohmann::json(nullptr) : nlohmann::json(c.iou)},
+          {"iou_reason", noReference ? nlohmann::json(kNoReferenceVoxels) : nlohmann::json(nullptr)},
           {"class_disagreement", c.classDisagreement},
           {"mip_voxels", c.mipVoxels},
           {"reference_voxels", c.referenceVoxels},
@@ -51,8 +61,12 @@ nlohmann::json comparisonJson(const vox::MipComparison& c) {
 }
 
 int runMip(const MipOptions& o) {
-  if (!vox::hasExtension(o.output, ".vdb"))
-    vox::throwUsage("-o " + o.output + ": the pyramid is written as OpenVDB; name it *.vdb");
+  if (!o.split && !vox::hasExtension(o.output, ".vdb"))
+    vox::throwUsage("-o " + o.output + ": the pyramid is written as OpenVDB; name it *.vdb (or give --split for one "
+                    "file per level, OUT.mip1.vdb ...)");
+  const std::string stem = o.split ? splitStem(o.output) : std::string();
+  if (o.split && (stem.empty() || stem.back() == '/'))
+    vox::throwUsage("-o " + o.output + ": with --split, give a file name stem (OUT writes OUT.mip1.vdb ...)");
   if (o.levels < 0) vox::throwUsage("--levels must be >= 0 (0 = automatic)");
 
   Run run("mip", o.common);
@@ -124,6 +138,14 @@ int runMip(const MipOptions& o) {
         j["level"] = h.mipLevel;
         j["reference"] = ref;
         errors.push_back(j);
+        char line[200];
+        if (c.referenceVoxels == 0)
+          std::snprintf(line, sizeof line, "level %d against %s: %s (the level has %llu)", h.mipLevel, ref.c_str(),
+                        kNoReferenceVoxels, (unsigned long long)c.mipVoxels);
+        else
+          std::snprintf(line, sizeof line, "level %d against %s: IoU %.4f, class differs at %.2f%% of shared voxels",
+                        h.mipLevel, ref.c_str(), c.iou, 100.0 * c.classDisagreement);
+        run.note(line);
       };
       if (demo) {
         if (h.dims.x != h.dims.y || h.dims.x != h.dims.z) {
@@ -169,7 +191,7 @@ int runMip(const MipOptions& o) {
   run.phase("write");
   if (o.split) {
     for (const vox::Scene& level : levels) {
-      const std::string path = splitName(o.output, level.header().mipLevel);
+      const std::string path = splitName(stem, level.header().mipLevel);
       vox::writeSceneVdb(level, run.output(path));
     }
   } else {
@@ -181,7 +203,7 @@ int runMip(const MipOptions& o) {
   run.counts()["level_count"] = levels.size();
   run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
   run.counts()["base_occupied"] = base.occupiedCount();
-  run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(o.output, 1) + "...")
+  run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(stem, 1) + "...")
                                : o.output) +
            ": " + std::to_string(levels.size()) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
   return run.finish();
@@ -203,7 +225,7 @@ Command registerMip(CLI::App& root) {
       "(occupancy IoU, class disagreement) against the source voxelized directly at its placement.\n"
       "Example: vox mip hamlet.vdb -o hamlet_mips.vdb --source demo:hamlet --report mip.json");
   cmd->add_option("input", opts->input, "Scene (.vdb)")->required();
-  cmd->add_option("-o,--output", opts->output, "Pyramid file (*.vdb), or the stem with --split")->required();
+  cmd->add_option("-o,--output", opts->output, "Pyramid file (*.vdb), or with --split the stem OUT (or OUT.vdb)")->required();
   cmd->add_option("--levels", opts->levels,
                   "Levels to build (default 0 = until one voxel, or until a level holds at most one voxel)");
   addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "any (conservative) or majority (for display)");

@@ -1,6 +1,9 @@
 #include "tools/cmds/info_canonical.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +11,8 @@
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
+#include "tools/cmds/info_atlas.h"
+#include "tools/cmds/info_text.h"
 #include "tools/cmds/render_input.h"
 
 namespace voxcli {
@@ -75,27 +80,87 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
     }
     j["pixel"] = p;
   }
+  // Pixels that hit a voxel: alpha != 0 (every mode writes alpha 0 where the ray misses).
+  if (img.channels == 4) {
+    const size_t n = size_t(img.width) * img.height, sb = vox::sampleBytes(img.type);
+    uint64_t hits = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const uint8_t* a = img.pixels.data() + (i * 4 + 3) * sb;
+      bool nonzero = false;
+      for (size_t k = 0; k < sb; ++k) nonzero |= a[k] != 0;
+      hits += nonzero;
+    }
+    j["hit_pixels"] = hits;
+  }
   if (json) {
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
-  std::cout << path << ": " << mode << " render, " << img.width << " x " << img.height << " x " << img.channels << " "
-            << vox::sampleTypeName(img.type) << "\n";
-  const nlohmann::json& render = j["render"];
-  std::cout << "  rendered from " << meta.scene << "\n";
-  std::cout << "  scene dims    " << render["dims"].dump() << "\n";
-  std::cout << "  camera        view matrix " << render["camera"]["viewMatrix"].dump() << "\n";
+  using namespace infotext;
+  std::ostringstream o;
+  o << path << ": " << mode << " render, " << img.width << " x " << img.height << " x " << img.channels << " "
+    << vox::sampleTypeName(img.type) << "\n";
+  o << line("rendered from", meta.scene + (meta.level ? " (level " + std::to_string(*meta.level) + ")" : ""));
+  o << line("scene dims", std::to_string(meta.dims.x) + " x " + std::to_string(meta.dims.y) + " x " +
+                              std::to_string(meta.dims.z) + " voxels of " + real(meta.voxelSize, 6) + " world units");
+  // The camera in words: the eye is -R^T t of the view matrix (column-major),
+  // it looks along -z of the camera frame; the vertical field of view comes
+  // from the projection's y scale.
+  const vox::Mat4d& V = meta.viewMatrix;
+  double eye[3], fwd[3];
+  for (int a = 0; a < 3; ++a) {
+    eye[a] = -(V[size_t(a * 4 + 0)] * V[12] + V[size_t(a * 4 + 1)] * V[13] + V[size_t(a * 4 + 2)] * V[14]);
+    fwd[a] = -V[size_t(a * 4 + 2)];
+  }
+  // Rounding noise of the matrix product (1.8e-15 for an eye at x = 0) is 0 to a person.
+  const double scale = std::max({std::fabs(eye[0]), std::fabs(eye[1]), std::fabs(eye[2]), 1.0});
+  for (double& e : eye)
+    if (std::fabs(e) < 1e-12 * scale) e = 0;
+  o << line("camera", "eye " + triple(eye[0], eye[1], eye[2], 5) + ", looking along " + triple(fwd[0], fwd[1], fwd[2], 3));
+  const double p11 = meta.projectionMatrix[5];
+  if (p11 > 0) o << line("", "vertical field of view " + real(2.0 * std::atan(1.0 / p11) * 180.0 / M_PI, 4) + " degrees, view " +
+                                 std::to_string(meta.view));
+  if (j.contains("hit_pixels"))
+    o << line("hits", count(j["hit_pixels"].get<uint64_t>()) + " of " + count(uint64_t(img.width) * img.height) +
+                          " pixels show a voxel (" +
+                          percent(double(j["hit_pixels"].get<uint64_t>()) / double(uint64_t(img.width) * img.height)) + ")");
+  if (meta.mode == vox::RenderMode::Canonical)
+    o << line("channels", "RGB = (u, v, w) of the first voxel a pixel's ray enters,")
+      << line("", "A = full scale on a hit; --pixel x,y [--scene S] decodes one");
   if (j.contains("pixel")) {
     const nlohmann::json& p = j["pixel"];
+    const std::string at = "(" + p["pixel"][0].dump() + ", " + p["pixel"][1].dump() + ")";
     if (!p["hit"].get<bool>()) {
-      std::cout << "  pixel (" << p["pixel"][0] << ", " << p["pixel"][1] << "): no voxel (alpha 0)\n";
+      o << line("pixel", at + ": no voxel (alpha 0)");
     } else {
-      std::cout << "  pixel (" << p["pixel"][0] << ", " << p["pixel"][1] << "): voxel (" << p["voxel"][0] << ", "
-                << p["voxel"][1] << ", " << p["voxel"][2] << ")\n";
-      if (p.contains("world_box")) std::cout << "  world box     " << p["world_box"].dump() << "\n";
-      if (p.contains("scene_voxel")) std::cout << "  in the scene  " << p["scene_voxel"].dump() << "\n";
+      o << line("pixel", at + " is voxel (" + p["voxel"][0].dump() + ", " + p["voxel"][1].dump() + ", " +
+                             p["voxel"][2].dump() + ")");
+      const auto& wb = p["world_box"];
+      o << line("world box", triple(wb["min"][0].get<double>(), wb["min"][1].get<double>(), wb["min"][2].get<double>(), 6) +
+                                 " .. " +
+                                 triple(wb["max"][0].get<double>(), wb["max"][1].get<double>(), wb["max"][2].get<double>(), 6));
+      if (p.contains("scene_voxel")) {
+        const auto& sv = p["scene_voxel"];
+        if (sv.is_null()) {
+          o << line("in the scene", p.value("note", std::string("empty")));
+        } else {
+          const auto& s = sv["summary"];
+          vox::ClassTable names;  // the one class the summary names
+          if (sv.contains("class_name"))
+            names.add({uint8_t(s["cls"].get<int>()), sv["class_name"].get<std::string>(), {}, std::nullopt});
+          const auto lines = explainSummary(s["cls"].get<int>(), s["conf"].get<int>(), s["obs"].get<int>(),
+                                            s["mrg"].get<int>(), &names);
+          for (size_t i = 0; i < lines.size(); ++i) o << line(i ? "" : "summary", lines[i]);
+          if (sv.contains("votes")) {
+            std::string v;
+            for (const auto& [name, n] : sv["votes"].items()) v += (v.empty() ? "" : ", ") + name + " " + n.dump();
+            o << line("votes", v + (sv.value("surface", false) ? " (surface voxel)" : " (interior voxel)"));
+          }
+        }
+      }
     }
   }
+  std::cout << o.str();
   return kExitOk;
 }
 

@@ -10,6 +10,7 @@
 #include "formats/vdb/pyramid_vdb.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
+#include "tools/cmds/info_text.h"
 
 namespace voxcli {
 
@@ -74,34 +75,37 @@ nlohmann::json pageFileJson(const std::string& path, const vox::pagefile::Reader
 
 // What `vox info` prints, from pageFileJson's result.
 std::string pageFileText(const std::string& path, const vox::pagefile::Header& h, const nlohmann::json& j) {
+  using namespace infotext;
   const uint64_t voxels = j["voxels"].get<uint64_t>(), payload = j["payload_bytes"].get<uint64_t>();
   std::ostringstream o;
-  char line[256];
   o << path << ": voxbake page file (version " << vox::pagefile::kVersion << ", " << j["layout"].get<std::string>()
     << " layout)\n";
-  o << "  chunks        " << h.chunkCount << " of " << h.chunkSide() << "^3, payloads aligned to " << (1u << h.alignLog2)
-    << " bytes\n";
-  o << "  dims          " << h.dims[0] << " x " << h.dims[1] << " x " << h.dims[2] << ", voxel size " << h.voxelSize
-    << "\n";
+  o << line("dims", std::to_string(h.dims[0]) + " x " + std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) +
+                        " voxels of " + real(h.voxelSize, 6) + " world units");
+  o << line("chunks", count(h.chunkCount) + " of " + std::to_string(h.chunkSide()) + "^3 voxels, payloads aligned to " +
+                          std::to_string(1u << h.alignLog2) + " bytes");
   std::string ch;
   for (const auto& c : j["channels"]) ch += (ch.empty() ? "" : ", ") + c.get<std::string>();
-  o << "  channels      " << ch << "\n";
-  std::snprintf(line, sizeof line, "%.2f", j["bytes_per_voxel"].get<double>());
-  o << "  size          " << h.fileBytes << " bytes for " << voxels << " occupied voxels (" << line
-    << " bytes per voxel; payloads " << payload << ")\n";
-  o << "  classes       " << j["classes"].size() << "\n";
-  std::snprintf(line, sizeof line, "    %5s  %-16s %10s %8s %12s %14s %9s\n", "level", "dims", "voxel size", "chunks",
-                "voxels", "payload bytes", "B/voxel");
-  o << line;
+  o << line("channels", ch);
+  o << line("size", bytes(h.fileBytes) + " for " + count(voxels) + " voxels: " +
+                        real(j["bytes_per_voxel"].get<double>(), 3) + " bytes per voxel");
+  o << line("", "payloads " + bytes(payload) + " (" + percent(h.fileBytes ? double(payload) / double(h.fileBytes) : 0) +
+                    "), index " + bytes(j["index_bytes"].get<uint64_t>()) + ", metadata " +
+                    bytes(j["meta_bytes"].get<uint64_t>()));
+  std::string names;
+  for (const auto& c : j["classes"]) names += (names.empty() ? "" : ", ") + c["name"].get<std::string>();
+  o << line("classes", std::to_string(j["classes"].size()) + (names.empty() ? "" : ": " + fit(names, kWidth - 22)));
+  Table t({{"level", true}, {"dims", false}, {"voxel size", true}, {"chunks", true}, {"full", true}, {"voxels", true},
+           {"payload", true}, {"B/voxel", true}});
   for (const auto& l : j["levels"]) {
     const std::string dims = std::to_string(l["dims"][0].get<uint32_t>()) + "x" + std::to_string(l["dims"][1].get<uint32_t>()) +
                              "x" + std::to_string(l["dims"][2].get<uint32_t>());
-    std::snprintf(line, sizeof line, "    %5d  %-16s %10g %8llu %12llu %14llu %9.2f\n", l["level"].get<int>(), dims.c_str(),
-                  l["voxel_size"].get<double>(), (unsigned long long)l["chunks"].get<uint64_t>(),
-                  (unsigned long long)l["voxels"].get<uint64_t>(), (unsigned long long)l["payload_bytes"].get<uint64_t>(),
-                  l["bytes_per_voxel"].get<double>());
-    o << line;
+    t.row({l["level"].dump(), dims, real(l["voxel_size"].get<double>(), 4), count(l["chunks"].get<uint64_t>()),
+           count(l["full_chunks"].get<uint64_t>()), count(l["voxels"].get<uint64_t>()),
+           bytes(l["payload_bytes"].get<uint64_t>()), real(l["bytes_per_voxel"].get<double>(), 3)});
   }
+  o << line("levels", std::to_string(j["levels"].size()));
+  o << t.str();
   return o.str();
 }
 
@@ -129,17 +133,18 @@ nlohmann::json pyramidInfoJson(const std::string& path) {
 }
 
 std::string pyramidInfoText(const nlohmann::json& p) {
+  using namespace infotext;
   std::ostringstream o;
   const auto& levels = p.value("levels", nlohmann::json::array());
-  o << "  pyramid       " << levels.size() << " levels above level 0 (occupancy "
-    << p.value("occupancy", std::string("?")) << "; grids mipN.*)\n";
-  char line[160];
-  for (const auto& l : levels) {
-    std::snprintf(line, sizeof line, "    level %-3d  %u x %u x %u, voxel size %g, %llu occupied\n", l.value("level", 0),
-                  l["dims"][0].get<uint32_t>(), l["dims"][1].get<uint32_t>(), l["dims"][2].get<uint32_t>(),
-                  l.value("voxel_size", 0.0), (unsigned long long)l.value("occupied", uint64_t(0)));
-    o << line;
-  }
+  o << line("pyramid", std::to_string(levels.size()) + " levels above level 0 (occupancy " +
+                           p.value("occupancy", std::string("?")) + "; grids mipN.*)");
+  Table t({{"level", true}, {"dims", false}, {"voxel size", true}, {"occupied", true}});
+  for (const auto& l : levels)
+    t.row({std::to_string(l.value("level", 0)),
+           std::to_string(l["dims"][0].get<uint32_t>()) + " x " + std::to_string(l["dims"][1].get<uint32_t>()) + " x " +
+               std::to_string(l["dims"][2].get<uint32_t>()),
+           real(l.value("voxel_size", 0.0), 6), count(l.value("occupied", uint64_t(0)))});
+  if (t.rows()) o << t.str();
   return o.str();
 }
 

@@ -1,0 +1,68 @@
+// The text helpers of `vox info` (tools/cmds/info_text.h): rounding, units,
+// tables that fit 80 columns.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "tools/cmds/info_text.h"
+
+using namespace voxcli::infotext;
+
+TEST(InfoText, CountsBytesAndPercentages) {
+  EXPECT_EQ(count(0), "0");
+  EXPECT_EQ(count(999), "999");
+  EXPECT_EQ(count(1000), "1,000");
+  EXPECT_EQ(count(16777216), "16,777,216");
+  EXPECT_EQ(bytes(999), "999 B");
+  EXPECT_EQ(bytes(1000), "1 kB");
+  EXPECT_EQ(bytes(51800), "51.8 kB");
+  EXPECT_EQ(bytes(1536000), "1.54 MB");
+  EXPECT_EQ(bytes(999600), "1 MB") << "999.6 kB rounds up a unit";
+  EXPECT_EQ(percent(0), "0%");
+  EXPECT_EQ(percent(1), "100%");
+  EXPECT_EQ(percent(5.0 / 24), "20.8%");
+  EXPECT_EQ(percent(0.0592), "5.92%");
+  EXPECT_EQ(percent(1e-6), "<0.01%") << "never rounded to 0% unless it is 0";
+  EXPECT_EQ(percent(0.999999), ">99.99%") << "never rounded to 100% unless it is all";
+  EXPECT_EQ(percent(0.9996), "99.9%");
+}
+
+TEST(InfoText, RealsDropTrailingZeros) {
+  EXPECT_EQ(real(0.1), "0.1");
+  EXPECT_EQ(real(0.1 + 0.2), "0.3");
+  EXPECT_EQ(real(25.6), "25.6");
+  EXPECT_EQ(real(-12.8), "-12.8");
+  EXPECT_EQ(real(2), "2");
+  EXPECT_EQ(real(0.0001234), "0.0001234");
+  EXPECT_EQ(real(1234567), "1234567");
+  EXPECT_EQ(real(1.23456789e12), "1.235e+12");
+  EXPECT_EQ(triple(-64, 0, -64), "(-64, 0, -64)");
+  EXPECT_EQ(compact(31791), "31,791");
+  EXPECT_EQ(compact(1540000), "1.54 M");
+  EXPECT_EQ(hexColor(150, 150, 150), "#969696");
+}
+
+TEST(InfoText, TablesAlignAndFitEightyColumns) {
+  Table t({{"id", true}, {"name", false, true}, {"voxels", true}});
+  t.row({"1", "Grass", "1,234"});
+  t.row({"12", "a very long material name that would never fit in any sensible column at all, really", "5"});
+  const std::string s = t.str();
+  std::istringstream in(s);
+  std::string l;
+  std::vector<std::string> lines;
+  while (std::getline(in, l)) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0].substr(0, 10), "    id  na");
+  EXPECT_EQ(lines[1].substr(0, 14), "     1  Grass ");
+  for (const std::string& x : lines) {
+    size_t cols = 0;
+    for (unsigned char c : x) cols += (c & 0xc0) != 0x80;
+    EXPECT_LE(cols, kWidth) << x;
+  }
+  EXPECT_NE(lines[2].find("…"), std::string::npos) << "the long name is cut with an ellipsis";
+  // Numbers stay right-aligned: every row ends at the same column.
+  EXPECT_EQ(lines[1].substr(lines[1].size() - 5), "1,234");
+  EXPECT_EQ(fit("abcdef", 4), "abc…");
+  EXPECT_EQ(fit("abc", 4), "abc");
+  EXPECT_EQ(line("dims", "4 x 3 x 2"), "  dims          4 x 3 x 2\n");
+}

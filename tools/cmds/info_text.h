@@ -1,0 +1,57 @@
+// How `vox info` writes for people: rounded numbers with their units, and
+// aligned tables that fit an 80-column terminal. The --json output never goes
+// through here (it keeps every digit).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace voxcli::infotext {
+
+/// The terminal width the text output is laid out for.
+inline constexpr size_t kWidth = 80;
+
+/// 1234567 -> "1,234,567".
+std::string count(uint64_t n);
+/// Bytes in decimal units: "512 B", "12.3 kB", "4.56 MB", "1.20 GB".
+std::string bytes(uint64_t n);
+/// A fraction as a percentage, "0%", "<0.01%", "12.3%", "99.99%", "100%"
+/// (never rounded to 0% or 100% unless it is exactly that).
+std::string percent(double fraction);
+/// A real number with `significant` digits, no exponent for ordinary sizes,
+/// trailing zeros dropped: 0.100000001 -> "0.1", 25.6 -> "25.6".
+std::string real(double x, int significant = 4);
+/// "(x, y, z)" of reals.
+std::string triple(double x, double y, double z, int significant = 4);
+/// Large integers in engineering form: 1234 -> "1234", 12345678 -> "12.3 M".
+std::string compact(uint64_t n);
+/// "#rrggbb".
+std::string hexColor(int r, int g, int b);
+/// Cuts `s` to `width` display columns, ending in "…" when cut.
+std::string fit(const std::string& s, size_t width);
+
+/// A key-value line: two spaces, the key padded to 14 columns, the value.
+std::string line(const std::string& key, const std::string& value);
+
+/// A table: columns left- or right-aligned, widths from the content, two
+/// spaces between columns, indented by four. Columns marked `shrink` are cut
+/// (with "…") so that each line fits kWidth.
+class Table {
+ public:
+  struct Column {
+    std::string header;
+    bool right = false;   // numbers: right-aligned
+    bool shrink = false;  // names: cut to fit the width
+  };
+  explicit Table(std::vector<Column> columns) : columns_(std::move(columns)) {}
+  void row(std::vector<std::string> cells) { rows_.push_back(std::move(cells)); }
+  size_t rows() const { return rows_.size(); }
+  std::string str() const;
+
+ private:
+  std::vector<Column> columns_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+}  // namespace voxcli::infotext
