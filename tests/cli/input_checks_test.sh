@@ -84,6 +84,27 @@ PY
   expect_stderr "stripped.png: has no render metadata"
   expect_exit 0 "$vox" verify-bijection --canonical stripped.png --scene h.vdb --eye 20,20,20 --target 0,0,0
   ;;
+outputs)
+  # Failed runs leave nothing behind and nothing escapes -o.
+  echo "not a scene" > bad.vdb
+  expect_exit 3 "$vox" build-atlas bad.vdb -o atlases/deep
+  [ ! -e atlases ] || fail "build-atlas left the directory it created: $(find atlases)"
+  mkdir kept
+  expect_exit 3 "$vox" build-atlas bad.vdb -o kept/new
+  [ -d kept ] && [ ! -e kept/new ] || fail "build-atlas removed a directory it did not create, or kept its own"
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb
+  mkdir sub
+  for stem in ../x x/y .. .; do
+    expect_exit 2 "$vox" build-atlas h.vdb -o sub --stem "$stem"
+    expect_stderr "--stem"
+  done
+  [ -z "$(ls -A sub)" ] && [ ! -e x.summary.png ] || fail "build-atlas --stem wrote outside -o: $(ls -A sub .)"
+  expect_exit 0 "$vox" build-atlas h.vdb -o sub --stem ok
+  [ -e sub/ok.summary.png ] || fail "build-atlas --stem ok wrote no sub/ok.summary.png"
+  expect_exit 2 "$vox" pack-chunks h.vdb -o a.vdb
+  expect_stderr "name it *.vpk"
+  no_output a.vdb
+  ;;
 *)
   echo "unknown group $group" >&2
   exit 2

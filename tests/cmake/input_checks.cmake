@@ -1,6 +1,6 @@
 # Inputs that are not what they claim, and numbers at the edge of what a scene
 # holds: messages, exit codes, no output (README "Exit codes").
-foreach(group numbers files)
+foreach(group numbers files outputs)
   add_test(NAME input_checks.${group}
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/input_checks_test.sh ${group}
                    $<TARGET_FILE:vox> ${CMAKE_CURRENT_SOURCE_DIR}/cli)

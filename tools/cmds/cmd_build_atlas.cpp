@@ -44,11 +44,41 @@ struct Output {
   bool exr = false;
 };
 
+/// Creates a directory (and missing parents) on create(); unless keep() is
+/// called, removes on destruction the levels it created, deepest first, while
+/// they are empty. Declared before the Run, so it is destroyed after the Run
+/// has removed its temporaries.
+class CreatedDirectory {
+ public:
+  CreatedDirectory() = default;
+  void create(const std::string& path) {
+    for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p); p = p.parent_path()) {
+      created_.push_back(p);
+      if (p == p.parent_path()) break;
+    }
+    std::error_code ec;
+    fs::create_directories(path, ec);
+    if (!fs::is_directory(path)) throw vox::Error(vox::ErrorKind::Io, path + ": cannot create the output directory");
+  }
+  ~CreatedDirectory() {
+    std::error_code ec;
+    for (const fs::path& p : created_)
+      if (!fs::remove(p, ec)) break;  // not empty (or gone): leave it and its parents
+  }
+  CreatedDirectory(const CreatedDirectory&) = delete;
+  CreatedDirectory& operator=(const CreatedDirectory&) = delete;
+  void keep() { created_.clear(); }
+
+ private:
+  std::vector<fs::path> created_;  // deepest first
+};
+
 int runBuildAtlas(const BuildAtlasOptions& o) {
+  CreatedDirectory outDir;
   Run run("build-atlas", o.common);
-  std::error_code ec;
-  fs::create_directories(o.outDir, ec);
-  if (!fs::is_directory(o.outDir)) throw vox::Error(vox::ErrorKind::Io, o.outDir + ": cannot create the output directory");
+  if (!o.stem.empty() && (o.stem.find('/') != std::string::npos || o.stem == "." || o.stem == ".."))
+    throw vox::Error(vox::ErrorKind::Usage, "--stem " + o.stem + ": a file name stem, without '/', is expected; "
+                                            "choose the directory with -o");
 
   run.phase("read");
   run.input(o.scene);
@@ -77,6 +107,10 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   }
   const vox::SceneStats stats = scene.stats();
   const std::string stem = o.stem.empty() ? fs::path(o.scene).stem().string() : o.stem;
+
+  // The directory is made only now that the input is known good, and removed
+  // again (the levels this run made, while empty) if the run fails after all.
+  outDir.create(o.outDir);
 
   std::vector<Output> outs;
   auto add = [&](vox::AtlasContent content, const std::string& format, uint32_t channels, vox::SampleType type,
@@ -209,6 +243,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
                   {"atlas", {L.width, L.height}}, {"previews", o.preview ? outs.size() : 0}};
   run.note("wrote " + std::to_string(files) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
+  outDir.keep();
   return run.finish();
 }
 
