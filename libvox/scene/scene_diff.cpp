@@ -222,6 +222,7 @@ SceneDiff diffScenes(const Scene& a, const Scene& b, const SceneDiffOptions& o) 
   std::vector<VoxelPart> parts(std::max<size_t>(pieces, 1));
   parallelPieces(origins.size(), o.threads, pieces, [&](size_t begin, size_t end, size_t p) {
     VoxelPart& part = parts[p];
+    std::array<double, BoolLeaf::SIZE> voteDiff;
     for (size_t i = begin; i < end; ++i) {
       const SideLeaves la = probe(a, votesA, origins[i]), lb = probe(b, votesB, origins[i]);
       BoolLeaf::NodeMaskType either;
@@ -232,6 +233,22 @@ SceneDiff diffScenes(const Scene& a, const Scene& b, const SceneDiffOptions& o) 
       bool same = sameLeaf(la.occ, lb.occ) && sameLeaf(la.color, lb.color);
       for (size_t k = 0; same && k < ids.size(); ++k) same = sameLeaf(la.votes[k], lb.votes[k]);
       if (same) continue;
+      // Vote differences class by class over each class's own voxels (most
+      // voxels have votes for one or two classes, not for every class).
+      std::fill(voteDiff.begin(), voteDiff.end(), 0.0);
+      for (size_t k = 0; k < ids.size(); ++k) {
+        const IntLeaf *va = la.votes[k], *vb = lb.votes[k];
+        if (sameLeaf(va, vb)) continue;
+        IntLeaf::NodeMaskType m;
+        if (va) m = va->getValueMask();
+        if (vb) m |= vb->getValueMask();
+        for (auto it = m.beginOn(); it; ++it) {
+          const openvdb::Index n = it.pos();
+          const int64_t x = va && va->isValueOn(n) ? va->getValue(n) : 0;
+          const int64_t y = vb && vb->isValueOn(n) ? vb->getValue(n) : 0;
+          voteDiff[n] = std::max(voteDiff[n], double(x > y ? x - y : y - x));
+        }
+      }
       for (auto it = either.beginOn(); it; ++it) {
         // Magnitudes straight from the leaves; the voxel's values are built
         // only when it becomes a first or worst example (most differing
@@ -246,11 +263,7 @@ SceneDiff diffScenes(const Scene& a, const Scene& b, const SceneDiffOptions& o) 
           for (size_t k = 0; k < ids.size(); ++k)
             if (l.votes[k] && l.votes[k]->isValueOn(n)) mOcc += double(l.votes[k]->getValue(n));
         } else {
-          for (size_t k = 0; k < ids.size(); ++k) {
-            const int64_t va = la.votes[k] && la.votes[k]->isValueOn(n) ? la.votes[k]->getValue(n) : 0;
-            const int64_t vb = lb.votes[k] && lb.votes[k]->isValueOn(n) ? lb.votes[k]->getValue(n) : 0;
-            mVotes = std::max(mVotes, double(va > vb ? va - vb : vb - va));
-          }
+          mVotes = voteDiff[n];
           dVotes = mVotes > o.votesTolerance;
           const bool ca = la.color && la.color->isValueOn(n), cb = lb.color && lb.color->isValueOn(n);
           if (ca != cb) {

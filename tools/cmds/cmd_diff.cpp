@@ -141,7 +141,8 @@ Command registerDiff(CLI::App& root) {
   cmd->add_option("--view", o.view, "Render vs metadata.json: the view's index whose rgbBase64 image is the reference");
   cmd->add_option("--rel-tolerance", o.relTolerance, "JSON: numbers may differ by this fraction of the larger")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--ignore-key", o.ignoreKeys, "JSON: also skip keys matching this pattern ('*' wildcard); repeatable");
+  cmd->add_option("--ignore-key", o.ignoreKeys, "JSON: also skip keys matching this pattern ('*' wildcard); repeatable")
+      ->allow_extra_args(false);  // one pattern per --ignore-key, so a file name after it stays a file
   cmd->add_flag("--no-default-ignores", o.noDefaultIgnores,
                 "JSON: compare timings and paths too (default: seconds, *_seconds, *_per_second, *_per_s, threads, "
                 "argv, inputs, outputs, scene, file, path are skipped)");

@@ -144,8 +144,12 @@ int diffPageFiles(const DiffOptions& o) {
   const pf::Reader ra = pf::Reader::open(o.a);
   const pf::Reader rb = pf::Reader::open(o.b);
   const std::vector<FieldDiff> header = headerDiffs(ra.header(), rb.header());
+  // The metadata as JSON, without the version of the tool that wrote it (a
+  // golden file stays valid across releases that pack the same voxels).
+  vox::JsonDiffOptions metaOptions;
+  metaOptions.ignoreKeys.push_back("tool_version");
   const vox::JsonDiff meta = vox::diffJson(vox::parseJsonDocument(ra.metaJson(), o.a + " metadata"),
-                                           vox::parseJsonDocument(rb.metaJson(), o.b + " metadata"));
+                                           vox::parseJsonDocument(rb.metaJson(), o.b + " metadata"), metaOptions);
   const uint32_t side = ra.header().chunkSide();
   const bool comparable = ra.header().chunkLog2 == rb.header().chunkLog2;
   std::vector<ChunkPair> pairs;
