@@ -1,12 +1,11 @@
 #include "formats/vdb/vdb_grid_input.h"
 
-#include <openvdb/io/File.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <atomic>
 #include <cmath>
 
-#include "formats/vdb/vdb_structure.h"
+#include "formats/vdb/vdb_checked_file.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/placement.h"
@@ -20,26 +19,17 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   ensureOpenVdbInitialized();
   if ((o.resolution == 0) == (o.voxelSize <= 0))
     throwUsage(path + ": give exactly one of a resolution or a voxel size for an OpenVDB grid", Setting::Resolution);
-  const VdbFrame frame = checkVdbStructure(path);  // refuses truncated files before OpenVDB reads them
+  CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB reads them
   openvdb::FloatGrid::Ptr grid;
   std::string available;
-  try {
-    openvdb::io::File file(path);
-    file.open(false);
-    for (const VdbGridFrame& g : frame.grids) {
-      available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
-      const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
-      if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
-        openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
-        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
-      }
+  for (const VdbGridFrame& g : file.frame().grids) {
+    available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
+    const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
+    if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
+      openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
+      grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+      if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
     }
-    file.close();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throwBadInput(path + ": cannot read the OpenVDB file: " + std::string(e.what()).substr(0, 160));
   }
   if (!grid)
     throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float grid") : "no grid named '" + o.gridName + "'") +
