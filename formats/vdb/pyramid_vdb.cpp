@@ -94,7 +94,7 @@ bool isPyramidVdb(const std::string& path) {
 
 std::string readPyramidMetadata(const std::string& path) {
   if (!isPyramidVdb(path)) return {};
-  CheckedVdbFile file(path);
+  CheckedVdbFile file(path, VdbCheck::Framing);  // the file metadata only
   const openvdb::MetaMap::Ptr meta = file.metadata();
   auto m = openvdb::DynamicPtrCast<const openvdb::StringMetadata>((*meta)[kPyramidKey]);
   if (!m) bad(path, std::string("metadata '") + kPyramidKey + "' must be a string");

@@ -35,7 +35,7 @@ auto guarded(const std::string& path, const std::string& what, Fn&& fn) -> declt
 
 }  // namespace
 
-CheckedVdbFile::CheckedVdbFile(const std::string& path) : path_(path) {
+CheckedVdbFile::CheckedVdbFile(const std::string& path, VdbCheck depth) : path_(path) {
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
@@ -47,7 +47,7 @@ CheckedVdbFile::CheckedVdbFile(const std::string& path) : path_(path) {
     if (!probe) throwBadInput(path + ": cannot open the file (missing or unreadable)");
   }
   if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
-  frame_ = checkVdbStructure(path, VdbCheck::Full);
+  frame_ = checkVdbStructure(path, depth);
   ensureOpenVdbInitialized();
   guarded(path_, "the OpenVDB file", [&] {
     file_ = std::make_unique<openvdb::io::File>(path_);
@@ -79,7 +79,9 @@ openvdb::MetaMap::Ptr CheckedVdbFile::metadata() const {
 openvdb::GridBase::Ptr CheckedVdbFile::readGrid(const std::string& uniqueName) {
   const VdbGridFrame* g = findGrid(uniqueName);
   if (!g) throwBadInput(path_ + ": no grid named '" + uniqueName + "'");
-  if (!g->checked) throwBadInput(path_ + ": grid '" + uniqueName + "': " + g->uncheckedWhy);
+  if (!g->checked)
+    throwBadInput(path_ + ": grid '" + uniqueName + "': " +
+                  (g->uncheckedWhy.empty() ? std::string("not checked (internal: opened for metadata only)") : g->uncheckedWhy));
   return guarded(path_, "grid '" + uniqueName + "'", [&] { return file_->readGrid(uniqueName); });
 }
 

@@ -25,8 +25,10 @@ namespace vox {
 class CheckedVdbFile {
  public:
   /// Checks and opens `path`. Throws vox::Error (BadInput) when it is missing,
-  /// unreadable, not a regular file, not an OpenVDB file, or corrupt.
-  explicit CheckedVdbFile(const std::string& path);
+  /// unreadable, not a regular file, not an OpenVDB file, or corrupt. With
+  /// VdbCheck::Framing only the header, file metadata and grid descriptors are
+  /// walked: enough for metadata(), and readGrid() refuses every grid.
+  explicit CheckedVdbFile(const std::string& path, VdbCheck depth = VdbCheck::Full);
   ~CheckedVdbFile();
   CheckedVdbFile(const CheckedVdbFile&) = delete;
   CheckedVdbFile& operator=(const CheckedVdbFile&) = delete;

@@ -1,7 +1,6 @@
 #include "formats/vdb/vdb_structure.h"
 
 #include <blosc.h>
-#include <sys/stat.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -10,9 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
-#include <mutex>
 #include <set>
-#include <tuple>
 
 #include "formats/core/file_util.h"
 #include "libvox/core/error.h"
@@ -571,6 +568,8 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
     g.gridPos = r.get<int64_t>("grid offset");
     g.blockPos = r.get<int64_t>("block offset");
     g.endPos = r.get<int64_t>("end offset");
+    // OpenVDB writes a block offset of 0 for instances (they store no blocks).
+    if (!g.instanceParent.empty() && g.blockPos == 0) g.blockPos = g.endPos;
     if (g.gridPos != int64_t(r.pos()) || g.blockPos < g.gridPos || g.endPos < g.blockPos)
       where.fail("inconsistent offsets (grid " + std::to_string(g.gridPos) + ", blocks " + std::to_string(g.blockPos) +
                  ", end " + std::to_string(g.endPos) + "); the file is corrupt");
@@ -584,40 +583,9 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
   return f;
 }
 
-namespace {
-
-struct CacheKey {
-  std::string path;
-  uint64_t dev, ino, size;
-  int64_t mtimeSec, mtimeNsec;
-  bool operator<(const CacheKey& o) const {
-    return std::tie(path, dev, ino, size, mtimeSec, mtimeNsec) <
-           std::tie(o.path, o.dev, o.ino, o.size, o.mtimeSec, o.mtimeNsec);
-  }
-};
-
-}  // namespace
-
 VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth) {
-  static std::mutex mutex;
-  static std::map<CacheKey, VdbFrame> cache;
-  struct stat st {};
-  const bool keyed = depth == VdbCheck::Full && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-  const CacheKey key{path, uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size), int64_t(st.st_mtim.tv_sec),
-                     int64_t(st.st_mtim.tv_nsec)};
-  if (keyed) {
-    std::lock_guard<std::mutex> lock(mutex);
-    const auto it = cache.find(key);
-    if (it != cache.end()) return it->second;
-  }
   const FileView file(path);  // mapped
-  VdbFrame frame = checkVdbStructure(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, depth);
-  if (keyed && file.size() == uint64_t(st.st_size)) {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (cache.size() >= 16) cache.clear();
-    cache[key] = frame;
-  }
-  return frame;
+  return checkVdbStructure(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, depth);
 }
 
 }  // namespace vox

@@ -67,9 +67,7 @@ enum class VdbCheck { Framing, Full };
 
 /// Walks `path`. Throws vox::Error (BadInput) naming the file, the grid and the
 /// element (header field, metadata entry, node, mask, compressed block) that is
-/// truncated, out of range or inconsistent. Full walks of an unchanged file
-/// (same device, inode, size and modification time) are remembered for the
-/// process, so opening a file several times walks it once.
+/// truncated, out of range or inconsistent.
 VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth = VdbCheck::Full);
 
 /// Same on bytes in memory.
