@@ -1,15 +1,20 @@
 #include "formats/vdb/vdb_structure.h"
 
 #include <blosc.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <mutex>
 #include <set>
+#include <tuple>
 
 #include "formats/core/file_util.h"
 #include "libvox/core/error.h"
@@ -47,11 +52,15 @@ struct ValueKind {
   uint32_t halfSize;  // bytes of one value saved as half float; 0 when not a real type
   bool isBool;        // values are C++ bool: every stored byte must be 0 or 1
   bool isMask;        // ValueMask leaves (the value is the mask)
+  bool isInteger;     // signed integer components
+  uint32_t componentSize;
 };
 constexpr ValueKind kValueKinds[] = {
-    {"bool", 1, 0, true, false},   {"mask", 1, 0, true, true},  {"float", 4, 2, false, false},
-    {"double", 8, 2, false, false}, {"int32", 4, 0, false, false}, {"int64", 8, 0, false, false},
-    {"vec3i", 12, 0, false, false}, {"vec3s", 12, 6, false, false}, {"vec3d", 24, 6, false, false},
+    {"bool", 1, 0, true, false, false, 1},    {"mask", 1, 0, true, true, false, 1},
+    {"float", 4, 2, false, false, false, 4},  {"double", 8, 2, false, false, false, 8},
+    {"int32", 4, 0, false, false, true, 4},   {"int64", 8, 0, false, false, true, 8},
+    {"vec3i", 12, 0, false, false, true, 4},  {"vec3s", 12, 6, false, false, false, 4},
+    {"vec3d", 24, 6, false, false, false, 8},
 };
 
 /// Metadata types OpenVDB 10 registers with fixed sizes (openvdb.cc initialize()).
@@ -325,6 +334,20 @@ class TreeWalk {
     if (r_.get<int32_t>("buffer count") != 1) w.fail("buffer count is not 1 (multi-buffer trees are not supported)");
     const uint8_t* bg = r_.take(v_.size, "background value");
     if (v_.isBool && *bg > 1) w.fail("background value is not a bool (0 or 1)");
+    // OpenVDB negates the background for inactive values (io::readCompressedValues):
+    // the most negative integer has no negation.
+    if (v_.isInteger)
+      for (uint32_t at = 0; at < v_.size; at += v_.componentSize) {
+        const bool wide = v_.componentSize == 8;
+        int64_t c;
+        if (wide) std::memcpy(&c, bg + at, 8);
+        else {
+          int32_t c32;
+          std::memcpy(&c32, bg + at, 4);
+          c = c32;
+        }
+        if (wide ? c == INT64_MIN : c == INT32_MIN) w.fail("background value " + std::to_string(c) + " has no negation");
+      }
     const uint32_t tiles = r_.get<uint32_t>("root tile count");
     const uint32_t children = r_.get<uint32_t>("root child count");
     if (uint64_t(tiles) * (13 + v_.size) > r_.left())
@@ -583,9 +606,60 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
   return f;
 }
 
+namespace {
+
+/// What identifies a file's content without reading it, for the memo below.
+struct FileStamp {
+  std::string path;
+  uint64_t dev = 0, ino = 0, size = 0;
+  int64_t mtime = 0, ctime = 0;  // ns
+  bool operator<(const FileStamp& o) const {
+    return std::tie(path, dev, ino, size, mtime, ctime) < std::tie(o.path, o.dev, o.ino, o.size, o.mtime, o.ctime);
+  }
+  bool operator==(const FileStamp& o) const { return !(*this < o) && !(o < *this); }
+};
+
+bool stampOf(const std::string& path, FileStamp& s) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+  s = {path, uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size),
+       int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+       int64_t(st.st_ctim.tv_sec) * 1000000000 + st.st_ctim.tv_nsec};
+  return true;
+}
+
+}  // namespace
+
 VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth) {
-  const FileView file(path);  // mapped
-  return checkVdbStructure(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, depth);
+  // A full walk decompresses every block; commands that open a file more than
+  // once (info, then the scene reader) reuse it. Only for files whose status
+  // last changed over two seconds before the walk: any later change of the
+  // content sets the change time (which users cannot set back) to a later
+  // clock tick, so a remembered walk never stands for other bytes.
+  static std::mutex mutex;
+  static std::map<FileStamp, VdbFrame> memo;
+  FileStamp before;
+  const bool stamped = depth == VdbCheck::Full && stampOf(path, before);
+  if (stamped) {
+    std::lock_guard<std::mutex> lock(mutex);
+    const auto it = memo.find(before);
+    if (it != memo.end()) return it->second;
+  }
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  VdbFrame frame;
+  {
+    const FileView file(path);  // mapped
+    frame = checkVdbStructure(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, depth);
+  }
+  FileStamp after;
+  const int64_t nowNs = int64_t(now.tv_sec) * 1000000000 + now.tv_nsec;
+  if (stamped && stampOf(path, after) && after == before && nowNs - before.ctime > 2000000000) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (memo.size() >= 16) memo.clear();
+    memo[before] = frame;
+  }
+  return frame;
 }
 
 }  // namespace vox

@@ -67,7 +67,10 @@ enum class VdbCheck { Framing, Full };
 
 /// Walks `path`. Throws vox::Error (BadInput) naming the file, the grid and the
 /// element (header field, metadata entry, node, mask, compressed block) that is
-/// truncated, out of range or inconsistent.
+/// truncated, out of range or inconsistent. A Full walk of a file whose status
+/// last changed over two seconds earlier is remembered for the process (keyed
+/// by path, device, inode, size, modification and change times), so a command
+/// that opens a file twice walks it once.
 VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth = VdbCheck::Full);
 
 /// Same on bytes in memory.
