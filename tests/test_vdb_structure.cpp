@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <random>
 
 #include "formats/vdb/pyramid_vdb.h"
@@ -145,22 +146,24 @@ void tryRead(const std::string& bytes, const std::string& path, const std::strin
   }
 }
 
-/// Every corruption of `original` this file tries, read with `read`.
+/// Every corruption of `original` this file tries, read with `read`; the
+/// outcomes by kind of corruption (printed for docs/reliability.md) and in total.
 Outcomes corruptAll(const std::string& original, const std::string& path, const std::string& tag,
                     const std::function<bool()>& read) {
+  std::map<std::string, Outcomes> kinds;
   Outcomes o;
   const VdbFrame frame = checkVdbStructure(reinterpret_cast<const uint8_t*>(original.data()), original.size(), "x");
   // Truncation at every step.
   const size_t step = std::max<size_t>(1, original.size() / 150);
   for (size_t n = 0; n < original.size(); n += step)
-    tryRead(original.substr(0, n), path, tag, read, o, "cut at " + std::to_string(n));
+    tryRead(original.substr(0, n), path, tag, read, kinds["truncation"], "cut at " + std::to_string(n));
   // Seeded single bit flips anywhere.
   std::mt19937_64 rng(13);
   for (int i = 0; i < 300; ++i) {
     std::string b = original;
     const size_t at = size_t(rng() % b.size());
     b[at] = char(b[at] ^ (1 << (rng() % 8)));
-    tryRead(b, path, tag, read, o, "bit flip at " + std::to_string(at));
+    tryRead(b, path, tag, read, kinds["bit flip anywhere"], "bit flip at " + std::to_string(at));
   }
   // Bit flips inside grid payloads (node masks, origins, metadata bytes, values).
   for (int i = 0; i < 300; ++i) {
@@ -168,7 +171,7 @@ Outcomes corruptAll(const std::string& original, const std::string& path, const 
     std::string b = original;
     const size_t at = size_t(g.gridPos) + size_t(rng() % uint64_t(g.endPos - g.gridPos));
     b[at] = char(b[at] ^ (1 << (rng() % 8)));
-    tryRead(b, path, tag, read, o, "payload bit flip at " + std::to_string(at));
+    tryRead(b, path, tag, read, kinds["bit flip in a grid payload"], "payload bit flip at " + std::to_string(at));
   }
   // Compressed block sizes replaced.
   const std::vector<size_t> blocks = bloscBlockSizeFields(original);
@@ -180,14 +183,21 @@ Outcomes corruptAll(const std::string& original, const std::string& path, const 
                       int64_t(1) << 40, n + 1, n - 1, int64_t(0), int64_t(15)}) {
       std::string b = original;
       poke(b, blocks[k], v);
-      tryRead(b, path, tag, read, o, "block size at " + std::to_string(blocks[k]) + " set to " + std::to_string(v));
+      tryRead(b, path, tag, read, kinds["block size replaced"],
+              "block size at " + std::to_string(blocks[k]) + " set to " + std::to_string(v));
     }
     // The Blosc header's own sizes.
     for (uint32_t field : {4u, 12u}) {
       std::string b = original;
       poke(b, blocks[k] + 8 + field, peek<uint32_t>(original, blocks[k] + 8 + field) * 16 + 1000);
-      tryRead(b, path, tag, read, o, "Blosc header field " + std::to_string(field));
+      tryRead(b, path, tag, read, kinds["Blosc header size enlarged"], "Blosc header field " + std::to_string(field));
     }
+  }
+  for (const auto& [kind, k] : kinds) {
+    std::cout << "[ " << tag << " / " << kind << " ] " << k.summary() << "\n";
+    o.same += k.same;
+    o.refused += k.refused;
+    o.differentButValid += k.differentButValid;
   }
   return o;
 }

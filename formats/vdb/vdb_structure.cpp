@@ -111,14 +111,16 @@ class Reader {
   size_t left() const { return n_ - pos_; }
   const uint8_t* here() const { return d_ + pos_; }
   Where& where() { return w_; }
-  void need(uint64_t bytes, const char* what) {
+  /// `what` (and `what2`, appended) name the field; messages are built on failure only.
+  void need(uint64_t bytes, const char* what, const char* what2 = nullptr) {
     if (bytes > left())
-      w_.fail("truncated or corrupt OpenVDB file: " + std::string(what) + " needs " + std::to_string(bytes) +
-              " bytes at offset " + std::to_string(pos_) + " but " + std::to_string(left()) + " are left");
+      w_.fail("truncated or corrupt OpenVDB file: " + std::string(what) + (what2 ? std::string(" ") + what2 : "") +
+              " needs " + std::to_string(bytes) + " bytes at offset " + std::to_string(pos_) + " but " +
+              std::to_string(left()) + " are left");
   }
   template <typename T>
-  T get(const char* what) {
-    need(sizeof(T), what);
+  T get(const char* what, const char* what2 = nullptr) {
+    need(sizeof(T), what, what2);
     T v;
     std::memcpy(&v, d_ + pos_, sizeof(T));
     pos_ += sizeof(T);
@@ -131,8 +133,8 @@ class Reader {
     pos_ += len;
     return s;
   }
-  const uint8_t* take(uint64_t bytes, const char* what) {
-    need(bytes, what);
+  const uint8_t* take(uint64_t bytes, const char* what, const char* what2 = nullptr) {
+    need(bytes, what, what2);
     const uint8_t* p = d_ + pos_;
     pos_ += size_t(bytes);
     return p;
@@ -157,22 +159,21 @@ class Reader {
 /// the file) when `decode`, else nullptr.
 const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool decode, std::vector<uint8_t>& scratch,
                          const char* what) {
-  const std::string field(what);
   if (!(compression & (kBlosc | kZip))) return r.take(bytes, what);  // uncompressed values
-  const int64_t stored = r.get<int64_t>((field + " size").c_str());
+  const int64_t stored = r.get<int64_t>(what, "block size");
   if (stored <= 0) {
     // Stored uncompressed: OpenVDB reads -size bytes into a buffer of `bytes`.
     const uint64_t raw = uint64_t(0) - uint64_t(stored);
     if (raw != bytes)
-      r.where().fail(field + ": an uncompressed block of " + std::to_string(raw) + " bytes where the mask implies " +
+      r.where().fail(std::string(what) + ": an uncompressed block of " + std::to_string(raw) + " bytes where the mask implies " +
                      std::to_string(bytes));
     if (raw > r.left())
-      r.where().fail(field + ": uncompressed block of " + std::to_string(raw) + " bytes overruns the file (" +
+      r.where().fail(std::string(what) + ": uncompressed block of " + std::to_string(raw) + " bytes overruns the file (" +
                      std::to_string(r.left()) + " left)");
     return r.take(raw, what);
   }
   if (uint64_t(stored) > r.left())
-    r.where().fail(field + ": compressed block of " + std::to_string(stored) + " bytes overruns the file (" +
+    r.where().fail(std::string(what) + ": compressed block of " + std::to_string(stored) + " bytes overruns the file (" +
                    std::to_string(r.left()) + " left)");
   const uint8_t* src = r.take(uint64_t(stored), what);
   if (compression & kBlosc) {
@@ -180,19 +181,19 @@ const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool d
     // the block, and the decompressed size the one the mask implies.
     size_t nbytes = 0, cbytes = 0, blocksize = 0;
     if (stored < BLOSC_MIN_HEADER_LENGTH)
-      r.where().fail(field + ": compressed block of " + std::to_string(stored) + " bytes is shorter than a Blosc header");
+      r.where().fail(std::string(what) + ": compressed block of " + std::to_string(stored) + " bytes is shorter than a Blosc header");
     blosc_cbuffer_sizes(src, &nbytes, &cbytes, &blocksize);
     if (cbytes != uint64_t(stored) || blosc_cbuffer_validate(src, size_t(stored), &nbytes) != 0)
-      r.where().fail(field + ": Blosc header claims " + std::to_string(cbytes) + " compressed bytes in a block of " +
+      r.where().fail(std::string(what) + ": Blosc header claims " + std::to_string(cbytes) + " compressed bytes in a block of " +
                      std::to_string(stored));
     if (nbytes != bytes)
-      r.where().fail(field + ": compressed block decompresses to " + std::to_string(nbytes) + " bytes where the mask implies " +
+      r.where().fail(std::string(what) + ": compressed block decompresses to " + std::to_string(nbytes) + " bytes where the mask implies " +
                      std::to_string(bytes));
     if (!decode) return nullptr;
     scratch.resize(std::max<size_t>(scratch.size(), bytes + 1));
     const int got = blosc_decompress_ctx(src, scratch.data(), bytes, 1);
     if (got < 0 || uint64_t(got) != bytes)
-      r.where().fail(field + ": compressed block does not decompress (" + std::to_string(got) + " of " +
+      r.where().fail(std::string(what) + ": compressed block does not decompress (" + std::to_string(got) + " of " +
                      std::to_string(bytes) + " bytes)");
     return scratch.data();
   }
@@ -201,7 +202,7 @@ const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool d
   uLongf got = uLongf(bytes);
   const int rc = uncompress(scratch.data(), &got, src, uLong(stored));
   if (rc != Z_OK || got != bytes)
-    r.where().fail(field + ": zip block does not decompress to the " + std::to_string(bytes) + " bytes the mask implies");
+    r.where().fail(std::string(what) + ": zip block does not decompress to the " + std::to_string(bytes) + " bytes the mask implies");
   return scratch.data();
 }
 
@@ -423,8 +424,12 @@ class TreeWalk {
     const size_t maskBytes = count / 8;
     const uint8_t* childMask = r_.take(maskBytes, "child mask");
     const uint8_t* valueMask = r_.take(maskBytes, "value mask");
-    for (size_t i = 0; i < maskBytes; ++i)
-      if (childMask[i] & valueMask[i]) w.fail("child mask and value mask overlap");
+    for (size_t i = 0; i < maskBytes; i += 8) {
+      uint64_t c, v;
+      std::memcpy(&c, childMask + i, 8);
+      std::memcpy(&v, valueMask + i, 8);
+      if (c & v) w.fail("child mask and value mask overlap");
+    }
     values(valueMask, count, "tile values");
     const int childShift = log2 == 5 ? 7 : 3;  // voxels a child spans, log2
     for (size_t word = 0; word < maskBytes / 8; ++word) {
@@ -454,12 +459,11 @@ class TreeWalk {
 
   /// io::readCompressedValues for `count` values selected by `mask`.
   void values(const uint8_t* mask, size_t count, const char* what) {
-    const std::string field(what);
-    const int8_t meta = r_.get<int8_t>((field + " compression metadata").c_str());
+    const int8_t meta = r_.get<int8_t>(what, "compression metadata");
     if (meta == NO_MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_TWO_INACTIVE_VALS) {
       for (int k = meta == MASK_AND_TWO_INACTIVE_VALS ? 2 : 1; k > 0; --k) {
         const uint8_t* v = r_.take(v_.size, "inactive value");
-        if (v_.isBool && *v > 1) r_.where().fail(field + ": inactive value is not a bool (0 or 1)");
+        if (v_.isBool && *v > 1) r_.where().fail(std::string(what) + ": inactive value is not a bool (0 or 1)");
       }
     }
     if (meta == MASK_AND_NO_INACTIVE_VALS || meta == MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_TWO_INACTIVE_VALS)
@@ -479,7 +483,7 @@ class TreeWalk {
     const uint8_t* data = readBlock(r_, compression_, bytes, decode, scratch_, what);
     if (v_.isBool && data)
       for (uint64_t i = 0; i < bytes; ++i)
-        if (data[i] > 1) r_.where().fail(field + ": a value is " + std::to_string(data[i]) + ", not a bool (0 or 1)");
+        if (data[i] > 1) r_.where().fail(std::string(what) + ": a value is " + std::to_string(data[i]) + ", not a bool (0 or 1)");
   }
 
   Reader& r_;
