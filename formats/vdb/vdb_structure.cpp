@@ -565,8 +565,8 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
   f.fileVersion = r.get<uint32_t>("the file version");
   if (f.fileVersion < kOldestVersion)
     throwBadInput(name + ": OpenVDB file format " + std::to_string(f.fileVersion) +
-                  " is older than vox reads (222, OpenVDB 3 and later): rewrite the file with a current OpenVDB "
-                  "(for example `vdb_print`'s library's io::File read then write)");
+                  " is older than vox reads (222 and later, written by OpenVDB 3 or newer): open and save it "
+                  "again with a current OpenVDB tool");
   if (f.fileVersion > kNewestVersion)
     throwBadInput(name + ": OpenVDB file format " + std::to_string(f.fileVersion) + " is " +
                   (f.fileVersion > 1000 ? "not plausible; the file is corrupt"
