@@ -231,6 +231,15 @@ TEST(VdbStructure, AcceptsEveryValueTypeCompressionAndTransformOpenVdbWrites) {
   affine.setToRotation(openvdb::Vec3d(0, 0, 1), 0.3);
   affine.postTranslate(openvdb::Vec3d(1, 2, 3));
   grids[3]->setTransform(openvdb::math::Transform::createLinearTransform(affine));
+  using openvdb::math::MapBase;
+  grids[4]->setTransform(std::make_shared<openvdb::math::Transform>(
+      MapBase::Ptr(new openvdb::math::UnitaryMap(openvdb::Vec3d(0, 1, 0), 0.7))));
+  grids[5]->setTransform(std::make_shared<openvdb::math::Transform>(
+      MapBase::Ptr(new openvdb::math::TranslationMap(openvdb::Vec3d(4, 5, 6)))));
+  grids[6]->setTransform(std::make_shared<openvdb::math::Transform>(
+      MapBase::Ptr(new openvdb::math::ScaleMap(openvdb::Vec3d(1, 2, 3)))));
+  grids[0]->setTransform(std::make_shared<openvdb::math::Transform>(
+      MapBase::Ptr(new openvdb::math::ScaleTranslateMap(openvdb::Vec3d(1, 2, 3), openvdb::Vec3d(-1, 0, 1)))));
   grids[7]->setTransform(openvdb::math::Transform::createFrustumTransform(
       openvdb::BBoxd(openvdb::Vec3d(0), openvdb::Vec3d(10)), 0.5, 2.0, 0.1));
   grids[7]->setSaveFloatAsHalf(true);
@@ -250,6 +259,7 @@ TEST(VdbStructure, AcceptsEveryValueTypeCompressionAndTransformOpenVdbWrites) {
       EXPECT_EQ(got->type(), want->type()) << want->getName();
       EXPECT_EQ(got->activeVoxelCount(), want->activeVoxelCount()) << want->getName() << " compression " << compression;
       EXPECT_EQ(got->baseTree().leafCount(), want->baseTree().leafCount()) << want->getName();
+      EXPECT_EQ(got->transform().mapType(), want->transform().mapType()) << want->getName();
     }
   }
 }
