@@ -422,5 +422,20 @@ TEST(VdbStructure, FuzzSeedsReadAndRegressionInputsAreRefusedCleanly) {
     }
   }
   EXPECT_GE(seeds, 6);
+  // What each regression input is refused for (it crashed or was undefined
+  // behaviour before the fix).
+  const fs::path reg = fs::path(VOX_SOURCE_DIR) / "tests/fuzz/vdb_regressions";
+  for (const char* f : {"leaf_block_size_negative.vdb", "leaf_block_size_negative_1g.vdb"}) {
+    const std::string path = (reg / f).string();
+    EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(path); }, ErrorKind::BadInput, {path, "leaf at (", "uncompressed block"}));
+  }
+  {
+    const std::string path = (reg / "levelset_transform_beyond_index_range.vdb").string();
+    VdbGridInputOptions o;
+    o.resolution = 12;
+    o.threshold = 0.5;
+    EXPECT_TRUE(throwsVoxError([&] { readVdbGridAsScene(path, o); }, ErrorKind::BadInput,
+                               {path, "grid 'ball'", "index coordinates beyond"}));
+  }
   std::cout << "[ replayed ] " << seeds << " seeds, " << regressions << " regression inputs\n";
 }
