@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
-#include <openvdb/io/File.h>
 
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_checked_file.h"
 #include "formats/vdb/vdb_scene_grids.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
@@ -88,26 +88,17 @@ void writePyramidVdb(const std::vector<const Scene*>& levels, MipOccupancy occup
 
 bool isPyramidVdb(const std::string& path) {
   if (!looksLikeVdb(path)) return false;
-  const VdbFrame frame = checkVdbStructure(path);
+  const VdbFrame frame = checkVdbStructure(path, VdbCheck::Framing);
   return std::find(frame.metadataNames.begin(), frame.metadataNames.end(), kPyramidKey) != frame.metadataNames.end();
 }
 
 std::string readPyramidMetadata(const std::string& path) {
   if (!isPyramidVdb(path)) return {};
-  ensureOpenVdbInitialized();
-  try {
-    openvdb::io::File file(path);
-    file.open(true);
-    openvdb::MetaMap::Ptr meta = file.getMetadata();
-    file.close();
-    auto m = openvdb::DynamicPtrCast<const openvdb::StringMetadata>((*meta)[kPyramidKey]);
-    if (!m) bad(path, std::string("metadata '") + kPyramidKey + "' must be a string");
-    return m->value();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    bad(path, std::string("cannot read the OpenVDB metadata: ") + e.what());
-  }
+  CheckedVdbFile file(path, VdbCheck::Framing);  // the file metadata only
+  const openvdb::MetaMap::Ptr meta = file.metadata();
+  auto m = openvdb::DynamicPtrCast<const openvdb::StringMetadata>((*meta)[kPyramidKey]);
+  if (!m) bad(path, std::string("metadata '") + kPyramidKey + "' must be a string");
+  return m->value();
 }
 
 std::vector<Scene> readPyramidVdb(const std::string& path) {

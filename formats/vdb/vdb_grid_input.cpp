@@ -1,12 +1,11 @@
 #include "formats/vdb/vdb_grid_input.h"
 
-#include <openvdb/io/File.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <atomic>
 #include <cmath>
 
-#include "formats/vdb/vdb_structure.h"
+#include "formats/vdb/vdb_checked_file.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/placement.h"
@@ -20,26 +19,17 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   ensureOpenVdbInitialized();
   if ((o.resolution == 0) == (o.voxelSize <= 0))
     throwUsage(path + ": give exactly one of a resolution or a voxel size for an OpenVDB grid", Setting::Resolution);
-  const VdbFrame frame = checkVdbStructure(path);  // refuses truncated files before OpenVDB reads them
+  CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB reads them
   openvdb::FloatGrid::Ptr grid;
   std::string available;
-  try {
-    openvdb::io::File file(path);
-    file.open(false);
-    for (const VdbGridFrame& g : frame.grids) {
-      available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
-      const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
-      if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
-        openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
-        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
-      }
+  for (const VdbGridFrame& g : file.frame().grids) {
+    available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
+    const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
+    if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
+      openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
+      grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+      if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
     }
-    file.close();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throwBadInput(path + ": cannot read the OpenVDB file: " + std::string(e.what()).substr(0, 160));
   }
   if (!grid)
     throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float grid") : "no grid named '" + o.gridName + "'") +
@@ -86,6 +76,11 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   std::vector<std::atomic<uint64_t>> inside((count + 63) / 64);
   const unsigned slabs = std::max(1u, std::min<unsigned>(o.threads, dims.z));
   std::atomic<uint32_t> slices{0};
+  // A degenerate or extreme transform (a scale of 1e-170, a near-singular
+  // matrix) maps output voxel centres to index coordinates no 32-bit node
+  // holds; OpenVDB's sampler would convert them to int regardless.
+  constexpr double kIndexLimit = double(1 << 30);
+  std::atomic<bool> outOfRange{false};
   parallelPieces(dims.z, slabs, slabs, [&](size_t w0, size_t w1, size_t) {
     // GridSampler keeps a reference to the accessor: it must outlive the sampler.
     const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
@@ -95,7 +90,12 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
       for (uint32_t v = 0; v < dims.y; ++v)
         for (uint32_t u = 0; u < dims.x; ++u) {
           const openvdb::Vec3d p(wmin.x() + (u + 0.5) * vs, wmin.y() + (v + 0.5) * vs, wmin.z() + (w + 0.5) * vs);
-          const float value = sampler.wsSample(p);
+          const openvdb::Vec3d ip = grid->worldToIndex(p);
+          if (!(std::abs(ip.x()) < kIndexLimit && std::abs(ip.y()) < kIndexLimit && std::abs(ip.z()) < kIndexLimit)) {
+            outOfRange.store(true, std::memory_order_relaxed);
+            continue;
+          }
+          const float value = sampler.isSample(ip);
           if (levelSet ? value <= 0.0f : double(value) >= thr) {
             const uint64_t i = (uint64_t(w) * dims.y + v) * dims.x + u;
             inside[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed);
@@ -105,6 +105,9 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
     }
   });
 
+  if (outOfRange)
+    throwBadInput(path + ": grid '" + name + "': its transform maps the region to sample to index coordinates beyond "
+                  "+-2^30 (a degenerate or extreme transform)");
   header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
   uint64_t bytes = 0;
   const std::string sha = sha256File(path, &bytes);

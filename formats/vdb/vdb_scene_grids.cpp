@@ -6,10 +6,10 @@
 #include <openvdb/io/File.h>
 
 #include <algorithm>
-#include <fstream>
 
 #include "formats/core/file_util.h"
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_checked_file.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
 
@@ -21,12 +21,6 @@ namespace {
 
 Coord3 toCoord3(const openvdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
 
-/// OpenVDB's text of an exception from a corrupt file may quote garbage: short and printable.
-std::string printable(const std::exception& e) {
-  std::string why;
-  for (char c : std::string(e.what()).substr(0, 160)) why += (c >= 32 && c < 127) ? c : '?';
-  return why;
-}
 
 }  // namespace
 
@@ -105,7 +99,7 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
   // a full disk it returns normally and leaves a truncated file. Walking the
   // file's framing (every grid must end inside the file) catches that.
   try {
-    checkVdbStructure(path);
+    checkVdbStructure(path, VdbCheck::Framing);
   } catch (const Error&) {
     const bool known = writeErrno == ENOSPC || writeErrno == EFBIG || writeErrno == EDQUOT || writeErrno == EIO;
     throwIo(outputName(path) + ": the " + what + " was not written completely (the file on disk ends early: " +
@@ -114,31 +108,24 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
 }
 
 VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly) {
-  ensureOpenVdbInitialized();
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) bad(path, "cannot open the file (missing or unreadable)");
-  }
-  if (!looksLikeVdb(path)) bad(path, "not an OpenVDB file (wrong magic number)");
-  checkVdbStructure(path);  // refuses truncated files before OpenVDB trusts their lengths
-
+  CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB trusts their sizes
   VdbSceneFile f;
-  openvdb::MetaMap::Ptr meta;
-  try {
-    openvdb::io::File file(path);
-    file.open(/*delayLoad=*/false);
-    meta = file.getMetadata();
-    if (!occupancyOnly) {
-      f.grids = *file.getGrids();
-    } else if (file.hasGrid(kOccupancyGridName)) {
-      f.grids.push_back(file.readGrid(kOccupancyGridName));
-    }
-    file.close();
-  } catch (const std::exception& e) {
-    bad(path, "cannot read the OpenVDB file (corrupt?): " + printable(e));
-  }
+  const openvdb::MetaMap::Ptr meta = file.metadata();
   f.metadata = metaEntriesOf(*meta);
   f.header = sceneHeaderFromMetadata(f.metadata, path);
+  for (const VdbGridFrame& g : file.frame().grids) {
+    // Grids vox could not check (point grids) are never read; the scene's own
+    // grids are never of such a type, so one named like them is refused.
+    const bool sceneName = g.uniqueName.find(kOccupancyGridName) != std::string::npos ||
+                           g.uniqueName.find(kColorGridName) != std::string::npos ||
+                           g.uniqueName.find("votes.") != std::string::npos;
+    if (!g.checked) {
+      if (sceneName) bad(path, "grid '" + g.uniqueName + "': " + g.uncheckedWhy);
+      continue;
+    }
+    if (occupancyOnly && g.uniqueName != kOccupancyGridName) continue;
+    f.grids.push_back(file.readGrid(g.uniqueName));
+  }
   return f;
 }
 

@@ -1,13 +1,41 @@
-// A bounds-checked walk over an OpenVDB file's framing (header, file metadata,
-// grid descriptors and their byte ranges) before OpenVDB reads it.
+// A bounds-checked walk over an OpenVDB (.vdb) file before OpenVDB reads it.
 //
-// Why our own: OpenVDB's reader trusts lengths read from the file. On a
-// truncated file a failed read leaves a garbage string length that it then
-// allocates: a 100-byte prefix of a scene made it allocate 14 GB and spend 45 s
-// before failing. This walk reads only framing, checks every length against the
-// bytes that remain, and every grid's [start, end) range against the file size,
-// so truncated and most corrupt files are refused in microseconds with the
-// element that is wrong. Grid payloads themselves are left to OpenVDB.
+// Why our own: OpenVDB's reader trusts every count and size in the file. A
+// truncated file makes it allocate a garbage string length (a 100-byte prefix of
+// a scene made it allocate 14 GB); a compressed block whose stored size is
+// negative makes io::bloscFromStream copy that many bytes into a leaf buffer of
+// 512 values (a heap overflow); a Blosc header whose compressed size exceeds the
+// block makes Blosc read past OpenVDB's buffer. So every byte OpenVDB will read
+// is walked here first, in the order OpenVDB reads it (openvdb/io/Archive.cc,
+// tree/RootNode.h, InternalNode.h, LeafNode*.h, io/Compression.h of OpenVDB
+// 10, file format 222-224), and a file is refused with the element that is
+// wrong unless every read OpenVDB will do stays inside the file and inside the
+// buffer it reads into:
+//
+//   header      magic, file version (222..224), library version, grid offsets,
+//               UUID
+//   metadata    (file and per grid) every entry's name, type and size; sizes of
+//               known types must match the type; bool values must be 0 or 1;
+//               OpenVDB's delayed-load metadata is parsed with its Blosc blocks
+//   descriptors name, type, instance parent, and the grid's [start, end) range
+//               inside the file, grids back to back
+//   per grid    compression flags, metadata, transform (known map types), and
+//               for grids of a known value type (bool, mask, float, double,
+//               int32, int64, vec3i, vec3s, vec3d; half-float storage included)
+//               the whole tree: root background, tiles and children (aligned,
+//               sorted, no duplicates), internal nodes (child and value masks,
+//               their compressed values) and leaves (value masks, origins,
+//               compressed values); the topology must end at the grid's block
+//               offset and the leaf buffers at its end offset.
+//   blocks      every compressed block's stored size against the bytes left and
+//               against the byte count the masks imply; Blosc headers against
+//               the block; and (Full) the block is decompressed into a buffer of
+//               the expected size, which must come out exactly full.
+//
+// Grids of other types (OpenVDB point grids) get their framing checked only and
+// are marked unchecked: CheckedVdbFile (vdb_checked_file.h) refuses to hand
+// them to OpenVDB. Coordinates of root tiles and children must lie within
+// +-2^30 voxels, so that node bounds never overflow 32-bit arithmetic.
 #pragma once
 
 #include <cstdint>
@@ -17,8 +45,12 @@
 namespace vox {
 
 struct VdbGridFrame {
-  std::string uniqueName, type;
+  std::string uniqueName, type;  // type as stored, e.g. "Tree_float_5_4_3_HalfFloat"
+  std::string instanceParent;    // empty unless the grid shares another grid's tree
   int64_t gridPos = 0, blockPos = 0, endPos = 0;
+  bool checked = false;       // the payload was walked (Full): OpenVDB may read it
+  std::string uncheckedWhy;   // why not, when !checked
+  uint64_t leafCount = 0;     // leaves walked (Full)
 };
 
 struct VdbFrame {
@@ -28,12 +60,21 @@ struct VdbFrame {
   std::vector<VdbGridFrame> grids;
 };
 
-/// Walks the framing of `path`. Throws vox::Error (BadInput) naming the file and
-/// the element (header field, metadata entry, grid descriptor) that is
-/// truncated or out of range.
-VdbFrame checkVdbStructure(const std::string& path);
+/// How far the walk goes. Framing: header, file metadata and grid descriptors
+/// with their byte ranges (enough to tell a file cut short by a full disk).
+/// Full: also every grid's payload, every compressed block decompressed.
+enum class VdbCheck { Framing, Full };
+
+/// Walks `path`. Throws vox::Error (BadInput) naming the file, the grid and the
+/// element (header field, metadata entry, node, mask, compressed block) that is
+/// truncated, out of range or inconsistent. A Full walk of a file whose status
+/// last changed over two seconds earlier is remembered for the process (keyed
+/// by path, device, inode, size, modification and change times), so a command
+/// that opens a file twice walks it once.
+VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth = VdbCheck::Full);
 
 /// Same on bytes in memory.
-VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& nameForMessages);
+VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& nameForMessages,
+                           VdbCheck depth = VdbCheck::Full);
 
 }  // namespace vox
