@@ -1,0 +1,70 @@
+// Every input the fuzzers found a fault with (tests/fuzz/regressions/<target>/)
+// and every committed seed (tests/fuzz/seeds/<target>/), run through the
+// target's own entry point (tests/fuzz/fuzz_<target>.cpp compiled with
+// VOX_FUZZ_REPLAY), so the fixes stay covered without clang. A regression
+// that comes back crashes or aborts this test, or throws past it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#define VOX_FUZZ_DECLARE(name) int voxFuzz_##name(const uint8_t* data, size_t size);
+VOX_FUZZ_DECLARE(gltf)
+VOX_FUZZ_DECLARE(blockmap)
+VOX_FUZZ_DECLARE(classes)
+VOX_FUZZ_DECLARE(camera)
+VOX_FUZZ_DECLARE(touched)
+VOX_FUZZ_DECLARE(classtable)
+VOX_FUZZ_DECLARE(rendermeta)
+VOX_FUZZ_DECLARE(atlasmeta)
+VOX_FUZZ_DECLARE(png)
+VOX_FUZZ_DECLARE(exr)
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The files of tests/fuzz/<kind>/<target>/, sorted (none when the folder is absent).
+std::vector<fs::path> inputsOf(const std::string& kind, const std::string& target) {
+  std::vector<fs::path> files;
+  const fs::path dir = fs::path(VOX_SOURCE_DIR) / "tests" / "fuzz" / kind / target;
+  if (fs::is_directory(dir))
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// Runs every regression and seed of `target`; returns how many ran.
+size_t replay(const std::string& target, int (*entry)(const uint8_t*, size_t)) {
+  size_t count = 0;
+  for (const char* kind : {"regressions", "seeds"})
+    for (const fs::path& file : inputsOf(kind, target)) {
+      SCOPED_TRACE(file.string());
+      std::ifstream in(file, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_EQ(entry(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), 0);
+      ++count;
+    }
+  return count;
+}
+
+}  // namespace
+
+#define VOX_FUZZ_REPLAY_TEST(name) \
+  TEST(FuzzRegressions, name) { EXPECT_GT(replay(#name, &voxFuzz_##name), 0u) << "no seeds for " #name; }
+
+VOX_FUZZ_REPLAY_TEST(gltf)
+VOX_FUZZ_REPLAY_TEST(blockmap)
+VOX_FUZZ_REPLAY_TEST(classes)
+VOX_FUZZ_REPLAY_TEST(camera)
+VOX_FUZZ_REPLAY_TEST(touched)
+VOX_FUZZ_REPLAY_TEST(classtable)
+VOX_FUZZ_REPLAY_TEST(rendermeta)
+VOX_FUZZ_REPLAY_TEST(atlasmeta)
+VOX_FUZZ_REPLAY_TEST(png)
+VOX_FUZZ_REPLAY_TEST(exr)
