@@ -41,15 +41,31 @@ sources_of() {
   esac
 }
 
+# Compiles each source once into $out/obj (again only when it or a header of
+# the repository is newer than its object), then links the target.
+compile() {
+  local src=$1 obj=$out/obj/${1//\//_}.o
+  if [ ! -f "$obj" ] || [ -n "$(find "$src" formats libvox tests/fuzz -name '*.h' -newer "$obj" -print -quit 2>/dev/null)" ] ||
+     [ "$src" -nt "$obj" ]; then
+    clang++ -std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -I. -I/usr/include/Imath -I/usr/include/OpenEXR \
+      -I/usr/include/stb -c "$src" -o "$obj" || return 4
+  fi
+  echo "$obj"
+}
+
 build_target() {
-  local name=$1
+  local name=$1 objs="" src obj
   [ -f "$build/libvox.a" ] || { echo "fuzz_all.sh: no $build/libvox.a; build vox first (BUILD_DIR)" >&2; return 4; }
+  mkdir -p "$out/obj"
+  for src in tests/fuzz/fuzz_$name.cpp $(sources_of "$name"); do
+    obj=$(compile "$src") || return 4
+    objs+="$obj "
+  done
   local libs
   libs=$(sed -n '/^build bin\/vox_unit_tests /,/LINK_LIBRARIES/p' "$build/build.ninja" | sed -n 's/^ *LINK_LIBRARIES = //p' |
          tr ' ' '\n' | grep -v -e gtest -e '^$' | sed "s|^lib\(vox[a-z]*\)\.a$|$build/lib\1.a|" | tr '\n' ' ')
-  # shellcheck disable=SC2046,SC2086
-  clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -I. -I/usr/include/Imath -I/usr/include/OpenEXR -I/usr/include/stb \
-    tests/fuzz/fuzz_$name.cpp $(sources_of "$name") $libs -lstb -o "$out/fuzz_$name"
+  # shellcheck disable=SC2086
+  clang++ -fsanitize=fuzzer,address,undefined $objs $libs -lstb -o "$out/fuzz_$name"
 }
 
 # Seeds: the committed ones, and the project's small inputs of the kind.

@@ -12,6 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "formats/image/image.h"
+#include "libvox/core/error.h"
+
 #define VOX_FUZZ_DECLARE(name) int voxFuzz_##name(const uint8_t* data, size_t size);
 VOX_FUZZ_DECLARE(gltf)
 VOX_FUZZ_DECLARE(blockmap)
@@ -68,3 +71,12 @@ VOX_FUZZ_REPLAY_TEST(rendermeta)
 VOX_FUZZ_REPLAY_TEST(atlasmeta)
 VOX_FUZZ_REPLAY_TEST(png)
 VOX_FUZZ_REPLAY_TEST(exr)
+
+// The file reader shares the fuzzed decoder's checks: each PNG regression is
+// refused (vox::Error) by readPng too, before its pixels are allocated.
+TEST(FuzzRegressions, pngFileReader) {
+  for (const fs::path& file : inputsOf("regressions", "png")) {
+    SCOPED_TRACE(file.string());
+    EXPECT_THROW(vox::readPng(file.string()), vox::Error);
+  }
+}
