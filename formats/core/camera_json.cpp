@@ -79,7 +79,7 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
     bad(name, std::string("not valid JSON: ") + e.what());
   }
   if (!doc.is_object()) bad(name, "expected a JSON object (a metadata.json with \"views\", a camera, or \"cameras\")");

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 #include "formats/core/file_util.h"
@@ -114,6 +115,21 @@ bool pngReadHeader(png_structp png, png_infop info, FILE* f, uint32_t* w, uint32
   return true;
 }
 
+/// A header whose pixels its input could not hold compressed is refused
+/// before they are allocated (a 100-byte file claiming 30000 x 30000 would
+/// otherwise take 3.6 GB, and 10^6 x 10^6 end as "out of memory"). deflate
+/// expands at most 1032:1, and libpng's expansions to 8-bit RGBA at most 32:1
+/// (1-bit palette), so `inputBytes` * 1032 * 32 bounds every real PNG.
+/// Returns the message, or "" for a plausible size.
+std::string implausibleSize(const Image& image, uint64_t inputBytes, const std::string& name) {
+  const uint64_t decoded = uint64_t(image.rowBytes()) * image.height;
+  const uint64_t bound = (inputBytes + 1) * 1032 * 32;
+  if (decoded <= bound) return {};
+  return name + ": corrupt or truncated PNG: its header says " + std::to_string(image.width) + " x " +
+                  std::to_string(image.height) + " pixels (" + std::to_string(decoded) +
+                  " bytes), more than its " + std::to_string(inputBytes) + " bytes can hold compressed";
+}
+
 bool pngReadRows(png_structp png, png_infop info, png_bytep* rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_image(png, rows);
@@ -168,6 +184,10 @@ Image readPng(const std::string& path) {
   bool ok = pngReadHeader(png, info, f.get(), &image.width, &image.height, &image.channels, &depth);
   if (ok) {
     image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
+    if (const std::string why = implausibleSize(image, uint64_t(std::filesystem::file_size(path)), path); !why.empty()) {
+      png_destroy_read_struct(&png, &info, nullptr);
+      throwBadInput(why);
+    }
     image.pixels.assign(image.rowBytes() * image.height, 0);
     std::vector<png_bytep> rows(image.height);
     for (uint32_t y = 0; y < image.height; ++y) rows[y] = image.pixels.data() + y * image.rowBytes();
@@ -207,6 +227,10 @@ Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
   bool ok = pngReadHeader(png, info, f.get(), &image.width, &image.height, &image.channels, &depth);
   if (ok) {
     image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
+    if (const std::string why = implausibleSize(image, size, name); !why.empty()) {
+      png_destroy_read_struct(&png, &info, nullptr);
+      throwBadInput(why);
+    }
     image.pixels.assign(image.rowBytes() * image.height, 0);
     std::vector<png_bytep> rows(image.height);
     for (uint32_t y = 0; y < image.height; ++y) rows[y] = image.pixels.data() + y * image.rowBytes();

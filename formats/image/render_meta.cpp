@@ -52,7 +52,7 @@ RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error&) {
+  } catch (const json::exception&) {  // parse_error, and out_of_range.406 for a number past double's range
     throwBadInput(where + " is not valid JSON");
   }
   if (!j.is_object()) throwBadInput(where + " is not a JSON object");

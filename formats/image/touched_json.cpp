@@ -43,7 +43,7 @@ TouchedSet parseTouchedSet(const std::string& text, const std::string& name) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
     bad(name, std::string("not valid JSON: ") + e.what());
   }
   if (!doc.is_object() || !doc.contains("format") || doc["format"] != kTouchedSetFormat)

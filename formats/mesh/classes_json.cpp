@@ -18,6 +18,8 @@ ClassMapping parseClassMapping(const std::string& text, const std::string& path)
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
     throwBadInput(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const json::exception& e) {  // a number past double's range (out_of_range.406) is not a parse_error
+    throwBadInput(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_object() || !doc.contains("classes") || !doc["classes"].is_array())
     throwBadInput(path + ": expected an object with a \"classes\" array");

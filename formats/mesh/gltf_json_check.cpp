@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -38,18 +39,15 @@ bool listed(const std::array<const char*, N>& names, const std::string& s) {
 
 /// The JSON text: the whole .gltf, or the first chunk of a .glb (its header is
 /// checked here only as far as finding that chunk needs; tinygltf checks the rest).
-std::string jsonText(const std::string& path) {
-  if (!hasExtension(path, ".glb")) return readFileBytes(path);
-  std::ifstream in(path, std::ios::binary);
+std::string jsonText(const std::string& bytes, bool isBinary) {
+  if (!isBinary) return bytes;
   uint32_t header[5] = {};
-  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+  if (bytes.size() < sizeof header) return {};
+  std::memcpy(header, bytes.data(), sizeof header);
   if (header[0] != 0x46546C67u || header[4] != 0x4E4F534Au) return {};  // "glTF", chunk type "JSON"
   const uint64_t length = header[3];
-  const uint64_t fileBytes = std::filesystem::file_size(path);
-  if (length > fileBytes - sizeof header) return {};  // tinygltf reports the truncation
-  std::string text(size_t(length), '\0');
-  if (!in.read(text.data(), std::streamsize(length))) return {};
-  return text;
+  if (length > bytes.size() - sizeof header) return {};  // tinygltf reports the truncation
+  return bytes.substr(sizeof header, size_t(length));
 }
 
 class Checker {
@@ -224,7 +222,11 @@ class Checker {
 }  // namespace
 
 void checkGltfJson(const std::string& path) {
-  const std::string text = jsonText(path);
+  checkGltfJsonBytes(readFileBytes(path), path, hasExtension(path, ".glb"));
+}
+
+void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary) {
+  const std::string text = jsonText(bytes, isBinary);
   const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object()) return;  // tinygltf names the parse error
   Checker(doc, path).run();

@@ -20,4 +20,8 @@ namespace vox {
 /// is left for tinygltf to report.
 void checkGltfJson(const std::string& path);
 
+/// The same on the file's bytes already in memory: `isBinary` says they are a
+/// .glb container; `path` is used in messages only.
+void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary);
+
 }  // namespace vox

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "formats/core/file_kinds.h"
@@ -160,18 +161,31 @@ bool readWholeGltfFile(std::vector<unsigned char>* out, std::string* err, const 
   }
 }
 
-/// Loads the container (tinygltf: JSON or GLB, buffers, images decoded).
+/// Loads the container (tinygltf: JSON or GLB, buffers, images decoded) from
+/// the file's bytes; external buffers and images are read beside `path`.
 /// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
-tinygltf::Model loadModel(const std::string& path, std::vector<std::string>& warnings) {
+tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary,
+                          std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeGltfFile,
                          &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warn;
-  requireRegularFile(path);
-  checkGltfJson(path);
-  const bool ok = hasExtension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  checkGltfJsonBytes(bytes, path, isBinary);
+  // tinygltf's base directory of a path (its GetBaseDir): external URIs resolve
+  // against it exactly as LoadASCIIFromFile / LoadBinaryFromFile resolve them.
+  const size_t slash = path.find_last_of("/\\");
+  const std::string baseDir = slash == std::string::npos ? std::string() : path.substr(0, slash);
+  if (bytes.size() > uint64_t(std::numeric_limits<unsigned int>::max()))
+    throwBadInput(path + ": cannot read the glTF file: larger than 4 GiB");
+  bool ok = false;
+  if (bytes.empty())
+    err = "Empty file.";  // as tinygltf's file loaders say (its binary one would index past the end)
+  else if (isBinary)
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                     static_cast<unsigned int>(bytes.size()), baseDir);
+  else
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()), baseDir);
   if (!ok) {
     std::string why = (err.empty() ? warn : err).substr(0, 300);
     while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
@@ -467,7 +481,13 @@ void padVertexAttributes(Mesh& mesh) {
 }  // namespace
 
 Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
-  const tinygltf::Model model = loadModel(path, warnings);
+  requireRegularFile(path);
+  return readGltfMemory(readFileBytes(path), path, hasExtension(path, ".glb"), options, warnings);
+}
+
+Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
+                    std::vector<std::string>& warnings) {
+  const tinygltf::Model model = loadModel(bytes, path, isBinary, warnings);
   Mesh mesh;
   listFilesRead(model, path, mesh);
   refuseMissingImages(model, path, options, warnings);

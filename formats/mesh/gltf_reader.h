@@ -25,4 +25,11 @@ namespace vox {
 
 Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
 
+/// The same from the file's bytes already in memory (the fuzz target's entry;
+/// readGltf reads the file and calls it). `isBinary`: the bytes are a .glb
+/// container, else .gltf JSON. `path` names the input in messages, and its
+/// directory is where external buffers and images are looked for.
+Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
+                    std::vector<std::string>& warnings);
+
 }  // namespace vox

@@ -32,6 +32,8 @@ Scene parseBlockMap(const std::string& text, const std::string& path, const Bloc
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
     bad("not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+  } catch (const json::exception& e) {  // a number past double's range (out_of_range.406) is not a parse_error
+    bad(std::string("not valid JSON: ") + e.what());
   }
   if (!doc.is_object()) bad("expected a JSON object with 'worldScale' and 'blocks'");
   if (!doc.contains("worldScale")) bad("missing 'worldScale' (a number > 0, e.g. 2.0)");
