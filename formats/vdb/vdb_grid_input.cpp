@@ -60,6 +60,10 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
     wmin = openvdb::math::minComponent(wmin, wp);
     wmax = openvdb::math::maxComponent(wmax, wp);
   }
+  for (int a = 0; a < 3; ++a)
+    if (!(std::fabs(wmin[a]) <= kMaxWorldCoordinate) || !(std::fabs(wmax[a]) <= kMaxWorldCoordinate))
+      throwBadInput(path + ": grid '" + name + "': its transform places the grid beyond +-1e15 world units (a "
+                    "degenerate or extreme transform); no scene can hold it");
   SceneHeader header;
   PlacementOptions place;
   place.resolution = o.resolution;
