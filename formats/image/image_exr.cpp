@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -73,6 +74,17 @@ Image readExr(const std::string& path) {
     }
     if (image.channels == 0) throwBadInput(path + ": no R channel");
     image.type = type == Imf::UINT ? SampleType::U32 : type == Imf::HALF ? SampleType::F16 : SampleType::F32;
+    // A data window its file could not hold compressed is refused before its
+    // pixels are allocated: a 1 KB render edited to claim 16777216 x 6 pixels
+    // was read as an image (0.43 GB, 2.6 s). No EXR compression expands more
+    // than 2^17:1 (deflate 1032:1, RLE 64:1, PIZ's run codes about 300:1,
+    // DWA's run-length then deflate stages below 2^17 together).
+    const uint64_t decoded = uint64_t(image.rowBytes()) * image.height;
+    const uint64_t fileBytes = std::filesystem::file_size(path);
+    if (decoded > (fileBytes + 1) << 17)
+      throwBadInput(path + ": corrupt or truncated EXR: its data window is " + std::to_string(image.width) + " x " +
+                    std::to_string(image.height) + " pixels (" + std::to_string(decoded) + " bytes), more than its " +
+                    std::to_string(fileBytes) + " bytes can hold compressed");
     image.pixels.assign(image.rowBytes() * image.height, 0);
     const size_t sb = sampleBytes(image.type);
     Imf::FrameBuffer fb;
