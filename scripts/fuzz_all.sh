@@ -1,10 +1,11 @@
 #!/bin/bash
 # Builds and runs every libFuzzer target for a fixed time each, one after the
 # other, and prints a table: target, runs, seconds, result.
-#   the parsers of their own scripts: obj ply stl (scripts/fuzz.sh), pagefile
-#     (scripts/fuzz_pagefile.sh), vdb (scripts/fuzz_vdb.sh, when it exists);
-#   built here (tests/fuzz/fuzz_NAME.cpp): gltf blockmap classes camera touched
-#     classtable rendermeta atlasmeta png exr.
+#   the parsers of their own scripts: pagefile (scripts/fuzz_pagefile.sh), vdb
+#     (scripts/fuzz_vdb.sh, when it exists);
+#   built here (tests/fuzz/fuzz_NAME.cpp): obj ply stl (as scripts/fuzz.sh
+#     builds them, but linked against the vox build), gltf blockmap classes
+#     camera touched classtable rendermeta atlasmeta png exr.
 # The parsers under test are compiled with clang -fsanitize=fuzzer,address,undefined;
 # what they call from the rest of vox is linked from the CMake build's static
 # libraries (BUILD_DIR, default build: configure and build it first), which the
@@ -28,6 +29,7 @@ mkdir -p "$out"
 # The instrumented sources of a target (beside tests/fuzz/fuzz_NAME.cpp).
 sources_of() {
   case $1 in
+    obj|ply|stl) echo formats/mesh/${1}_reader.cpp formats/mesh/mesh_input.cpp ;;
     gltf) echo formats/mesh/gltf_reader.cpp formats/mesh/gltf_json_check.cpp tests/fuzz/tinygltf_impl.cpp ;;
     blockmap) echo formats/vdb/blockmap_json.cpp ;;
     classes) echo formats/mesh/classes_json.cpp formats/scene/class_table_json.cpp ;;
@@ -75,6 +77,7 @@ seed_target() {
   cp tests/fuzz/seeds/"$name"/* "$corpus/" 2>/dev/null
   local globs=""
   case $name in
+    obj|ply|stl) globs="tests/cli/*.$name ../shared/data/*/*.$name" ;;
     gltf) globs="tests/cli/*.gltf tests/cli/*.glb ../shared/data/gltf/*/*.gltf ../shared/data/gltf/*/*.glb" ;;
     blockmap) globs="tests/cli/map*.json" ;;
     png) globs="tests/golden/*/*.png tests/cli/*.png" ;;
@@ -100,7 +103,6 @@ for name in $targets; do
   start=$(date +%s)
   rc=0
   case $name in
-    obj|ply|stl) scripts/fuzz.sh "$name" "$seconds" >"$out/log-$name.txt" 2>&1 || rc=$? ;;
     pagefile) FUZZ_DIR=$out scripts/fuzz_pagefile.sh "$seconds" >"$out/log-$name.txt" 2>&1 || rc=$? ;;
     vdb) FUZZ_DIR=$out scripts/fuzz_vdb.sh "$seconds" >"$out/log-$name.txt" 2>&1 || rc=$? ;;
     *) if build_target "$name" >"$out/build-$name.txt" 2>&1; then seed_target "$name"; run_target "$name" || rc=$?

@@ -16,7 +16,7 @@ command -v clang++ >/dev/null || { echo "fuzz_pagefile.sh: needs clang++ (apt-ge
 # libvox/core and formats/scene.
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION -I. \
   tests/fuzz/fuzz_pagefile.cpp formats/pagefile/pagefile.cpp formats/pagefile/layouts.cpp \
-  formats/pagefile/*_layout.cpp formats/pagefile/pagefile_meta.cpp formats/scene/scene_meta.cpp \
+  formats/pagefile/*_layout.cpp formats/pagefile/pagefile_meta.cpp formats/scene/scene_meta.cpp formats/scene/class_table_json.cpp formats/core/file_util.cpp \
   libvox/core/crc32c.cpp libvox/core/summary_bytes.cpp libvox/core/color.cpp libvox/core/classes.cpp \
   -o "$out/fuzz_pagefile"
 vox=${BUILD_DIR:-build}/bin/vox

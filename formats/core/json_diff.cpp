@@ -144,8 +144,9 @@ JsonDiff diffJson(const nlohmann::json& a, const nlohmann::json& b, const JsonDi
 nlohmann::json parseJsonDocument(const std::string& text, const std::string& name) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() carries "line L, column C" of the fault.
+  } catch (const nlohmann::json::exception& e) {
+    // A parse_error's e.what() carries "line L, column C" of the fault; a number
+    // past double's range is an out_of_range (406), not a parse_error.
     std::string what = e.what();
     const size_t at = what.find("parse error");
     throw Error(ErrorKind::BadInput, name + ": not valid JSON: " + (at == std::string::npos ? what : what.substr(at)));

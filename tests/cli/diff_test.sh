@@ -158,6 +158,11 @@ pages)
   jq_py "assert d['chunks_differing']==0 and [h['field'] for h in d['header']]==['layout'], d['header']"
   ;;
 json)
+  # A number past double's range is malformed JSON: exit 3 naming the file.
+  printf '{"a": 1e999}' > huge.json
+  printf '{"a": 1}' > one.json
+  expect_exit 3 "$vox" diff huge.json one.json
+  expect_stderr "huge.json: not valid JSON"
   maps
   "$vox" voxelize m1.json -o r1.vdb --grid-size 8,8,8 --report r1.json --quiet
   "$vox" voxelize m1.json -o r2.vdb --grid-size 8,8,8 --report r2.json --quiet

@@ -12,4 +12,4 @@ endforeach()
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_fuzz_regressions.cpp)
 
 add_test(NAME fuzz.smoke COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/smoke.sh ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR})
-set_tests_properties(fuzz.smoke PROPERTIES TIMEOUT 600)
+set_tests_properties(fuzz.smoke PROPERTIES TIMEOUT 1500)
