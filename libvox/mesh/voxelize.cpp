@@ -23,6 +23,7 @@
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/voxel_blocks.h"
+#include "libvox/mesh/winding_number.h"
 
 namespace vox {
 
@@ -659,13 +660,13 @@ struct SolidRays {
 
 /// The crossings of every triangle with the rays along `axis`, triangles split
 /// into `threads` pieces and concatenated in piece order.
-std::vector<Crossing> collectCrossings(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
-                                       const std::vector<Vec3i>& lattice, const VoxelBox& box, int axis,
-                                       unsigned threads) {
+std::vector<Crossing> collectCrossings(const std::vector<std::array<uint32_t, 3>>& triangles,
+                                       const std::vector<uint8_t>& triangleClass, const std::vector<Vec3i>& lattice,
+                                       const VoxelBox& box, int axis, unsigned threads) {
   std::vector<std::vector<Crossing>> perPiece(threads);
-  parallelPieces(mesh.triangles.size(), threads, threads, [&](size_t b, size_t e, size_t piece) {
+  parallelPieces(triangles.size(), threads, threads, [&](size_t b, size_t e, size_t piece) {
     for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
+      const auto& tri = triangles[i];
       const Vec3i q[3] = {lattice[tri[0]], lattice[tri[1]], lattice[tri[2]]};
       crossTriangle(q, axis, triangleClass[i], box, perPiece[piece]);
     }
@@ -720,7 +721,7 @@ SolidRays castRays(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
                    const VoxelBox& box, unsigned threads) {
   SolidRays rays;
   for (int axis = 0; axis < 3; ++axis)
-    rays.crossings[axis] = collectCrossings(mesh, triangleClass, lattice, box, axis, threads);
+    rays.crossings[axis] = collectCrossings(mesh.triangles, triangleClass, lattice, box, axis, threads);
   parallelPieces(3, threads, threads, [&](size_t axisBegin, size_t axisEnd, size_t) {
     for (size_t axis = axisBegin; axis < axisEnd; ++axis) {
       std::sort(rays.crossings[axis].begin(), rays.crossings[axis].end());
@@ -802,6 +803,135 @@ void addInterior(VoxelBlocks& blocks, const SolidRays& rays, const BoxBits& surf
   for (auto& b : interior) blocks.merge(std::move(*b));
 }
 
+// ---------------------------------------------------------------- winding-number solid pass
+
+/// The mesh closed by caps over its boundary loops (libvox/mesh/winding_number.h):
+/// its triangles and lattice points (the mesh's, then the caps'), classes (a cap
+/// takes the class of the triangle owning its boundary edge).
+struct CappedMesh {
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<Vec3i> lattice;
+  std::vector<uint8_t> classes;
+};
+
+CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const std::vector<Vec3i>& lattice,
+                   const std::vector<CapTriangle>& caps) {
+  CappedMesh out{mesh.triangles, lattice, triangleClass};
+  for (const CapTriangle& c : caps) {
+    const uint32_t first = uint32_t(out.lattice.size());
+    for (int k = 0; k < 3; ++k) out.lattice.push_back(c.v[k]);
+    out.triangles.push_back({first, first + 1, first + 2});
+    out.classes.push_back(triangleClass[c.sourceTriangle]);
+  }
+  return out;
+}
+
+constexpr int32_t kTile = 8;  // voxels per side of a far-field block
+
+/// The interior of one 8 x 8 column tile of the box, by |winding number| > 0.5
+/// at the voxel centre: integer winding of the capped mesh along +z minus the
+/// caps' solid angle, which is evaluated per 8^3 block with CapField's bound and
+/// per voxel only where the bound cannot decide.
+void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, const CapField& caps,
+                 const BoxBits& surfaceBits, const VoxelBox& box, uint8_t fallbackClass, VoxelBlocks& out) {
+  const int32_t nx = std::min(kTile, box.hi[0] - x0 + 1), ny = std::min(kTile, box.hi[1] - y0 + 1);
+  const int32_t nz = box.ext[2];
+  const size_t columns = size_t(nx) * size_t(ny);
+  std::vector<int32_t> winding(columns * size_t(nz));
+  std::vector<int16_t> cls(columns * size_t(nz));  // -1: no entering crossing below
+  std::vector<uint8_t> inside(columns * size_t(nz), 0);
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j) {
+      const size_t col = size_t(i) * size_t(ny) + size_t(j);
+      const uint64_t column = box.columnIndex(2, x0 + i, y0 + j);
+      auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
+      int w = 0, c = -1;
+      for (int32_t k = 0; k < nz; ++k) {
+        while (cur != zCross.end() && cur->column == column && cur->start <= box.lo[2] + k) {
+          if (enters(w, cur->delta)) c = cur->cls;
+          w += cur->delta;
+          ++cur;
+        }
+        winding[col * size_t(nz) + size_t(k)] = w;
+        cls[col * size_t(nz) + size_t(k)] = int16_t(c);
+      }
+    }
+  std::vector<uint32_t> near;
+  for (int32_t z0 = 0; z0 < nz; z0 += kTile) {
+    const int32_t mz = std::min(kTile, nz - z0);
+    // Any non-surface voxel in the block?
+    bool any = false;
+    for (int32_t i = 0; i < nx && !any; ++i)
+      for (int32_t j = 0; j < ny && !any; ++j) {
+        const uint64_t bits = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + z0));
+        any = (~bits & ((uint64_t(1) << mz) - 1)) != 0;
+      }
+    if (!any) continue;
+    double farValue = 0, farBound = 0;
+    if (!caps.empty()) {
+      const double centre[3] = {x0 + nx * 0.5, y0 + ny * 0.5, box.lo[2] + z0 + mz * 0.5};
+      const double radius = 0.5 * std::sqrt(double((nx - 1) * (nx - 1) + (ny - 1) * (ny - 1) + (mz - 1) * (mz - 1)));
+      caps.splitForBlock(centre, radius, farValue, farBound, near);
+    }
+    for (int32_t i = 0; i < nx; ++i)
+      for (int32_t j = 0; j < ny; ++j) {
+        const uint64_t surf = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + z0));
+        const size_t col = size_t(i) * size_t(ny) + size_t(j);
+        for (int32_t k = 0; k < mz; ++k) {
+          if (surf >> k & 1) continue;
+          const size_t at = col * size_t(nz) + size_t(z0 + k);
+          const int32_t I = winding[at];
+          if (caps.empty()) {
+            inside[at] = I != 0;
+            continue;
+          }
+          const double p[3] = {x0 + i + 0.5, y0 + j + 0.5, box.lo[2] + z0 + k + 0.5};
+          const double v = double(I) - farValue - (near.empty() ? 0.0 : caps.winding(p, &near));
+          if (std::abs(v) - farBound > 0.5) inside[at] = 1;
+          else if (std::abs(v) + farBound < 0.5) inside[at] = 0;
+          else inside[at] = std::abs(double(I) - caps.winding(p)) > 0.5;  // the bound cannot decide: every cap
+        }
+      }
+  }
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j) {
+      const size_t col = size_t(i) * size_t(ny) + size_t(j);
+      for (int32_t k = 0; k < nz;) {
+        const size_t at = col * size_t(nz) + size_t(k);
+        if (!inside[at]) {
+          ++k;
+          continue;
+        }
+        int32_t e = k + 1;
+        while (e < nz && inside[at + size_t(e - k)] && cls[at + size_t(e - k)] == cls[at]) ++e;
+        const uint8_t c = cls[at] >= 0 ? uint8_t(cls[at]) : fallbackClass;
+        out.addRun({x0 + i, y0 + j, box.lo[2] + k}, uint32_t(e - k), c, kInteriorVotes, false);
+        k = e;
+      }
+    }
+}
+
+/// The interior by the winding-number rule: tiles of x slabs split into
+/// `threads` pieces, merged in piece order.
+void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                        const std::vector<Vec3i>& lattice, const std::vector<CapTriangle>& caps,
+                        const BoxBits& surfaceBits, const VoxelBox& box, unsigned threads) {
+  const CappedMesh capped = capMesh(mesh, triangleClass, lattice, caps);
+  std::vector<Crossing> zCross = collectCrossings(capped.triangles, capped.classes, capped.lattice, box, 2, threads);
+  std::sort(zCross.begin(), zCross.end());
+  const CapField field(caps);
+  const size_t tilesX = (box.extent(0) + kTile - 1) / kTile;
+  std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+  for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
+  parallelPieces(tilesX, threads, threads, [&](size_t tb, size_t te, size_t piece) {
+    for (size_t t = tb; t < te; ++t)
+      for (int32_t y0 = box.lo[1]; y0 <= box.hi[1]; y0 += kTile)
+        windingTile(box.lo[0] + int32_t(t) * kTile, y0, zCross, field, surfaceBits, box, triangleClass[0],
+                    *interior[piece]);
+  });
+  for (auto& b : interior) blocks.merge(std::move(*b));
+}
+
 }  // namespace
 
 VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
@@ -813,16 +943,36 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
 
   const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
   std::optional<VoxelBox> box;
-  if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) box = solidFillBox(mesh, lattice, header.dims);
+  std::vector<CapTriangle> caps;
+  if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) {
+    box = solidFillBox(mesh, lattice, header.dims);
+    if (box && settings.solidRule == SolidRule::Winding) {
+      caps = capBoundaryLoops(mesh.triangles, lattice);
+      // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the
+      // caps); grow the box by the caps' reach (CapField::reach), within the domain.
+      const int64_t grow = int64_t(std::ceil(CapField(caps).reach())) + 1;
+      if (!caps.empty()) {
+        const int64_t dimv[3] = {int64_t(header.dims.x), int64_t(header.dims.y), int64_t(header.dims.z)};
+        int32_t lo[3], hi[3];
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = int32_t(std::max<int64_t>(0, box->lo[k] - grow));
+          hi[k] = int32_t(std::min<int64_t>(dimv[k] - 1, box->hi[k] + grow));
+        }
+        box = VoxelBox(lo, hi);
+      }
+    }
+  }
   std::unique_ptr<BoxBits> surfaceBits = box ? std::make_unique<BoxBits>(*box) : nullptr;
 
   const double surfaceShare = box ? 0.5 : 1.0;
   const SurfaceWork work{mesh, triangleClass, lattice, header.dims, mesh.hasColor(), surfaceBits.get()};
   VoxelBlocks blocks = voxelizeSurface(work, threads, progress, surfaceShare);
-  if (box) {
+  if (box && settings.solidRule == SolidRule::Parity) {
     const SolidRays rays = castRays(mesh, triangleClass, lattice, *box, threads);
     progress(surfaceShare + 0.45);
     addInterior(blocks, rays, *surfaceBits, *box, triangleClass[0], threads);
+  } else if (box) {
+    addWindingInterior(blocks, mesh, triangleClass, lattice, caps, *surfaceBits, *box, threads);
   }
   progress(1.0);
   return blocks;
