@@ -16,6 +16,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <unordered_map>
 
@@ -856,42 +857,58 @@ void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, co
         cls[col * size_t(nz) + size_t(k)] = int16_t(c);
       }
     }
-  std::vector<uint32_t> near;
-  for (int32_t z0 = 0; z0 < nz; z0 += kTile) {
-    const int32_t mz = std::min(kTile, nz - z0);
-    // Any non-surface voxel in the block?
-    bool any = false;
-    for (int32_t i = 0; i < nx && !any; ++i)
-      for (int32_t j = 0; j < ny && !any; ++j) {
-        const uint64_t bits = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + z0));
-        any = (~bits & ((uint64_t(1) << mz) - 1)) != 0;
-      }
-    if (!any) continue;
-    double farValue = 0, farBound = 0;
-    if (!caps.empty()) {
-      const double centre[3] = {x0 + nx * 0.5, y0 + ny * 0.5, box.lo[2] + z0 + mz * 0.5};
-      const double radius = 0.5 * std::sqrt(double((nx - 1) * (nx - 1) + (ny - 1) * (ny - 1) + (mz - 1) * (mz - 1)));
-      caps.splitForBlock(centre, radius, farValue, farBound, near);
-    }
-    for (int32_t i = 0; i < nx; ++i)
-      for (int32_t j = 0; j < ny; ++j) {
-        const uint64_t surf = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + z0));
+  std::vector<uint8_t> surface(columns * size_t(nz));
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j)
+      for (int32_t k = 0; k < nz; k += 64) {
+        const uint64_t bits = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + k));
         const size_t col = size_t(i) * size_t(ny) + size_t(j);
-        for (int32_t k = 0; k < mz; ++k) {
-          if (surf >> k & 1) continue;
-          const size_t at = col * size_t(nz) + size_t(z0 + k);
-          const int32_t I = winding[at];
-          if (caps.empty()) {
-            inside[at] = I != 0;
-            continue;
-          }
-          const double p[3] = {x0 + i + 0.5, y0 + j + 0.5, box.lo[2] + z0 + k + 0.5};
-          const double v = double(I) - farValue - (near.empty() ? 0.0 : caps.winding(p, &near));
-          if (std::abs(v) - farBound > 0.5) inside[at] = 1;
-          else if (std::abs(v) + farBound < 0.5) inside[at] = 0;
-          else inside[at] = std::abs(double(I) - caps.winding(p)) > 0.5;  // the bound cannot decide: every cap
-        }
+        for (int32_t b = 0; b < 64 && k + b < nz; ++b) surface[col * size_t(nz) + size_t(k + b)] = uint8_t(bits >> b & 1);
       }
+  auto at = [&](int32_t i, int32_t j, int32_t k) { return (size_t(i) * size_t(ny) + size_t(j)) * size_t(nz) + size_t(k); };
+  if (caps.empty()) {  // closed: w = W exactly
+    for (size_t q = 0; q < inside.size(); ++q) inside[q] = !surface[q] && winding[q] != 0;
+  } else {
+    std::vector<uint32_t> near;
+    // Octree descent over a block [i0, i1) x [j0, j1) x [k0, k1) (tile-local):
+    // decided by the far-field bound when no cap is near and the bound keeps
+    // every voxel on one side of 0.5; else split in 8; single voxels exactly.
+    std::function<void(int32_t, int32_t, int32_t, int32_t, int32_t, int32_t)> decide =
+        [&](int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
+          bool any = false;
+          for (int32_t i = i0; i < i1 && !any; ++i)
+            for (int32_t j = j0; j < j1 && !any; ++j)
+              for (int32_t k = k0; k < k1 && !any; ++k) any = !surface[at(i, j, k)];
+          if (!any) return;
+          if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
+            const double p[3] = {x0 + i0 + 0.5, y0 + j0 + 0.5, box.lo[2] + k0 + 0.5};
+            inside[at(i0, j0, k0)] = std::abs(double(winding[at(i0, j0, k0)]) - caps.winding(p)) > 0.5;
+            return;
+          }
+          const double centre[3] = {x0 + 0.5 * (i0 + i1), y0 + 0.5 * (j0 + j1), box.lo[2] + 0.5 * (k0 + k1)};
+          const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
+          const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
+          double farValue = 0, farBound = 0;
+          caps.splitForBlock(centre, radius, farValue, farBound, near);
+          bool decided = near.empty();
+          for (int32_t i = i0; i < i1 && decided; ++i)
+            for (int32_t j = j0; j < j1 && decided; ++j)
+              for (int32_t k = k0; k < k1 && decided; ++k) {
+                if (surface[at(i, j, k)]) continue;
+                const double v = std::abs(double(winding[at(i, j, k)]) - farValue);
+                if (v - farBound > 0.5) inside[at(i, j, k)] = 1;
+                else if (v + farBound < 0.5) inside[at(i, j, k)] = 0;
+                else decided = false;
+              }
+          if (decided) return;
+          const int32_t im = i1 - i0 > 1 ? (i0 + i1) / 2 : i1, jm = j1 - j0 > 1 ? (j0 + j1) / 2 : j1,
+                        km = k1 - k0 > 1 ? (k0 + k1) / 2 : k1;
+          for (auto [a0, a1] : {std::pair{i0, im}, std::pair{im, i1}})
+            for (auto [b0, b1] : {std::pair{j0, jm}, std::pair{jm, j1}})
+              for (auto [c0, c1] : {std::pair{k0, km}, std::pair{km, k1}})
+                if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
+        };
+    for (int32_t z0 = 0; z0 < nz; z0 += kTile) decide(0, nx, 0, ny, z0, std::min(nz, z0 + kTile));
   }
   for (int32_t i = 0; i < nx; ++i)
     for (int32_t j = 0; j < ny; ++j) {

@@ -35,9 +35,10 @@
 // +z ray (signed crossings, top-left rule: rays through shared edges and
 // vertices count each crossing once), and w_caps, the caps' solid angle, is
 // evaluated per 8^3 block at its centre with a rigorous bound on its variation
-// over the block for caps farther than the block's radius (|grad Omega| <=
-// 2 A / d^3 per cap triangle), near caps per voxel, and every cap per voxel
-// only where the bound leaves |w| on either side of 0.5. On closed meshes
+// over the block (|grad Omega| <= 2 A / d^3 per cap triangle whose bounding
+// sphere the block does not reach); a block with a cap within reach, or where
+// the bound leaves |w| on either side of 0.5, splits in 8, down to single
+// voxels evaluated over every cap. On closed meshes
 // (no boundary edge after welding equal lattice positions) there are no caps
 // and w = W exactly: inside when W != 0 (inverted, nested and overlapping
 // parts included). Cost beyond the surface: the +z crossings of the capped mesh

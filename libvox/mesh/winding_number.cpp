@@ -156,7 +156,7 @@ void CapField::splitForBlock(const double centre[3], double radius, double& farV
   for (uint32_t i = 0; i < tris_.size(); ++i) {
     const Tri& t = tris_[i];
     const double d = std::hypot(centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]) - t.r - radius;
-    if (d <= radius) {
+    if (d <= 0) {  // the block reaches the triangle's bounding sphere: no bound
       near.push_back(i);
       continue;
     }

@@ -56,8 +56,8 @@ class CapField {
   double winding(const double p[3], const std::vector<uint32_t>* which = nullptr) const;
 
   /// Splits the triangles for a block of points within distance `radius` of
-  /// `centre`: far ones (every point of the block farther than `radius` from
-  /// them) are summed at the centre into `farValue` with `farBound` bounding
+  /// `centre`: far ones (the block's ball does not reach their bounding
+  /// sphere) are summed at the centre into `farValue` with `farBound` bounding
   /// |w_far(p) - w_far(centre)| over the block; the rest go to `near`.
   /// Bound: |grad Omega_t(p)| <= 2 A_t / d^3 (the integrand's gradient
   /// |-n + 3 (r.n) r / |r|^2| / |r|^3 <= 2 / |r|^3), d >= |centre - s_t| - r_t -
