@@ -11,7 +11,7 @@ fail=0
 for m in mesh-misc/assimp/sphereWithHole.stl common-3d-test-models/suzanne.obj common-3d-test-models/teapot.obj \
          common-3d-test-models/beetle.obj mesh-misc/assimp/WusonOBJ.obj cgal-data/pig.stl; do
   if [ ! -f "$DATA/$m" ]; then echo "SKIP: $m absent"; continue; fi
-  "$VOX" voxelize "$DATA/$m" --res 48 --fill solid --check --report "$T/r.json" -o "$T/o.vdb" --threads 2 >/dev/null 2>"$T/err" \
+  "$VOX" voxelize "$DATA/$m" --res 48 --fill solid --ignore-missing-materials --check --report "$T/r.json" -o "$T/o.vdb" --threads 2 >/dev/null 2>"$T/err" \
     || { echo "FAIL: $m: vox exited non-zero"; cat "$T/err"; fail=1; continue; }
   iou=$(python3 -c "import json,sys; print(json.load(open('$T/r.json'))['error']['solid']['iou'])")
   echo "$m interior IoU $iou"
