@@ -16,6 +16,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <unordered_map>
 
@@ -23,6 +24,7 @@
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/voxel_blocks.h"
+#include "libvox/mesh/winding_number.h"
 
 namespace vox {
 
@@ -659,13 +661,13 @@ struct SolidRays {
 
 /// The crossings of every triangle with the rays along `axis`, triangles split
 /// into `threads` pieces and concatenated in piece order.
-std::vector<Crossing> collectCrossings(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
-                                       const std::vector<Vec3i>& lattice, const VoxelBox& box, int axis,
-                                       unsigned threads) {
+std::vector<Crossing> collectCrossings(const std::vector<std::array<uint32_t, 3>>& triangles,
+                                       const std::vector<uint8_t>& triangleClass, const std::vector<Vec3i>& lattice,
+                                       const VoxelBox& box, int axis, unsigned threads) {
   std::vector<std::vector<Crossing>> perPiece(threads);
-  parallelPieces(mesh.triangles.size(), threads, threads, [&](size_t b, size_t e, size_t piece) {
+  parallelPieces(triangles.size(), threads, threads, [&](size_t b, size_t e, size_t piece) {
     for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
+      const auto& tri = triangles[i];
       const Vec3i q[3] = {lattice[tri[0]], lattice[tri[1]], lattice[tri[2]]};
       crossTriangle(q, axis, triangleClass[i], box, perPiece[piece]);
     }
@@ -720,7 +722,7 @@ SolidRays castRays(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
                    const VoxelBox& box, unsigned threads) {
   SolidRays rays;
   for (int axis = 0; axis < 3; ++axis)
-    rays.crossings[axis] = collectCrossings(mesh, triangleClass, lattice, box, axis, threads);
+    rays.crossings[axis] = collectCrossings(mesh.triangles, triangleClass, lattice, box, axis, threads);
   parallelPieces(3, threads, threads, [&](size_t axisBegin, size_t axisEnd, size_t) {
     for (size_t axis = axisBegin; axis < axisEnd; ++axis) {
       std::sort(rays.crossings[axis].begin(), rays.crossings[axis].end());
@@ -802,6 +804,151 @@ void addInterior(VoxelBlocks& blocks, const SolidRays& rays, const BoxBits& surf
   for (auto& b : interior) blocks.merge(std::move(*b));
 }
 
+// ---------------------------------------------------------------- winding-number solid pass
+
+/// The mesh closed by caps over its boundary loops (libvox/mesh/winding_number.h):
+/// its triangles and lattice points (the mesh's, then the caps'), classes (a cap
+/// takes the class of the triangle owning its boundary edge).
+struct CappedMesh {
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<Vec3i> lattice;
+  std::vector<uint8_t> classes;
+};
+
+CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const std::vector<Vec3i>& lattice,
+                   const std::vector<CapTriangle>& caps) {
+  CappedMesh out{mesh.triangles, lattice, triangleClass};
+  for (const CapTriangle& c : caps) {
+    const uint32_t first = uint32_t(out.lattice.size());
+    for (int k = 0; k < 3; ++k) out.lattice.push_back(c.v[k]);
+    out.triangles.push_back({first, first + 1, first + 2});
+    out.classes.push_back(triangleClass[c.sourceTriangle]);
+  }
+  return out;
+}
+
+constexpr int32_t kTile = 8;  // voxels per side of a far-field block
+
+/// The interior of one 8 x 8 column tile of the box, by |winding number| > 0.5
+/// at the voxel centre: integer winding of the capped mesh along +z minus the
+/// caps' solid angle, which is evaluated per 8^3 block with CapField's bound and
+/// per voxel only where the bound cannot decide.
+void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, const CapField& caps,
+                 const BoxBits& surfaceBits, const VoxelBox& box, uint8_t fallbackClass, VoxelBlocks& out) {
+  const int32_t nx = std::min(kTile, box.hi[0] - x0 + 1), ny = std::min(kTile, box.hi[1] - y0 + 1);
+  const int32_t nz = box.ext[2];
+  const size_t columns = size_t(nx) * size_t(ny);
+  std::vector<int32_t> winding(columns * size_t(nz));
+  std::vector<int16_t> cls(columns * size_t(nz));  // -1: no entering crossing below
+  std::vector<uint8_t> inside(columns * size_t(nz), 0);
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j) {
+      const size_t col = size_t(i) * size_t(ny) + size_t(j);
+      const uint64_t column = box.columnIndex(2, x0 + i, y0 + j);
+      auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
+      int w = 0, c = -1;
+      for (int32_t k = 0; k < nz; ++k) {
+        while (cur != zCross.end() && cur->column == column && cur->start <= box.lo[2] + k) {
+          if (enters(w, cur->delta)) c = cur->cls;
+          w += cur->delta;
+          ++cur;
+        }
+        winding[col * size_t(nz) + size_t(k)] = w;
+        cls[col * size_t(nz) + size_t(k)] = int16_t(c);
+      }
+    }
+  std::vector<uint8_t> surface(columns * size_t(nz));
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j)
+      for (int32_t k = 0; k < nz; k += 64) {
+        const uint64_t bits = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + k));
+        const size_t col = size_t(i) * size_t(ny) + size_t(j);
+        for (int32_t b = 0; b < 64 && k + b < nz; ++b) surface[col * size_t(nz) + size_t(k + b)] = uint8_t(bits >> b & 1);
+      }
+  auto at = [&](int32_t i, int32_t j, int32_t k) { return (size_t(i) * size_t(ny) + size_t(j)) * size_t(nz) + size_t(k); };
+  if (caps.empty()) {  // closed: w = W exactly
+    for (size_t q = 0; q < inside.size(); ++q) inside[q] = !surface[q] && winding[q] != 0;
+  } else {
+    std::vector<uint32_t> near;
+    // Octree descent over a block [i0, i1) x [j0, j1) x [k0, k1) (tile-local):
+    // decided by the far-field bound when no cap is near and the bound keeps
+    // every voxel on one side of 0.5; else split in 8; single voxels exactly.
+    std::function<void(int32_t, int32_t, int32_t, int32_t, int32_t, int32_t)> decide =
+        [&](int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
+          bool any = false;
+          for (int32_t i = i0; i < i1 && !any; ++i)
+            for (int32_t j = j0; j < j1 && !any; ++j)
+              for (int32_t k = k0; k < k1 && !any; ++k) any = !surface[at(i, j, k)];
+          if (!any) return;
+          if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
+            const double p[3] = {x0 + i0 + 0.5, y0 + j0 + 0.5, box.lo[2] + k0 + 0.5};
+            inside[at(i0, j0, k0)] = std::abs(double(winding[at(i0, j0, k0)]) - caps.winding(p)) > 0.5;
+            return;
+          }
+          const double centre[3] = {x0 + 0.5 * (i0 + i1), y0 + 0.5 * (j0 + j1), box.lo[2] + 0.5 * (k0 + k1)};
+          const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
+          const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
+          double farValue = 0, farBound = 0;
+          caps.splitForBlock(centre, radius, farValue, farBound, near);
+          bool decided = near.empty();
+          for (int32_t i = i0; i < i1 && decided; ++i)
+            for (int32_t j = j0; j < j1 && decided; ++j)
+              for (int32_t k = k0; k < k1 && decided; ++k) {
+                if (surface[at(i, j, k)]) continue;
+                const double v = std::abs(double(winding[at(i, j, k)]) - farValue);
+                if (v - farBound > 0.5) inside[at(i, j, k)] = 1;
+                else if (v + farBound < 0.5) inside[at(i, j, k)] = 0;
+                else decided = false;
+              }
+          if (decided) return;
+          const int32_t im = i1 - i0 > 1 ? (i0 + i1) / 2 : i1, jm = j1 - j0 > 1 ? (j0 + j1) / 2 : j1,
+                        km = k1 - k0 > 1 ? (k0 + k1) / 2 : k1;
+          for (auto [a0, a1] : {std::pair{i0, im}, std::pair{im, i1}})
+            for (auto [b0, b1] : {std::pair{j0, jm}, std::pair{jm, j1}})
+              for (auto [c0, c1] : {std::pair{k0, km}, std::pair{km, k1}})
+                if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
+        };
+    for (int32_t z0 = 0; z0 < nz; z0 += kTile) decide(0, nx, 0, ny, z0, std::min(nz, z0 + kTile));
+  }
+  for (int32_t i = 0; i < nx; ++i)
+    for (int32_t j = 0; j < ny; ++j) {
+      const size_t col = size_t(i) * size_t(ny) + size_t(j);
+      for (int32_t k = 0; k < nz;) {
+        const size_t at = col * size_t(nz) + size_t(k);
+        if (!inside[at]) {
+          ++k;
+          continue;
+        }
+        int32_t e = k + 1;
+        while (e < nz && inside[at + size_t(e - k)] && cls[at + size_t(e - k)] == cls[at]) ++e;
+        const uint8_t c = cls[at] >= 0 ? uint8_t(cls[at]) : fallbackClass;
+        out.addRun({x0 + i, y0 + j, box.lo[2] + k}, uint32_t(e - k), c, kInteriorVotes, false);
+        k = e;
+      }
+    }
+}
+
+/// The interior by the winding-number rule: tiles of x slabs split into
+/// `threads` pieces, merged in piece order.
+void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                        const std::vector<Vec3i>& lattice, const std::vector<CapTriangle>& caps,
+                        const BoxBits& surfaceBits, const VoxelBox& box, unsigned threads) {
+  const CappedMesh capped = capMesh(mesh, triangleClass, lattice, caps);
+  std::vector<Crossing> zCross = collectCrossings(capped.triangles, capped.classes, capped.lattice, box, 2, threads);
+  std::sort(zCross.begin(), zCross.end());
+  const CapField field(caps);
+  const size_t tilesX = (box.extent(0) + kTile - 1) / kTile;
+  std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+  for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
+  parallelPieces(tilesX, threads, threads, [&](size_t tb, size_t te, size_t piece) {
+    for (size_t t = tb; t < te; ++t)
+      for (int32_t y0 = box.lo[1]; y0 <= box.hi[1]; y0 += kTile)
+        windingTile(box.lo[0] + int32_t(t) * kTile, y0, zCross, field, surfaceBits, box, triangleClass[0],
+                    *interior[piece]);
+  });
+  for (auto& b : interior) blocks.merge(std::move(*b));
+}
+
 }  // namespace
 
 VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
@@ -813,16 +960,36 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
 
   const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
   std::optional<VoxelBox> box;
-  if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) box = solidFillBox(mesh, lattice, header.dims);
+  std::vector<CapTriangle> caps;
+  if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) {
+    box = solidFillBox(mesh, lattice, header.dims);
+    if (box && settings.solidRule == SolidRule::Winding) {
+      caps = capBoundaryLoops(mesh.triangles, lattice);
+      // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the
+      // caps); grow the box by the caps' reach (CapField::reach), within the domain.
+      const int64_t grow = int64_t(std::ceil(CapField(caps).reach())) + 1;
+      if (!caps.empty()) {
+        const int64_t dimv[3] = {int64_t(header.dims.x), int64_t(header.dims.y), int64_t(header.dims.z)};
+        int32_t lo[3], hi[3];
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = int32_t(std::max<int64_t>(0, box->lo[k] - grow));
+          hi[k] = int32_t(std::min<int64_t>(dimv[k] - 1, box->hi[k] + grow));
+        }
+        box = VoxelBox(lo, hi);
+      }
+    }
+  }
   std::unique_ptr<BoxBits> surfaceBits = box ? std::make_unique<BoxBits>(*box) : nullptr;
 
   const double surfaceShare = box ? 0.5 : 1.0;
   const SurfaceWork work{mesh, triangleClass, lattice, header.dims, mesh.hasColor(), surfaceBits.get()};
   VoxelBlocks blocks = voxelizeSurface(work, threads, progress, surfaceShare);
-  if (box) {
+  if (box && settings.solidRule == SolidRule::Parity) {
     const SolidRays rays = castRays(mesh, triangleClass, lattice, *box, threads);
     progress(surfaceShare + 0.45);
     addInterior(blocks, rays, *surfaceBits, *box, triangleClass[0], threads);
+  } else if (box) {
+    addWindingInterior(blocks, mesh, triangleClass, lattice, caps, *surfaceBits, *box, threads);
   }
   progress(1.0);
   return blocks;

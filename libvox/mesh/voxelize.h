@@ -24,18 +24,39 @@
 // voxel touched only along an edge still counts). Integer sums make the result
 // independent of the thread count.
 //
-// Solid fill: surface voxels plus the voxels whose centre is inside the mesh.
-// Inside is decided per voxel centre by the winding number along three
-// axis-parallel rays (+x, +y, +z) through it, computed exactly from the signed
-// crossings of each ray with the triangles (a top-left rule makes rays through
-// shared edges and vertices count each crossing once). A centre is inside when
-// at least two of the three rays see a non-zero winding number: non-zero handles
-// inverted winding, nested and overlapping parts; the 2-of-3 vote repairs most
-// cracks and holes in open meshes (a hole only misleads the rays that pass
-// through it). Interior voxels get kInteriorVotes votes for the class of the
-// triangle whose crossing last entered a part along +z (the part that encloses
-// them; a crossing enters when it raises |winding number|, so parts with
-// inverted winding are entered too), no colour, and surface flag false.
+// Solid fill: surface voxels plus the voxels whose centre is inside the mesh,
+// by one of two rules (SolidRule):
+//
+// Winding (default): a centre p is inside when |w(p)| > 0.5, w the generalised
+// winding number (Jacobson et al. 2013: the sum of the triangles' solid angles
+// / 4pi). Computed as w = W - w_caps (libvox/mesh/winding_number.h): the
+// boundary loops of the mesh are closed by caps (fans around each loop's
+// centroid), W is the exact integer winding number of the capped mesh along a
+// +z ray (signed crossings, top-left rule: rays through shared edges and
+// vertices count each crossing once), and w_caps, the caps' solid angle, is
+// evaluated per 8^3 block at its centre with a rigorous bound on its variation
+// over the block (|grad Omega| <= 2 A / d^3 per cap triangle whose bounding
+// sphere the block does not reach); a block with a cap within reach, or where
+// the bound leaves |w| on either side of 0.5, splits in 8, down to single
+// voxels evaluated over every cap. On closed meshes
+// (no boundary edge after welding equal lattice positions) there are no caps
+// and w = W exactly: inside when W != 0 (inverted, nested and overlapping
+// parts included). Cost beyond the surface: the +z crossings of the capped mesh
+// plus (8^3 blocks) x (cap triangles).
+//
+// Parity: a centre is inside when at least two of three axis-parallel rays
+// (+x, +y, +z) see a non-zero winding number (exact signed crossings as above).
+// Exact (equal to the winding rule) on closed, consistently oriented meshes;
+// on open meshes holes mislead the rays through them (leaks, or interiors left
+// empty).
+//
+// Interior voxels get kInteriorVotes votes for the class of the triangle
+// whose crossing last entered a part along +z (the part that encloses them; a
+// crossing enters when it raises |winding number|, so parts with inverted
+// winding are entered too; a cap crossing counts for the triangle owning its
+// boundary edge), no colour, and surface flag false. Interior voxels with no
+// entering crossing below them get the +x then +y rays' class (parity) or the
+// first triangle's class (winding).
 #pragma once
 
 #include <cstdint>
@@ -52,9 +73,11 @@ inline constexpr int kSubvoxelBits = 16;
 inline constexpr uint32_t kInteriorVotes = 65536;  // one full voxel face of area
 
 enum class FillMode { Surface, Solid };
+enum class SolidRule { Winding, Parity };
 
 struct VoxelizeSettings {
   FillMode fill = FillMode::Surface;
+  SolidRule solidRule = SolidRule::Winding;  // solid fill only
   unsigned threads = 1;  // 1 = serial; the result does not depend on it
   ProgressFn progress;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "libvox/core/parallel.h"
 #include "libvox/mesh/voxelize.h"
 
 namespace vox {
@@ -66,29 +67,29 @@ SurfaceCheck checkSurface(const Mesh& mesh, const Scene& scene, uint64_t maxTria
 
 double windingNumber(const Mesh& mesh, const std::array<double, 3>& p) {
   // Van Oosterom-Strackee solid angle of each triangle, summed.
-  double total = 0;
+  long double total = 0;
   for (const auto& t : mesh.triangles) {
-    double a[3], b[3], c[3];
+    long double a[3], b[3], c[3];
     for (int k = 0; k < 3; ++k) {
-      a[k] = mesh.positions[t[0]][k] - p[k];
-      b[k] = mesh.positions[t[1]][k] - p[k];
-      c[k] = mesh.positions[t[2]][k] - p[k];
+      a[k] = (long double)mesh.positions[t[0]][k] - p[k];
+      b[k] = (long double)mesh.positions[t[1]][k] - p[k];
+      c[k] = (long double)mesh.positions[t[2]][k] - p[k];
     }
-    const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                       a[2] * (b[0] * c[1] - b[1] * c[0]);
-    const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    const double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
-    const double ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
-    const double den = la * lb * lc + ab * lc + bc * la + ca * lb;
-    total += 2.0 * std::atan2(det, den);
+    const long double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    const long double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    const long double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const long double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                            a[2] * (b[0] * c[1] - b[1] * c[0]);
+    const long double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    const long double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+    const long double ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
+    const long double den = la * lb * lc + ab * lc + bc * la + ca * lb;
+    total += 2.0L * std::atan2(det, den);
   }
-  return total / (4.0 * M_PI);
+  return double(total / (4.0L * 3.14159265358979323846264338327950288L));
 }
 
-SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples) {
+SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples, unsigned threads) {
   SolidCheck out;
   const SceneHeader& h = scene.header();
   double vol = 0;
@@ -112,20 +113,39 @@ SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples) {
   const int32_t hi[3] = {std::min(int32_t(h.dims.x) - 1, st.bounds.max.u + 1), std::min(int32_t(h.dims.y) - 1, st.bounds.max.v + 1),
                          std::min(int32_t(h.dims.z) - 1, st.bounds.max.w + 1)};
   const double boxVoxels = double(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
-  const int32_t stride = std::max<int32_t>(1, int32_t(std::ceil(std::cbrt(boxVoxels / double(samples)))));
-  uint64_t both = 0, either = 0;
-  std::vector<ClassVotes> tmp;
-  for (int32_t u = lo[0]; u <= hi[0]; u += stride)
+  const int32_t stride = std::max<int32_t>(1, int32_t(std::ceil(std::cbrt(boxVoxels / double(samples)) - 1e-9)));
+  out.stride = stride;
+  // x slabs in parallel; integer counts, so the result does not depend on the thread count.
+  std::vector<int32_t> us;
+  for (int32_t u = lo[0]; u <= hi[0]; u += stride) us.push_back(u);
+  struct Count { uint64_t n = 0, both = 0, missed = 0, extra = 0; };
+  std::vector<Count> perSlab(us.size());
+  parallelForEach(us.size(), std::max(1u, threads), 1, [&](size_t i) {
+    std::vector<ClassVotes> tmp;
+    Count& c = perSlab[i];
+    const int32_t u = us[i];
     for (int32_t v = lo[1]; v <= hi[1]; v += stride)
       for (int32_t w = lo[2]; w <= hi[2]; w += stride) {
-        ++out.samples;
+        const auto voxel = scene.voxel({u, v, w}, tmp);
+        if (voxel && voxel->surface) continue;  // occupied by definition
         const std::array<double, 3> p{h.origin[0] + (u + 0.5) * h.voxelSize, h.origin[1] + (v + 0.5) * h.voxelSize,
                                       h.origin[2] + (w + 0.5) * h.voxelSize};
         const bool inside = std::abs(windingNumber(mesh, p)) > 0.5;
-        const bool occ = scene.voxel({u, v, w}, tmp).has_value();
-        both += inside && occ;
-        either += inside || occ;
+        const bool occ = voxel.has_value();
+        ++c.n;
+        c.both += inside && occ;
+        c.missed += inside && !occ;
+        c.extra += occ && !inside;
       }
+  });
+  uint64_t both = 0, either = 0;
+  for (const Count& c : perSlab) {
+    out.samples += c.n;
+    both += c.both;
+    out.missed += c.missed;
+    out.extra += c.extra;
+  }
+  either = both + out.missed + out.extra;
   out.iou = either ? double(both) / double(either) : 1.0;
   return out;
 }

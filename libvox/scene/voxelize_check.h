@@ -9,9 +9,12 @@
 //
 // Solid: the mesh's enclosed volume (divergence theorem, in world units^3,
 // exact up to double rounding of the input) against the occupied voxel volume,
-// and IoU of occupancy against the generalised winding number of the voxel
-// centre (inside when > 0.5; the brute-force sum of solid angles over all
-// triangles) on a deterministic sample of voxel centres of the mesh's box.
+// and the interior IoU: over the voxels that are not surface voxels of the
+// scene (those are occupied by definition), occupancy against |generalised
+// winding number| > 0.5 at the voxel centre (the brute-force sum of solid
+// angles over all triangles, in long double), at every voxel centre of the
+// occupied bounds grown by one voxel when `samples` covers them, otherwise on
+// an evenly strided lattice of about `samples` centres.
 #pragma once
 
 #include <cstdint>
@@ -37,13 +40,17 @@ struct SolidCheck {
   double meshVolume = 0;    // enclosed volume, world units^3 (signed sum, absolute value)
   double voxelVolume = 0;   // occupied voxels * voxelSize^3
   double relativeVolumeError = 0;
-  uint64_t samples = 0;
-  double iou = 0;           // |occupied AND inside| / |occupied OR inside| over the samples
+  uint64_t samples = 0;      // interior (non-surface) centres compared
+  int32_t stride = 1;        // 1: every centre of the box
+  double iou = 0;            // |occupied AND inside| / |occupied OR inside| over the samples
+  uint64_t missed = 0;       // inside, not occupied
+  uint64_t extra = 0;        // occupied (interior), not inside
 };
 
-SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples);
+SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples, unsigned threads = 1);
 
-/// Generalised winding number of `p` (world space) with respect to the mesh.
+/// Generalised winding number of `p` (world space) with respect to the mesh
+/// (Van Oosterom-Strackee solid angles summed in long double).
 double windingNumber(const Mesh& mesh, const std::array<double, 3>& p);
 
 }  // namespace vox

@@ -79,6 +79,11 @@ void tuneAllocatorForBake() {
 
 }  // namespace
 
+const EnumNames<vox::SolidRule>& solidRuleNames() {
+  static const EnumNames<vox::SolidRule> names{{"winding", vox::SolidRule::Winding}, {"parity", vox::SolidRule::Parity}};
+  return names;
+}
+
 const EnumNames<vox::FillMode>& fillModeNames() {
   static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
   return names;
@@ -216,6 +221,9 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->add_option("--threshold", o.threshold, ".vdb fog volume: inside where value >= T")->check(Finite);
   addEnumOption(*cmd, "--fill", o.fill, fillModeNames(),
                 "Meshes: surface (voxels a triangle touches) or solid (plus the inside)");
+  addEnumOption(*cmd, "--solid-rule", o.solidRule, solidRuleNames(),
+                "--fill solid: winding (|generalised winding number| > 0.5 at the voxel centre; default) or parity "
+                "(2 of 3 axis rays; exact only on closed, consistently oriented meshes)");
   addEnumOption(*cmd, "--method", o.method, methodNames(),
                 "Meshes: exact, or sdf (OpenVDB meshToVolume, for comparison)");
   cmd->add_option("--bounds", o.bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
@@ -272,6 +280,7 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar) {
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
+  settings.solidRule = o.solidRule;
   settings.threads = run.threads();
   settings.progress = [&bar](double f) { bar.update(f); };
   return settings;
@@ -285,6 +294,7 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
                   {"occupied_voxels", occupied}, {"surface_voxels", surface},
                   {"classes_present", classesPresent}, {"method", nameOf(methodNames(), o.method)},
                   {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", p.warnings}};
+  if (o.fill == vox::FillMode::Solid) run.counts()["solid_rule"] = nameOf(solidRuleNames(), o.solidRule);
   run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
            std::to_string(p.mesh.triangles.size()) + " triangles");
   return run.finish();

@@ -42,6 +42,7 @@ struct VoxelizeOptions {
   std::string gridName;
   std::optional<double> threshold;
   vox::FillMode fill = vox::FillMode::Surface;
+  vox::SolidRule solidRule = vox::SolidRule::Winding;
   VoxelizeMethod method = VoxelizeMethod::Exact;
   std::string bounds;
   uint32_t pad = 0;

@@ -43,11 +43,17 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
       run.error()["surface"] = {{"triangles_checked", c.trianglesChecked}, {"oracle_voxels", c.oracleVoxels},
                                 {"missed", c.missed}, {"extra", c.extra ? nlohmann::json(*c.extra) : nlohmann::json(nullptr)}};
     } else {
-      // The winding-number reference costs (samples x triangles): keep it near 1e8 evaluations.
-      const uint64_t samples = std::clamp<uint64_t>(uint64_t(1e8) / std::max<size_t>(1, mesh.triangles.size()), 500, 20000);
-      const vox::SolidCheck c = vox::checkSolid(mesh, scene, samples);
-      run.error()["solid"] = {{"mesh_volume", c.meshVolume}, {"voxel_volume", c.voxelVolume},
-                              {"relative_volume_error", c.relativeVolumeError}, {"samples", c.samples}, {"iou", c.iou}};
+      // The winding-number reference costs (samples x triangles): about 5e8 solid angles, every
+      // centre up to 128^3 (2.1 M) centres, at least 20000 centres.
+      const uint64_t samples =
+          std::clamp<uint64_t>(uint64_t(5e8) / std::max<size_t>(1, mesh.triangles.size()), 20000, uint64_t(1) << 21);
+      const vox::SolidCheck c = vox::checkSolid(mesh, scene, samples, run.threads());
+      run.error()["solid"] = {{"mesh_volume", c.meshVolume},     {"voxel_volume", c.voxelVolume},
+                              {"relative_volume_error", c.relativeVolumeError},
+                              {"iou", c.iou},                    {"samples", c.samples},
+                              {"stride", c.stride},              {"missed", c.missed},
+                              {"extra", c.extra},
+                              {"reference", "interior (non-surface) voxel centres, |winding number| > 0.5"}};
     }
   }
   return finishMeshBake(o, run, p, scene.occupiedCount(), scene.surfaceCount(), scene.classesPresent().size());

@@ -1,0 +1,236 @@
+// --fill solid by the generalised winding number (libvox/mesh/winding_number.h)
+// against the brute-force oracle (solid angles over every triangle, long double)
+// at every voxel centre of small grids: open meshes (holes, a crack, an
+// open-topped box, a sheet) and closed ones (self-intersecting, nested,
+// inverted); the caps close the boundary; the far-field bound holds; the
+// result does not depend on the thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "libvox/mesh/winding_number.h"
+#include "libvox/scene/voxelize_check.h"
+#include "libvox/scene/voxelize_scene.h"
+
+using namespace vox;
+
+namespace {
+
+SceneHeader header(uint32_t n) {
+  SceneHeader h;
+  h.dims = {n, n, n};
+  h.voxelSize = 1.0;
+  h.origin = {0, 0, 0};
+  h.classes.add({1, "a", {255, 0, 0}, std::nullopt});
+  return h;
+}
+
+Mesh meshOf(std::vector<std::array<double, 3>> pos, std::vector<std::array<uint32_t, 3>> tris) {
+  Mesh m;
+  m.positions = std::move(pos);
+  m.triangles = std::move(tris);
+  m.triangleMaterial.assign(m.triangles.size(), 0);
+  m.trianglePart.assign(m.triangles.size(), 0);
+  m.materials.push_back({});
+  m.parts.push_back({"part", "mesh"});
+  return m;
+}
+
+/// Appends `b` to `a` (one mesh with both parts).
+Mesh join(Mesh a, const Mesh& b) {
+  const uint32_t off = uint32_t(a.positions.size());
+  a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+  for (auto t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+  return meshOf(a.positions, a.triangles);
+}
+
+/// UV sphere, outward normals; `keep(theta, phi)` of a triangle's first corner drops it when false.
+template <class Keep>
+Mesh sphere(std::array<double, 3> c, double r, int slices, bool inverted, Keep keep) {
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<uint32_t, 3>> t;
+  const int stacks = slices / 2;
+  for (int i = 0; i <= stacks; ++i)
+    for (int j = 0; j < slices; ++j) {
+      const double th = M_PI * i / stacks, ph = 2 * M_PI * j / slices;
+      p.push_back({c[0] + r * std::sin(th) * std::cos(ph), c[1] + r * std::sin(th) * std::sin(ph), c[2] + r * std::cos(th)});
+    }
+  auto id = [&](int i, int j) { return uint32_t(i * slices + (j % slices)); };
+  for (int i = 0; i < stacks; ++i)
+    for (int j = 0; j < slices; ++j) {
+      if (!keep(M_PI * (i + 0.5) / stacks, 2 * M_PI * (j + 0.5) / slices)) continue;
+      std::array<uint32_t, 3> a{id(i, j), id(i + 1, j), id(i + 1, j + 1)}, b{id(i, j), id(i + 1, j + 1), id(i, j + 1)};
+      if (inverted) std::swap(a[1], a[2]), std::swap(b[1], b[2]);
+      t.push_back(a), t.push_back(b);
+    }
+  return meshOf(p, t);
+}
+Mesh sphere(std::array<double, 3> c, double r, int slices, bool inverted = false) {
+  return sphere(c, r, slices, inverted, [](double, double) { return true; });
+}
+
+/// Box [lo, hi], outward normals; without its top (+z) face when `openTop`.
+Mesh box(std::array<double, 3> lo, std::array<double, 3> hi, bool openTop = false) {
+  std::vector<std::array<double, 3>> p;
+  for (int i = 0; i < 8; ++i) p.push_back({i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]});
+  std::vector<std::array<uint32_t, 3>> t = {{0, 2, 1}, {1, 2, 3}, {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                            {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  if (!openTop) t.push_back({4, 5, 6}), t.push_back({5, 7, 6});
+  return meshOf(p, t);
+}
+
+Scene solid(const Mesh& m, uint32_t n, SolidRule rule, unsigned threads = 1) {
+  VoxelizeSettings s;
+  s.fill = FillMode::Solid;
+  s.solidRule = rule;
+  s.threads = threads;
+  return voxelizeMesh(m, std::vector<uint8_t>(m.triangles.size(), 1), header(n), s);
+}
+
+struct Agreement {
+  uint64_t interior = 0, both = 0, missed = 0, extra = 0;
+  double iou() const { return both + missed + extra ? double(both) / double(both + missed + extra) : 1.0; }
+};
+
+/// Every non-surface voxel centre of the grid against the brute-force oracle.
+Agreement compare(const Mesh& m, const Scene& s, uint32_t n) {
+  Agreement a;
+  std::vector<ClassVotes> tmp;
+  for (int32_t u = 0; u < int32_t(n); ++u)
+    for (int32_t v = 0; v < int32_t(n); ++v)
+      for (int32_t w = 0; w < int32_t(n); ++w) {
+        const auto vox = s.voxel({u, v, w}, tmp);
+        if (vox && vox->surface) continue;
+        const bool inside = std::abs(windingNumber(m, {u + 0.5, v + 0.5, w + 0.5})) > 0.5;
+        a.interior += inside;
+        a.both += inside && vox;
+        a.missed += inside && !vox;
+        a.extra += !inside && vox;
+      }
+  return a;
+}
+
+void expectIou(const char* name, const Mesh& m, uint32_t n, double target) {
+  const Agreement a = compare(m, solid(m, n, SolidRule::Winding), n);
+  std::printf("  %-22s winding IoU %.6f (missed %llu, extra %llu of %llu inside)\n", name, a.iou(),
+              (unsigned long long)a.missed, (unsigned long long)a.extra, (unsigned long long)a.interior);
+  if (target >= 1.0) {
+    EXPECT_EQ(a.missed, 0u) << name;
+    EXPECT_EQ(a.extra, 0u) << name;
+  } else {
+    EXPECT_GE(a.iou(), target) << name;
+  }
+}
+
+constexpr uint32_t kN = 32;
+
+}  // namespace
+
+TEST(Winding, SphereWithHolesPunched) {
+  const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double th, double ph) {
+    return !(th < 0.5) && !(std::abs(th - M_PI / 2) < 0.35 && std::abs(ph - 1.0) < 0.4) && !(th > 2.7);
+  });
+  expectIou("sphere with 3 holes", m, kN, 0.995);
+}
+
+TEST(Winding, CrackedSphere) {
+  const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double, double ph) { return ph > 0.2; });
+  expectIou("cracked sphere", m, kN, 0.995);
+}
+
+TEST(Winding, OpenToppedBox) { expectIou("open-topped box", box({4.3, 5.2, 3.7}, {27.6, 25.1, 26.4}, true), kN, 0.995); }
+
+TEST(Winding, SingleSheetHasNoInterior) {
+  const Mesh m = meshOf({{3.3, 4.1, 15.2}, {28.2, 4.4, 16.3}, {27.7, 27.9, 15.7}, {4.2, 28.1, 16.9}}, {{0, 1, 2}, {0, 2, 3}});
+  const Scene s = solid(m, kN, SolidRule::Winding);
+  EXPECT_EQ(s.occupiedCount(), s.surfaceCount());
+  expectIou("single sheet", m, kN, 1.0);
+}
+
+TEST(Winding, ClosedMeshesExact) {
+  expectIou("closed sphere", sphere({16.2, 15.9, 16.1}, 12.3, 24), kN, 1.0);
+  expectIou("inverted sphere", sphere({16.2, 15.9, 16.1}, 12.3, 24, true), kN, 1.0);
+  expectIou("nested spheres", join(sphere({16.2, 15.9, 16.1}, 13.3, 24), sphere({15.8, 16.3, 16.2}, 6.1, 16)), kN, 1.0);
+  expectIou("self-intersecting boxes", join(box({3.3, 3.6, 4.2}, {20.1, 19.7, 22.3}), box({12.2, 11.9, 9.4}, {28.3, 27.1, 27.7})),
+            kN, 1.0);
+}
+
+TEST(Winding, SelfIntersectingOpenParts) {
+  const Mesh a = sphere({13.2, 14.9, 16.1}, 10.3, 36, false, [](double th, double) { return th > 0.6; });
+  expectIou("open overlapping parts", join(a, box({14.3, 10.2, 6.7}, {28.6, 25.1, 24.4}, true)), kN, 0.995);
+}
+
+TEST(Winding, CapsCloseTheBoundary) {
+  // mesh + caps is closed: its winding number is an integer at any point off it.
+  const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 24, false, [](double th, double ph) { return th > 0.7 && ph > 0.4; });
+  std::vector<LatticePoint> lattice;
+  for (const auto& p : m.positions) lattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
+  const std::vector<CapTriangle> caps = capBoundaryLoops(m.triangles, lattice);
+  ASSERT_FALSE(caps.empty());
+  const CapField field(caps);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(0, 32);
+  for (int i = 0; i < 200; ++i) {
+    const double p[3] = {d(rng), d(rng), d(rng)};
+    const double w = windingNumber(m, {p[0], p[1], p[2]}) + field.winding(p);
+    EXPECT_NEAR(w, std::round(w), 1e-4)  // the caps are on the snapped lattice
+    << p[0] << " " << p[1] << " " << p[2];
+  }
+  // A closed mesh has no caps, also as a soup (every triangle its own vertices).
+  const Mesh closed = sphere({16.2, 15.9, 16.1}, 12.3, 24);
+  std::vector<std::array<uint32_t, 3>> soup;
+  std::vector<LatticePoint> soupLattice;
+  for (const auto& t : closed.triangles) {
+    for (uint32_t v : t) {
+      const auto& p = closed.positions[v];
+      soupLattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
+    }
+    const uint32_t f = uint32_t(soupLattice.size() - 3);
+    soup.push_back({f, f + 1, f + 2});
+  }
+  EXPECT_TRUE(capBoundaryLoops(soup, soupLattice).empty());
+}
+
+TEST(Winding, FarFieldBoundHolds) {
+  const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 24, false, [](double th, double) { return th > 1.1; });
+  std::vector<LatticePoint> lattice;
+  for (const auto& p : m.positions) lattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
+  const CapField field(capBoundaryLoops(m.triangles, lattice));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> d(-10, 42), unit(-1, 1);
+  int checked = 0;
+  for (int b = 0; b < 300; ++b) {
+    const double c[3] = {d(rng), d(rng), d(rng)}, radius = 6.06;
+    double farValue, farBound;
+    std::vector<uint32_t> near;
+    field.splitForBlock(c, radius, farValue, farBound, near);
+    for (int i = 0; i < 20; ++i) {
+      double q[3];
+      do {
+        for (double& x : q) x = unit(rng) * radius;
+      } while (std::hypot(q[0], q[1], q[2]) > radius);
+      const double p[3] = {c[0] + q[0], c[1] + q[1], c[2] + q[2]};
+      const double exact = field.winding(p), approx = farValue + (near.empty() ? 0.0 : field.winding(p, &near));
+      EXPECT_LE(std::abs(exact - approx), farBound);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 6000);
+}
+
+TEST(Winding, SameAtAnyThreadCount) {
+  const Mesh m = join(sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double th, double ph) { return th > 0.5 && ph > 0.3; }),
+                      box({2.3, 3.2, 5.7}, {12.6, 14.1, 20.4}, true));
+  const Scene a = solid(m, kN, SolidRule::Winding, 1), b = solid(m, kN, SolidRule::Winding, 2);
+  ASSERT_EQ(a.occupiedCount(), b.occupiedCount());
+  std::vector<ClassVotes> ta, tb;
+  a.forEachVoxel([&](const VoxelView& v) {
+    const auto w = b.voxel(v.at, tb);
+    ASSERT_TRUE(w.has_value());
+    EXPECT_EQ(w->surface, v.surface);
+    EXPECT_EQ(w->totalVotes(), v.totalVotes());
+  });
+}
+
