@@ -15,8 +15,13 @@ group=$1 vox=$2 data=$3
 # temporaries DIR: the temporary outputs (".NAME.tmp-HOST-PID-N") in DIR.
 temporaries() { (cd "$1" && compgen -G '.*.tmp-*' || true); }
 
+# handles_sigint PID: PID is vox (not yet the forked shell that will exec it:
+# job-control bash catches SIGINT itself, so its SigCgt bit says nothing about
+# vox) and its SIGINT handler is installed.
 handles_sigint() {
-  local caught
+  local caught comm
+  read -r comm </proc/$1/comm 2>/dev/null || return 1
+  [ "$comm" = vox ] || return 1
   caught=$(sed -n 's/^SigCgt:[[:space:]]*//p' /proc/$1/status 2>/dev/null) || return 1
   [ -n "$caught" ] && (( (16#$caught & 2) != 0 ))
 }
