@@ -194,28 +194,16 @@ void writePng(const Image& image, const std::string& path, int zlibLevel) {
   if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throwIo(outputName(path) + ": cannot write the file: " + std::strerror(errno));
 }
 
-Image readPng(const std::string& path) {
-  requireRegularFile(path);
-  FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
-  if (!isPngFile(path)) throwBadInput(path + ": not a PNG file (wrong signature)");
-  std::string message;
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, pngError, pngWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!info) throwIo(path + ": libpng could not start");
-  const std::string pastEnd = chunkPastEnd(uint64_t(std::filesystem::file_size(path)), [&](uint64_t at, uint8_t* h) {
-    return std::fseek(f.get(), long(at), SEEK_SET) == 0 && std::fread(h, 1, 8, f.get()) == 8;
-  });
-  if (!pastEnd.empty() || std::fseek(f.get(), 0, SEEK_SET) != 0) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throwBadInput(path + ": corrupt or truncated PNG: " + (pastEnd.empty() ? std::string("cannot seek") : pastEnd));
-  }
+/// The pixels and text chunks of the PNG that `f` reads (from its start),
+/// `bytes` long; destroys png/info. Shared by the file and memory readers.
+static Image decodePng(png_structp png, png_infop info, FILE* f, uint64_t bytes, const std::string& name,
+                       const std::string& message) {
   Image image;
   int depth = 8;
-  bool ok = pngReadHeader(png, info, f.get(), &image.width, &image.height, &image.channels, &depth);
+  bool ok = pngReadHeader(png, info, f, &image.width, &image.height, &image.channels, &depth);
   if (ok) {
     image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
-    if (const std::string why = implausibleSize(image, uint64_t(std::filesystem::file_size(path)), path); !why.empty()) {
+    if (const std::string why = implausibleSize(image, bytes, name); !why.empty()) {
       png_destroy_read_struct(&png, &info, nullptr);
       throwBadInput(why);
     }
@@ -232,8 +220,27 @@ Image readPng(const std::string& path) {
       image.text.emplace_back(texts[i].key, std::string(texts[i].text, texts[i].text_length));
   }
   png_destroy_read_struct(&png, &info, nullptr);
-  if (!ok) throwBadInput(path + ": corrupt or truncated PNG: " + message);
+  if (!ok) throwBadInput(name + ": corrupt or truncated PNG: " + message);
   return image;
+}
+
+Image readPng(const std::string& path) {
+  requireRegularFile(path);
+  FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  if (!isPngFile(path)) throwBadInput(path + ": not a PNG file (wrong signature)");
+  std::string message;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, pngError, pngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) throwIo(path + ": libpng could not start");
+  const std::string pastEnd = chunkPastEnd(uint64_t(std::filesystem::file_size(path)), [&](uint64_t at, uint8_t* h) {
+    return std::fseek(f.get(), long(at), SEEK_SET) == 0 && std::fread(h, 1, 8, f.get()) == 8;
+  });
+  if (!pastEnd.empty() || std::fseek(f.get(), 0, SEEK_SET) != 0) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throwBadInput(path + ": corrupt or truncated PNG: " + (pastEnd.empty() ? std::string("cannot seek") : pastEnd));
+  }
+  return decodePng(png, info, f.get(), uint64_t(std::filesystem::file_size(path)), path, message);
 }
 
 }  // namespace vox
@@ -261,30 +268,7 @@ Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
     png_destroy_read_struct(&png, &info, nullptr);
     throwBadInput(name + ": corrupt or truncated PNG: " + pastEnd);
   }
-  Image image;
-  int depth = 8;
-  bool ok = pngReadHeader(png, info, f.get(), &image.width, &image.height, &image.channels, &depth);
-  if (ok) {
-    image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
-    if (const std::string why = implausibleSize(image, size, name); !why.empty()) {
-      png_destroy_read_struct(&png, &info, nullptr);
-      throwBadInput(why);
-    }
-    image.pixels.assign(image.rowBytes() * image.height, 0);
-    std::vector<png_bytep> rows(image.height);
-    for (uint32_t y = 0; y < image.height; ++y) rows[y] = image.pixels.data() + y * image.rowBytes();
-    ok = pngReadRows(png, info, rows.data());
-  }
-  if (ok) {
-    png_textp texts = nullptr;
-    int count = 0;
-    png_get_text(png, info, &texts, &count);
-    for (int i = 0; i < count; ++i)
-      image.text.emplace_back(texts[i].key, std::string(texts[i].text, texts[i].text_length));
-  }
-  png_destroy_read_struct(&png, &info, nullptr);
-  if (!ok) throwBadInput(name + ": corrupt or truncated PNG: " + message);
-  return image;
+  return decodePng(png, info, f.get(), size, name, message);
 }
 
 }  // namespace vox
