@@ -21,6 +21,9 @@ libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev"
 # The test suite (scripts/test.sh) and the benchmark scripts.
 TEST="libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy
 libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium"
+# clang's sanitizer and libFuzzer runtimes are only a recommendation of clang:
+# without them -fsanitize=fuzzer,address does not link (tests/fuzz/smoke.sh).
+TEST="$TEST libclang-rt-dev"
 # The export tests check vox's files with others' readers from npm
 # (tests/export/setup.sh); any node with npm will do, Debian's if there is none.
 command -v npm >/dev/null 2>&1 || TEST="$TEST nodejs npm"

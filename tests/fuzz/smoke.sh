@@ -2,7 +2,7 @@
 # ctest fuzz.smoke: the libFuzzer targets scripts/fuzz_all.sh builds itself
 # (gltf blockmap classes camera touched classtable rendermeta atlasmeta png exr)
 # built and run for SMOKE_SECONDS (default 3) each against their seeds, when
-# clang++ is installed; otherwise a visible SKIP (and a pass). The older
+# clang++ is installed and links a fuzzer; otherwise a visible SKIP (and a pass). The older
 # targets (obj ply stl pagefile), whose scripts rebuild from scratch each time,
 # are left out to keep the test under 3 minutes; SMOKE_TARGETS="..." picks others.
 # Objects, binaries and corpora go to BUILD/fuzz-smoke, so a second run only
@@ -14,6 +14,16 @@ if ! command -v clang++ >/dev/null; then
   echo "SKIP fuzz.smoke: clang++ is not installed (apt-get install clang); the regressions still run in FuzzRegressions.*"
   exit 0
 fi
+# clang without its runtimes (libclang-rt-dev, only recommended by clang)
+# compiles but cannot link a fuzzer: say so plainly instead of "build failed".
+probe=$(mktemp -d)
+trap 'rm -rf "$probe"' EXIT
+echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' >"$probe/p.cpp"
+if ! clang++ -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" 2>"$probe/err"; then
+  echo "SKIP fuzz.smoke: clang++ cannot link a libFuzzer target (apt-get install libclang-rt-dev):"
+  sed 's/^/  /' "$probe/err" | head -5
+  exit 0
+fi
 targets=${SMOKE_TARGETS:-gltf blockmap classes camera touched classtable rendermeta atlasmeta png exr}
 # shellcheck disable=SC2086
-FUZZ_DIR=$build/fuzz-smoke BUILD_DIR=$build exec "$src/scripts/fuzz_all.sh" "${SMOKE_SECONDS:-3}" $targets
+FUZZ_DIR=$build/fuzz-smoke BUILD_DIR=$build "$src/scripts/fuzz_all.sh" "${SMOKE_SECONDS:-3}" $targets
