@@ -59,12 +59,14 @@
 // first triangle's class (winding).
 #pragma once
 
+#include <optional>
 #include <cstdint>
 #include <vector>
 
 #include "libvox/mesh/mesh.h"
 #include "libvox/core/progress.h"
 #include "libvox/core/scene_header.h"
+#include "libvox/mesh/class_compaction.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -80,6 +82,12 @@ struct VoxelizeSettings {
   SolidRule solidRule = SolidRule::Winding;  // solid fill only
   unsigned threads = 1;  // 1 = serial; the result does not depend on it
   ProgressFn progress;
+  /// Where a Scene is built (voxelizeMesh, voxelizeMeshSdf): when set, the
+  /// classes of the header's table that received no vote (their triangles lie
+  /// outside the domain or have no area) are left out of the scene's table,
+  /// renumbered as ClassIds says. voxelizeMeshBlocks ignores it: its caller
+  /// owns the table (leaveOutClassesWithoutVotes in class_compaction.h).
+  std::optional<ClassIds> leaveOutClassesWithoutVotes;
 };
 
 /// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,

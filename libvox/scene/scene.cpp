@@ -7,6 +7,7 @@
 
 #include "libvox/core/error.h"
 #include "libvox/scene/scene_grids.h"
+#include "libvox/mesh/class_compaction.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -194,6 +195,10 @@ void SceneBuilder::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32
 void SceneBuilder::setColor(Coord3 c, RgbLinear color) { blocks_->setColor(c, color); }
 void SceneBuilder::merge(SceneBuilder&& other) {
   blocks_->merge(std::move(*other.blocks_));
+}
+
+bool SceneBuilder::leaveOutClassesWithoutVotes(ClassIds ids) {
+  return vox::leaveOutClassesWithoutVotes(*blocks_, header_.classes, ids);
 }
 
 Scene SceneBuilder::build() && {

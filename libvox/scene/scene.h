@@ -36,6 +36,7 @@ namespace vox {
 
 struct SceneGrids;  // scene_grids.h
 class VoxelBlocks;  // voxel_blocks.h
+enum class ClassIds;  // libvox/mesh/class_compaction.h
 
 /// Counts for `vox info`.
 struct SceneStats {
@@ -111,6 +112,10 @@ class SceneBuilder {
   void setColor(Coord3 c, RgbLinear color);
   /// Moves the content of `other` (same header) into this builder.
   void merge(SceneBuilder&& other);
+  /// Leaves out of the header's class table the classes that have no vote so
+  /// far, renumbering the rest as `ids` says (libvox/mesh/class_compaction.h).
+  /// Returns true when the table changed.
+  bool leaveOutClassesWithoutVotes(ClassIds ids);
 
   /// Finishes the scene: checks every voxel lies in the domain and every class id
   /// is in the table (vox::Error otherwise), prunes the trees.

@@ -4,7 +4,9 @@ namespace vox {
 
 Scene voxelizeMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                    const VoxelizeSettings& settings) {
-  return SceneBuilder(voxelizeMeshBlocks(mesh, triangleClass, header, settings), header).build();
+  SceneBuilder builder(voxelizeMeshBlocks(mesh, triangleClass, header, settings), header);
+  if (settings.leaveOutClassesWithoutVotes) builder.leaveOutClassesWithoutVotes(*settings.leaveOutClassesWithoutVotes);
+  return std::move(builder).build();
 }
 
 }  // namespace vox

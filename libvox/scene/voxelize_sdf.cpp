@@ -87,6 +87,7 @@ Scene voxelizeMeshSdf(const Mesh& mesh, const std::vector<uint8_t>& triangleClas
     }
   }
   if (settings.progress) settings.progress(1.0);
+  if (settings.leaveOutClassesWithoutVotes) builder.leaveOutClassesWithoutVotes(*settings.leaveOutClassesWithoutVotes);
   return std::move(builder).build();
 }
 

@@ -217,6 +217,12 @@ classes)
   # The same scene through the OpenVDB path (--check) and the direct path.
   expect_exit 0 "$vox" voxelize keep_cube.obj keep_cube.obj --res 8 -o two_full.vdb --check
   expect_exit 0 "$vox" diff two.vdb two_full.vdb
+  # The OpenVDB paths (--check, --method sdf) leave the emptied class out as well.
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 --bounds 0.5,0,0,1,1,1 -o cut_full.vdb --check
+  expect_exit 0 "$vox" diff cut.vdb cut_full.vdb
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 --bounds 0.5,0,0,1,1,1 -o cut_sdf.vdb --method sdf
+  expect_exit 0 "$vox" info cut_sdf.vdb --json
+  jcheck out.txt "assert [(c['id'],c['name']) for c in d['classes']]==[(1,'Wall')], d['classes']"
   # A mesh without materials: the grey default class.
   printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >keep_plain.obj
   expect_exit 0 "$vox" voxelize keep_plain.obj --res 4 -o plain.vdb

@@ -283,6 +283,9 @@ vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run,
   settings.solidRule = o.solidRule;
   settings.threads = run.threads();
   settings.progress = [&bar](double f) { bar.update(f); };
+  // Classes whose triangles left no vote (outside --bounds, zero area) are left
+  // out of the scene; the direct path does it on its blocks itself.
+  settings.leaveOutClassesWithoutVotes = classIdPolicy(o);
   return settings;
 }
 
