@@ -21,9 +21,10 @@ using nlohmann::json;
 
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
 // component type and the normalized flag; KHR_draco_mesh_compression:
-// gltf_draco.h), and extensions that only change
+// gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h), and extensions that only change
 // shading, lights or variants that vox does not bake, so the voxels cannot change.
-constexpr std::array<const char*, 2> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression"};
+constexpr std::array<const char*, 3> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+                                                  "EXT_meshopt_compression"};
 constexpr std::array<const char*, 13> kNoEffectOnVoxels = {
     "KHR_materials_unlit",        "KHR_materials_emissive_strength", "KHR_materials_ior",
     "KHR_materials_specular",     "KHR_materials_transmission",      "KHR_materials_volume",
@@ -96,9 +97,6 @@ class Checker {
     for (const json& e : *it) {
       if (!e.is_string()) bad("extensionsRequired", "holds a non-string entry");
       const std::string ext = e.get<std::string>();
-      if (ext == "EXT_meshopt_compression")
-        throwBadInput(path_ + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
-                      "decompress it first (e.g. gltf-transform copy)");
       if (!listed(kHonoured, ext) && !listed(kNoEffectOnVoxels, ext))
         throwBadInput(path_ + ": requires the extension " + ext + ", which vox does not support and which could "
                       "change the voxels; convert the file without it (e.g. with gltf-transform)");

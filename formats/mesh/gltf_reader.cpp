@@ -13,6 +13,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_draco.h"
+#include "formats/mesh/gltf_meshopt.h"
 #include "formats/mesh/gltf_json_check.h"
 #include "libvox/core/error.h"
 
@@ -164,26 +165,45 @@ bool readWholeGltfFile(std::vector<unsigned char>* out, std::string* err, const 
   }
 }
 
-/// tinygltf refuses a primitive whose indices accessor has no bufferView, as
-/// every Draco-compressed primitive's has (its indices are in the Draco data).
-/// Returns the file's bytes with "indices" removed from such primitives (the
-/// .glb container rebuilt around the new JSON chunk), or nullopt when no
-/// primitive needs it.
-std::optional<std::string> withoutDracoIndices(const std::string& bytes, bool isBinary) {
-  if (bytes.find("KHR_draco_mesh_compression") == std::string::npos) return std::nullopt;
+/// What tinygltf would refuse in a valid compressed file, rewritten:
+/// * a primitive whose indices accessor has no bufferView, as every
+///   Draco-compressed primitive's has (its indices are in the Draco data):
+///   "indices" is removed from such primitives;
+/// * an EXT_meshopt_compression fallback buffer without data (no "uri"):
+///   it becomes a one-byte data URI (its bytes are never read: the views
+///   that use it are decoded from the compressed buffer, gltf_meshopt.h).
+/// Returns the file's bytes rewritten (the .glb container rebuilt around the
+/// new JSON chunk), or nullopt when nothing needs it.
+std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBinary) {
+  if (bytes.find("KHR_draco_mesh_compression") == std::string::npos &&
+      bytes.find("EXT_meshopt_compression") == std::string::npos)
+    return std::nullopt;
   const std::string text = gltfJsonText(bytes, isBinary);
   nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return std::nullopt;
+  if (!doc.is_object()) return std::nullopt;
   bool changed = false;
-  for (auto& m : doc["meshes"]) {
-    if (!m.is_object() || !m.contains("primitives") || !m["primitives"].is_array()) continue;
-    for (auto& p : m["primitives"])
-      if (p.is_object() && p.contains("indices") && p.contains("extensions") && p["extensions"].is_object() &&
-          p["extensions"].contains("KHR_draco_mesh_compression")) {
-        p.erase("indices");
+  auto hasExtension = [](const nlohmann::json& o, const char* name) {
+    return o.is_object() && o.contains("extensions") && o["extensions"].is_object() && o["extensions"].contains(name);
+  };
+  if (doc.contains("meshes") && doc["meshes"].is_array())
+    for (auto& m : doc["meshes"]) {
+      if (!m.is_object() || !m.contains("primitives") || !m["primitives"].is_array()) continue;
+      for (auto& p : m["primitives"])
+        if (p.is_object() && p.contains("indices") && hasExtension(p, "KHR_draco_mesh_compression")) {
+          p.erase("indices");
+          changed = true;
+        }
+    }
+  if (doc.contains("buffers") && doc["buffers"].is_array())
+    for (size_t i = 0; i < doc["buffers"].size(); ++i) {
+      auto& b = doc["buffers"][i];
+      // In a .glb, buffer 0 without a uri is the BIN chunk.
+      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0)) {
+        b["uri"] = "data:application/octet-stream;base64,AA==";
+        b["byteLength"] = 1;
         changed = true;
       }
-  }
+    }
   if (!changed) return std::nullopt;
   std::string json = doc.dump();
   if (!isBinary) return json;
@@ -207,7 +227,7 @@ tinygltf::Model loadModel(const std::string& bytes, const std::string& path, boo
   tinygltf::Model model;
   std::string err, warn;
   checkGltfJsonBytes(bytes, path, isBinary);
-  const std::optional<std::string> rewritten = withoutDracoIndices(bytes, isBinary);
+  const std::optional<std::string> rewritten = tinygltfReadable(bytes, isBinary);
   const std::string& input = rewritten ? *rewritten : bytes;
   // tinygltf's base directory of a path (its GetBaseDir): external URIs resolve
   // against it exactly as LoadASCIIFromFile / LoadBinaryFromFile resolve them.
@@ -229,6 +249,7 @@ tinygltf::Model loadModel(const std::string& bytes, const std::string& path, boo
     throwBadInput(path + ": cannot read the glTF file: " + why);
   }
   if (!warn.empty()) warnings.push_back(path + ": " + warn.substr(0, 300));
+  decodeMeshoptViews(model, path);
   return model;
 }
 

@@ -12,6 +12,8 @@
 // * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
 // * KHR_draco_mesh_compression: the primitive's Draco data decoded
 //   (formats/mesh/gltf_draco.h); a corrupt one is refused naming the primitive.
+// * EXT_meshopt_compression: compressed bufferViews decoded
+//   (formats/mesh/gltf_meshopt.h); a corrupt one is refused naming the view.
 // * NaN or infinite positions: refused naming the accessor and the count, or
 //   dropped (MeshReadOptions::dropInvalid).
 #pragma once

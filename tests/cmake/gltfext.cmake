@@ -4,3 +4,6 @@
 add_test(NAME gltfext.extensions
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/gltfext_test.sh $<TARGET_FILE:vox> ${CMAKE_CURRENT_SOURCE_DIR})
 set_tests_properties(gltfext.extensions PROPERTIES TIMEOUT 600)
+target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_gltf_ext.cpp)
+# The meshopt tests compress with the same library's encoder.
+target_link_libraries(vox_unit_tests PRIVATE meshoptimizer::meshoptimizer)
