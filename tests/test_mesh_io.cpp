@@ -667,9 +667,9 @@ TEST(GltfIo, MalformedFilesNameTheElement) {
       {"sparse.gltf", prim + buffers + R"("bufferViews":[{"buffer":0,"byteLength":36}],
         "accessors":[{"bufferView":0,)" + position + R"(,"sparse":{"count":4000000000,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":0}}}]})",
        {"accessors[0].sparse.count", "4000000000"}},
-      {"required.gltf", R"("extensionsRequired":["KHR_texture_transform"],)" + prim + buffers +
+      {"required.gltf", R"("extensionsRequired":["KHR_texture_basisu"],)" + prim + buffers +
                             R"("bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,)" + position + "}]}",
-       {"KHR_texture_transform", "could change the voxels"}},
+       {"KHR_texture_basisu", "could change the voxels"}},
   };
   for (const Case& c : cases) {
     voxtest::writeText(dir.file(c.file), kGltfHead + scene + c.body);

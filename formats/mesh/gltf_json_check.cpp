@@ -21,10 +21,12 @@ using nlohmann::json;
 
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
 // component type and the normalized flag; KHR_draco_mesh_compression:
-// gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h), and extensions that only change
+// gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h; KHR_texture_transform
+// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only change
 // shading, lights or variants that vox does not bake, so the voxels cannot change.
-constexpr std::array<const char*, 3> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
-                                                  "EXT_meshopt_compression"};
+constexpr std::array<const char*, 5> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+                                                  "EXT_meshopt_compression", "KHR_texture_transform",
+                                                  "EXT_mesh_gpu_instancing"};
 constexpr std::array<const char*, 13> kNoEffectOnVoxels = {
     "KHR_materials_unlit",        "KHR_materials_emissive_strength", "KHR_materials_ior",
     "KHR_materials_specular",     "KHR_materials_transmission",      "KHR_materials_volume",

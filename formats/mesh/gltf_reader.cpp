@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -317,6 +318,36 @@ std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t t
   return t;
 }
 
+/// The base colour texture's KHR_texture_transform of material `mi` as the
+/// affine map uv' = (a*u + b*v + c, d*u + e*v + f) = T * R * S * uv (the
+/// extension's order: scale, then rotation counter-clockwise in UV space, then
+/// offset), or nullopt when it has none. Affine maps commute with the
+/// barycentric interpolation of UVs, so transforming each vertex's UVs is exact.
+std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, size_t mi, const std::string& path) {
+  const auto& ext = model.materials[mi].pbrMetallicRoughness.baseColorTexture.extensions;
+  auto it = ext.find("KHR_texture_transform");
+  if (it == ext.end() || model.materials[mi].pbrMetallicRoughness.baseColorTexture.index < 0) return std::nullopt;
+  const tinygltf::Value& t = it->second;
+  const std::string who = path + ": materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform";
+  auto pair = [&](const char* key, double fallback) -> std::array<double, 2> {
+    if (!t.Has(key)) return {fallback, fallback};
+    const tinygltf::Value& v = t.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+      throwBadInput(who + ": \"" + key + "\" is not an array of two numbers; the file is malformed (re-export it)");
+    return {v.Get(0).GetNumberAsDouble(), v.Get(1).GetNumberAsDouble()};
+  };
+  if (!t.IsObject()) throwBadInput(who + " is not an object; the file is malformed (re-export it)");
+  const std::array<double, 2> offset = pair("offset", 0), scale = pair("scale", 1);
+  double rotation = 0;
+  if (t.Has("rotation")) {
+    if (!t.Get("rotation").IsNumber())
+      throwBadInput(who + ": \"rotation\" is not a number; the file is malformed (re-export it)");
+    rotation = t.Get("rotation").GetNumberAsDouble();
+  }
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  return std::array<double, 6>{c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+}
+
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
 /// returned.
@@ -337,6 +368,11 @@ uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mes
         }
       m.texture = meshTextureOf[size_t(ti)];
       m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
+      // KHR_texture_transform's texCoord overrides the textureInfo's.
+      auto tt = src.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
+      if (tt != src.pbrMetallicRoughness.baseColorTexture.extensions.end() && tt->second.Has("texCoord") &&
+          tt->second.Get("texCoord").IsInt())
+        m.texCoordSet = tt->second.Get("texCoord").GetNumberAsInt();
     }
     mesh.materials.push_back(m);
   }
@@ -392,7 +428,11 @@ class NodeWalker {
       const tinygltf::Mesh& gm = model_.meshes[size_t(node.mesh)];
       mesh_.parts.push_back({nodePath, gm.name});
       const uint32_t part = uint32_t(mesh_.parts.size() - 1);
-      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, world, part);
+      const std::vector<Mat4> instances = instanceMatrices(node, ni);
+      if (instances.empty())
+        for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, world, part);
+      for (const Mat4& instance : instances)
+        for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, mul(world, instance), part);
     }
     for (int child : node.children) visit(child, world, nodePath, depth + 1);
   }
@@ -406,6 +446,47 @@ class NodeWalker {
 
  private:
   using Values = std::vector<std::array<double, 4>>;
+
+  /// EXT_mesh_gpu_instancing: one matrix T * R * S per instance of node
+  /// `ni`'s mesh (applied before the node's world matrix), or none when the
+  /// node has no such extension. Children are not instanced (the extension
+  /// instances the node's mesh only).
+  std::vector<Mat4> instanceMatrices(const tinygltf::Node& node, int ni) const {
+    auto it = node.extensions.find("EXT_mesh_gpu_instancing");
+    if (it == node.extensions.end()) return {};
+    const std::string who = path_ + ": nodes[" + std::to_string(ni) + "] EXT_mesh_gpu_instancing";
+    const tinygltf::Value& ext = it->second;
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
+      throwBadInput(who + " has no \"attributes\" object; the file is malformed (re-export it)");
+    const tinygltf::Value& attrs = ext.Get("attributes");
+    Values t, r, s;
+    size_t count = 0;
+    bool any = false;
+    for (const auto& [name, dst, comps] : {std::tuple<const char*, Values*, int>{"TRANSLATION", &t, 3},
+                                            {"ROTATION", &r, 4}, {"SCALE", &s, 3}}) {
+      if (!attrs.Has(name)) continue;
+      if (!attrs.Get(name).IsInt()) throwBadInput(who + ": " + name + " is not an accessor index");
+      const int a = attrs.Get(name).GetNumberAsInt();
+      *dst = acc_.read(a, name);
+      if (tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(a)].type)) != comps)
+        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") is not a VEC" + std::to_string(comps));
+      if (any && dst->size() != count)
+        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") has " + std::to_string(dst->size()) +
+                      " instances, the other attributes " + std::to_string(count));
+      count = dst->size();
+      any = true;
+    }
+    if (!any) throwBadInput(who + " names no TRANSLATION, ROTATION or SCALE accessor; the file is malformed (re-export it)");
+    std::vector<Mat4> out(count);
+    for (size_t i = 0; i < count; ++i) {
+      tinygltf::Node trs;
+      if (!t.empty()) trs.translation = {t[i][0], t[i][1], t[i][2]};
+      if (!r.empty()) trs.rotation = {r[i][0], r[i][1], r[i][2], r[i][3]};
+      if (!s.empty()) trs.scale = {s[i][0], s[i][1], s[i][2]};
+      out[i] = localMatrix(trs);
+    }
+    return out;
+  }
 
   /// What one primitive holds for vox, read from accessors or decoded from
   /// its compressed data.
@@ -446,6 +527,14 @@ class NodeWalker {
       for (uint32_t i = 0; i < count; ++i) d.indices.push_back(i);
     const uint32_t material =
         prim.material >= 0 && size_t(prim.material) < model_.materials.size() ? uint32_t(prim.material) : defaultMaterial_;
+    if (material != defaultMaterial_)
+      if (const auto t = uvTransform(model_, material, path_)) {
+        auto& uv = mesh_.materials[material].texCoordSet == 1 ? mesh_.uv1 : mesh_.uv0;
+        for (size_t i = base; i < base + count && i < uv.size(); ++i) {
+          const double u = uv[i][0], v = uv[i][1];
+          uv[i] = {float((*t)[0] * u + (*t)[1] * v + (*t)[2]), float((*t)[3] * u + (*t)[4] * v + (*t)[5])};
+        }
+      }
     appendTriangles(mode, d.indices, base, material, part, mirrors(world));
   }
 

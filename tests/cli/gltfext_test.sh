@@ -9,11 +9,13 @@ tests=$(cd "$2" && pwd)
 make="python3 $tests/gltfext/make_gltf.py"
 . "$tests/cli/test_lib.sh"
 
-same_voxels() {  # same_voxels A B [diff options...]: both voxelize (res 64) to the same scene
+same_voxels() {  # same_voxels A B [voxelize options...]: both voxelize (res 64) to the same scene
   local a=$1 b=$2; shift 2
-  expect_exit 0 "$vox" voxelize "$a" --res 64 -o a.vdb
-  expect_exit 0 "$vox" voxelize "$b" --res 64 -o b.vdb
-  expect_exit 0 "$vox" diff a.vdb b.vdb --ignore-sources "$@"
+  expect_exit 0 "$vox" voxelize "$a" --res 64 "$@" -o a.vdb
+  [ -s err.txt ] && grep -qi warn err.txt && fail "$a: unexpected warning: $(cat err.txt)"
+  expect_exit 0 "$vox" voxelize "$b" --res 64 "$@" -o b.vdb
+  expect_exit 0 "$vox" diff a.vdb b.vdb --ignore-sources
+  [ "$(cat out.txt | head -c 5)" = "same:" ] || fail "$a vs $b: $(head -c 400 out.txt)"
   rm -f a.vdb b.vdb
 }
 
@@ -57,6 +59,39 @@ if [ -f "$data/draco/2CylinderEngine.gltf" ]; then
 else
   echo "gltfext_test: ../shared/data absent; the real Draco file is skipped"
 fi
+
+# --- KHR_mesh_quantization, KHR_texture_transform, EXT_mesh_gpu_instancing --
+# Each file against the same model with the extension applied by
+# make_gltf.py: integer and normalized accessors hold exactly the reference's
+# floats; transformed UVs land on texel-block centres (nearest sampling); the
+# instances are the reference's child nodes (one mirrored: --fill solid
+# checks that its triangles still wind outward).
+for k in quantized transform instancing; do
+  $make $k $k.gltf
+  $make $k-ref ${k}_ref.gltf
+  same_voxels $k.gltf ${k}_ref.gltf --fill solid
+done
+# Without the extension the transform file is another scene: the oracle can fail.
+python3 -c "import json; d=json.load(open('transform.gltf')); d['extensionsRequired']=[]
+del d['materials'][0]['pbrMetallicRoughness']['baseColorTexture']['extensions']; json.dump(d, open('plain.gltf', 'w'))"
+expect_exit 0 "$vox" voxelize plain.gltf --res 64 --fill solid -o plain.vdb
+expect_exit 0 "$vox" voxelize transform_ref.gltf --res 64 --fill solid -o ref.vdb
+expect_exit 1 "$vox" diff plain.vdb ref.vdb --ignore-sources
+
+# --- extensionsRequired -----------------------------------------------------
+# Honoured or without effect on the voxels: read, and KHR_materials_* on the
+# material are ignored without a warning.
+$make required "" none.gltf
+for ext in KHR_mesh_quantization KHR_texture_transform EXT_mesh_gpu_instancing KHR_draco_mesh_compression \
+           EXT_meshopt_compression KHR_materials_clearcoat KHR_materials_unlit KHR_lights_punctual; do
+  $make required "$ext" "req_$ext.gltf"
+  same_voxels "req_$ext.gltf" none.gltf
+done
+# Anything else could change the voxels: refused by name, nothing written.
+for ext in KHR_texture_basisu EXT_texture_avif KHR_materials_variants EXT_future_extension; do
+  $make required "KHR_mesh_quantization,$ext" "req_$ext.gltf"
+  refused "req_$ext.gltf" "requires the extension $ext" "could change the voxels"
+done
 
 if [ "$failures" = 0 ]; then echo "gltfext_test: all passed"; else echo "gltfext_test: $failures failed"; fi
 exit $((failures > 0))
