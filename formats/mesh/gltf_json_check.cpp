@@ -20,9 +20,13 @@ namespace {
 using nlohmann::json;
 
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
-// component type and the normalized flag), and extensions that only change
+// component type and the normalized flag; KHR_draco_mesh_compression:
+// gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h; KHR_texture_transform
+// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only change
 // shading, lights or variants that vox does not bake, so the voxels cannot change.
-constexpr std::array<const char*, 1> kHonoured = {"KHR_mesh_quantization"};
+constexpr std::array<const char*, 5> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+                                                  "EXT_meshopt_compression", "KHR_texture_transform",
+                                                  "EXT_mesh_gpu_instancing"};
 constexpr std::array<const char*, 13> kNoEffectOnVoxels = {
     "KHR_materials_unlit",        "KHR_materials_emissive_strength", "KHR_materials_ior",
     "KHR_materials_specular",     "KHR_materials_transmission",      "KHR_materials_volume",
@@ -35,19 +39,6 @@ bool listed(const std::array<const char*, N>& names, const std::string& s) {
   for (const char* n : names)
     if (s == n) return true;
   return false;
-}
-
-/// The JSON text: the whole .gltf, or the first chunk of a .glb (its header is
-/// checked here only as far as finding that chunk needs; tinygltf checks the rest).
-std::string jsonText(const std::string& bytes, bool isBinary) {
-  if (!isBinary) return bytes;
-  uint32_t header[5] = {};
-  if (bytes.size() < sizeof header) return {};
-  std::memcpy(header, bytes.data(), sizeof header);
-  if (header[0] != 0x46546C67u || header[4] != 0x4E4F534Au) return {};  // "glTF", chunk type "JSON"
-  const uint64_t length = header[3];
-  if (length > bytes.size() - sizeof header) return {};  // tinygltf reports the truncation
-  return bytes.substr(sizeof header, size_t(length));
 }
 
 class Checker {
@@ -108,9 +99,6 @@ class Checker {
     for (const json& e : *it) {
       if (!e.is_string()) bad("extensionsRequired", "holds a non-string entry");
       const std::string ext = e.get<std::string>();
-      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
-        throwBadInput(path_ + ": requires the extension " + ext + " (compressed meshes), which vox does not support; "
-                      "decompress it first (e.g. gltf-transform copy)");
       if (!listed(kHonoured, ext) && !listed(kNoEffectOnVoxels, ext))
         throwBadInput(path_ + ": requires the extension " + ext + ", which vox does not support and which could "
                       "change the voxels; convert the file without it (e.g. with gltf-transform)");
@@ -221,12 +209,25 @@ class Checker {
 
 }  // namespace
 
+// The .glb header is checked here only as far as finding the JSON chunk needs;
+// tinygltf checks the rest.
+std::string gltfJsonText(const std::string& bytes, bool isBinary) {
+  if (!isBinary) return bytes;
+  uint32_t header[5] = {};
+  if (bytes.size() < sizeof header) return {};
+  std::memcpy(header, bytes.data(), sizeof header);
+  if (header[0] != 0x46546C67u || header[4] != 0x4E4F534Au) return {};  // "glTF", chunk type "JSON"
+  const uint64_t length = header[3];
+  if (length > bytes.size() - sizeof header) return {};  // tinygltf reports the truncation
+  return bytes.substr(sizeof header, size_t(length));
+}
+
 void checkGltfJson(const std::string& path) {
   checkGltfJsonBytes(readFileBytes(path), path, hasExtension(path, ".glb"));
 }
 
 void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary) {
-  const std::string text = jsonText(bytes, isBinary);
+  const std::string text = gltfJsonText(bytes, isBinary);
   const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object()) return;  // tinygltf names the parse error
   Checker(doc, path).run();

@@ -24,4 +24,8 @@ void checkGltfJson(const std::string& path);
 /// .glb container; `path` is used in messages only.
 void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary);
 
+/// The JSON text of a glTF file's bytes: all of a .gltf, or the JSON chunk of
+/// a .glb (empty when the .glb header or first chunk is not well formed).
+std::string gltfJsonText(const std::string& bytes, bool isBinary);
+
 }  // namespace vox

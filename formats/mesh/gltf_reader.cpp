@@ -7,9 +7,14 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/mesh/gltf_draco.h"
+#include "formats/mesh/gltf_meshopt.h"
 #include "formats/mesh/gltf_json_check.h"
 #include "libvox/core/error.h"
 
@@ -161,6 +166,57 @@ bool readWholeGltfFile(std::vector<unsigned char>* out, std::string* err, const 
   }
 }
 
+/// What tinygltf would refuse in a valid compressed file, rewritten:
+/// * a primitive whose indices accessor has no bufferView, as every
+///   Draco-compressed primitive's has (its indices are in the Draco data):
+///   "indices" is removed from such primitives;
+/// * an EXT_meshopt_compression fallback buffer without data (no "uri"):
+///   it becomes a one-byte data URI (its bytes are never read: the views
+///   that use it are decoded from the compressed buffer, gltf_meshopt.h).
+/// Returns the file's bytes rewritten (the .glb container rebuilt around the
+/// new JSON chunk), or nullopt when nothing needs it.
+std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBinary) {
+  if (bytes.find("KHR_draco_mesh_compression") == std::string::npos &&
+      bytes.find("EXT_meshopt_compression") == std::string::npos)
+    return std::nullopt;
+  const std::string text = gltfJsonText(bytes, isBinary);
+  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object()) return std::nullopt;
+  bool changed = false;
+  auto hasExtension = [](const nlohmann::json& o, const char* name) {
+    return o.is_object() && o.contains("extensions") && o["extensions"].is_object() && o["extensions"].contains(name);
+  };
+  if (doc.contains("meshes") && doc["meshes"].is_array())
+    for (auto& m : doc["meshes"]) {
+      if (!m.is_object() || !m.contains("primitives") || !m["primitives"].is_array()) continue;
+      for (auto& p : m["primitives"])
+        if (p.is_object() && p.contains("indices") && hasExtension(p, "KHR_draco_mesh_compression")) {
+          p.erase("indices");
+          changed = true;
+        }
+    }
+  if (doc.contains("buffers") && doc["buffers"].is_array())
+    for (size_t i = 0; i < doc["buffers"].size(); ++i) {
+      auto& b = doc["buffers"][i];
+      // In a .glb, buffer 0 without a uri is the BIN chunk.
+      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0)) {
+        b["uri"] = "data:application/octet-stream;base64,AA==";
+        b["byteLength"] = 1;
+        changed = true;
+      }
+    }
+  if (!changed) return std::nullopt;
+  std::string json = doc.dump();
+  if (!isBinary) return json;
+  while (json.size() % 4) json.push_back(' ');
+  uint32_t oldLength;
+  std::memcpy(&oldLength, bytes.data() + 12, 4);
+  const std::string rest = bytes.substr(20 + size_t(oldLength));
+  const uint32_t header[5] = {0x46546C67u, 2, uint32_t(20 + json.size() + rest.size()), uint32_t(json.size()), 0x4E4F534Au};
+  std::string out(reinterpret_cast<const char*>(header), sizeof header);
+  return out + json + rest;
+}
+
 /// Loads the container (tinygltf: JSON or GLB, buffers, images decoded) from
 /// the file's bytes; external buffers and images are read beside `path`.
 /// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
@@ -172,26 +228,29 @@ tinygltf::Model loadModel(const std::string& bytes, const std::string& path, boo
   tinygltf::Model model;
   std::string err, warn;
   checkGltfJsonBytes(bytes, path, isBinary);
+  const std::optional<std::string> rewritten = tinygltfReadable(bytes, isBinary);
+  const std::string& input = rewritten ? *rewritten : bytes;
   // tinygltf's base directory of a path (its GetBaseDir): external URIs resolve
   // against it exactly as LoadASCIIFromFile / LoadBinaryFromFile resolve them.
   const size_t slash = path.find_last_of("/\\");
   const std::string baseDir = slash == std::string::npos ? std::string() : path.substr(0, slash);
-  if (bytes.size() > uint64_t(std::numeric_limits<unsigned int>::max()))
+  if (input.size() > uint64_t(std::numeric_limits<unsigned int>::max()))
     throwBadInput(path + ": cannot read the glTF file: larger than 4 GiB");
   bool ok = false;
-  if (bytes.empty())
+  if (input.empty())
     err = "Empty file.";  // as tinygltf's file loaders say (its binary one would index past the end)
   else if (isBinary)
-    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                     static_cast<unsigned int>(bytes.size()), baseDir);
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(input.data()),
+                                     static_cast<unsigned int>(input.size()), baseDir);
   else
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()), baseDir);
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, input.data(), static_cast<unsigned int>(input.size()), baseDir);
   if (!ok) {
     std::string why = (err.empty() ? warn : err).substr(0, 300);
     while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
     throwBadInput(path + ": cannot read the glTF file: " + why);
   }
   if (!warn.empty()) warnings.push_back(path + ": " + warn.substr(0, 300));
+  decodeMeshoptViews(model, path);
   return model;
 }
 
@@ -259,6 +318,36 @@ std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t t
   return t;
 }
 
+/// The base colour texture's KHR_texture_transform of material `mi` as the
+/// affine map uv' = (a*u + b*v + c, d*u + e*v + f) = T * R * S * uv (the
+/// extension's order: scale, then rotation counter-clockwise in UV space, then
+/// offset), or nullopt when it has none. Affine maps commute with the
+/// barycentric interpolation of UVs, so transforming each vertex's UVs is exact.
+std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, size_t mi, const std::string& path) {
+  const auto& ext = model.materials[mi].pbrMetallicRoughness.baseColorTexture.extensions;
+  auto it = ext.find("KHR_texture_transform");
+  if (it == ext.end() || model.materials[mi].pbrMetallicRoughness.baseColorTexture.index < 0) return std::nullopt;
+  const tinygltf::Value& t = it->second;
+  const std::string who = path + ": materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform";
+  auto pair = [&](const char* key, double fallback) -> std::array<double, 2> {
+    if (!t.Has(key)) return {fallback, fallback};
+    const tinygltf::Value& v = t.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+      throwBadInput(who + ": \"" + key + "\" is not an array of two numbers; the file is malformed (re-export it)");
+    return {v.Get(0).GetNumberAsDouble(), v.Get(1).GetNumberAsDouble()};
+  };
+  if (!t.IsObject()) throwBadInput(who + " is not an object; the file is malformed (re-export it)");
+  const std::array<double, 2> offset = pair("offset", 0), scale = pair("scale", 1);
+  double rotation = 0;
+  if (t.Has("rotation")) {
+    if (!t.Get("rotation").IsNumber())
+      throwBadInput(who + ": \"rotation\" is not a number; the file is malformed (re-export it)");
+    rotation = t.Get("rotation").GetNumberAsDouble();
+  }
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  return std::array<double, 6>{c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+}
+
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
 /// returned.
@@ -279,6 +368,11 @@ uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mes
         }
       m.texture = meshTextureOf[size_t(ti)];
       m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
+      // KHR_texture_transform's texCoord overrides the textureInfo's.
+      auto tt = src.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
+      if (tt != src.pbrMetallicRoughness.baseColorTexture.extensions.end() && tt->second.Has("texCoord") &&
+          tt->second.Get("texCoord").IsInt())
+        m.texCoordSet = tt->second.Get("texCoord").GetNumberAsInt();
     }
     mesh.materials.push_back(m);
   }
@@ -334,7 +428,11 @@ class NodeWalker {
       const tinygltf::Mesh& gm = model_.meshes[size_t(node.mesh)];
       mesh_.parts.push_back({nodePath, gm.name});
       const uint32_t part = uint32_t(mesh_.parts.size() - 1);
-      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, world, part);
+      const std::vector<Mat4> instances = instanceMatrices(node, ni);
+      if (instances.empty())
+        for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, world, part);
+      for (const Mat4& instance : instances)
+        for (size_t pi = 0; pi < gm.primitives.size(); ++pi) addPrimitive(gm, pi, mul(world, instance), part);
     }
     for (int child : node.children) visit(child, world, nodePath, depth + 1);
   }
@@ -349,90 +447,214 @@ class NodeWalker {
  private:
   using Values = std::vector<std::array<double, 4>>;
 
+  /// EXT_mesh_gpu_instancing: one matrix T * R * S per instance of node
+  /// `ni`'s mesh (applied before the node's world matrix), or none when the
+  /// node has no such extension. Children are not instanced (the extension
+  /// instances the node's mesh only).
+  std::vector<Mat4> instanceMatrices(const tinygltf::Node& node, int ni) const {
+    auto it = node.extensions.find("EXT_mesh_gpu_instancing");
+    if (it == node.extensions.end()) return {};
+    const std::string who = path_ + ": nodes[" + std::to_string(ni) + "] EXT_mesh_gpu_instancing";
+    const tinygltf::Value& ext = it->second;
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
+      throwBadInput(who + " has no \"attributes\" object; the file is malformed (re-export it)");
+    const tinygltf::Value& attrs = ext.Get("attributes");
+    Values t, r, s;
+    size_t count = 0;
+    bool any = false;
+    for (const auto& [name, dst, comps] : {std::tuple<const char*, Values*, int>{"TRANSLATION", &t, 3},
+                                            {"ROTATION", &r, 4}, {"SCALE", &s, 3}}) {
+      if (!attrs.Has(name)) continue;
+      if (!attrs.Get(name).IsInt()) throwBadInput(who + ": " + name + " is not an accessor index");
+      const int a = attrs.Get(name).GetNumberAsInt();
+      *dst = acc_.read(a, name);
+      if (tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(a)].type)) != comps)
+        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") is not a VEC" + std::to_string(comps));
+      if (any && dst->size() != count)
+        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") has " + std::to_string(dst->size()) +
+                      " instances, the other attributes " + std::to_string(count));
+      count = dst->size();
+      any = true;
+    }
+    if (!any) throwBadInput(who + " names no TRANSLATION, ROTATION or SCALE accessor; the file is malformed (re-export it)");
+    std::vector<Mat4> out(count);
+    for (size_t i = 0; i < count; ++i) {
+      tinygltf::Node trs;
+      if (!t.empty()) trs.translation = {t[i][0], t[i][1], t[i][2]};
+      if (!r.empty()) trs.rotation = {r[i][0], r[i][1], r[i][2], r[i][3]};
+      if (!s.empty()) trs.scale = {s[i][0], s[i][1], s[i][2]};
+      out[i] = localMatrix(trs);
+    }
+    return out;
+  }
+
+  /// What one primitive holds for vox, read from accessors or decoded from
+  /// its compressed data.
+  struct PrimitiveData {
+    Values positions, uv0, uv1, colors;
+    int colorComponents = 0;
+    std::string positionSource;  // names the positions in messages
+    std::vector<uint32_t> indices;
+    bool indexed = false;
+  };
+
   void addPrimitive(const tinygltf::Mesh& gm, size_t pi, const Mat4& world, uint32_t part) {
     const tinygltf::Primitive& prim = gm.primitives[pi];
-    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    const std::string who = path_ + ": mesh '" + gm.name + "' primitive " + std::to_string(pi);
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-      warnings_.push_back(path_ + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has mode " +
-                          std::to_string(mode) + " (points or lines); skipped");
+      warnings_.push_back(who + " has mode " + std::to_string(mode) + " (points or lines); skipped");
       return;
     }
     auto posIt = prim.attributes.find("POSITION");
     if (posIt == prim.attributes.end()) {
-      warnings_.push_back(path_ + ": mesh '" + gm.name + "' primitive " + std::to_string(pi) + " has no POSITION; skipped");
+      warnings_.push_back(who + " has no POSITION; skipped");
       return;
     }
+    PrimitiveData d;
+    auto draco = prim.extensions.find("KHR_draco_mesh_compression");
+    if (draco != prim.extensions.end()) {
+      d = readDraco(prim, draco->second, who);
+      mode = TINYGLTF_MODE_TRIANGLES;  // Draco decodes to triangle faces
+    } else {
+      d = readAccessors(prim);
+    }
     const uint32_t base = uint32_t(mesh_.positions.size());
-    const size_t count = appendPositions(posIt->second, world);
-    appendVertexAttributes(prim, base, count);
-    const std::vector<uint32_t> idx = vertexIndices(prim, count);
+    appendPositions(d.positions, d.positionSource, world);
+    const size_t count = d.positions.size();
+    appendVertexAttributes(d, base, count);
+    if (!d.indexed)
+      for (uint32_t i = 0; i < count; ++i) d.indices.push_back(i);
     const uint32_t material =
         prim.material >= 0 && size_t(prim.material) < model_.materials.size() ? uint32_t(prim.material) : defaultMaterial_;
-    appendTriangles(mode, idx, base, material, part, mirrors(world));
+    if (material != defaultMaterial_)
+      if (const auto t = uvTransform(model_, material, path_)) {
+        auto& uv = mesh_.materials[material].texCoordSet == 1 ? mesh_.uv1 : mesh_.uv0;
+        for (size_t i = base; i < base + count && i < uv.size(); ++i) {
+          const double u = uv[i][0], v = uv[i][1];
+          uv[i] = {float((*t)[0] * u + (*t)[1] * v + (*t)[2]), float((*t)[3] * u + (*t)[4] * v + (*t)[5])};
+        }
+      }
+    appendTriangles(mode, d.indices, base, material, part, mirrors(world));
   }
 
-  /// The positions of accessor `accessor` transformed by `world`; counts the
-  /// non-finite ones. Returns how many there are.
-  size_t appendPositions(int accessor, const Mat4& world) {
-    const Values pos = acc_.read(accessor, "POSITION");
+  /// The primitive's attributes and indices from its accessors.
+  PrimitiveData readAccessors(const tinygltf::Primitive& prim) const {
+    PrimitiveData d;
+    const int posAccessor = prim.attributes.at("POSITION");
+    d.positions = acc_.read(posAccessor, "POSITION");
+    d.positionSource = "accessor " + std::to_string(posAccessor) + " (POSITION)";
+    auto attr = [&](const char* n) -> Values {
+      auto it = prim.attributes.find(n);
+      return it == prim.attributes.end() ? Values{} : acc_.read(it->second, n);
+    };
+    d.uv0 = attr("TEXCOORD_0");
+    d.uv1 = attr("TEXCOORD_1");
+    auto colIt = prim.attributes.find("COLOR_0");
+    if (colIt != prim.attributes.end()) {
+      d.colors = acc_.read(colIt->second, "COLOR_0");
+      d.colorComponents = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(colIt->second)].type));
+    }
+    if (prim.indices >= 0) {
+      d.indexed = true;
+      d.indices = vertexIndices(prim.indices, d.positions.size());
+    }
+    return d;
+  }
+
+  /// The primitive's attributes and indices decoded from its
+  /// KHR_draco_mesh_compression bufferView (the accessors only describe them).
+  PrimitiveData readDraco(const tinygltf::Primitive& prim, const tinygltf::Value& ext, const std::string& primitive) const {
+    const std::string who = primitive + " (KHR_draco_mesh_compression)";
+    if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsInt() || !ext.Has("attributes") ||
+        !ext.Get("attributes").IsObject())
+      throwBadInput(who + ": the extension needs an integer \"bufferView\" and an \"attributes\" object; the file "
+                    "is malformed (re-export it)");
+    const int view = ext.Get("bufferView").GetNumberAsInt();
+    if (view < 0 || size_t(view) >= model_.bufferViews.size())
+      throwBadInput(who + ": bufferView " + std::to_string(view) + " does not exist (the file has " +
+                    std::to_string(model_.bufferViews.size()) + ")");
+    const tinygltf::BufferView& v = model_.bufferViews[size_t(view)];
+    if (v.buffer < 0 || size_t(v.buffer) >= model_.buffers.size())
+      throwBadInput(who + ": bufferView " + std::to_string(view) + " has no valid buffer");
+    const std::vector<unsigned char>& buf = model_.buffers[size_t(v.buffer)].data;
+    if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
+      throwBadInput(who + ": bufferView " + std::to_string(view) + " overruns its buffer (" + std::to_string(buf.size()) +
+                    " bytes)");
+    // The attributes vox reads, each mapped to a Draco unique id; an attribute
+    // the primitive has but the extension does not compress is refused rather
+    // than mixed with decoded points it need not match.
+    const tinygltf::Value& ids = ext.Get("attributes");
+    std::vector<DracoAttributeRequest> requests;
+    for (const char* name : {"POSITION", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"}) {
+      auto it = prim.attributes.find(name);
+      if (it == prim.attributes.end()) continue;
+      if (!ids.Has(name) || !ids.Get(name).IsInt())
+        throwBadInput(who + ": " + name + " is not among the extension's compressed attributes; the file is "
+                      "malformed (re-export it)");
+      const bool normalized = it->second >= 0 && size_t(it->second) < model_.accessors.size() &&
+                              model_.accessors[size_t(it->second)].normalized;
+      requests.push_back({name, ids.Get(name).GetNumberAsInt(), normalized});
+    }
+    DracoDecoded dec = decodeDraco(buf.data() + v.byteOffset, v.byteLength, requests, who);
+    PrimitiveData d;
+    for (size_t r = 0; r < requests.size(); ++r) {
+      const std::string& n = requests[r].semantic;
+      if (n == "POSITION") d.positions = std::move(dec.values[r]);
+      if (n == "TEXCOORD_0") d.uv0 = std::move(dec.values[r]);
+      if (n == "TEXCOORD_1") d.uv1 = std::move(dec.values[r]);
+      if (n == "COLOR_0") d.colors = std::move(dec.values[r]), d.colorComponents = dec.components[r];
+    }
+    d.positionSource = "Draco attribute " + std::to_string(requests[0].uniqueId) + " (POSITION) of " + primitive.substr(path_.size() + 2);
+    d.indices = std::move(dec.indices);
+    d.indexed = true;
+    return d;
+  }
+
+  /// The positions `pos` transformed by `world`; counts the non-finite ones
+  /// (`source` names them in the message).
+  void appendPositions(const Values& pos, const std::string& source, const Mat4& world) {
     size_t bad = 0;
     for (const auto& p : pos)
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++bad;
     if (bad) {
       invalidPositions_ += bad;
-      if (firstInvalid_.empty())
-        firstInvalid_ = "accessor " + std::to_string(accessor) + " (POSITION) has " + std::to_string(bad) + " NaN or infinite values";
+      if (firstInvalid_.empty()) firstInvalid_ = source + " has " + std::to_string(bad) + " NaN or infinite values";
     }
     for (const auto& p : pos) {
       std::array<double, 3> w;
       for (int r = 0; r < 3; ++r) w[size_t(r)] = world[size_t(r)] * p[0] + world[size_t(4 + r)] * p[1] + world[size_t(8 + r)] * p[2] + world[size_t(12 + r)];
       mesh_.positions.push_back(w);
     }
-    return pos.size();
   }
 
   /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 of the `count` vertices from `base` on;
   /// arrays that exist are kept parallel to the positions (zeros, white).
-  void appendVertexAttributes(const tinygltf::Primitive& prim, uint32_t base, size_t count) {
-    auto attr = [&](const char* n) -> Values {
-      auto it = prim.attributes.find(n);
-      return it == prim.attributes.end() ? Values{} : acc_.read(it->second, n);
-    };
-    const Values uv0 = attr("TEXCOORD_0"), uv1 = attr("TEXCOORD_1");
-    auto colIt = prim.attributes.find("COLOR_0");
-    Values col;
-    int colComps = 0;
-    if (colIt != prim.attributes.end()) {
-      col = acc_.read(colIt->second, "COLOR_0");
-      colComps = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(colIt->second)].type));
-    }
+  void appendVertexAttributes(const PrimitiveData& d, uint32_t base, size_t count) {
     auto fill2 = [&](std::vector<std::array<float, 2>>& dst, const Values& src) {
       if (src.empty() && dst.empty()) return;
       dst.resize(base, {0, 0});
       for (size_t i = 0; i < count; ++i)
         dst.push_back(i < src.size() ? std::array<float, 2>{float(src[i][0]), float(src[i][1])} : std::array<float, 2>{0, 0});
     };
-    fill2(mesh_.uv0, uv0);
-    fill2(mesh_.uv1, uv1);
+    fill2(mesh_.uv0, d.uv0);
+    fill2(mesh_.uv1, d.uv1);
+    const Values& col = d.colors;
     if (!col.empty() || !mesh_.colors.empty()) {
       mesh_.colors.resize(base, {1, 1, 1, 1});
       for (size_t i = 0; i < count; ++i)
         mesh_.colors.push_back(i < col.size() ? std::array<float, 4>{float(col[i][0]), float(col[i][1]), float(col[i][2]),
-                                                                     colComps == 4 ? float(col[i][3]) : 1.0f}
+                                                                     d.colorComponents == 4 ? float(col[i][3]) : 1.0f}
                                               : std::array<float, 4>{1, 1, 1, 1});
     }
   }
 
-  /// The primitive's indices (checked against its `count` vertices), or 0..count-1.
-  std::vector<uint32_t> vertexIndices(const tinygltf::Primitive& prim, size_t count) const {
+  /// The indices of accessor `accessor`, checked against the primitive's `count` vertices.
+  std::vector<uint32_t> vertexIndices(int accessor, size_t count) const {
     std::vector<uint32_t> idx;
-    if (prim.indices < 0) {
-      for (uint32_t i = 0; i < count; ++i) idx.push_back(i);
-      return idx;
-    }
-    for (const auto& v : acc_.read(prim.indices, "indices")) {
+    for (const auto& v : acc_.read(accessor, "indices")) {
       if (v[0] < 0 || v[0] >= double(count))
-        throwBadInput(path_ + ": accessor " + std::to_string(prim.indices) + " (indices) refers to vertex " +
+        throwBadInput(path_ + ": accessor " + std::to_string(accessor) + " (indices) refers to vertex " +
                       std::to_string(int64_t(v[0])) + " of " + std::to_string(count));
       idx.push_back(uint32_t(v[0]));
     }

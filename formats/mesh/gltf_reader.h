@@ -10,8 +10,10 @@
 //   its sampler's wrap modes and mag filter, its texCoord set); COLOR_0
 //   (vec3/vec4, float or normalized) multiplies in.
 // * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
-// * Compressed meshes (KHR_draco_mesh_compression, EXT_meshopt_compression)
-//   are refused with the extension's name.
+// * KHR_draco_mesh_compression: the primitive's Draco data decoded
+//   (formats/mesh/gltf_draco.h); a corrupt one is refused naming the primitive.
+// * EXT_meshopt_compression: compressed bufferViews decoded
+//   (formats/mesh/gltf_meshopt.h); a corrupt one is refused naming the view.
 // * NaN or infinite positions: refused naming the accessor and the count, or
 //   dropped (MeshReadOptions::dropInvalid).
 #pragma once

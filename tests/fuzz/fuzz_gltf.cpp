@@ -1,7 +1,10 @@
 // libFuzzer target of the glTF read path: the spec-range check of the JSON
 // (gltf_json_check.cpp), tinygltf's container parser (.gltf JSON and .glb,
 // data-URI buffers and images) and the accessor and node walk of
-// gltf_reader.cpp, all from memory (readGltfMemory). An input starting with
+// gltf_reader.cpp, and the KHR_draco_mesh_compression and
+// EXT_meshopt_compression decodes (gltf_draco.cpp, gltf_meshopt.cpp; Debian's
+// libdraco and libmeshoptimizer themselves are not instrumented; seeds
+// draco_grid.glb, meshopt_box.glb), all from memory (readGltfMemory). An input starting with
 // the GLB magic "glTF" is read as .glb, any other as .gltf. External URIs point
 // into a directory that does not exist. Every triangle index must name a vertex.
 #include <string>
