@@ -827,12 +827,20 @@ CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
   return out;
 }
 
-constexpr int32_t kTile = 8;  // voxels per side of a far-field block
+// Voxels per side of a top-level block of the winding rule: far from the holes'
+// rims the caps' field varies little (CapField::ballField), so large blocks
+// decide most of the box with one exact evaluation each.
+constexpr int32_t kTile = 32;
+// Blocks up to this many voxels that cut through caps count each voxel's jumps
+// (a few plane tests); larger ones split (eight evaluations cost less than
+// counting for every voxel).
+constexpr size_t kJumpVolume = 64;
 
-/// The interior of one 8 x 8 column tile of the box, by |winding number| > 0.5
-/// at the voxel centre: integer winding of the capped mesh along +z minus the
-/// caps' solid angle, which is evaluated per 8^3 block with CapField's bound and
-/// per voxel only where the bound cannot decide.
+/// The interior of one kTile x kTile column tile of the box, by |winding
+/// number| > 0.5 at the voxel centre: integer winding of the capped mesh along
+/// +z minus the caps' solid angle, which is evaluated per block with
+/// CapField's bound (an octree descent from kTile^3 blocks) and per voxel only
+/// where the bound cannot decide.
 void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, const CapField& caps,
                  const BoxBits& surfaceBits, const VoxelBox& box, uint8_t fallbackClass, VoxelBlocks& out) {
   const int32_t nx = std::min(kTile, box.hi[0] - x0 + 1), ny = std::min(kTile, box.hi[1] - y0 + 1);
@@ -869,10 +877,10 @@ void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, co
   if (caps.empty()) {  // closed: w = W exactly
     for (size_t q = 0; q < inside.size(); ++q) inside[q] = !surface[q] && winding[q] != 0;
   } else {
-    std::vector<uint32_t> near;
+    CapField::Ball ball;
     // Octree descent over a block [i0, i1) x [j0, j1) x [k0, k1) (tile-local):
-    // decided by the far-field bound when no cap is near and the bound keeps
-    // every voxel on one side of 0.5; else split in 8; single voxels exactly.
+    // decided by the ball's bound when every voxel stays on one side of 0.5;
+    // else split in 8; single voxels exactly.
     std::function<void(int32_t, int32_t, int32_t, int32_t, int32_t, int32_t)> decide =
         [&](int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
           bool any = false;
@@ -888,16 +896,23 @@ void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, co
           const double centre[3] = {x0 + 0.5 * (i0 + i1), y0 + 0.5 * (j0 + j1), box.lo[2] + 0.5 * (k0 + k1)};
           const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
           const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
-          double farValue = 0, farBound = 0;
-          caps.splitForBlock(centre, radius, farValue, farBound, near);
-          bool decided = near.empty();
+          const size_t volume = size_t(i1 - i0) * size_t(j1 - j0) * size_t(k1 - k0);
+          bool decided = caps.ballField(centre, radius, ball) && (ball.cut.empty() || volume <= kJumpVolume);
           for (int32_t i = i0; i < i1 && decided; ++i)
             for (int32_t j = j0; j < j1 && decided; ++j)
               for (int32_t k = k0; k < k1 && decided; ++k) {
                 if (surface[at(i, j, k)]) continue;
-                const double v = std::abs(double(winding[at(i, j, k)]) - farValue);
-                if (v - farBound > 0.5) inside[at(i, j, k)] = 1;
-                else if (v + farBound < 0.5) inside[at(i, j, k)] = 0;
+                int jump = 0;
+                if (!ball.cut.empty()) {
+                  const double p[3] = {x0 + i + 0.5, y0 + j + 0.5, box.lo[2] + k + 0.5};
+                  if (!caps.jumps(ball, p, jump)) {
+                    decided = false;
+                    break;
+                  }
+                }
+                const double v = std::abs(double(winding[at(i, j, k)]) - ball.value - jump);
+                if (v - ball.bound > 0.5) inside[at(i, j, k)] = 1;
+                else if (v + ball.bound < 0.5) inside[at(i, j, k)] = 0;
                 else decided = false;
               }
           if (decided) return;
@@ -928,8 +943,8 @@ void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, co
     }
 }
 
-/// The interior by the winding-number rule: tiles of x slabs split into
-/// `threads` pieces, merged in piece order.
+/// The interior by the winding-number rule: x slabs of tiles, one piece each,
+/// on `threads` workers, merged in slab order.
 void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
                         const std::vector<Vec3i>& lattice, const std::vector<CapTriangle>& caps,
                         const BoxBits& surfaceBits, const VoxelBox& box, unsigned threads) {
@@ -938,9 +953,11 @@ void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector
   std::sort(zCross.begin(), zCross.end());
   const CapField field(caps);
   const size_t tilesX = (box.extent(0) + kTile - 1) / kTile;
-  std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+  // One piece per x slab of tiles (the work concentrates near the holes, so
+  // thread-sized pieces would leave a thread idle); merged in slab order.
+  std::vector<std::unique_ptr<VoxelBlocks>> interior(tilesX);
   for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
-  parallelPieces(tilesX, threads, threads, [&](size_t tb, size_t te, size_t piece) {
+  parallelPieces(tilesX, threads, tilesX, [&](size_t tb, size_t te, size_t piece) {
     for (size_t t = tb; t < te; ++t)
       for (int32_t y0 = box.lo[1]; y0 <= box.hi[1]; y0 += kTile)
         windingTile(box.lo[0] + int32_t(t) * kTile, y0, zCross, field, surfaceBits, box, triangleClass[0],
