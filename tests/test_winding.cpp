@@ -225,9 +225,19 @@ void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& chec
       const double p[3] = {c[0] + q[0], c[1] + q[1], c[2] + q[2]};
       int jump = 0;
       if (!field.jumps(ball, p, jump)) continue;
-      const double exact = field.winding(p);
-      EXPECT_LE(std::abs(exact - ball.value - jump), ball.bound) << p[0] << " " << p[1] << " " << p[2];
+      const double exact = field.winding(p), dist = std::hypot(q[0], q[1], q[2]);
+      const double linear = ball.value + jump + ball.gradient[0] * q[0] + ball.gradient[1] * q[1] + ball.gradient[2] * q[2];
+      EXPECT_LE(std::abs(exact - ball.value - jump), ball.slope * dist + ball.slack) << p[0] << " " << p[1] << " " << p[2];
+      EXPECT_LE(std::abs(exact - linear), ball.curvature * dist * dist + ball.slack) << p[0] << " " << p[1] << " " << p[2];
       ++checked;
+    }
+    if (b % 50 == 0 && ball.cut.empty()) {  // the gradient against central differences
+      const double h = 1e-4;
+      for (int k = 0; k < 3; ++k) {
+        double a[3] = {c[0], c[1], c[2]}, z[3] = {c[0], c[1], c[2]};
+        a[k] += h, z[k] -= h;
+        EXPECT_NEAR(ball.gradient[k], (field.winding(a) - field.winding(z)) / (2 * h), 1e-6 + 1e-4 * std::abs(ball.gradient[k]));
+      }
     }
   }
 }

@@ -831,9 +831,10 @@ CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
 // rims the caps' field varies little (CapField::ballField), so large blocks
 // decide most of the box with one exact evaluation each.
 constexpr int32_t kTile = 32;
-// Blocks up to this many voxels (at most 64: one bit each) that cut through
-// caps count each voxel's jumps (a few plane tests); larger ones split (eight
-// evaluations cost less than counting for every voxel).
+// Blocks up to this many voxels are decided voxel by voxel (each with its own
+// distance from the centre, and its jumps when the block cuts through caps);
+// larger ones by runs of equal W, and split when they cut through caps (eight
+// evaluations cost less than counting every voxel's jumps).
 constexpr size_t kJumpVolume = 64;
 
 /// The interior of one kTile x kTile column tile of the box, by |winding
@@ -853,6 +854,7 @@ class WindingTile {
     const size_t columns = size_t(nx_) * size_t(ny_);
     surface_.assign(columns * words_, 0);
     inside_.assign(columns * words_, 0);
+    done_.assign(columns * words_, 0);
     runBegin_.resize(columns + 1);
     for (int32_t i = 0; i < nx_; ++i)
       for (int32_t j = 0; j < ny_; ++j) {
@@ -883,7 +885,7 @@ class WindingTile {
       for (int32_t i = 0; i < nx_; ++i)
         for (int32_t j = 0; j < ny_; ++j)
           forRuns(column(i, j), 0, nz_, [&](const Run& r, int32_t a, int32_t b) {
-            if (r.w != 0) setBits(column(i, j), a, b);
+            if (r.w != 0) setBits(inside_, column(i, j), a, b);
             return true;
           });
       return;
@@ -926,14 +928,14 @@ class WindingTile {
     const uint64_t upto = hi == 64 ? ~uint64_t(0) : (uint64_t(1) << hi) - 1;
     return upto & ~((uint64_t(1) << lo) - 1);
   }
-  bool anyFree(size_t col, int32_t a, int32_t b) const {  // a non-surface voxel in [a, b)?
+  /// A voxel in [a, b) still to decide (not surface, not decided yet)?
+  bool anyFree(size_t col, int32_t a, int32_t b) const {
     for (size_t wd = size_t(a) / 64; wd * 64 < size_t(b); ++wd)
-      if (~surface_[col * words_ + wd] & mask(wd, a, b)) return true;
+      if (~(surface_[col * words_ + wd] | done_[col * words_ + wd]) & mask(wd, a, b)) return true;
     return false;
   }
-  bool isSurface(size_t col, int32_t k) const { return surface_[col * words_ + size_t(k) / 64] >> (k % 64) & 1; }
-  void setBits(size_t col, int32_t a, int32_t b) {
-    for (size_t wd = size_t(a) / 64; wd * 64 < size_t(b); ++wd) inside_[col * words_ + wd] |= mask(wd, a, b);
+  void setBits(std::vector<uint64_t>& bits, size_t col, int32_t a, int32_t b) {
+    for (size_t wd = size_t(a) / 64; wd * 64 < size_t(b); ++wd) bits[col * words_ + wd] |= mask(wd, a, b);
   }
   /// The first voxel at or after k that is interior (inside and not surface)
   /// when `set`, else the first that is not; nz when none.
@@ -973,7 +975,7 @@ class WindingTile {
     if (!any) return;
     if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
       const double p[3] = {x0_ + i0 + 0.5, y0_ + j0 + 0.5, z0_ + k0 + 0.5};
-      if (std::abs(double(windingAt(column(i0, j0), k0)) - caps_.winding(p)) > 0.5) setBits(column(i0, j0), k0, k1);
+      if (std::abs(double(windingAt(column(i0, j0), k0)) - caps_.winding(p)) > 0.5) setBits(inside_, column(i0, j0), k0, k1);
       return;
     }
     if (decideBlock(i0, i1, j0, j1, k0, k1)) return;
@@ -985,53 +987,82 @@ class WindingTile {
           if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
   }
 
-  /// One evaluation for the block: writes its voxels and returns true when
-  /// the bound decides every non-surface voxel, else writes nothing.
+  /// One evaluation for the block: decides the voxels (blocks up to
+  /// kJumpVolume voxels one by one, larger ones by runs of equal W) that its
+  /// bound decides and returns whether none is left to decide.
   bool decideBlock(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
     const double centre[3] = {x0_ + 0.5 * (i0 + i1), y0_ + 0.5 * (j0 + j1), z0_ + 0.5 * (k0 + k1)};
     const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
     const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
     const size_t volume = size_t(i1 - i0) * size_t(j1 - j0) * size_t(k1 - k0);
     if (!caps_.ballField(centre, radius, ball_)) return false;
-    // inside (1), outside (0) or undecided (-1) for winding W without jumps
-    auto side = [&](double v) { return v - ball_.bound > 0.5 ? 1 : v + ball_.bound < 0.5 ? 0 : -1; };
-    if (ball_.cut.empty()) {
+    const CapField::Ball& b = ball_;
+    // Whether |w| > 0.5 (1), < 0.5 (0) or undecided (-1) for w in [lo, hi].
+    auto sideOf = [](double lo, double hi) { return lo > 0.5 || hi < -0.5 ? 1 : lo > -0.5 && hi < 0.5 ? 0 : -1; };
+    // Voxels at offsets (dx, dy, dz0 .. dz1) from the centre, winding W, no
+    // jumps: the constant model first, then the linear one.
+    auto sideOfRun = [&](int32_t w, double dx, double dy, double dz0, double dz1) {
+      const double eA = b.slope * radius + b.slack, mA = w - b.value;
+      const int sA = sideOf(mA - eA, mA + eA);
+      if (sA >= 0) return sA;
+      const double lxy = b.gradient[0] * dx + b.gradient[1] * dy;
+      const double l0 = lxy + b.gradient[2] * dz0, l1 = lxy + b.gradient[2] * dz1;
+      const double eB = b.curvature * radius * radius + b.slack;
+      return sideOf(mA - std::max(l0, l1) - eB, mA - std::min(l0, l1) + eB);
+    };
+    if (volume <= kJumpVolume) {  // voxel by voxel, each with its own distance from the centre
+      bool undecided = false;
       for (int32_t i = i0; i < i1; ++i)
         for (int32_t j = j0; j < j1; ++j)
-          if (!forRuns(column(i, j), k0, k1, [&](const Run& r, int32_t a, int32_t b) {
-                return side(std::abs(r.w - ball_.value)) >= 0 || !anyFree(column(i, j), a, b);
-              }))
-            return false;
-      for (int32_t i = i0; i < i1; ++i)
-        for (int32_t j = j0; j < j1; ++j)
-          forRuns(column(i, j), k0, k1, [&](const Run& r, int32_t a, int32_t b) {
-            if (side(std::abs(r.w - ball_.value)) == 1) setBits(column(i, j), a, b);
-            return true;
-          });
-      return true;
+          for (int32_t k = k0; k < k1; ++k) {
+            const size_t col = column(i, j);
+            if (!anyFree(col, k, k + 1)) continue;
+            const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
+            int jump = 0;
+            if (!b.cut.empty() && !caps_.jumps(b, p, jump)) {
+              undecided = true;
+              continue;
+            }
+            const double q[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
+            const double d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], d = std::sqrt(d2);
+            const double m = windingAt(col, k) - b.value - jump;
+            const double eA = b.slope * d + b.slack;
+            int s = sideOf(m - eA, m + eA);
+            if (s < 0) {
+              const double l = m - (b.gradient[0] * q[0] + b.gradient[1] * q[1] + b.gradient[2] * q[2]);
+              const double eB = b.curvature * d2 + b.slack;
+              s = sideOf(l - eB, l + eB);
+            }
+            if (s < 0) {
+              undecided = true;
+              continue;
+            }
+            setBits(done_, col, k, k + 1);
+            if (s) setBits(inside_, col, k, k + 1);
+          }
+      return !undecided;
     }
-    // The ball cuts through caps: count each voxel's jumps (small blocks only:
-    // for large ones eight evaluations cost less).
-    if (volume > kJumpVolume) return false;
-    uint64_t insideMask = 0;  // voxel n of the block (i, j, k order) at bit n
-    int n = 0;
+    // A large ball through caps: eight evaluations cost less than counting
+    // every voxel's jumps.
+    if (!b.cut.empty()) return false;
+    bool undecided = false;
     for (int32_t i = i0; i < i1; ++i)
-      for (int32_t j = j0; j < j1; ++j)
-        for (int32_t k = k0; k < k1; ++k, ++n) {
-          if (isSurface(column(i, j), k)) continue;
-          const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
-          int jump = 0;
-          if (!caps_.jumps(ball_, p, jump)) return false;
-          const int s = side(std::abs(windingAt(column(i, j), k) - ball_.value - jump));
-          if (s < 0) return false;
-          if (s) insideMask |= uint64_t(1) << n;
-        }
-    n = 0;
-    for (int32_t i = i0; i < i1; ++i)
-      for (int32_t j = j0; j < j1; ++j)
-        for (int32_t k = k0; k < k1; ++k, ++n)
-          if (insideMask >> n & 1) setBits(column(i, j), k, k + 1);
-    return true;
+      for (int32_t j = j0; j < j1; ++j) {
+        const size_t col = column(i, j);
+        const double dx = x0_ + i + 0.5 - centre[0], dy = y0_ + j + 0.5 - centre[1];
+        forRuns(col, k0, k1, [&](const Run& r, int32_t a, int32_t e) {
+          if (!anyFree(col, a, e)) return true;
+          const int s = sideOfRun(r.w, dx, dy, z0_ + a + 0.5 - centre[2], z0_ + e - 0.5 - centre[2]);
+          if (s < 0) {
+            undecided = true;
+          } else {
+            setBits(done_, col, a, e);
+            if (s) setBits(inside_, col, a, e);
+          }
+          return true;
+        });
+      }
+    return !undecided;
   }
 
   const int32_t x0_, y0_, z0_;
@@ -1040,6 +1071,7 @@ class WindingTile {
   const size_t words_;            // 64-bit words per column
   std::vector<uint64_t> surface_;  // per column, z fastest
   std::vector<uint64_t> inside_;   // per column: |w| > 0.5 decided (surface voxels may be set too)
+  std::vector<uint64_t> done_;     // per column: decided by a block's bound
   std::vector<Run> runs_;
   std::vector<uint32_t> runBegin_;  // per column, into runs_
   CapField::Ball ball_;

@@ -66,19 +66,28 @@ class CapField {
   /// to double rounding, ~1e-15 per triangle).
   double winding(const double p[3]) const;
 
-  /// The field over the ball of points within `radius` of `centre`.
+  /// The field over the ball of points within `radius` of `centre`, as two
+  /// models with rigorous bounds, for any p in the ball, d = |p - centre|:
+  ///   |w_caps(p) - value - jump(p)| <= slope * d + slack
+  ///   |w_caps(p) - value - jump(p) - gradient . (p - centre)| <= curvature * d^2 + slack
+  /// with gap_e = dist(centre, e) - radius > 0 for every boundary edge e:
+  ///   slope = (1 / 4pi) sum_e len_e / gap_e^2 (the gradient bound above),
+  ///   curvature = (1 / 4pi) sum_e len_e / gap_e^3 (the Biot-Savart kernel's
+  ///   derivative is at most 2 / r^3, and the Taylor remainder halves it),
+  /// each times (1 + 1e-9); slack = 1e-9 + 1e-12 * radius * (|gradient| + slope)
+  /// covers double rounding. gradient = grad w_caps(centre), exact (the closed
+  /// form of the Biot-Savart integral over each straight edge).
   struct Ball {
     double centre[3];
     double radius;
-    double value;               // w_caps(centre), exact
-    double bound;               // |w_caps(p) - value - jumps(p)| <= bound in the ball
+    double value;        // w_caps(centre), exact
+    double gradient[3];  // grad w_caps(centre), exact
+    double slope, curvature, slack;
     std::vector<uint32_t> cut;  // cap triangles the ball reaches (their jumps count)
   };
   /// Fills `ball` and returns true when the ball stays clear of every boundary
   /// edge (and its centre clear of every cap plane it reaches); false when no
-  /// bound is available (split the ball). Bound: radius * (1 / 4pi) *
-  /// sum_e len_e / (dist(centre, e) - radius)^2 (the gradient bound above along
-  /// the segment centre -> p), times (1 + 1e-9), plus 1e-9 for rounding.
+  /// bound is available (split the ball).
   bool ballField(const double centre[3], double radius, Ball& ball) const;
 
   /// The jump of w_caps along the segment ball.centre -> p (p in the ball):
