@@ -7,6 +7,10 @@
 # (cost grows with the surface, not the volume), and parse throughput (end to
 # end per file, and a Google Benchmark over the parsers: bench/bench_parse.cpp).
 # Usage: scripts/bench_voxelize.sh [BUILD_DIR] [MESH]   -> Markdown on stdout
+#        scripts/bench_voxelize.sh [BUILD_DIR] [MESH] winding
+#   the last: only the solid fill by the winding number on MESH (default the
+#   bunny, open) against vdb_tool mesh2ls, 256 and 512, one hyperfine run each
+#   (parity rule alongside), and peak memory at 512 (/usr/bin/time -v).
 set -eu
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -15,6 +19,27 @@ BUNNY=${2:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
+
+if [ "${3:-}" = winding ]; then
+  [ -f "$BUNNY" ] || { echo "MESH $BUNNY not found"; exit 2; }
+  echo "### solid fill by the winding number: $(basename "$BUNNY") ($(grep -c '^f ' "$BUNNY") triangles)"
+  echo
+  for n in 256 512; do
+    runs=5; [ $n = 512 ] && runs=3
+    hyperfine -N --warmup 1 --runs $runs --export-markdown "w$n.md" \
+      -n "vox solid $n" "$VOX voxelize $BUNNY --res $n --fill solid -o wv.vdb -q --threads 2" \
+      -n "vox solid parity $n" "$VOX voxelize $BUNNY --res $n --fill solid --solid-rule parity -o wp.vdb -q --threads 2" \
+      -n "vdb_tool mesh2ls $n" "vdb_tool -read $BUNNY -mesh2ls d=$n -write wl.vdb" >/dev/null
+    cat "w$n.md"
+    echo
+  done
+  for c in "$VOX voxelize $BUNNY --res 512 --fill solid -o wv.vdb -q --threads 2" \
+           "vdb_tool -read $BUNNY -mesh2ls d=512 -write wl.vdb"; do
+    /usr/bin/time -v $c 2> mem.txt > /dev/null || true
+    echo "peak RSS $(sed -n 's/.*Maximum resident set size (kbytes): //p' mem.txt) KB: $c" | sed "s|$VOX|vox|; s|$BUNNY|MESH|"
+  done
+  exit 0
+fi
 
 # A sphere of radius 1 with a ripple of 4% (so no face lies on a grid plane),
 # 316 x 158 quads = 99 856 triangles, as OBJ.

@@ -2,7 +2,7 @@
 // against the brute-force oracle (solid angles over every triangle, long double)
 // at every voxel centre of small grids: open meshes (holes, a crack, an
 // open-topped box, a sheet) and closed ones (self-intersecting, nested,
-// inverted); the caps close the boundary; the far-field bound holds; the
+// inverted); the caps close the boundary; the caps' ball bound holds; the
 // result does not depend on the thread count.
 #include <gtest/gtest.h>
 
@@ -193,31 +193,71 @@ TEST(Winding, CapsCloseTheBoundary) {
   EXPECT_TRUE(capBoundaryLoops(soup, soupLattice).empty());
 }
 
-TEST(Winding, FarFieldBoundHolds) {
-  const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 24, false, [](double th, double) { return th > 1.1; });
+/// CapField::ballField's bound and jump counts against exact evaluation at
+/// random points of random balls, near and far from the holes' rims and
+/// cutting through the caps.
+void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& checked, int& cutting) {
   std::vector<LatticePoint> lattice;
   for (const auto& p : m.positions) lattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
-  const CapField field(capBoundaryLoops(m.triangles, lattice));
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> d(-10, 42), unit(-1, 1);
-  int checked = 0;
-  for (int b = 0; b < 300; ++b) {
-    const double c[3] = {d(rng), d(rng), d(rng)}, radius = 6.06;
-    double farValue, farBound;
-    std::vector<uint32_t> near;
-    field.splitForBlock(c, radius, farValue, farBound, near);
+  const std::vector<CapTriangle> caps = capBoundaryLoops(m.triangles, lattice);
+  const CapField field(caps);
+  ASSERT_FALSE(field.empty());
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-10, 42), unit(-1, 1), u01(0, 1);
+  CapField::Ball ball;
+  for (int b = 0; b < 800; ++b) {
+    double c[3] = {d(rng), d(rng), d(rng)};
+    if (b % 2) {  // every other ball centred near a random point of a random cap
+      const CapTriangle& t = caps[rng() % caps.size()];
+      double x = u01(rng), y = u01(rng);
+      if (x + y > 1) x = 1 - x, y = 1 - y;
+      for (int k = 0; k < 3; ++k)
+        c[k] = (double(t.v[0][k]) + x * double(t.v[1][k] - t.v[0][k]) + y * double(t.v[2][k] - t.v[0][k])) / 65536 +
+               unit(rng) * radius;
+    }
+    if (!field.ballField(c, radius, ball)) continue;
+    cutting += !ball.cut.empty();
     for (int i = 0; i < 20; ++i) {
       double q[3];
       do {
         for (double& x : q) x = unit(rng) * radius;
       } while (std::hypot(q[0], q[1], q[2]) > radius);
       const double p[3] = {c[0] + q[0], c[1] + q[1], c[2] + q[2]};
-      const double exact = field.winding(p), approx = farValue + (near.empty() ? 0.0 : field.winding(p, &near));
-      EXPECT_LE(std::abs(exact - approx), farBound);
+      int jump = 0;
+      if (!field.jumps(ball, p, jump)) continue;
+      const double exact = field.winding(p), dist = std::hypot(q[0], q[1], q[2]);
+      const double linear = ball.value + jump + ball.gradient[0] * q[0] + ball.gradient[1] * q[1] + ball.gradient[2] * q[2];
+      EXPECT_LE(std::abs(exact - ball.value - jump), ball.slope * dist + ball.slack) << p[0] << " " << p[1] << " " << p[2];
+      EXPECT_LE(std::abs(exact - linear), ball.curvature * dist * dist + ball.slack) << p[0] << " " << p[1] << " " << p[2];
       ++checked;
     }
+    if (b % 50 == 0 && ball.cut.empty()) {  // the gradient against central differences
+      const double h = 1e-4;
+      for (int k = 0; k < 3; ++k) {
+        double a[3] = {c[0], c[1], c[2]}, z[3] = {c[0], c[1], c[2]};
+        a[k] += h, z[k] -= h;
+        EXPECT_NEAR(ball.gradient[k], (field.winding(a) - field.winding(z)) / (2 * h), 1e-6 + 1e-4 * std::abs(ball.gradient[k]));
+      }
+    }
   }
-  EXPECT_EQ(checked, 6000);
+}
+
+TEST(Winding, BallBoundHolds) {
+  int checked = 0, cutting = 0;
+  // One big hole (a flat-ish cap), a crack (long thin caps), three holes.
+  expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 24, false, [](double th, double) { return th > 1.1; }), 11,
+                       6.06, checked, cutting);
+  expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double, double ph) { return ph > 0.2; }), 12,
+                       3.0, checked, cutting);
+  expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 40, false,
+                              [](double th, double ph) {
+                                return !(th < 0.5) && !(std::abs(th - M_PI / 2) < 0.35 && std::abs(ph - 1.0) < 0.4) &&
+                                       !(th > 2.7);
+                              }),
+                       13, 1.5, checked, cutting);
+  std::printf("  %d points in %d cutting balls checked\n", checked, cutting);
+  EXPECT_GT(checked, 10000);
+  EXPECT_GT(cutting, 20);  // balls through the caps were exercised
 }
 
 TEST(Winding, SameAtAnyThreadCount) {

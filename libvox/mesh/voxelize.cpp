@@ -827,109 +827,258 @@ CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
   return out;
 }
 
-constexpr int32_t kTile = 8;  // voxels per side of a far-field block
+// Voxels per side of a top-level block of the winding rule: far from the holes'
+// rims the caps' field varies little (CapField::ballField), so large blocks
+// decide most of the box with one exact evaluation each.
+constexpr int32_t kTile = 32;
+// Blocks up to this many voxels are decided voxel by voxel (each with its own
+// distance from the centre, and its jumps when the block cuts through caps);
+// larger ones by runs of equal W, and split when they cut through caps (eight
+// evaluations cost less than counting every voxel's jumps).
+constexpr size_t kJumpVolume = 64;
 
-/// The interior of one 8 x 8 column tile of the box, by |winding number| > 0.5
-/// at the voxel centre: integer winding of the capped mesh along +z minus the
-/// caps' solid angle, which is evaluated per 8^3 block with CapField's bound and
-/// per voxel only where the bound cannot decide.
-void windingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, const CapField& caps,
-                 const BoxBits& surfaceBits, const VoxelBox& box, uint8_t fallbackClass, VoxelBlocks& out) {
-  const int32_t nx = std::min(kTile, box.hi[0] - x0 + 1), ny = std::min(kTile, box.hi[1] - y0 + 1);
-  const int32_t nz = box.ext[2];
-  const size_t columns = size_t(nx) * size_t(ny);
-  std::vector<int32_t> winding(columns * size_t(nz));
-  std::vector<int16_t> cls(columns * size_t(nz));  // -1: no entering crossing below
-  std::vector<uint8_t> inside(columns * size_t(nz), 0);
-  for (int32_t i = 0; i < nx; ++i)
-    for (int32_t j = 0; j < ny; ++j) {
-      const size_t col = size_t(i) * size_t(ny) + size_t(j);
-      const uint64_t column = box.columnIndex(2, x0 + i, y0 + j);
-      auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{column, INT32_MIN, -128, 0});
-      int w = 0, c = -1;
-      for (int32_t k = 0; k < nz; ++k) {
-        while (cur != zCross.end() && cur->column == column && cur->start <= box.lo[2] + k) {
-          if (enters(w, cur->delta)) c = cur->cls;
+/// The interior of one kTile x kTile column tile of the box, by |winding
+/// number| > 0.5 at the voxel centre: integer winding W of the capped mesh
+/// along +z minus the caps' solid angle, which is evaluated per block with
+/// CapField's bound (an octree descent from kTile^3 blocks) and per voxel only
+/// where the bound cannot decide. W is kept per column as runs between +z
+/// crossings, the surface and the result as bits (z fastest), so a block far
+/// from the holes costs a few word operations per column, not per voxel.
+class WindingTile {
+ public:
+  WindingTile(int32_t x0, int32_t y0, const std::vector<Crossing>& zCross, const CapField& caps,
+              const BoxBits& surfaceBits, const VoxelBox& box)
+      : x0_(x0), y0_(y0), z0_(box.lo[2]), caps_(caps),
+        nx_(std::min(kTile, box.hi[0] - x0 + 1)), ny_(std::min(kTile, box.hi[1] - y0 + 1)), nz_(box.ext[2]),
+        words_((size_t(nz_) + 63) / 64) {
+    const size_t columns = size_t(nx_) * size_t(ny_);
+    surface_.assign(columns * words_, 0);
+    inside_.assign(columns * words_, 0);
+    done_.assign(columns * words_, 0);
+    runBegin_.resize(columns + 1);
+    for (int32_t i = 0; i < nx_; ++i)
+      for (int32_t j = 0; j < ny_; ++j) {
+        const size_t col = column(i, j);
+        // Runs of equal W: a crossing changes W from voxel `start` on.
+        const uint64_t c = box.columnIndex(2, x0 + i, y0 + j);
+        runBegin_[col] = uint32_t(runs_.size());
+        runs_.push_back({0, 0, -1});
+        int w = 0, cls = -1;
+        for (auto cur = std::lower_bound(zCross.begin(), zCross.end(), Crossing{c, INT32_MIN, -128, 0});
+             cur != zCross.end() && cur->column == c; ++cur) {
+          if (enters(w, cur->delta)) cls = cur->cls;
           w += cur->delta;
-          ++cur;
+          const int32_t k = std::clamp(cur->start - z0_, 0, nz_);
+          if (runs_.back().begin == k) runs_.back() = {k, w, int16_t(cls)};
+          else runs_.push_back({k, w, int16_t(cls)});
         }
-        winding[col * size_t(nz) + size_t(k)] = w;
-        cls[col * size_t(nz) + size_t(k)] = int16_t(c);
+        if (runs_.back().begin == nz_ && runs_.size() - runBegin_[col] > 1) runs_.pop_back();
+        const uint64_t base = box.localIndex(x0 + i, y0 + j, z0_);
+        for (size_t wd = 0; wd < words_; ++wd) surface_[col * words_ + wd] = surfaceBits.get64(base + 64 * wd) & mask(wd, 0, nz_);
       }
-    }
-  std::vector<uint8_t> surface(columns * size_t(nz));
-  for (int32_t i = 0; i < nx; ++i)
-    for (int32_t j = 0; j < ny; ++j)
-      for (int32_t k = 0; k < nz; k += 64) {
-        const uint64_t bits = surfaceBits.get64(box.localIndex(x0 + i, y0 + j, box.lo[2] + k));
-        const size_t col = size_t(i) * size_t(ny) + size_t(j);
-        for (int32_t b = 0; b < 64 && k + b < nz; ++b) surface[col * size_t(nz) + size_t(k + b)] = uint8_t(bits >> b & 1);
-      }
-  auto at = [&](int32_t i, int32_t j, int32_t k) { return (size_t(i) * size_t(ny) + size_t(j)) * size_t(nz) + size_t(k); };
-  if (caps.empty()) {  // closed: w = W exactly
-    for (size_t q = 0; q < inside.size(); ++q) inside[q] = !surface[q] && winding[q] != 0;
-  } else {
-    std::vector<uint32_t> near;
-    // Octree descent over a block [i0, i1) x [j0, j1) x [k0, k1) (tile-local):
-    // decided by the far-field bound when no cap is near and the bound keeps
-    // every voxel on one side of 0.5; else split in 8; single voxels exactly.
-    std::function<void(int32_t, int32_t, int32_t, int32_t, int32_t, int32_t)> decide =
-        [&](int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
-          bool any = false;
-          for (int32_t i = i0; i < i1 && !any; ++i)
-            for (int32_t j = j0; j < j1 && !any; ++j)
-              for (int32_t k = k0; k < k1 && !any; ++k) any = !surface[at(i, j, k)];
-          if (!any) return;
-          if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
-            const double p[3] = {x0 + i0 + 0.5, y0 + j0 + 0.5, box.lo[2] + k0 + 0.5};
-            inside[at(i0, j0, k0)] = std::abs(double(winding[at(i0, j0, k0)]) - caps.winding(p)) > 0.5;
-            return;
-          }
-          const double centre[3] = {x0 + 0.5 * (i0 + i1), y0 + 0.5 * (j0 + j1), box.lo[2] + 0.5 * (k0 + k1)};
-          const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
-          const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
-          double farValue = 0, farBound = 0;
-          caps.splitForBlock(centre, radius, farValue, farBound, near);
-          bool decided = near.empty();
-          for (int32_t i = i0; i < i1 && decided; ++i)
-            for (int32_t j = j0; j < j1 && decided; ++j)
-              for (int32_t k = k0; k < k1 && decided; ++k) {
-                if (surface[at(i, j, k)]) continue;
-                const double v = std::abs(double(winding[at(i, j, k)]) - farValue);
-                if (v - farBound > 0.5) inside[at(i, j, k)] = 1;
-                else if (v + farBound < 0.5) inside[at(i, j, k)] = 0;
-                else decided = false;
-              }
-          if (decided) return;
-          const int32_t im = i1 - i0 > 1 ? (i0 + i1) / 2 : i1, jm = j1 - j0 > 1 ? (j0 + j1) / 2 : j1,
-                        km = k1 - k0 > 1 ? (k0 + k1) / 2 : k1;
-          for (auto [a0, a1] : {std::pair{i0, im}, std::pair{im, i1}})
-            for (auto [b0, b1] : {std::pair{j0, jm}, std::pair{jm, j1}})
-              for (auto [c0, c1] : {std::pair{k0, km}, std::pair{km, k1}})
-                if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
-        };
-    for (int32_t z0 = 0; z0 < nz; z0 += kTile) decide(0, nx, 0, ny, z0, std::min(nz, z0 + kTile));
+    runBegin_[columns] = uint32_t(runs_.size());
   }
-  for (int32_t i = 0; i < nx; ++i)
-    for (int32_t j = 0; j < ny; ++j) {
-      const size_t col = size_t(i) * size_t(ny) + size_t(j);
-      for (int32_t k = 0; k < nz;) {
-        const size_t at = col * size_t(nz) + size_t(k);
-        if (!inside[at]) {
-          ++k;
-          continue;
-        }
-        int32_t e = k + 1;
-        while (e < nz && inside[at + size_t(e - k)] && cls[at + size_t(e - k)] == cls[at]) ++e;
-        const uint8_t c = cls[at] >= 0 ? uint8_t(cls[at]) : fallbackClass;
-        out.addRun({x0 + i, y0 + j, box.lo[2] + k}, uint32_t(e - k), c, kInteriorVotes, false);
-        k = e;
-      }
-    }
-}
 
-/// The interior by the winding-number rule: tiles of x slabs split into
-/// `threads` pieces, merged in piece order.
+  /// Decides every voxel: W != 0 without caps (closed: w = W exactly).
+  void decideAll() {
+    if (caps_.empty()) {
+      for (int32_t i = 0; i < nx_; ++i)
+        for (int32_t j = 0; j < ny_; ++j)
+          forRuns(column(i, j), 0, nz_, [&](const Run& r, int32_t a, int32_t b) {
+            if (r.w != 0) setBits(inside_, column(i, j), a, b);
+            return true;
+          });
+      return;
+    }
+    for (int32_t k0 = 0; k0 < nz_; k0 += kTile) decide(0, nx_, 0, ny_, k0, std::min(nz_, k0 + kTile));
+  }
+
+  /// The interior voxels (inside, not surface) as runs of one class.
+  void emit(uint8_t fallbackClass, VoxelBlocks& out) const {
+    for (int32_t i = 0; i < nx_; ++i)
+      for (int32_t j = 0; j < ny_; ++j) {
+        const size_t col = column(i, j);
+        const uint32_t rEnd = runBegin_[col + 1];
+        uint32_t r = runBegin_[col];
+        for (int32_t k = next(col, 0, true); k < nz_; k = next(col, k, true)) {
+          while (r + 1 < rEnd && runs_[r + 1].begin <= k) ++r;
+          int32_t e = next(col, k, false);
+          uint32_t rr = r;  // merge the following runs of the same class
+          while (rr + 1 < rEnd && runs_[rr + 1].begin < e && runs_[rr + 1].cls == runs_[r].cls) ++rr;
+          if (rr + 1 < rEnd) e = std::min(e, runs_[rr + 1].begin);
+          const uint8_t c = runs_[r].cls >= 0 ? uint8_t(runs_[r].cls) : fallbackClass;
+          out.addRun({x0_ + i, y0_ + j, z0_ + k}, uint32_t(e - k), c, kInteriorVotes, false);
+          k = e;
+        }
+      }
+  }
+
+ private:
+  struct Run {
+    int32_t begin;  // first voxel (tile-local z) of the run; it ends where the next begins, or at nz
+    int32_t w;      // winding number of the capped mesh
+    int16_t cls;    // class of the part entered last, -1: none
+  };
+
+  size_t column(int32_t i, int32_t j) const { return size_t(i) * size_t(ny_) + size_t(j); }
+  /// Bits of word `wd` for voxels [a, b).
+  static uint64_t mask(size_t wd, int32_t a, int32_t b) {
+    const int64_t lo = std::max<int64_t>(a - int64_t(64 * wd), 0), hi = std::min<int64_t>(b - int64_t(64 * wd), 64);
+    if (hi <= lo) return 0;
+    const uint64_t upto = hi == 64 ? ~uint64_t(0) : (uint64_t(1) << hi) - 1;
+    return upto & ~((uint64_t(1) << lo) - 1);
+  }
+  /// A voxel in [a, b) still to decide (not surface, not decided yet)?
+  bool anyFree(size_t col, int32_t a, int32_t b) const {
+    for (size_t wd = size_t(a) / 64; wd * 64 < size_t(b); ++wd)
+      if (~(surface_[col * words_ + wd] | done_[col * words_ + wd]) & mask(wd, a, b)) return true;
+    return false;
+  }
+  void setBits(std::vector<uint64_t>& bits, size_t col, int32_t a, int32_t b) {
+    for (size_t wd = size_t(a) / 64; wd * 64 < size_t(b); ++wd) bits[col * words_ + wd] |= mask(wd, a, b);
+  }
+  /// The first voxel at or after k that is interior (inside and not surface)
+  /// when `set`, else the first that is not; nz when none.
+  int32_t next(size_t col, int32_t k, bool set) const {
+    for (size_t wd = size_t(k) / 64; wd < words_; ++wd) {
+      uint64_t bits = inside_[col * words_ + wd] & ~surface_[col * words_ + wd];
+      if (!set) bits = ~bits;
+      bits &= mask(wd, k, nz_);
+      if (bits) return int32_t(64 * wd) + std::countr_zero(bits);
+    }
+    return nz_;
+  }
+  /// Calls f(run, a, b) for the parts [a, b) of the column's runs within [k0, k1) until f returns false.
+  template <class F>
+  bool forRuns(size_t col, int32_t k0, int32_t k1, F&& f) const {
+    const uint32_t rEnd = runBegin_[col + 1];
+    for (uint32_t r = runBegin_[col]; r < rEnd; ++r) {
+      const int32_t a = std::max(runs_[r].begin, k0), b = std::min(r + 1 < rEnd ? runs_[r + 1].begin : nz_, k1);
+      if (a < b && !f(runs_[r], a, b)) return false;
+      if (b >= k1) break;
+    }
+    return true;
+  }
+  int32_t windingAt(size_t col, int32_t k) const {
+    uint32_t r = runBegin_[col];
+    while (r + 1 < runBegin_[col + 1] && runs_[r + 1].begin <= k) ++r;
+    return runs_[r].w;
+  }
+
+  /// Octree descent over a block [i0, i1) x [j0, j1) x [k0, k1) (tile-local):
+  /// decided by the ball's bound when every voxel stays on one side of 0.5;
+  /// else split in 8; single voxels exactly.
+  void decide(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
+    bool any = false;
+    for (int32_t i = i0; i < i1 && !any; ++i)
+      for (int32_t j = j0; j < j1 && !any; ++j) any = anyFree(column(i, j), k0, k1);
+    if (!any) return;
+    if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
+      const double p[3] = {x0_ + i0 + 0.5, y0_ + j0 + 0.5, z0_ + k0 + 0.5};
+      if (std::abs(double(windingAt(column(i0, j0), k0)) - caps_.winding(p)) > 0.5) setBits(inside_, column(i0, j0), k0, k1);
+      return;
+    }
+    if (decideBlock(i0, i1, j0, j1, k0, k1)) return;
+    const int32_t im = i1 - i0 > 1 ? (i0 + i1) / 2 : i1, jm = j1 - j0 > 1 ? (j0 + j1) / 2 : j1,
+                  km = k1 - k0 > 1 ? (k0 + k1) / 2 : k1;
+    for (auto [a0, a1] : {std::pair{i0, im}, std::pair{im, i1}})
+      for (auto [b0, b1] : {std::pair{j0, jm}, std::pair{jm, j1}})
+        for (auto [c0, c1] : {std::pair{k0, km}, std::pair{km, k1}})
+          if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
+  }
+
+  /// One evaluation for the block: decides the voxels (blocks up to
+  /// kJumpVolume voxels one by one, larger ones by runs of equal W) that its
+  /// bound decides and returns whether none is left to decide.
+  bool decideBlock(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
+    const double centre[3] = {x0_ + 0.5 * (i0 + i1), y0_ + 0.5 * (j0 + j1), z0_ + 0.5 * (k0 + k1)};
+    const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
+    const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
+    const size_t volume = size_t(i1 - i0) * size_t(j1 - j0) * size_t(k1 - k0);
+    if (!caps_.ballField(centre, radius, ball_)) return false;
+    const CapField::Ball& b = ball_;
+    // Whether |w| > 0.5 (1), < 0.5 (0) or undecided (-1) for w in [lo, hi].
+    auto sideOf = [](double lo, double hi) { return lo > 0.5 || hi < -0.5 ? 1 : lo > -0.5 && hi < 0.5 ? 0 : -1; };
+    // Voxels at offsets (dx, dy, dz0 .. dz1) from the centre, winding W, no
+    // jumps: the constant model first, then the linear one.
+    auto sideOfRun = [&](int32_t w, double dx, double dy, double dz0, double dz1) {
+      const double eA = b.slope * radius + b.slack, mA = w - b.value;
+      const int sA = sideOf(mA - eA, mA + eA);
+      if (sA >= 0) return sA;
+      const double lxy = b.gradient[0] * dx + b.gradient[1] * dy;
+      const double l0 = lxy + b.gradient[2] * dz0, l1 = lxy + b.gradient[2] * dz1;
+      const double eB = b.curvature * radius * radius + b.slack;
+      return sideOf(mA - std::max(l0, l1) - eB, mA - std::min(l0, l1) + eB);
+    };
+    if (volume <= kJumpVolume) {  // voxel by voxel, each with its own distance from the centre
+      bool undecided = false;
+      for (int32_t i = i0; i < i1; ++i)
+        for (int32_t j = j0; j < j1; ++j)
+          for (int32_t k = k0; k < k1; ++k) {
+            const size_t col = column(i, j);
+            if (!anyFree(col, k, k + 1)) continue;
+            const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
+            int jump = 0;
+            if (!b.cut.empty() && !caps_.jumps(b, p, jump)) {
+              undecided = true;
+              continue;
+            }
+            const double q[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
+            const double d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], d = std::sqrt(d2);
+            const double m = windingAt(col, k) - b.value - jump;
+            const double eA = b.slope * d + b.slack;
+            int s = sideOf(m - eA, m + eA);
+            if (s < 0) {
+              const double l = m - (b.gradient[0] * q[0] + b.gradient[1] * q[1] + b.gradient[2] * q[2]);
+              const double eB = b.curvature * d2 + b.slack;
+              s = sideOf(l - eB, l + eB);
+            }
+            if (s < 0) {
+              undecided = true;
+              continue;
+            }
+            setBits(done_, col, k, k + 1);
+            if (s) setBits(inside_, col, k, k + 1);
+          }
+      return !undecided;
+    }
+    // A large ball through caps: eight evaluations cost less than counting
+    // every voxel's jumps.
+    if (!b.cut.empty()) return false;
+    bool undecided = false;
+    for (int32_t i = i0; i < i1; ++i)
+      for (int32_t j = j0; j < j1; ++j) {
+        const size_t col = column(i, j);
+        const double dx = x0_ + i + 0.5 - centre[0], dy = y0_ + j + 0.5 - centre[1];
+        forRuns(col, k0, k1, [&](const Run& r, int32_t a, int32_t e) {
+          if (!anyFree(col, a, e)) return true;
+          const int s = sideOfRun(r.w, dx, dy, z0_ + a + 0.5 - centre[2], z0_ + e - 0.5 - centre[2]);
+          if (s < 0) {
+            undecided = true;
+          } else {
+            setBits(done_, col, a, e);
+            if (s) setBits(inside_, col, a, e);
+          }
+          return true;
+        });
+      }
+    return !undecided;
+  }
+
+  const int32_t x0_, y0_, z0_;
+  const CapField& caps_;
+  const int32_t nx_, ny_, nz_;
+  const size_t words_;            // 64-bit words per column
+  std::vector<uint64_t> surface_;  // per column, z fastest
+  std::vector<uint64_t> inside_;   // per column: |w| > 0.5 decided (surface voxels may be set too)
+  std::vector<uint64_t> done_;     // per column: decided by a block's bound
+  std::vector<Run> runs_;
+  std::vector<uint32_t> runBegin_;  // per column, into runs_
+  CapField::Ball ball_;
+};
+
+/// The interior by the winding-number rule: x slabs of tiles, one piece each,
+/// on `threads` workers, merged in slab order.
 void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
                         const std::vector<Vec3i>& lattice, const std::vector<CapTriangle>& caps,
                         const BoxBits& surfaceBits, const VoxelBox& box, unsigned threads) {
@@ -938,13 +1087,18 @@ void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector
   std::sort(zCross.begin(), zCross.end());
   const CapField field(caps);
   const size_t tilesX = (box.extent(0) + kTile - 1) / kTile;
-  std::vector<std::unique_ptr<VoxelBlocks>> interior(threads);
+  // One piece per x slab of tiles (the work concentrates near the holes, so
+  // thread-sized pieces would leave a thread idle); merged in slab order.
+  std::vector<std::unique_ptr<VoxelBlocks>> interior(tilesX);
   for (auto& b : interior) b = std::make_unique<VoxelBlocks>();
-  parallelPieces(tilesX, threads, threads, [&](size_t tb, size_t te, size_t piece) {
+  parallelPieces(tilesX, threads, tilesX, [&](size_t tb, size_t te, size_t piece) {
     for (size_t t = tb; t < te; ++t)
       for (int32_t y0 = box.lo[1]; y0 <= box.hi[1]; y0 += kTile)
-        windingTile(box.lo[0] + int32_t(t) * kTile, y0, zCross, field, surfaceBits, box, triangleClass[0],
-                    *interior[piece]);
+      {
+        WindingTile tile(box.lo[0] + int32_t(t) * kTile, y0, zCross, field, surfaceBits, box);
+        tile.decideAll();
+        tile.emit(triangleClass[0], *interior[piece]);
+      }
   });
   for (auto& b : interior) blocks.merge(std::move(*b));
 }

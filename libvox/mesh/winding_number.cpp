@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <unordered_map>
 
@@ -110,64 +111,185 @@ double triangleSolidAngle(const double a[3], const double b[3], const double c[3
   return 2.0 * std::atan2(det, den);
 }
 
+namespace {
+
+double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+void sub3(const double a[3], const double b[3], double out[3]) {
+  for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
+}
+void cross3(const double a[3], const double b[3], double out[3]) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/// Distance from p to the segment a + t d, t in [0, 1].
+double segmentDistance(const double p[3], const double a[3], const double d[3]) {
+  double ap[3];
+  sub3(p, a, ap);
+  const double dd = dot3(d, d);
+  const double t = dd > 0 ? std::clamp(dot3(ap, d) / dd, 0.0, 1.0) : 0.0;
+  const double q[3] = {ap[0] - t * d[0], ap[1] - t * d[1], ap[2] - t * d[2]};
+  return std::sqrt(dot3(q, q));
+}
+
+/// Distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision
+/// Detection 5.1.5: the closest point by Voronoi regions).
+double triangleDistance(const double p[3], const double a[3], const double b[3], const double c[3]) {
+  double ab[3], ac[3], ap[3], q[3];
+  sub3(b, a, ab), sub3(c, a, ac), sub3(p, a, ap);
+  auto at = [&](double v, double w) {
+    for (int k = 0; k < 3; ++k) q[k] = p[k] - (a[k] + v * ab[k] + w * ac[k]);
+    return std::sqrt(dot3(q, q));
+  };
+  const double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return at(0, 0);
+  double bp[3];
+  sub3(p, b, bp);
+  const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return at(1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+  double cp[3];
+  sub3(p, c, cp);
+  const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return at(0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(1 - w, w);
+  }
+  const double den = 1 / (va + vb + vc);
+  return at(vb * den, vc * den);
+}
+
+// Points closer than this (voxels) to a cap plane or edge get no jump count:
+// far above the rounding of the coordinates (< 2^-30 voxel at any --res the
+// voxelizer accepts), far below the lattice step that separates real points.
+constexpr double kPlaneTolerance = 1e-9;
+
+// grad Omega = kGradientSign * (Biot-Savart sum over the caps' boundary edges
+// v1 -> v2 as written in ballField); checked against finite differences of
+// the exact field (test Winding.BallBoundHolds).
+constexpr double kGradientSign = 1.0;
+
+}  // namespace
+
 CapField::CapField(const std::vector<CapTriangle>& caps) {
   tris_.reserve(caps.size());
   for (const CapTriangle& c : caps) {
+    double v[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
+    // The caps' boundary: the edge to -> from of each fan triangle (the fans'
+    // inner edges cancel, also across degenerate triangles, whose boundary is
+    // a closed path along one line).
+    Edge e;
+    for (int k = 0; k < 3; ++k) e.a[k] = v[1][k], e.d[k] = v[2][k] - v[1][k];
+    e.len = std::sqrt(dot3(e.d, e.d));
+    if (e.len > 0) edges_.push_back(e);
     Tri t;
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) t.v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
-    for (int k = 0; k < 3; ++k) t.s[k] = (t.v[0][k] + t.v[1][k] + t.v[2][k]) / 3.0;
+    std::memcpy(t.v, v, sizeof v);
+    double e1[3], e2[3];
+    sub3(v[1], v[0], e1), sub3(v[2], v[0], e2);
+    cross3(e1, e2, t.n);
+    const double nLen = std::sqrt(dot3(t.n, t.n));
+    if (nLen == 0) continue;  // no solid angle anywhere
+    area_ += 0.5 * nLen;
+    t.invN = 1 / nLen;
+    for (int i = 0; i < 3; ++i) {
+      double ei[3];
+      sub3(v[(i + 1) % 3], v[i], ei);
+      t.invEdgeN[i] = 1 / (nLen * std::sqrt(dot3(ei, ei)));
+    }
+    for (int k = 0; k < 3; ++k) t.s[k] = (v[0][k] + v[1][k] + v[2][k]) / 3.0;
     t.r = 0;
-    for (int i = 0; i < 3; ++i)
-      t.r = std::max(t.r, std::hypot(t.v[i][0] - t.s[0], t.v[i][1] - t.s[1], t.v[i][2] - t.s[2]));
+    for (int i = 0; i < 3; ++i) t.r = std::max(t.r, std::hypot(v[i][0] - t.s[0], v[i][1] - t.s[1], v[i][2] - t.s[2]));
     t.r = t.r * (1 + 1e-12) + 1e-9;  // rounding of the centroid and distances
-    const double e1[3] = {t.v[1][0] - t.v[0][0], t.v[1][1] - t.v[0][1], t.v[1][2] - t.v[0][2]};
-    const double e2[3] = {t.v[2][0] - t.v[0][0], t.v[2][1] - t.v[0][1], t.v[2][2] - t.v[0][2]};
-    t.area = 0.5 * std::hypot(e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]);
-    if (t.area == 0) continue;  // no solid angle anywhere
     tris_.push_back(t);
   }
 }
 
-double CapField::reach() const {
-  double area = 0;
-  for (const Tri& t : tris_) area += t.area;
-  return std::sqrt(area / (2.0 * M_PI));
-}
+double CapField::reach() const { return std::sqrt(area_ / (2.0 * M_PI)); }
 
-double CapField::winding(const double p[3], const std::vector<uint32_t>* which) const {
+double CapField::winding(const double p[3]) const {
   double total = 0;
-  auto add = [&](const Tri& t) {
+  for (const Tri& t : tris_) {
     double a[3], b[3], c[3];
-    for (int k = 0; k < 3; ++k) a[k] = t.v[0][k] - p[k], b[k] = t.v[1][k] - p[k], c[k] = t.v[2][k] - p[k];
+    sub3(t.v[0], p, a), sub3(t.v[1], p, b), sub3(t.v[2], p, c);
     total += triangleSolidAngle(a, b, c);
-  };
-  if (which)
-    for (uint32_t i : *which) add(tris_[i]);
-  else
-    for (const Tri& t : tris_) add(t);
+  }
   return total / (4.0 * M_PI);
 }
 
-void CapField::splitForBlock(const double centre[3], double radius, double& farValue, double& farBound,
-                             std::vector<uint32_t>& near) const {
-  near.clear();
-  double value = 0, bound = 0;
+bool CapField::ballField(const double centre[3], double radius, Ball& ball) const {
+  ball.cut.clear();
+  for (int k = 0; k < 3; ++k) ball.centre[k] = centre[k], ball.gradient[k] = 0;
+  ball.radius = radius;
+  const double reachR = radius * (1 + 1e-12) + kPlaneTolerance;
+  double s1 = 0, s2 = 0;  // sum_e len_e / gap_e^2, sum_e len_e / gap_e^3
+  double g[3] = {0, 0, 0};
+  for (const Edge& e : edges_) {
+    const double gap = segmentDistance(centre, e.a, e.d) - reachR;
+    if (gap <= 0) return false;  // the ball reaches a rim: no bound
+    s1 += e.len / (gap * gap);
+    s2 += e.len / (gap * gap * gap);
+    // Biot-Savart over the edge a -> b: (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| + ra . rb)),
+    // ra = a - centre, rb = b - centre (the denominator is 0 only on the edge itself).
+    double ra[3], rb[3], c[3];
+    sub3(e.a, centre, ra);
+    for (int k = 0; k < 3; ++k) rb[k] = ra[k] + e.d[k];
+    cross3(ra, rb, c);
+    const double la = std::sqrt(dot3(ra, ra)), lb = std::sqrt(dot3(rb, rb));
+    const double f = (la + lb) / (la * lb * (la * lb + dot3(ra, rb)));
+    for (int k = 0; k < 3; ++k) g[k] += c[k] * f;
+  }
   for (uint32_t i = 0; i < tris_.size(); ++i) {
     const Tri& t = tris_[i];
-    const double d = std::hypot(centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]) - t.r - radius;
-    if (d <= 0) {  // the block reaches the triangle's bounding sphere: no bound
-      near.push_back(i);
-      continue;
-    }
-    double a[3], b[3], c[3];
-    for (int k = 0; k < 3; ++k)
-      a[k] = t.v[0][k] - centre[k], b[k] = t.v[1][k] - centre[k], c[k] = t.v[2][k] - centre[k];
-    value += triangleSolidAngle(a, b, c);
-    bound += 2.0 * t.area / (d * d * d);
+    const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
+    if (std::sqrt(dot3(dc, dc)) - t.r > reachR) continue;
+    if (triangleDistance(centre, t.v[0], t.v[1], t.v[2]) > reachR) continue;
+    double cv[3];
+    sub3(centre, t.v[0], cv);
+    if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane
+    ball.cut.push_back(i);
   }
-  farValue = value / (4.0 * M_PI);
-  farBound = radius * bound / (4.0 * M_PI) + 1e-9;
+  ball.value = winding(centre);
+  for (int k = 0; k < 3; ++k) ball.gradient[k] = kGradientSign * g[k] / (4.0 * M_PI);
+  ball.slope = s1 / (4.0 * M_PI) * (1 + 1e-9);
+  ball.curvature = s2 / (4.0 * M_PI) * (1 + 1e-9);
+  ball.slack = 1e-9 + 1e-12 * radius * (std::sqrt(dot3(ball.gradient, ball.gradient)) + ball.slope);
+  return true;
+}
+
+bool CapField::jumps(const Ball& ball, const double p[3], int& jump) const {
+  jump = 0;
+  for (uint32_t i : ball.cut) {
+    const Tri& t = tris_[i];
+    double cv[3], pv[3];
+    sub3(ball.centre, t.v[0], cv), sub3(p, t.v[0], pv);
+    const double sc = dot3(t.n, cv) * t.invN, sp = dot3(t.n, pv) * t.invN;  // signed distances to the plane
+    if (std::abs(sp) <= kPlaneTolerance) return false;
+    if ((sc > 0) == (sp > 0)) continue;  // same side (sc is clear of the plane: ballField)
+    const double f = sc / (sc - sp);
+    double x[3];
+    for (int k = 0; k < 3; ++k) x[k] = ball.centre[k] + f * (p[k] - ball.centre[k]);
+    bool outside = false, onEdge = false;
+    for (int e = 0; e < 3; ++e) {
+      double ei[3], xv[3], c[3];
+      sub3(t.v[(e + 1) % 3], t.v[e], ei), sub3(x, t.v[e], xv);
+      cross3(ei, xv, c);
+      const double d = dot3(c, t.n) * t.invEdgeN[e];  // signed distance of x to the edge's line, in the plane
+      outside = outside || d < -kPlaneTolerance;
+      onEdge = onEdge || std::abs(d) <= kPlaneTolerance;
+    }
+    if (outside) continue;
+    if (onEdge) return false;
+    jump += sc < 0 ? -1 : 1;
+  }
+  return true;
 }
 
 }  // namespace vox

@@ -40,7 +40,17 @@ std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t,
 /// Oosterom-Strackee), in steradians, in (-2pi, 2pi).
 double triangleSolidAngle(const double a[3], const double b[3], const double c[3]);
 
-/// The caps' solid-angle field with a far-field bound, in voxel units.
+/// The caps' solid-angle field with a bound over balls, in voxel units.
+///
+/// Why the bound is tight: off the caps, the gradient of a surface's solid
+/// angle depends only on the surface's boundary (Biot-Savart: grad Omega(q) =
+/// the line integral over the boundary of dl x (x - q) / |x - q|^3), and the
+/// caps' boundary is the mesh's boundary loops (the fans' inner edges cancel).
+/// So |grad w_caps(q)| <= (1 / 4pi) sum_e len_e / dist(q, e)^2 over the
+/// boundary edges e, however large the caps are, and a ball far from the
+/// holes' rims varies little even where it is close to a cap. Across a cap
+/// triangle w_caps jumps by exactly 1 (the solid angle by 4pi); those jumps are
+/// counted per point (`jumps`), so a ball may cut through caps too.
 class CapField {
  public:
   explicit CapField(const std::vector<CapTriangle>& caps);
@@ -52,27 +62,56 @@ class CapField {
   /// needs a point within this distance of the box.
   double reach() const;
 
-  /// w_caps(p) = sum of solid angles / 4pi over the triangles in `which` (all when null).
-  double winding(const double p[3], const std::vector<uint32_t>* which = nullptr) const;
+  /// w_caps(p) = sum of solid angles / 4pi over every cap triangle (exact up
+  /// to double rounding, ~1e-15 per triangle).
+  double winding(const double p[3]) const;
 
-  /// Splits the triangles for a block of points within distance `radius` of
-  /// `centre`: far ones (the block's ball does not reach their bounding
-  /// sphere) are summed at the centre into `farValue` with `farBound` bounding
-  /// |w_far(p) - w_far(centre)| over the block; the rest go to `near`.
-  /// Bound: |grad Omega_t(p)| <= 2 A_t / d^3 (the integrand's gradient
-  /// |-n + 3 (r.n) r / |r|^2| / |r|^3 <= 2 / |r|^3), d >= |centre - s_t| - r_t -
-  /// radius from the triangle's bounding sphere (s_t, r_t), so
-  /// |dw| <= radius * sum_t 2 A_t / (4 pi d^3), plus 1e-9 for rounding.
-  void splitForBlock(const double centre[3], double radius, double& farValue, double& farBound,
-                     std::vector<uint32_t>& near) const;
+  /// The field over the ball of points within `radius` of `centre`, as two
+  /// models with rigorous bounds, for any p in the ball, d = |p - centre|:
+  ///   |w_caps(p) - value - jump(p)| <= slope * d + slack
+  ///   |w_caps(p) - value - jump(p) - gradient . (p - centre)| <= curvature * d^2 + slack
+  /// with gap_e = dist(centre, e) - radius > 0 for every boundary edge e:
+  ///   slope = (1 / 4pi) sum_e len_e / gap_e^2 (the gradient bound above),
+  ///   curvature = (1 / 4pi) sum_e len_e / gap_e^3 (the Biot-Savart kernel's
+  ///   derivative is at most 2 / r^3, and the Taylor remainder halves it),
+  /// each times (1 + 1e-9); slack = 1e-9 + 1e-12 * radius * (|gradient| + slope)
+  /// covers double rounding. gradient = grad w_caps(centre), exact (the closed
+  /// form of the Biot-Savart integral over each straight edge).
+  struct Ball {
+    double centre[3];
+    double radius;
+    double value;        // w_caps(centre), exact
+    double gradient[3];  // grad w_caps(centre), exact
+    double slope, curvature, slack;
+    std::vector<uint32_t> cut;  // cap triangles the ball reaches (their jumps count)
+  };
+  /// Fills `ball` and returns true when the ball stays clear of every boundary
+  /// edge (and its centre clear of every cap plane it reaches); false when no
+  /// bound is available (split the ball).
+  bool ballField(const double centre[3], double radius, Ball& ball) const;
+
+  /// The jump of w_caps along the segment ball.centre -> p (p in the ball):
+  /// -1 for each cut triangle crossed from its back (where its solid angle is
+  /// positive) to its front, +1 the other way. Returns false when p or the
+  /// crossing point lies within ~1e-9 voxel of a triangle's plane or edge (no
+  /// reliable count: evaluate p exactly instead).
+  bool jumps(const Ball& ball, const double p[3], int& jump) const;
 
  private:
   struct Tri {
     double v[3][3];
-    double s[3];
-    double r, area;
+    double n[3];          // (v1 - v0) x (v2 - v0): front side where n.(p - v0) > 0
+    double invN;          // 1 / |n|
+    double invEdgeN[3];   // 1 / (|n| |v[i+1] - v[i]|)
+    double s[3], r;       // bounding sphere (quick rejection)
+  };
+  struct Edge {
+    double a[3], d[3];  // a + t d, t in [0, 1]
+    double len;
   };
   std::vector<Tri> tris_;
+  std::vector<Edge> edges_;  // the caps' boundary: the mesh's boundary edges
+  double area_ = 0;
 };
 
 }  // namespace vox
