@@ -261,9 +261,11 @@ FuseViewStats Fuser::add(const FuseView& view) {
   std::mutex poolMutex;
   std::vector<size_t> idle;
   for (size_t i = 0; i < pieces_.size(); ++i) idle.push_back(i);
-  constexpr size_t kRowsPerTask = 4;
-  const size_t tasks = (H + kRowsPerTask - 1) / kRowsPerTask;
-  parallelForEach(tasks, settings_.threads, 1, [&](size_t task) {
+  // Tiles of 16 x 16 pixels: their rays cross a narrow cone of bricks that
+  // stays in cache (rows fan out across the whole scene).
+  constexpr size_t kTile = 16;
+  const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
+  parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
     size_t slot;
     {
       std::lock_guard<std::mutex> lock(poolMutex);
@@ -277,9 +279,10 @@ FuseViewStats Fuser::add(const FuseView& view) {
     }
     FuseCounts& counts = pieces_[slot];
     uint64_t u = 0, amb = 0, nd = 0, ul = 0, out = 0, st = 0, fc = 0;
-    const size_t y0 = task * kRowsPerTask, y1 = std::min(H, y0 + kRowsPerTask);
+    const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
+    const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     for (size_t y = y0; y < y1; ++y)
-      for (size_t x = 0; x < W; ++x) {
+      for (size_t x = x0; x < x1; ++x) {
         const size_t i = y * W + x;
         const double d = view.depth[i];
         if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far)) {
