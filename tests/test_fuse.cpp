@@ -14,8 +14,10 @@
 
 #include "libvox/render/camera.h"
 #include "libvox/render/fuse.h"
+#include "libvox/render/intrinsics.h"
 #include "libvox/render/ray_grid.h"
 #include "libvox/render/render.h"
+#include "libvox/core/error.h"
 #include "libvox/scene/fuse_scene.h"
 #include "libvox/scene/scene.h"
 
@@ -252,6 +254,51 @@ TEST(Fuse, ViewsThatMissTheGridAndTinyImages) {
   EXPECT_GE(s.noDepth, 3u);
   EXPECT_EQ(s.unlabelled, 1u);
   EXPECT_EQ(s.used + s.noDepth + s.unlabelled + s.outside, 100u);
+}
+
+// OpenCV intrinsics + pose: each pixel's ray projects back to the pixel's
+// integer coordinates by the OpenCV formulas (the independent oracle), and
+// equals the ray of the equivalent look-at camera.
+TEST(FuseCamera, IntrinsicsPutPixelCentresAtIntegerCoordinates) {
+  const uint32_t W = 64, H = 40;
+  const vox::Intrinsics k{50.5, 48.25, 30.75, 21.5};
+  // A camera-to-world pose: rotation about a tilted axis plus a translation.
+  const double a = 0.7, c = std::cos(a), s = std::sin(a);
+  vox::Mat4d pose{c, 0, -s, 0, /**/ s * 0.6, 0.8, c * 0.6, 0, /**/ s * 0.8, -0.6, c * 0.8, 0, /**/ 3, -2, 5, 1};
+  const vox::Camera cam = vox::intrinsicsCamera(k, pose, W, H, "test");
+  const vox::Mat4d toCv = vox::inverse(pose);
+  for (uint32_t y = 0; y < H; y += 3)
+    for (uint32_t x = 0; x < W; x += 3) {
+      vox::Vec3d o, d;
+      cam.pixelRay(x, y, o, d);
+      double p[3];
+      for (int i = 0; i < 3; ++i) p[i] = o[size_t(i)] + 7.0 * d[size_t(i)];
+      double q[3];
+      for (int r = 0; r < 3; ++r)
+        q[r] = toCv[size_t(r)] * p[0] + toCv[size_t(4 + r)] * p[1] + toCv[size_t(8 + r)] * p[2] + toCv[size_t(12 + r)];
+      ASSERT_GT(q[2], 0);
+      EXPECT_NEAR(k.fx * q[0] / q[2] + k.cx, double(x), 1e-9);
+      EXPECT_NEAR(k.fy * q[1] / q[2] + k.cy, double(y), 1e-9);
+    }
+  // The look-at camera with the same pinhole: the same rays.
+  const vox::Camera look = vox::Camera::lookAt({4, 5, 6}, {0, 1, -1}, {0, 1, 0}, 55, W, H);
+  const double f = 1 / std::tan(55 * M_PI / 360);
+  vox::Mat4d glToWorld = look.cameraToWorld;
+  for (size_t i = 4; i < 12; ++i) glToWorld[i] = -glToWorld[i];  // OpenCV's y and z axes
+  const vox::Camera same = vox::intrinsicsCamera({f * H / 2, f * H / 2, (W - 1) / 2.0, (H - 1) / 2.0}, glToWorld, W, H, "test");
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      vox::Vec3d o1, d1, o2, d2;
+      look.pixelRay(x, y, o1, d1);
+      same.pixelRay(x, y, o2, d2);
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(o1[size_t(i)], o2[size_t(i)], 1e-12);
+        EXPECT_NEAR(d1[size_t(i)], d2[size_t(i)], 1e-12);
+      }
+    }
+  vox::Mat4d singular{};
+  EXPECT_THROW(vox::intrinsicsCamera(k, singular, W, H, "test"), vox::Error);
+  EXPECT_THROW(vox::intrinsicsCamera({0, 1, 1, 1}, pose, W, H, "test"), vox::Error);
 }
 
 vox::SceneHeader header(Dims d) {

@@ -11,6 +11,7 @@
 #include "formats/image/render_meta.h"
 #include "formats/scene/class_table_json.h"
 #include "libvox/core/error.h"
+#include "libvox/render/intrinsics.h"
 
 namespace vox {
 
@@ -97,35 +98,13 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
     const json& k = c["intrinsics"];
     if (!k.is_object()) bad(where, "camera.intrinsics must be {\"fx\", \"fy\", \"cx\", \"cy\"} in pixels");
     const std::string kw = where + ".camera.intrinsics";
-    const double fx = jsonNumber(jsonMember(k, "fx", kw), where, "camera.intrinsics.fx");
-    const double fy = jsonNumber(jsonMember(k, "fy", kw), where, "camera.intrinsics.fy");
-    const double cx = jsonNumber(jsonMember(k, "cx", kw), where, "camera.intrinsics.cx");
-    const double cy = jsonNumber(jsonMember(k, "cy", kw), where, "camera.intrinsics.cy");
-    if (!(std::isfinite(fx) && fx > 0 && std::isfinite(fy) && fy > 0 && std::isfinite(cx) && std::isfinite(cy)))
-      bad(where, "camera.intrinsics: fx and fy must be > 0, cx and cy finite");
+    Intrinsics in;
+    in.fx = jsonNumber(jsonMember(k, "fx", kw), where, "camera.intrinsics.fx");
+    in.fy = jsonNumber(jsonMember(k, "fy", kw), where, "camera.intrinsics.fy");
+    in.cx = jsonNumber(jsonMember(k, "cx", kw), where, "camera.intrinsics.cx");
+    in.cy = jsonNumber(jsonMember(k, "cy", kw), where, "camera.intrinsics.cy");
     const Mat4d pose = matrix(jsonMember(c, "pose", where + ".camera"), where, "camera.pose");
-    Mat4d worldToCv;
-    try {
-      worldToCv = inverse(pose);
-    } catch (const Error&) {
-      bad(where, "camera.pose is singular (it must be an invertible camera-to-world matrix)");
-    }
-    // OpenCV camera axes (y down, z forward) to OpenGL's (y up, z backward): negate rows 1 and 2.
-    Mat4d view = worldToCv;
-    for (int col = 0; col < 4; ++col) {
-      view[size_t(col * 4 + 1)] = -view[size_t(col * 4 + 1)];
-      view[size_t(col * 4 + 2)] = -view[size_t(col * 4 + 2)];
-    }
-    // Pixel (x, y)'s centre is at (x, y) for OpenCV and at NDC (2 (x + 0.5) / W - 1, ...) here (camera.h).
-    Mat4d proj{};
-    proj[0] = 2 * fx / W;
-    proj[5] = 2 * fy / H;
-    proj[8] = (double(W) - 1 - 2 * cx) / W;
-    proj[9] = (2 * cy - double(H) + 1) / H;
-    proj[10] = (kLookAtFar + kLookAtNear) / (kLookAtNear - kLookAtFar);
-    proj[11] = -1;
-    proj[14] = 2 * kLookAtFar * kLookAtNear / (kLookAtNear - kLookAtFar);
-    return Camera::make(view, proj, W, H, where + ".camera");
+    return intrinsicsCamera(in, pose, W, H, where + ".camera");
   }
   bad(where, "camera needs viewMatrix + projectionMatrix, eye + target, or intrinsics + pose");
 }

@@ -208,11 +208,12 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
     }
   }
-  double entered = tEnter;  // when the ray entered the current cell
+  double enteredKey = key(tEnter);  // the key of the crossing that entered the current cell
   for (;;) {
     const double tn = std::min(next[0], std::min(next[1], next[2]));
-    if (!(key(tn) <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
-    if (free && key(entered) < depth) {
+    const double tnKey = key(tn);
+    if (!(tnKey <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
+    if (free && enteredKey < depth) {
       free->addFree(int32_t(c[0]), int32_t(c[1]), int32_t(c[2]));
       ++out.freeCells;
     }
@@ -228,8 +229,8 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       next[a] = time(a, step[a] > 0 ? c[a] + 1 : c[a]);
     }
     if (left) return out;  // the depth lies beyond the grid
-    entered = tn;
-    if (key(tn) == depth) {
+    enteredKey = tnKey;
+    if (tnKey == depth) {
       ++tied;
       lastMulti = axes > 1;
       if (faceCrossed) {

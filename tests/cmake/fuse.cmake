@@ -8,3 +8,6 @@ foreach(group roundtrip carving refine bad_input extremes)
                    $<TARGET_FILE:vox> ${CMAKE_CURRENT_SOURCE_DIR})
   set_tests_properties(fuse.${group} PROPERTIES TIMEOUT 600)
 endforeach()
+# The noise study (not a test: scripts/study_fuse_noise.sh runs it and writes docs/fuse-noise.md).
+add_executable(vox_fuse_noise_study ${CMAKE_CURRENT_SOURCE_DIR}/fuse/noise_study.cpp)
+target_link_libraries(vox_fuse_noise_study PRIVATE libvox)
