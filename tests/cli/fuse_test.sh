@@ -197,6 +197,52 @@ EOF
   expect_exit 0 "$vox" fuse away.json -o away.vdb --report ra.json --quiet
   jcheck ra.json "t=d['counts']['totals']; assert t['used'] == 0 and t['occupied_after'] == 0 and t['skipped']['outside_grid'] > 0"
   ;;
+png_depth)
+  # 16-bit PNG depth with a scale, a gray label image, a look-at camera in the
+  # views file, straight down at a floor whose top face is the plane y = 2:
+  # z depth 8 lands exactly on that face, so every pixel votes for the floor
+  # voxel behind it (v = 1); read as distances, the slanted rays stop short,
+  # above the floor (v >= 2).
+  python3 - <<'EOF2'
+import struct, zlib, json
+def png(path, w, h, depth, ctype, rows):
+    raw = b''.join(b'\0' + r for r in rows)
+    def chunk(k, b): return struct.pack('>I', len(b)) + k + b + struct.pack('>I', zlib.crc32(k + b) & 0xffffffff)
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, depth, ctype, 0, 0, 0))
+                           + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+W, H = 24, 16
+png('depth.png', W, H, 16, 0, [struct.pack('>' + 'H' * W, *([16] * W)) for _ in range(H)])   # 16 * 0.5 = 8
+png('label.png', W, H, 8, 0, [bytes([1] * W) for _ in range(H)])                             # class 1
+png('depth8.png', W, H, 8, 0, [bytes([16] * W) for _ in range(H)])
+cam = {'eye': [8.3, 10, 8.2], 'target': [8.3, 0, 8.2], 'up': [0, 0, -1], 'fov': 60}
+grid = {'dims': [16, 8, 16], 'voxel_size': 1, 'origin': [0, 0, 0]}
+view = {'depth': 'depth.png', 'depth_scale': 0.5, 'label': 'label.png', 'camera': cam}
+json.dump({'grid': grid, 'depth_kind': 'z', 'views': [view]}, open('z.json', 'w'))
+json.dump({'grid': grid, 'views': [view]}, open('dist.json', 'w'))
+json.dump({'grid': grid, 'depth_kind': 'z', 'far': 7.5, 'views': [view]}, open('far.json', 'w'))
+json.dump({'grid': grid, 'views': [dict(view, depth='depth8.png')]}, open('d8.json', 'w'))
+json.dump({'grid': grid, 'labels': {'1': None}, 'views': [view]}, open('null.json', 'w'))
+EOF2
+  expect_exit 0 "$vox" fuse z.json -o z.vdb --report rz.json --quiet
+  expect_exit 0 "$vox" info --json z.vdb
+  jcheck out.txt "assert d['bounds']['min'][1] == 1 and d['bounds']['max'][1] == 1, d['bounds']; assert d['occupied'] > 100"
+  jcheck rz.json "t=d['counts']['totals']; assert t['used'] == 24 * 16 and t['free_counts'] > 0 and t['ambiguous'] == 0"
+  expect_exit 0 "$vox" fuse dist.json -o dist.vdb --quiet
+  expect_exit 0 "$vox" info --json dist.vdb
+  jcheck out.txt "assert d['bounds']['min'][1] >= 1 and d['bounds']['max'][1] >= 2, d['bounds']"
+  # --depth-kind on the command line wins over the file.
+  expect_exit 0 "$vox" fuse z.json -o zd.vdb --depth-kind distance --quiet
+  expect_exit 0 "$vox" diff dist.vdb zd.vdb
+  # Beyond "far": skipped; a label mapped to null: skipped.
+  expect_exit 0 "$vox" fuse far.json -o far.vdb --report rf.json --quiet
+  jcheck rf.json "t=d['counts']['totals']; assert t['used'] == 0 and t['skipped']['no_depth'] == 24 * 16"
+  expect_exit 0 "$vox" fuse null.json -o null.vdb --report rn.json --quiet
+  jcheck rn.json "t=d['counts']['totals']; assert t['used'] == 0 and t['skipped']['no_class'] == 24 * 16"
+  # An 8-bit depth PNG is refused.
+  expect_exit 3 "$vox" fuse d8.json -o d8.vdb
+  expect_stderr "depth8.png"
+  expect_stderr "one 16-bit channel"
+  ;;
 *)
   echo "unknown group $group" >&2
   exit 2
