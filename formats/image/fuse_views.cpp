@@ -166,6 +166,7 @@ FuseViewsFile readFuseViews(const std::string& path) {
     s.labelPath = resolve(path, jsonString(jsonMember(v, "label", s.where), s.where, "label"));
     if (v.contains("camera")) s.camera = v["camera"];
     if (v.contains("normal")) s.normalPath = resolve(path, jsonString(v["normal"], s.where, "normal"));
+    if (v.contains("color")) s.colorPath = resolve(path, jsonString(v["color"], s.where, "color"));
     readDepthSettings(v, s.where, s);
     out.views.push_back(std::move(s));
   }
@@ -325,6 +326,26 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
                        (spec.labels.is_string() || spec.labels.is_null() ? " (no class has that display colour)" : ""));
       view.classes[i] = it->second;
     }
+
+  if (!spec.colorPath.empty()) {
+    const Image color = readImage(spec.colorPath, where, "color");
+    out.files.push_back(spec.colorPath);
+    const std::string colorName = "color " + spec.colorPath;
+    if (color.width != depth.width || color.height != depth.height)
+      bad(where, colorName + " is " + std::to_string(color.width) + "x" + std::to_string(color.height) + " but " +
+                     depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                     "; a view's images must have one size");
+    if (!isPngFile(spec.colorPath) || color.channels < 3 || color.type != SampleType::U8)
+      bad(where, colorName + ": a colour image is an 8-bit RGB or RGBA PNG (sRGB); this one has " +
+                     std::to_string(color.channels) + " channel(s) of " + sampleTypeName(color.type));
+    view.color.assign(N, FuseView::kNoColor);
+    for (uint32_t y = 0; y < color.height; ++y)
+      for (uint32_t x = 0; x < color.width; ++x) {
+        const uint8_t* p = color.row<uint8_t>(y) + size_t(x) * color.channels;
+        if (color.channels == 4 && p[3] == 0) continue;
+        view.color[size_t(y) * color.width + x] = (uint32_t(p[0]) << 16) | (uint32_t(p[1]) << 8) | p[2];
+      }
+  }
 
   if (!spec.normalPath.empty()) {
     const Image normal = readImage(spec.normalPath, where, "normal");

@@ -9,6 +9,7 @@
 //    "views": [{"depth": "d.exr", "label": "l.png",
 //               "camera": CAMERA,                                          optional
 //               "normal": "n.png",                                         optional
+//               "color": "c.png",                                          optional
 //               "labels": ..., "depth_kind": ..., "depth_scale": ..., "depth_offset": ..., "far": ...}]}
 //
 // CAMERA: {"viewMatrix": [16], "projectionMatrix": [16]} (column-major, the
@@ -26,6 +27,8 @@
 // "normal": a render-canonical normal image (RGBA8, components -1/0/+1 as
 // 0/128/255, alpha 0 = miss): the axis of the face each ray entered, used only
 // to tell apart crossings whose distances round to the same float (fuse.h).
+// "color": an 8-bit RGB(A) PNG (sRGB, alpha 0 = no colour): each voting
+// pixel adds its colour to the voxel (averaged in linear light).
 // Paths are relative to the views file's folder.
 #pragma once
 
@@ -50,7 +53,7 @@ struct FuseGridSpec {
 struct FuseViewSpec {
   int index = 0;
   std::string where;  // "VIEWS.json: views[3]"
-  std::string depthPath, labelPath, normalPath;  // normalPath may be empty
+  std::string depthPath, labelPath, normalPath, colorPath;  // normal and color may be empty
   std::optional<nlohmann::json> camera;
   nlohmann::json labels;  // null when not given
   std::optional<DepthKind> depthKind;

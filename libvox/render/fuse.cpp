@@ -6,6 +6,7 @@
 #include <limits>
 #include <mutex>
 
+#include "libvox/core/color.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {
@@ -32,6 +33,27 @@ FuseCounts::Brick* FuseCounts::brickFor(int64_t bu, int64_t bv, int64_t bw, uint
   return p;
 }
 
+namespace {
+// Linear light of each 8-bit sRGB value in 1/2^24 units.
+const std::array<uint32_t, 256>& linearTable() {
+  static const std::array<uint32_t, 256> t = [] {
+    std::array<uint32_t, 256> a{};
+    for (int i = 0; i < 256; ++i) a[size_t(i)] = uint32_t(std::lround(double(srgb8ToLinear(uint8_t(i))) * 16777216.0));
+    return a;
+  }();
+  return t;
+}
+}  // namespace
+
+void FuseCounts::addColor(Coord3 c, uint32_t rgb) {
+  const std::array<uint32_t, 256>& t = linearTable();
+  ColorSum& s = colors_[voxelKey(c)];
+  s.r += t[(rgb >> 16) & 0xFF];
+  s.g += t[(rgb >> 8) & 0xFF];
+  s.b += t[rgb & 0xFF];
+  ++s.n;
+}
+
 void FuseCounts::merge(FuseCounts&& other) {
   // Pointer blocks are rebuilt on demand (brickFor finds merged bricks in free_).
   blocks_.clear();
@@ -52,6 +74,14 @@ void FuseCounts::merge(FuseCounts&& other) {
     }
   }
   for (const auto& [key, n] : other.votes_) votes_[key] += n;
+  for (const auto& [key, c] : other.colors_) {
+    ColorSum& m = colors_[key];
+    m.r += c.r;
+    m.g += c.g;
+    m.b += c.b;
+    m.n += c.n;
+  }
+  other.colors_.clear();
   other.free_.clear();
   other.votes_.clear();
   other.lastKey_ = ~uint64_t(0);
@@ -307,6 +337,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
         ++u;
         amb += r.ambiguous ? 1 : 0;
         counts.addVote(r.voxel, cls, settings_.weight);
+        if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
         voted[i] = FuseCounts::voxelKey(r.voxel);
       }
     used += u;

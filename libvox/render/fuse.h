@@ -76,6 +76,14 @@ class FuseCounts {
     if (c != UINT32_MAX) ++c;
   }
   void addVote(Coord3 c, uint8_t classId, uint32_t weight);
+  /// Adds one colour sample (8-bit sRGB) at `c`: summed in linear light as
+  /// integers (1/2^24 units), so the average does not depend on the order.
+  void addColor(Coord3 c, uint32_t rgb);
+  struct ColorSum {
+    uint64_t r = 0, g = 0, b = 0, n = 0;
+  };
+  /// The colour sums per voxel key (FuseCounts::voxelKey).
+  const std::unordered_map<uint64_t, ColorSum>& colorSums() const { return colors_; }
   /// Adds `n` free counts at `c` (saturating).
   void addFreeCount(Coord3 c, uint64_t n);
   /// The free count at `c` (0 when none).
@@ -106,7 +114,10 @@ class FuseCounts {
   };
   std::vector<Vote> votes() const;
   uint64_t freeBricks() const { return free_.size(); }
-  void dropVotes() { votes_.clear(); }
+  void dropVotes() {
+    votes_.clear();
+    colors_.clear();
+  }
   std::vector<uint64_t> sortedBrickKeys() const;
 
   static uint64_t brickKey(int64_t bu, int64_t bv, int64_t bw) {
@@ -128,7 +139,8 @@ class FuseCounts {
   std::unordered_map<uint64_t, std::unique_ptr<Block>> blocks_;
   uint64_t lastBlockKey_ = ~uint64_t(0);
   Block* lastBlock_ = nullptr;
-  std::unordered_map<uint64_t, uint64_t> votes_;  // (voxelKey << 8) | class -> votes (voxel keys fit 63 bits: dims < 2^21)
+  std::unordered_map<uint64_t, uint64_t> votes_;
+  std::unordered_map<uint64_t, ColorSum> colors_;  // (voxelKey << 8) | class -> votes (voxel keys fit 63 bits: dims < 2^21)
   uint64_t lastKey_ = ~uint64_t(0);
   Brick* last_ = nullptr;
 };
@@ -159,6 +171,8 @@ struct FuseView {
   std::vector<double> depth;
   std::vector<uint8_t> classes;
   std::vector<int8_t> faceAxis;  // empty, or per pixel the axis of the entered face (-1 unknown)
+  std::vector<uint32_t> color;   // empty, or per pixel 0xRRGGBB of 8-bit sRGB, kNoColor = none
+  static constexpr uint32_t kNoColor = 0xFFFFFFFFu;
   double far = 0;  // > 0: depths beyond it are skipped
 };
 

@@ -43,6 +43,7 @@ FusedScene applyFusion(const SceneHeader& header, const Scene* base, const FreeC
   for (const auto& [c, n] : baseFree) counts.addFreeCount(c, n);
   // New votes grouped by voxel (sorted by voxel key, then class).
   const std::vector<FuseCounts::Vote> votes = counts.votes();
+  const auto& colors = counts.colorSums();
   FuseCounts& freeOf = counts;
 
   SceneBuilder builder(header);
@@ -72,6 +73,14 @@ FusedScene applyFusion(const SceneHeader& header, const Scene* base, const FreeC
       }
       for (size_t k = i; k < j; ++k)
         builder.addVotes(votes[k].at, votes[k].classId, clampVotes(votes[k].votes), e ? e->surface : true);
+      // The new colour samples' average replaces an input colour.
+      const auto col = colors.find(key);
+      if (col != colors.end() && col->second.n) {
+        const double scale = 1.0 / (16777216.0 * double(col->second.n));
+        builder.setColor(votes[i].at, RgbLinear{float(double(col->second.r) * scale), float(double(col->second.g) * scale),
+                                                float(double(col->second.b) * scale)});
+        ++out.totals.colored;
+      }
       ++out.totals.occupiedAfter;
     }
     i = j;

@@ -10,7 +10,9 @@
 // Otherwise the voxel is occupied with all its votes and keeps F. With
 // carving off nothing is removed and F is kept as is.
 // Surface flags: an input voxel keeps its flag; a voxel first occupied by a
-// fusion is a surface voxel (a view saw it).
+// fusion is a surface voxel (a view saw it). Colour: an occupied voxel with
+// colour samples gets their average in linear light (replacing an input
+// colour); other input voxels keep theirs.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +33,7 @@ struct FuseTotals {
   uint64_t removed = 0;       // occupied in the input, carved now
   uint64_t rejected = 0;      // got new votes but stayed (or became) empty by the carve rule
   uint64_t freeVoxels = 0;    // voxels with a free count in the output
+  uint64_t colored = 0;       // occupied voxels given a colour by this fusion
 };
 
 struct FusedScene {

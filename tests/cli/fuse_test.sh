@@ -12,15 +12,16 @@ group=$1 vox=$2 root=$3
 . "$(dirname "$0")/test_lib.sh"
 
 # views.json for STEM_000 ... STEM_(N-1) written by render-canonical --orbit N
-# (depth, class, and normal when $3 = normal).
+# (depth, class, and normal when $3 = normal, normal and c_NNN.png colour when $3 = color).
 views_json() {
   python3 - "$1" "$2" "${3:-}" <<'EOF'
 import json, sys
-stem, n, normal = sys.argv[1], int(sys.argv[2]), sys.argv[3] == 'normal'
+stem, n, extra = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 views = []
 for i in range(n):
     v = {'depth': '%s_%03d.depth.exr' % (stem, i), 'label': '%s_%03d.class.png' % (stem, i)}
-    if normal: v['normal'] = '%s_%03d.normal.png' % (stem, i)
+    if extra in ('normal', 'color'): v['normal'] = '%s_%03d.normal.png' % (stem, i)
+    if extra == 'color': v['color'] = 'c_%03d.png' % i
     views.append(v)
 print(json.dumps({'views': views}))
 EOF
@@ -55,6 +56,13 @@ assert t['occupied_before'] == 0 and t['removed'] == 0 and t['created'] == tv; \
 assert len(d['counts']['views']) == 6 and sum(v['used'] for v in d['counts']['views']) == t['used']; \
 assert t['used'] + t['skipped']['no_depth'] + t['skipped']['no_class'] + t['skipped']['outside_grid'] == t['pixels']"
   same_renders h.vdb f.vdb cams.json 6
+  # Colour images: the fused voxels carry the rendered colours back (render --mode color equal, pixel for pixel).
+  expect_exit 0 "$vox" render-canonical h.vdb -o c.png --orbit 6 --size 160x120 --mode color --quiet
+  views_json o 6 color >views_color.json
+  expect_exit 0 "$vox" fuse views_color.json -o fc.vdb --report rc.json --quiet
+  jcheck rc.json "t=d['counts']['totals']; assert t['colored'] == t['occupied_after'] > 0"
+  expect_exit 0 "$vox" render-canonical fc.vdb -o gc.png --camera cams.json --mode color --quiet
+  for i in 0 1 2 3 4 5; do expect_exit 0 "$vox" diff c_00$i.png gc.view$i.png; done
   # The same scene at any thread count.
   expect_exit 0 "$vox" fuse views.json -o f1.vdb --threads 1 --quiet
   expect_exit 0 "$vox" diff f.vdb f1.vdb

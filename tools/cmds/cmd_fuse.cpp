@@ -189,6 +189,8 @@ int runFuse(const FuseOptions& o) {
                             {"removed", t.removed},
                             {"rejected", t.rejected},
                             {"free_voxels", t.freeVoxels},
+                            {"colored", t.colored},
+                            {"pixels_per_second", fuseSeconds > 0 ? double(total.pixels) / fuseSeconds : 0.0},
                             {"carve", carve},
                             {"weight", settings.weight}};
   char line[400];
