@@ -167,6 +167,7 @@ FuseViewsFile readFuseViews(const std::string& path) {
     if (v.contains("camera")) s.camera = v["camera"];
     if (v.contains("normal")) s.normalPath = resolve(path, jsonString(v["normal"], s.where, "normal"));
     if (v.contains("color")) s.colorPath = resolve(path, jsonString(v["color"], s.where, "color"));
+    if (v.contains("confidence")) s.confidencePath = resolve(path, jsonString(v["confidence"], s.where, "confidence"));
     readDepthSettings(v, s.where, s);
     out.views.push_back(std::move(s));
   }
@@ -345,6 +346,24 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
         if (color.channels == 4 && p[3] == 0) continue;
         view.color[size_t(y) * color.width + x] = (uint32_t(p[0]) << 16) | (uint32_t(p[1]) << 8) | p[2];
       }
+  }
+
+  if (!spec.confidencePath.empty()) {
+    const Image conf = readImage(spec.confidencePath, where, "confidence");
+    out.files.push_back(spec.confidencePath);
+    const std::string confName = "confidence " + spec.confidencePath;
+    if (conf.width != depth.width || conf.height != depth.height)
+      bad(where, confName + " is " + std::to_string(conf.width) + "x" + std::to_string(conf.height) + " but " +
+                     depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                     "; a view's images must have one size");
+    if (!isPngFile(spec.confidencePath) || conf.channels != 1 || !(conf.type == SampleType::U8 || conf.type == SampleType::U16))
+      bad(where, confName + ": a confidence image is a gray 8/16-bit PNG (the vote weight of each pixel); this one has " +
+                     std::to_string(conf.channels) + " channel(s) of " + sampleTypeName(conf.type));
+    view.weight.resize(N);
+    for (uint32_t y = 0; y < conf.height; ++y)
+      for (uint32_t x = 0; x < conf.width; ++x)
+        view.weight[size_t(y) * conf.width + x] =
+            conf.type == SampleType::U8 ? conf.row<uint8_t>(y)[x] : conf.row<uint16_t>(y)[x];
   }
 
   if (!spec.normalPath.empty()) {

@@ -10,6 +10,7 @@
 //               "camera": CAMERA,                                          optional
 //               "normal": "n.png",                                         optional
 //               "color": "c.png",                                          optional
+//               "confidence": "w.png",                                     optional
 //               "labels": ..., "depth_kind": ..., "depth_scale": ..., "depth_offset": ..., "far": ...}]}
 //
 // CAMERA: {"viewMatrix": [16], "projectionMatrix": [16]} (column-major, the
@@ -29,6 +30,8 @@
 // to tell apart crossings whose distances round to the same float (fuse.h).
 // "color": an 8-bit RGB(A) PNG (sRGB, alpha 0 = no colour): each voting
 // pixel adds its colour to the voxel (averaged in linear light).
+// "confidence": a gray 8/16-bit PNG: each pixel's value multiplies its
+// votes (--weight); 0 skips the pixel.
 // Paths are relative to the views file's folder.
 #pragma once
 
@@ -53,7 +56,7 @@ struct FuseGridSpec {
 struct FuseViewSpec {
   int index = 0;
   std::string where;  // "VIEWS.json: views[3]"
-  std::string depthPath, labelPath, normalPath, colorPath;  // normal and color may be empty
+  std::string depthPath, labelPath, normalPath, colorPath, confidencePath;  // the last three may be empty
   std::optional<nlohmann::json> camera;
   nlohmann::json labels;  // null when not given
   std::optional<DepthKind> depthKind;

@@ -238,12 +238,20 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
     }
   }
-  double enteredKey = key(tEnter);  // the key of the crossing that entered the current cell
+  // Crossings before tLow have keys strictly below the depth (a margin of
+  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
+  // there and evaluates it exactly only near the depth.
+  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
+  bool enteredBelow = key(tEnter) < depth;  // the crossing that entered the current cell has key < depth
   for (;;) {
     const double tn = std::min(next[0], std::min(next[1], next[2]));
-    const double tnKey = key(tn);
-    if (!(tnKey <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
-    if (free && enteredKey < depth) {
+    const bool early = tn <= tLow;
+    double tnKey = 0;
+    if (!early) {
+      tnKey = key(tn);
+      if (!(tnKey <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
+    }
+    if (free && enteredBelow) {
       free->addFree(int32_t(c[0]), int32_t(c[1]), int32_t(c[2]));
       ++out.freeCells;
     }
@@ -259,8 +267,8 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       next[a] = time(a, step[a] > 0 ? c[a] + 1 : c[a]);
     }
     if (left) return out;  // the depth lies beyond the grid
-    enteredKey = tnKey;
-    if (tnKey == depth) {
+    enteredBelow = early || tnKey < depth;
+    if (!early && tnKey == depth) {
       ++tied;
       lastMulti = axes > 1;
       if (faceCrossed) {
@@ -286,7 +294,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
   std::vector<uint64_t> voted(N, ~uint64_t(0));
-  std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, outside{0}, steps{0}, freeCounts{0};
+  std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, zeroWeight{0}, outside{0}, steps{0}, freeCounts{0};
   // A pool of accumulators: a task takes one, fills it, gives it back. Which
   // rows land in which accumulator varies with scheduling; the sums do not.
   std::mutex poolMutex;
@@ -309,7 +317,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
       }
     }
     FuseCounts& counts = pieces_[slot];
-    uint64_t u = 0, amb = 0, nd = 0, ul = 0, out = 0, st = 0, fc = 0;
+    uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     for (size_t y = y0; y < y1; ++y)
@@ -325,6 +333,11 @@ FuseViewStats Fuser::add(const FuseView& view) {
           ++ul;
           continue;
         }
+        const uint32_t w = view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i];
+        if (w == 0) {
+          ++zw;
+          continue;
+        }
         const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
         const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
                                         &counts, face);
@@ -336,7 +349,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
         }
         ++u;
         amb += r.ambiguous ? 1 : 0;
-        counts.addVote(r.voxel, cls, settings_.weight);
+        counts.addVote(r.voxel, cls, w);
         if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
         voted[i] = FuseCounts::voxelKey(r.voxel);
       }
@@ -344,6 +357,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
     ambiguous += amb;
     noDepth += nd;
     unlabelled += ul;
+    zeroWeight += zw;
     outside += out;
     steps += st;
     freeCounts += fc;
@@ -354,6 +368,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.ambiguous = ambiguous;
   stats.noDepth = noDepth;
   stats.unlabelled = unlabelled;
+  stats.zeroWeight = zeroWeight;
   stats.outside = outside;
   stats.steps = steps;
   stats.freeCounts = freeCounts;

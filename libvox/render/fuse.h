@@ -172,6 +172,7 @@ struct FuseView {
   std::vector<uint8_t> classes;
   std::vector<int8_t> faceAxis;  // empty, or per pixel the axis of the entered face (-1 unknown)
   std::vector<uint32_t> color;   // empty, or per pixel 0xRRGGBB of 8-bit sRGB, kNoColor = none
+  std::vector<uint16_t> weight;  // empty, or per pixel the vote weight (a confidence image; 0 = skip the pixel)
   static constexpr uint32_t kNoColor = 0xFFFFFFFFu;
   double far = 0;  // > 0: depths beyond it are skipped
 };
@@ -181,6 +182,7 @@ struct FuseViewStats {
   uint64_t used = 0;          // pixels whose hit voted
   uint64_t noDepth = 0;       // 0, negative, NaN, inf or beyond far
   uint64_t unlabelled = 0;    // depth but class 0
+  uint64_t zeroWeight = 0;    // depth and class, but confidence 0
   uint64_t outside = 0;       // depth outside the grid (before it, beyond it, or the ray misses it)
   uint64_t ambiguous = 0;     // used pixels whose voxel the depth could not single out (FuseRayResult::ambiguous)
   uint64_t steps = 0;         // plane crossings walked over every ray
@@ -190,6 +192,9 @@ struct FuseViewStats {
 };
 
 struct FuseSettings {
+  // Votes per pixel: weight, times the pixel's confidence when the view has
+  // one. Free counts are one per ray whatever the weight (a larger weight
+  // makes carving more conservative).
   uint32_t weight = 1;   // votes per pixel
   unsigned threads = 0;  // 0 = all cores
 };

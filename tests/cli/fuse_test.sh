@@ -230,6 +230,8 @@ json.dump({'grid': grid, 'views': [view]}, open('dist.json', 'w'))
 json.dump({'grid': grid, 'depth_kind': 'z', 'far': 7.5, 'views': [view]}, open('far.json', 'w'))
 json.dump({'grid': grid, 'views': [dict(view, depth='depth8.png')]}, open('d8.json', 'w'))
 json.dump({'grid': grid, 'labels': {'1': None}, 'views': [view]}, open('null.json', 'w'))
+png('conf.png', W, H, 8, 0, [bytes([3 if x < W // 2 else 0 for x in range(W)]) for _ in range(H)])  # left half: 3 votes
+json.dump({'grid': grid, 'depth_kind': 'z', 'views': [dict(view, confidence='conf.png')]}, open('conf.json', 'w'))
 EOF2
   expect_exit 0 "$vox" fuse z.json -o z.vdb --report rz.json --quiet
   expect_exit 0 "$vox" info --json z.vdb
@@ -246,6 +248,11 @@ EOF2
   jcheck rf.json "t=d['counts']['totals']; assert t['used'] == 0 and t['skipped']['no_depth'] == 24 * 16"
   expect_exit 0 "$vox" fuse null.json -o null.vdb --report rn.json --quiet
   jcheck rn.json "t=d['counts']['totals']; assert t['used'] == 0 and t['skipped']['no_class'] == 24 * 16"
+  # A confidence image multiplies the votes (times --weight); 0 skips the pixel.
+  expect_exit 0 "$vox" fuse conf.json -o conf.vdb --weight 2 --report rw.json --quiet
+  jcheck rw.json "t=d['counts']['totals']; assert t['used'] == 12 * 16 and t['skipped']['zero_confidence'] == 12 * 16, t"
+  expect_exit 0 "$vox" info --json conf.vdb
+  jcheck out.txt "assert sum(c['votes'] for c in d['classes']) == 6 * 12 * 16, d['classes']"
   # An 8-bit depth PNG is refused.
   expect_exit 3 "$vox" fuse d8.json -o d8.vdb
   expect_stderr "depth8.png"

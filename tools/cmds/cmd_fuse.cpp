@@ -142,7 +142,7 @@ int runFuse(const FuseOptions& o) {
                        {"pixels", s.pixels},
                        {"used", s.used},
                        {"ambiguous", s.ambiguous},
-                       {"skipped", {{"no_depth", s.noDepth}, {"no_class", s.unlabelled}, {"outside_grid", s.outside}}},
+                       {"skipped", {{"no_depth", s.noDepth}, {"no_class", s.unlabelled}, {"zero_confidence", s.zeroWeight}, {"outside_grid", s.outside}}},
                        {"voxels_voted", s.voxelsVoted},
                        {"voxels_new", newVoxels},
                        {"free_counts", s.freeCounts},
@@ -153,6 +153,7 @@ int runFuse(const FuseOptions& o) {
     total.ambiguous += s.ambiguous;
     total.noDepth += s.noDepth;
     total.unlabelled += s.unlabelled;
+    total.zeroWeight += s.zeroWeight;
     total.outside += s.outside;
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
@@ -175,7 +176,7 @@ int runFuse(const FuseOptions& o) {
                             {"pixels", total.pixels},
                             {"used", total.used},
                             {"ambiguous", total.ambiguous},
-                            {"skipped", {{"no_depth", total.noDepth}, {"no_class", total.unlabelled}, {"outside_grid", total.outside}}},
+                            {"skipped", {{"no_depth", total.noDepth}, {"no_class", total.unlabelled}, {"zero_confidence", total.zeroWeight}, {"outside_grid", total.outside}}},
                             {"rays", rays},
                             {"steps", total.steps},
                             {"steps_per_ray", rays ? double(total.steps) / double(rays) : 0.0},
@@ -195,11 +196,12 @@ int runFuse(const FuseOptions& o) {
                             {"weight", settings.weight}};
   char line[400];
   std::snprintf(line, sizeof line,
-                "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, outside the grid %llu); "
+                "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "
+                "the grid %llu); "
                 "%llu voxels occupied (%llu before, %llu created, %llu removed by carving), %llu with free counts",
                 views.views.size(), (unsigned long long)total.pixels, (unsigned long long)total.used,
-                (unsigned long long)(total.noDepth + total.unlabelled + total.outside), (unsigned long long)total.noDepth,
-                (unsigned long long)total.unlabelled, (unsigned long long)total.outside,
+                (unsigned long long)(total.noDepth + total.unlabelled + total.zeroWeight + total.outside), (unsigned long long)total.noDepth,
+                (unsigned long long)total.unlabelled, (unsigned long long)total.zeroWeight, (unsigned long long)total.outside,
                 (unsigned long long)t.occupiedAfter, (unsigned long long)t.occupiedBefore, (unsigned long long)t.created,
                 (unsigned long long)t.removed, (unsigned long long)t.freeVoxels);
   run.note(line);
@@ -227,7 +229,7 @@ Command registerFuse(CLI::App& root) {
                 "distance (from the eye along the ray, render-canonical's) or z (camera-space depth); "
                 "default: the views file's, else distance");
   addEnumOption(*cmd, "--carve", opts->carve, carveNames(), "Remove voxels whose free count exceeds their votes");
-  cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536)")->default_val(1);
+  cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536), times the view's confidence image if any")->default_val(1);
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runFuse(*opts); }};
 }
