@@ -32,5 +32,6 @@ Command registerMip(CLI::App& root);
 Command registerPackChunks(CLI::App& root);
 Command registerRenderCanonical(CLI::App& root);
 Command registerExport(CLI::App& root);
+Command registerFuse(CLI::App& root);
 
 }  // namespace voxcli

@@ -1,0 +1,390 @@
+#include "libvox/render/fuse.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include "libvox/core/color.h"
+#include "libvox/core/parallel.h"
+
+namespace vox {
+
+void FuseCounts::addVote(Coord3 c, uint8_t classId, uint32_t weight) {
+  uint64_t& v = votes_[(voxelKey(c) << 8) | classId];
+  v += weight;
+}
+
+FuseCounts::Brick* FuseCounts::brickFor(int64_t bu, int64_t bv, int64_t bw, uint64_t key) {
+  const uint64_t blockKey = brickKey(bu >> 4, bv >> 4, bw >> 4);
+  if (blockKey != lastBlockKey_) {
+    std::unique_ptr<Block>& b = blocks_[blockKey];
+    if (!b) b = std::make_unique<Block>(Block{});
+    lastBlock_ = b.get();
+    lastBlockKey_ = blockKey;
+  }
+  Brick*& p = (*lastBlock_)[size_t(((bu & 15) << 8) | ((bv & 15) << 4) | (bw & 15))];
+  if (!p) {
+    std::unique_ptr<Brick>& owned = free_[key];
+    if (!owned) owned = std::make_unique<Brick>(Brick{});
+    p = owned.get();
+  }
+  return p;
+}
+
+namespace {
+// Linear light of each 8-bit sRGB value in 1/2^24 units.
+const std::array<uint32_t, 256>& linearTable() {
+  static const std::array<uint32_t, 256> t = [] {
+    std::array<uint32_t, 256> a{};
+    for (int i = 0; i < 256; ++i) a[size_t(i)] = uint32_t(std::lround(double(srgb8ToLinear(uint8_t(i))) * 16777216.0));
+    return a;
+  }();
+  return t;
+}
+}  // namespace
+
+void FuseCounts::addColor(Coord3 c, uint32_t rgb) {
+  const std::array<uint32_t, 256>& t = linearTable();
+  ColorSum& s = colors_[voxelKey(c)];
+  s.r += t[(rgb >> 16) & 0xFF];
+  s.g += t[(rgb >> 8) & 0xFF];
+  s.b += t[rgb & 0xFF];
+  ++s.n;
+}
+
+void FuseCounts::merge(FuseCounts&& other) {
+  // Pointer blocks are rebuilt on demand (brickFor finds merged bricks in free_).
+  blocks_.clear();
+  lastBlockKey_ = ~uint64_t(0);
+  lastBlock_ = nullptr;
+  other.blocks_.clear();
+  other.lastBlockKey_ = ~uint64_t(0);
+  other.lastBlock_ = nullptr;
+  for (auto& [key, brick] : other.free_) {
+    std::unique_ptr<Brick>& mine = free_[key];
+    if (!mine) {
+      mine = std::move(brick);
+      continue;
+    }
+    for (size_t i = 0; i < 512; ++i) {
+      const uint64_t s = uint64_t((*mine)[i]) + (*brick)[i];
+      (*mine)[i] = uint32_t(std::min<uint64_t>(s, UINT32_MAX));
+    }
+  }
+  for (const auto& [key, n] : other.votes_) votes_[key] += n;
+  for (const auto& [key, c] : other.colors_) {
+    ColorSum& m = colors_[key];
+    m.r += c.r;
+    m.g += c.g;
+    m.b += c.b;
+    m.n += c.n;
+  }
+  other.colors_.clear();
+  other.free_.clear();
+  other.votes_.clear();
+  other.lastKey_ = ~uint64_t(0);
+  other.last_ = nullptr;
+  lastKey_ = ~uint64_t(0);
+  last_ = nullptr;
+}
+
+void FuseCounts::addFreeCount(Coord3 c, uint64_t n) {
+  std::unique_ptr<Brick>& b = free_[brickKey(c.u >> 3, c.v >> 3, c.w >> 3)];
+  if (!b) b = std::make_unique<Brick>(Brick{});
+  uint32_t& x = (*b)[size_t(((c.u & 7) << 6) | ((c.v & 7) << 3) | (c.w & 7))];
+  x = uint32_t(std::min<uint64_t>(uint64_t(x) + n, UINT32_MAX));
+  lastKey_ = ~uint64_t(0);
+  last_ = nullptr;
+}
+
+uint32_t FuseCounts::freeAt(Coord3 c) const {
+  const auto it = free_.find(brickKey(c.u >> 3, c.v >> 3, c.w >> 3));
+  return it == free_.end() ? 0 : (*it->second)[size_t(((c.u & 7) << 6) | ((c.v & 7) << 3) | (c.w & 7))];
+}
+
+void FuseCounts::setFree(Coord3 c, uint32_t n) {
+  const auto it = free_.find(brickKey(c.u >> 3, c.v >> 3, c.w >> 3));
+  if (it == free_.end()) {
+    if (n) addFreeCount(c, n);
+    return;
+  }
+  (*it->second)[size_t(((c.u & 7) << 6) | ((c.v & 7) << 3) | (c.w & 7))] = n;
+}
+
+std::vector<uint64_t> FuseCounts::sortedBrickKeys() const {
+  std::vector<uint64_t> keys;
+  keys.reserve(free_.size());
+  for (const auto& [key, brick] : free_) keys.push_back(key);
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::vector<std::pair<Coord3, uint32_t>> FuseCounts::freeVoxels() const {
+  const std::vector<uint64_t> keys = sortedBrickKeys();
+  std::vector<std::pair<Coord3, uint32_t>> out;
+  for (uint64_t key : keys) {
+    const Brick& b = *free_.at(key);
+    const int32_t bu = int32_t(key >> 42) * 8, bv = int32_t((key >> 21) & 0x1FFFFF) * 8, bw = int32_t(key & 0x1FFFFF) * 8;
+    for (int i = 0; i < 512; ++i)
+      if (b[size_t(i)]) out.push_back({Coord3{bu + (i >> 6), bv + ((i >> 3) & 7), bw + (i & 7)}, b[size_t(i)]});
+  }
+  return out;
+}
+
+std::vector<FuseCounts::Vote> FuseCounts::votes() const {
+  std::vector<std::pair<uint64_t, uint64_t>> all(votes_.begin(), votes_.end());
+  std::sort(all.begin(), all.end());
+  std::vector<Vote> out;
+  out.reserve(all.size());
+  for (const auto& [key, n] : all) out.push_back({voxelOfKey(key >> 8), uint8_t(key & 0xFF), n});
+  return out;
+}
+
+namespace {
+
+// The stored-depth value of the crossing at ray parameter t (header comment):
+// render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
+// order, rounded to float when the image stores float32.
+struct KeyOf {
+  double length = 1, voxelSize = 1;
+  bool z = false, float32 = true;
+  double operator()(double t) const {
+    const double d = z ? t : t * length * voxelSize;
+    return float32 ? double(float(d)) : d;
+  }
+};
+
+}  // namespace
+
+FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
+                      FuseCounts* free, int faceAxis) {
+  FuseRayResult out;
+  KeyOf key;
+  key.length = std::sqrt(original.dir[0] * original.dir[0] + original.dir[1] * original.dir[1] +
+                         original.dir[2] * original.dir[2]);
+  key.voxelSize = voxelSize;
+  key.z = measure.kind == DepthKind::Z;
+  key.float32 = measure.float32;
+  const Ray ray = sanitizeRay(original);
+  const double inf = std::numeric_limits<double>::infinity();
+  const int64_t D[3] = {dims.x, dims.y, dims.z};
+  double inv[3] = {0, 0, 0};
+  bool moving[3];
+  double tEnter = 0, tExit = inf;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.origin[size_t(a)], d = ray.dir[size_t(a)];
+    moving[a] = d != 0;
+    if (!moving[a]) {
+      if (!(o >= 0 && o <= double(D[a]))) return out;  // the ray runs beside the grid
+      continue;
+    }
+    inv[a] = 1.0 / d;
+    const double t0 = (0 - o) * inv[a], t1 = (double(D[a]) - o) * inv[a];
+    tEnter = std::max(tEnter, std::min(t0, t1));
+    tExit = std::min(tExit, std::max(t0, t1));
+  }
+  if (tEnter > tExit) return out;                 // misses the grid
+  if (!(key(tEnter) <= depth)) return out;        // the depth lies before the grid
+  auto time = [&](int a, int64_t p) { return (double(p) - ray.origin[size_t(a)]) * inv[a]; };
+
+  // The cell the ray is in at tEnter (entered at or before it), per axis.
+  int64_t c[3];
+  int step[3] = {0, 0, 0};
+  double next[3] = {inf, inf, inf};
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.origin[size_t(a)];
+    if (!moving[a]) {
+      // Inside a grid plane: the lower cell (ceil(o) - 1), else the cell holding o.
+      int64_t cell = int64_t(std::ceil(o)) - 1;
+      c[a] = std::clamp<int64_t>(cell, 0, D[a] - 1);
+      continue;
+    }
+    const double p = o + tEnter * ray.dir[size_t(a)];
+    int64_t cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(D[a]) + 1))) : 0;
+    cell = std::clamp<int64_t>(cell, 0, D[a] - 1);
+    if (ray.dir[size_t(a)] > 0) {
+      step[a] = 1;
+      while (cell + 1 < D[a] && time(a, cell + 1) <= tEnter) ++cell;
+      while (cell > 0 && time(a, cell) > tEnter) --cell;
+      next[a] = time(a, cell + 1);
+    } else {
+      step[a] = -1;
+      while (cell > 0 && time(a, cell) <= tEnter) --cell;
+      while (cell + 1 < D[a] && time(a, cell + 1) > tEnter) ++cell;
+      next[a] = time(a, cell);
+    }
+    c[a] = cell;
+  }
+
+  // Crossings whose key equals the depth: a tie group (header comment).
+  int tied = 0;
+  bool chosen = false, chosenMulti = false, lastMulti = false;
+  Coord3 chosenCell;
+  if (tEnter > 0 && key(tEnter) == depth) {
+    tied = 1;
+    int axes = 0;
+    bool faceCrossed = false;
+    for (int a = 0; a < 3; ++a)
+      if (moving[a] && std::min(time(a, 0), time(a, D[a])) == tEnter) {
+        ++axes;
+        faceCrossed |= a == faceAxis;
+      }
+    lastMulti = axes > 1;
+    if (faceCrossed) {
+      chosen = true;
+      chosenMulti = lastMulti;
+      chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
+    }
+  }
+  // Crossings before tLow have keys strictly below the depth (a margin of
+  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
+  // there and evaluates it exactly only near the depth.
+  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
+  bool enteredBelow = key(tEnter) < depth;  // the crossing that entered the current cell has key < depth
+  for (;;) {
+    const double tn = std::min(next[0], std::min(next[1], next[2]));
+    const bool early = tn <= tLow;
+    double tnKey = 0;
+    if (!early) {
+      tnKey = key(tn);
+      if (!(tnKey <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
+    }
+    if (free && enteredBelow) {
+      free->addFree(int32_t(c[0]), int32_t(c[1]), int32_t(c[2]));
+      ++out.freeCells;
+    }
+    ++out.steps;
+    bool left = false, faceCrossed = false;
+    int axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (next[a] != tn) continue;
+      ++axes;
+      faceCrossed |= a == faceAxis;
+      c[a] += step[a];
+      if (c[a] < 0 || c[a] >= D[a]) left = true;
+      next[a] = time(a, step[a] > 0 ? c[a] + 1 : c[a]);
+    }
+    if (left) return out;  // the depth lies beyond the grid
+    enteredBelow = early || tnKey < depth;
+    if (!early && tnKey == depth) {
+      ++tied;
+      lastMulti = axes > 1;
+      if (faceCrossed) {
+        chosen = true;
+        chosenMulti = lastMulti;
+        chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
+      }
+    }
+  }
+  out.hit = true;
+  out.voxel = chosen ? chosenCell : Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
+  out.ambiguous = chosen ? chosenMulti : (tied >= 2 || lastMulti);
+  return out;
+}
+
+Fuser::Fuser(const Dims& dims, const GridFrame& frame, const FuseSettings& settings)
+    : dims_(dims), frame_(frame), settings_(settings) {}
+
+FuseViewStats Fuser::add(const FuseView& view) {
+  const Camera& cam = view.camera;
+  const size_t W = cam.width, H = cam.height, N = W * H;
+  FuseViewStats stats;
+  stats.pixels = N;
+  const PixelRays rays(cam, frame_);
+  std::vector<uint64_t> voted(N, ~uint64_t(0));
+  std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, zeroWeight{0}, outside{0}, steps{0}, freeCounts{0};
+  // A pool of accumulators: a task takes one, fills it, gives it back. Which
+  // rows land in which accumulator varies with scheduling; the sums do not.
+  std::mutex poolMutex;
+  std::vector<size_t> idle;
+  for (size_t i = 0; i < pieces_.size(); ++i) idle.push_back(i);
+  // Tiles of 16 x 16 pixels: their rays cross a narrow cone of bricks that
+  // stays in cache (rows fan out across the whole scene).
+  constexpr size_t kTile = 16;
+  const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
+  parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
+    size_t slot;
+    {
+      std::lock_guard<std::mutex> lock(poolMutex);
+      if (idle.empty()) {
+        pieces_.emplace_back();  // a deque: the slots other workers hold stay in place
+        slot = pieces_.size() - 1;
+      } else {
+        slot = idle.back();
+        idle.pop_back();
+      }
+    }
+    FuseCounts& counts = pieces_[slot];
+    uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
+    const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
+    const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
+    for (size_t y = y0; y < y1; ++y)
+      for (size_t x = x0; x < x1; ++x) {
+        const size_t i = y * W + x;
+        const double d = view.depth[i];
+        if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far)) {
+          ++nd;
+          continue;
+        }
+        const uint8_t cls = view.classes[i];
+        if (cls == 0) {
+          ++ul;
+          continue;
+        }
+        const uint32_t w = view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i];
+        if (w == 0) {
+          ++zw;
+          continue;
+        }
+        const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
+        const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
+                                        &counts, face);
+        st += r.steps;
+        fc += r.freeCells;
+        if (!r.hit) {
+          ++out;
+          continue;
+        }
+        ++u;
+        amb += r.ambiguous ? 1 : 0;
+        counts.addVote(r.voxel, cls, w);
+        if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
+        voted[i] = FuseCounts::voxelKey(r.voxel);
+      }
+    used += u;
+    ambiguous += amb;
+    noDepth += nd;
+    unlabelled += ul;
+    zeroWeight += zw;
+    outside += out;
+    steps += st;
+    freeCounts += fc;
+    std::lock_guard<std::mutex> lock(poolMutex);
+    idle.push_back(slot);
+  });
+  stats.used = used;
+  stats.ambiguous = ambiguous;
+  stats.noDepth = noDepth;
+  stats.unlabelled = unlabelled;
+  stats.zeroWeight = zeroWeight;
+  stats.outside = outside;
+  stats.steps = steps;
+  stats.freeCounts = freeCounts;
+  std::sort(voted.begin(), voted.end());
+  voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
+  if (!voted.empty() && voted.back() == ~uint64_t(0)) voted.pop_back();
+  stats.voxelsVoted = voted.size();
+  stats.votedKeys = std::move(voted);
+  return stats;
+}
+
+FuseCounts Fuser::finish() && {
+  FuseCounts total;
+  for (FuseCounts& p : pieces_) total.merge(std::move(p));
+  pieces_.clear();
+  return total;
+}
+
+}  // namespace vox

@@ -1,0 +1,237 @@
+// vox fuse VIEWS.json [-i SCENE.vdb] -o SCENE.vdb: depth + label images voted
+// into a scene, with free-space carving (docs/fuse.md). The rays and counts are
+// libvox/render/fuse.h, the carve rule libvox/scene/fuse_scene.h, the views
+// file formats/image/fuse_views.h, the `free` grid formats/vdb/fuse_vdb.h.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <unordered_set>
+
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "formats/image/fuse_views.h"
+#include "formats/vdb/fuse_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "libvox/core/error.h"
+#include "libvox/render/fuse.h"
+#include "libvox/scene/fuse_scene.h"
+#include "tools/cli/cli.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/enum_option.h"
+
+namespace voxcli {
+
+namespace {
+
+enum class CarveMode { On, Off };
+enum class DepthKindOption { FromFile, Distance, Z };
+
+struct FuseOptions {
+  std::string views;
+  std::string input;
+  std::string output;
+  DepthKindOption depthKind = DepthKindOption::FromFile;
+  CarveMode carve = CarveMode::On;
+  uint32_t weight = 1;
+  CommonOptions common;
+};
+
+const EnumNames<CarveMode>& carveNames() {
+  static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}};
+  return n;
+}
+const EnumNames<DepthKindOption>& depthKindNames() {
+  static const EnumNames<DepthKindOption> n{
+      {"file", DepthKindOption::FromFile}, {"distance", DepthKindOption::Distance}, {"z", DepthKindOption::Z}};
+  return n;
+}
+
+std::string placementText(const vox::FuseGridSpec& g) {
+  char s[200];
+  std::snprintf(s, sizeof s, "dims %s, voxel size %.17g, origin (%.17g, %.17g, %.17g)", vox::toString(g.dims).c_str(),
+                g.voxelSize, g.origin[0], g.origin[1], g.origin[2]);
+  return s;
+}
+
+bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
+  return a.dims == b.dims && a.voxelSize == b.voxelSize && a.origin == b.origin;
+}
+
+int runFuse(const FuseOptions& o) {
+  if (!vox::hasExtension(o.output, ".vdb")) vox::throwUsage("-o " + o.output + ": the fused scene is written as OpenVDB; name it *.vdb");
+  if (o.weight < 1 || o.weight > 65536) vox::throwUsage("--weight must be 1..65536 votes per pixel");
+  Run run("fuse", o.common);
+  const std::string outTemp = run.output(o.output);
+
+  run.phase("read");
+  run.input(o.views);
+  const vox::FuseViewsFile views = vox::readFuseViews(o.views);
+  std::optional<vox::DepthKind> kindOverride;
+  if (o.depthKind == DepthKindOption::Distance) kindOverride = vox::DepthKind::Distance;
+  if (o.depthKind == DepthKindOption::Z) kindOverride = vox::DepthKind::Z;
+
+  // The grid and the classes: the input scene's, the views file's, or the first depth image's.
+  std::optional<vox::Scene> base;
+  vox::FreeCounts baseFree;
+  vox::SceneHeader header;
+  std::optional<vox::LoadedFuseView> first;
+  if (!o.input.empty()) {
+    run.input(o.input);
+    vox::requireRegularFile(o.input);
+    base = vox::readSceneVdb(o.input);
+    baseFree = vox::readFreeGrid(o.input);
+    header = base->header();
+    if (header.mipLevel != 0) vox::throwBadInput(o.input + ": a mip level; fuse into a full-resolution scene");
+    if (views.classes)
+      vox::throwBadInput(views.path + ": \"classes\" is given, but -i " + o.input +
+                         " has its own class table; remove \"classes\" (labels map to the scene's classes)");
+    const vox::FuseGridSpec scene{header.dims, header.voxelSize, header.origin};
+    if (views.grid && !samePlacement(*views.grid, scene))
+      vox::throwBadInput(views.path + ": grid (" + placementText(*views.grid) + ") differs from -i " + o.input + " (" +
+                         placementText(scene) + ")");
+  } else {
+    header.classes = views.classes ? *views.classes : vox::blockPalette();
+    std::optional<vox::FuseGridSpec> grid = views.grid;
+    if (!grid) {
+      first = vox::loadFuseView(views.views[0], header.classes, kindOverride);
+      grid = first->imageGrid;
+      if (!grid)
+        vox::throwBadInput(views.path + ": no grid: give \"grid\": {\"dims\", \"voxel_size\", \"origin\"}, -i SCENE.vdb, "
+                           "or depth images from render-canonical (their vox:canonical entry has one)");
+    }
+    header.dims = grid->dims;
+    header.voxelSize = grid->voxelSize;
+    header.origin = grid->origin;
+  }
+
+  run.phase("fuse");
+  vox::FuseSettings settings;
+  const bool carve = o.carve == CarveMode::On;  // free counts are gathered either way
+  settings.weight = o.weight;
+  settings.threads = run.threads();
+  vox::GridFrame frame;
+  frame.origin = header.origin;
+  frame.voxelSize = header.voxelSize;
+  vox::Fuser fuser(header.dims, frame, settings);
+  std::unordered_set<uint64_t> seen;  // voxels occupied in the input or voted by an earlier view
+  if (base) base->forEachVoxel([&](const vox::VoxelView& v) { seen.insert(vox::FuseCounts::voxelKey(v.at)); });
+  nlohmann::json perView = nlohmann::json::array();
+  vox::FuseViewStats total;
+  double fuseSeconds = 0;
+  auto bar = run.progress("fuse");
+  for (size_t i = 0; i < views.views.size(); ++i) {
+    const vox::FuseViewSpec& spec = views.views[i];
+    vox::LoadedFuseView loaded = (i == 0 && first) ? std::move(*first) : vox::loadFuseView(spec, header.classes, kindOverride);
+    first.reset();
+    for (const std::string& f : loaded.files) run.input(f);
+    if (loaded.imageGrid && !views.grid && !samePlacement(*loaded.imageGrid, {header.dims, header.voxelSize, header.origin}))
+      run.note("warning: " + spec.where + ": " + spec.depthPath + " was rendered from a grid of " +
+               placementText(*loaded.imageGrid) + "; fusing into " +
+               placementText({header.dims, header.voxelSize, header.origin}));
+    const auto t0 = std::chrono::steady_clock::now();
+    const vox::FuseViewStats s = fuser.add(loaded.view);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    fuseSeconds += secs;
+    uint64_t newVoxels = 0;
+    for (uint64_t k : s.votedKeys) newVoxels += seen.insert(k).second ? 1 : 0;
+    perView.push_back({{"view", i},
+                       {"depth", spec.depthPath},
+                       {"label", spec.labelPath},
+                       {"size", {loaded.view.camera.width, loaded.view.camera.height}},
+                       {"pixels", s.pixels},
+                       {"used", s.used},
+                       {"ambiguous", s.ambiguous},
+                       {"skipped", {{"no_depth", s.noDepth}, {"no_class", s.unlabelled}, {"zero_confidence", s.zeroWeight}, {"outside_grid", s.outside}}},
+                       {"voxels_voted", s.voxelsVoted},
+                       {"voxels_new", newVoxels},
+                       {"free_counts", s.freeCounts},
+                       {"steps", s.steps},
+                       {"seconds", secs}});
+    total.pixels += s.pixels;
+    total.used += s.used;
+    total.ambiguous += s.ambiguous;
+    total.noDepth += s.noDepth;
+    total.unlabelled += s.unlabelled;
+    total.zeroWeight += s.zeroWeight;
+    total.outside += s.outside;
+    total.steps += s.steps;
+    total.freeCounts += s.freeCounts;
+    if (bar) bar->update(double(i + 1) / double(views.views.size()));
+  }
+  if (bar) bar->done();
+
+  run.phase("carve");
+  vox::FuseCounts counts = std::move(fuser).finish();
+  vox::FusedScene fused = vox::applyFusion(header, base ? &*base : nullptr, baseFree, std::move(counts), carve);
+  base.reset();
+
+  run.phase("write");
+  vox::writeFusedSceneVdb(fused.scene, fused.free, outTemp);
+
+  const vox::FuseTotals& t = fused.totals;
+  const uint64_t rays = total.used + total.outside;
+  run.counts()["views"] = perView;
+  run.counts()["totals"] = {{"views", views.views.size()},
+                            {"pixels", total.pixels},
+                            {"used", total.used},
+                            {"ambiguous", total.ambiguous},
+                            {"skipped", {{"no_depth", total.noDepth}, {"no_class", total.unlabelled}, {"zero_confidence", total.zeroWeight}, {"outside_grid", total.outside}}},
+                            {"rays", rays},
+                            {"steps", total.steps},
+                            {"steps_per_ray", rays ? double(total.steps) / double(rays) : 0.0},
+                            {"free_counts", total.freeCounts},
+                            {"rays_per_second", fuseSeconds > 0 ? double(rays) / fuseSeconds : 0.0},
+                            {"fuse_seconds", fuseSeconds},
+                            {"occupied_before", t.occupiedBefore},
+                            {"occupied_after", t.occupiedAfter},
+                            {"voxels_voted", t.voxelsVoted},
+                            {"created", t.created},
+                            {"removed", t.removed},
+                            {"rejected", t.rejected},
+                            {"free_voxels", t.freeVoxels},
+                            {"colored", t.colored},
+                            {"pixels_per_second", fuseSeconds > 0 ? double(total.pixels) / fuseSeconds : 0.0},
+                            {"carve", carve},
+                            {"weight", settings.weight}};
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "
+                "the grid %llu); "
+                "%llu voxels occupied (%llu before, %llu created, %llu removed by carving), %llu with free counts",
+                views.views.size(), (unsigned long long)total.pixels, (unsigned long long)total.used,
+                (unsigned long long)(total.noDepth + total.unlabelled + total.zeroWeight + total.outside), (unsigned long long)total.noDepth,
+                (unsigned long long)total.unlabelled, (unsigned long long)total.zeroWeight, (unsigned long long)total.outside,
+                (unsigned long long)t.occupiedAfter, (unsigned long long)t.occupiedBefore, (unsigned long long)t.created,
+                (unsigned long long)t.removed, (unsigned long long)t.freeVoxels);
+  run.note(line);
+  run.note("wrote " + o.output);
+  return run.finish();
+}
+
+}  // namespace
+
+Command registerFuse(CLI::App& root) {
+  auto opts = std::make_shared<FuseOptions>();
+  CLI::App* cmd = root.add_subcommand("fuse", "Vote depth + label images into a scene, carving free space");
+  cmd->footer(
+      "Each pixel with a depth and a class votes for the voxel its ray (render-canonical's ray\n"
+      "through the pixel centre) reaches at that depth; the voxels the ray crossed before it get a\n"
+      "free count (grid 'free'); a voxel whose free count exceeds its votes is removed (--carve off\n"
+      "keeps everything). -i adds to an existing scene (votes and free counts add up).\n"
+      "VIEWS.json: {\"views\": [{\"depth\": \"v.depth.exr\", \"label\": \"v.class.png\", \"camera\": ...}], ...};\n"
+      "docs/fuse.md has the file, the tie rules and the report.\n"
+      "Example: vox render-canonical s.vdb -o v.png --orbit 6 --mode depth,class && vox fuse views.json -o fused.vdb");
+  cmd->add_option("views", opts->views, "Views file (.json)")->required();
+  cmd->add_option("-i,--input", opts->input, "Scene to add to (.vdb); default: a fresh grid");
+  cmd->add_option("-o,--output", opts->output, "Fused scene (*.vdb)")->required();
+  addEnumOption(*cmd, "--depth-kind", opts->depthKind, depthKindNames(),
+                "distance (from the eye along the ray, render-canonical's) or z (camera-space depth); "
+                "default: the views file's, else distance");
+  addEnumOption(*cmd, "--carve", opts->carve, carveNames(), "Remove voxels whose free count exceeds their votes");
+  cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536), times the view's confidence image if any")->default_val(1);
+  addCommonOptions(*cmd, opts->common);
+  return {cmd, [opts] { return runFuse(*opts); }};
+}
+
+}  // namespace voxcli
