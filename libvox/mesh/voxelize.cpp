@@ -833,9 +833,13 @@ CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, 
 constexpr int32_t kTile = 32;
 // Blocks up to this many voxels are decided voxel by voxel (each with its own
 // distance from the centre, and its jumps when the block cuts through caps);
-// larger ones by runs of equal W, and split when they cut through caps (eight
-// evaluations cost less than counting every voxel's jumps).
+// larger ones by runs of equal W (voxel by voxel where a run meets the 0.5
+// level). A larger block through caps counts every voxel's jumps only while
+// volume x cut triangles <= kJumpsPerEvaluation x cap triangles (a jump test
+// costs about a sixteenth of one triangle's part of an evaluation, and a split
+// costs eight evaluations), else splits.
 constexpr size_t kJumpVolume = 64;
+constexpr size_t kJumpsPerEvaluation = 64;
 
 /// The interior of one kTile x kTile column tile of the box, by |winding
 /// number| > 0.5 at the voxel centre: integer winding W of the capped mesh
@@ -997,72 +1001,73 @@ class WindingTile {
     const size_t volume = size_t(i1 - i0) * size_t(j1 - j0) * size_t(k1 - k0);
     if (!caps_.ballField(centre, radius, ball_)) return false;
     const CapField::Ball& b = ball_;
-    // Whether |w| > 0.5 (1), < 0.5 (0) or undecided (-1) for w in [lo, hi].
-    auto sideOf = [](double lo, double hi) { return lo > 0.5 || hi < -0.5 ? 1 : lo > -0.5 && hi < 0.5 ? 0 : -1; };
-    // Voxels at offsets (dx, dy, dz0 .. dz1) from the centre, winding W, no
-    // jumps: the constant model first, then the linear one.
-    auto sideOfRun = [&](int32_t w, double dx, double dy, double dz0, double dz1) {
-      const double eA = b.slope * radius + b.slack, mA = w - b.value;
-      const int sA = sideOf(mA - eA, mA + eA);
-      if (sA >= 0) return sA;
-      const double lxy = b.gradient[0] * dx + b.gradient[1] * dy;
-      const double l0 = lxy + b.gradient[2] * dz0, l1 = lxy + b.gradient[2] * dz1;
-      const double eB = b.curvature * radius * radius + b.slack;
-      return sideOf(mA - std::max(l0, l1) - eB, mA - std::min(l0, l1) + eB);
-    };
-    if (volume <= kJumpVolume) {  // voxel by voxel, each with its own distance from the centre
-      bool undecided = false;
-      for (int32_t i = i0; i < i1; ++i)
-        for (int32_t j = j0; j < j1; ++j)
-          for (int32_t k = k0; k < k1; ++k) {
-            const size_t col = column(i, j);
-            if (!anyFree(col, k, k + 1)) continue;
-            const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
-            int jump = 0;
-            if (!b.cut.empty() && !caps_.jumps(b, p, jump)) {
-              undecided = true;
-              continue;
-            }
-            const double q[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
-            const double d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], d = std::sqrt(d2);
-            const double m = windingAt(col, k) - b.value - jump;
-            const double eA = b.slope * d + b.slack;
-            int s = sideOf(m - eA, m + eA);
-            if (s < 0) {
-              const double l = m - (b.gradient[0] * q[0] + b.gradient[1] * q[1] + b.gradient[2] * q[2]);
-              const double eB = b.curvature * d2 + b.slack;
-              s = sideOf(l - eB, l + eB);
-            }
-            if (s < 0) {
-              undecided = true;
-              continue;
-            }
-            setBits(done_, col, k, k + 1);
-            if (s) setBits(inside_, col, k, k + 1);
-          }
-      return !undecided;
-    }
-    // A large ball through caps: eight evaluations cost less than counting
-    // every voxel's jumps.
-    if (!b.cut.empty()) return false;
+    // A ball through caps: each voxel counts its jumps (a plane test per cut
+    // triangle), unless splitting (eight evaluations over every cap) costs less.
+    if (!b.cut.empty() && volume > kJumpVolume && volume * b.cut.size() > kJumpsPerEvaluation * caps_.size())
+      return false;
     bool undecided = false;
     for (int32_t i = i0; i < i1; ++i)
       for (int32_t j = j0; j < j1; ++j) {
         const size_t col = column(i, j);
-        const double dx = x0_ + i + 0.5 - centre[0], dy = y0_ + j + 0.5 - centre[1];
+        if (volume <= kJumpVolume || !b.cut.empty()) {  // voxel by voxel, each with its own distance
+          for (int32_t k = k0; k < k1; ++k) undecided = !decideVoxel(col, i, j, k, centre) || undecided;
+          continue;
+        }
+        const double ox = x0_ + i + 0.5 - centre[0], oy = y0_ + j + 0.5 - centre[1];
         forRuns(col, k0, k1, [&](const Run& r, int32_t a, int32_t e) {
           if (!anyFree(col, a, e)) return true;
-          const int s = sideOfRun(r.w, dx, dy, z0_ + a + 0.5 - centre[2], z0_ + e - 0.5 - centre[2]);
-          if (s < 0) {
-            undecided = true;
-          } else {
+          const int s = sideOfRun(r.w, radius, ox, oy, z0_ + a + 0.5 - centre[2], z0_ + e - 0.5 - centre[2]);
+          if (s >= 0) {
             setBits(done_, col, a, e);
             if (s) setBits(inside_, col, a, e);
+          } else {  // the run crosses (or comes close to) the 0.5 level: voxel by voxel
+            for (int32_t k = a; k < e; ++k) undecided = !decideVoxel(col, i, j, k, centre) || undecided;
           }
           return true;
         });
       }
     return !undecided;
+  }
+
+  /// Whether |w| > 0.5 (1), < 0.5 (0) or undecided (-1) for w in [lo, hi].
+  static int sideOf(double lo, double hi) { return lo > 0.5 || hi < -0.5 ? 1 : lo > -0.5 && hi < 0.5 ? 0 : -1; }
+
+  /// The side of a run of winding W at offsets (ox, oy, oz0 .. oz1) from the
+  /// ball's centre, every voxel within `radius`, no jumps: the constant model
+  /// first, then the linear one.
+  int sideOfRun(int32_t w, double radius, double ox, double oy, double oz0, double oz1) const {
+    const CapField::Ball& b = ball_;
+    const double eA = b.slope * radius + b.slack, m = w - b.value;
+    const int sA = sideOf(m - eA, m + eA);
+    if (sA >= 0) return sA;
+    const double lxy = b.gradient[0] * ox + b.gradient[1] * oy;
+    const double l0 = lxy + b.gradient[2] * oz0, l1 = lxy + b.gradient[2] * oz1;
+    const double eB = b.curvature * radius * radius + b.slack;
+    return sideOf(m - std::max(l0, l1) - eB, m - std::min(l0, l1) + eB);
+  }
+
+  /// Decides voxel k of column (i, j) by the current ball with its own
+  /// distance from the centre (and its jumps); false when it stays undecided.
+  bool decideVoxel(size_t col, int32_t i, int32_t j, int32_t k, const double centre[3]) {
+    if (!anyFree(col, k, k + 1)) return true;
+    const CapField::Ball& b = ball_;
+    const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
+    int jump = 0;
+    if (!b.cut.empty() && !caps_.jumps(b, p, jump)) return false;
+    const double q[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
+    const double d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], d = std::sqrt(d2);
+    const double m = windingAt(col, k) - b.value - jump;
+    const double eA = b.slope * d + b.slack;
+    int s = sideOf(m - eA, m + eA);
+    if (s < 0) {
+      const double l = m - (b.gradient[0] * q[0] + b.gradient[1] * q[1] + b.gradient[2] * q[2]);
+      const double eB = b.curvature * d2 + b.slack;
+      s = sideOf(l - eB, l + eB);
+    }
+    if (s < 0) return false;
+    setBits(done_, col, k, k + 1);
+    if (s) setBits(inside_, col, k, k + 1);
+    return true;
   }
 
   const int32_t x0_, y0_, z0_;
