@@ -14,6 +14,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_draco.h"
+#include "formats/mesh/gltf_images.h"
 #include "formats/mesh/gltf_meshopt.h"
 #include "formats/mesh/gltf_json_check.h"
 #include "libvox/core/error.h"
@@ -217,12 +218,13 @@ std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBin
   return out + json + rest;
 }
 
-/// Loads the container (tinygltf: JSON or GLB, buffers, images decoded) from
+/// Loads the container (tinygltf: JSON or GLB, buffers; images kept encoded in `images`) from
 /// the file's bytes; external buffers and images are read beside `path`.
 /// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
-tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary,
+tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary, EncodedImages& images,
                           std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
+  deferImageDecoding(loader, images);
   loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeGltfFile,
                          &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
@@ -267,14 +269,15 @@ void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& 
 /// An external image that a texture uses and that could not be read is an
 /// error, as a missing OBJ map_Kd is (tinygltf only warns and leaves it
 /// empty); with ignoreMissingMaterials it is a warning and the texture is left out.
-void refuseMissingImages(const tinygltf::Model& model, const std::string& path, const MeshReadOptions& options,
-                         std::vector<std::string>& warnings) {
+void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& encoded, const std::string& path,
+                         const MeshReadOptions& options, std::vector<std::string>& warnings) {
   std::vector<bool> used(model.images.size(), false);
   for (const tinygltf::Texture& t : model.textures)
     if (t.source >= 0 && size_t(t.source) < used.size()) used[size_t(t.source)] = true;
   for (size_t i = 0; i < model.images.size(); ++i) {
     const tinygltf::Image& im = model.images[i];
-    if (!used[i] || !im.image.empty() || im.uri.empty() || im.uri.rfind("data:", 0) == 0) continue;
+    const bool received = i < encoded.received.size() && encoded.received[i];
+    if (!used[i] || received || im.uri.empty() || im.uri.rfind("data:", 0) == 0) continue;
     const std::string file = (std::filesystem::path(path).parent_path() / im.uri).string();
     if (options.ignoreMissingMaterials) {
       warnings.push_back(path + ": image " + std::to_string(i) + " (" + im.uri + ") could not be read; its textures are left out");
@@ -293,12 +296,13 @@ void refuseMissingImages(const tinygltf::Model& model, const std::string& path, 
 }
 
 /// glTF texture `ti` as a MeshTexture (its image as 8-bit RGBA, its sampler),
-/// or nullopt with a warning when its image is not 8-bit RGBA.
-std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t ti, const std::string& path,
+/// or nullopt with a warning when its image was not decoded. `lastUse`: no
+/// other texture needs the image's pixels, so they are moved, not copied.
+std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, const std::string& path,
                                           std::vector<std::string>& warnings) {
   const tinygltf::Texture& tex = model.textures[ti];
   if (tex.source < 0 || size_t(tex.source) >= model.images.size()) return std::nullopt;
-  const tinygltf::Image& im = model.images[size_t(tex.source)];
+  tinygltf::Image& im = model.images[size_t(tex.source)];
   if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
         im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
     warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
@@ -307,7 +311,8 @@ std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t t
   MeshTexture t;
   t.width = uint32_t(im.width);
   t.height = uint32_t(im.height);
-  t.rgba = im.image;
+  if (lastUse) t.rgba = std::move(im.image);
+  else t.rgba = im.image;
   t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
   if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
     const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
@@ -351,9 +356,20 @@ std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, s
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
 /// returned.
-uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mesh& mesh,
+uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mesh,
                       std::vector<std::string>& warnings) {
   std::vector<int> meshTextureOf(model.textures.size(), -1);
+  // How many base colour textures still need each image's pixels.
+  std::vector<int> usesLeft(model.images.size(), 0);
+  {
+    std::vector<char> counted(model.textures.size(), 0);
+    for (const tinygltf::Material& src : model.materials) {
+      const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
+      if (ti < 0 || size_t(ti) >= model.textures.size() || counted[size_t(ti)]++) continue;
+      const int img = model.textures[size_t(ti)].source;
+      if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
+    }
+  }
   for (const tinygltf::Material& src : model.materials) {
     MeshMaterial m;
     m.name = src.name;
@@ -362,7 +378,11 @@ uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mes
     const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
       if (meshTextureOf[size_t(ti)] < 0)
-        if (std::optional<MeshTexture> t = convertTexture(model, size_t(ti), path, warnings)) {
+        if (std::optional<MeshTexture> t =
+                convertTexture(model, size_t(ti), model.textures[size_t(ti)].source >= 0 &&
+                                   size_t(model.textures[size_t(ti)].source) < usesLeft.size() &&
+                                   --usesLeft[size_t(model.textures[size_t(ti)].source)] == 0,
+                               path, warnings)) {
           mesh.textures.push_back(std::move(*t));
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
         }
@@ -709,10 +729,12 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
 
 Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
                     std::vector<std::string>& warnings) {
-  const tinygltf::Model model = loadModel(bytes, path, isBinary, warnings);
+  EncodedImages encoded;
+  tinygltf::Model model = loadModel(bytes, path, isBinary, encoded, warnings);
   Mesh mesh;
   listFilesRead(model, path, mesh);
-  refuseMissingImages(model, path, options, warnings);
+  refuseMissingImages(model, encoded, path, options, warnings);
+  decodeBaseColorImages(model, encoded, path, options, warnings);
   const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
   for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);
