@@ -49,20 +49,13 @@ Decoded decode(const std::string& bytes) {
 
 void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images) { loader.SetImageLoader(&keepEncoded, &images); }
 
-void decodeBaseColorImages(tinygltf::Model& model, EncodedImages& images, const std::string& path,
-                           const MeshReadOptions& options, std::vector<std::string>& warnings) {
+void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
+                  const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
   images.bytes.resize(model.images.size());
   images.received.resize(model.images.size(), 0);
-  std::vector<char> needed(model.images.size(), 0);
-  for (const tinygltf::Material& m : model.materials) {
-    const int ti = m.pbrMetallicRoughness.baseColorTexture.index;
-    if (ti < 0 || size_t(ti) >= model.textures.size()) continue;
-    const int src = model.textures[size_t(ti)].source;
-    if (src >= 0 && size_t(src) < needed.size() && images.received[size_t(src)]) needed[size_t(src)] = 1;
-  }
   std::vector<size_t> todo;
-  for (size_t i = 0; i < needed.size(); ++i)
-    if (needed[i]) todo.push_back(i);
+  for (size_t i = 0; i < needed.size() && i < model.images.size(); ++i)
+    if (needed[i] && images.received[i]) todo.push_back(i);
   // One task per image: a large texture is decoded on one thread, several in parallel.
   std::vector<Decoded> out(todo.size());
   tbb::parallel_for(size_t(0), todo.size(), [&](size_t k) { out[k] = decode(images.bytes[todo[k]]); },

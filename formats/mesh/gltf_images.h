@@ -1,8 +1,8 @@
 // glTF images decoded once each, in parallel, and only when the voxels need
 // them: tinygltf is told to keep each image's encoded bytes instead of decoding
 // it while it parses (one after the other, every image, normal and
-// metallic-roughness maps too); afterwards the images that a material's
-// baseColorTexture uses are decoded by stb_image (PNG, JPEG, and the other
+// metallic-roughness maps too); afterwards the images that materials' colour
+// textures use are decoded by stb_image (PNG, JPEG, and the other
 // formats stb reads) to 8-bit RGBA on TBB's threads. The result does not
 // depend on the thread count: each image is decoded on its own.
 #pragma once
@@ -29,12 +29,12 @@ struct EncodedImages {
 /// Makes `loader` store each image's bytes in `images` instead of decoding it.
 void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images);
 
-/// Decodes the images that materials' baseColorTexture uses into
+/// Decodes the images i with needed[i] (those colour textures use) into
 /// model.images[i] (image = RGBA8 rows, top row first; width, height,
 /// component 4, bits 8) in parallel, and frees their encoded bytes. An image
 /// that does not decode is an error naming it (`path`, image index, uri), or
 /// with options.ignoreMissingMaterials a warning (its textures are left out).
-void decodeBaseColorImages(tinygltf::Model& model, EncodedImages& images, const std::string& path,
-                           const MeshReadOptions& options, std::vector<std::string>& warnings);
+void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
+                  const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
 
 }  // namespace vox

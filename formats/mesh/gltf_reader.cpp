@@ -323,17 +323,66 @@ std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, boo
   return t;
 }
 
+/// Where a material's base colour comes from: baseColorFactor and
+/// baseColorTexture, or, for KHR_materials_pbrSpecularGlossiness (which
+/// replaces the metallic-roughness model), diffuseFactor and diffuseTexture.
+struct ColourSource {
+  std::array<float, 4> factor{1, 1, 1, 1};
+  int texture = -1;  // textures[] index, or -1
+  int texCoord = 0;
+  const tinygltf::Value* transform = nullptr;  // the texture's KHR_texture_transform, if any
+  const char* element = "pbrMetallicRoughness.baseColorTexture";
+};
+
+ColourSource colourSource(const tinygltf::Material& m) {
+  ColourSource c;
+  auto sg = m.extensions.find("KHR_materials_pbrSpecularGlossiness");
+  if (sg != m.extensions.end() && sg->second.IsObject()) {
+    const tinygltf::Value& e = sg->second;
+    c.element = "KHR_materials_pbrSpecularGlossiness.diffuseTexture";
+    if (e.Has("diffuseFactor") && e.Get("diffuseFactor").IsArray())
+      for (int k = 0; k < 4 && k < int(e.Get("diffuseFactor").ArrayLen()); ++k)
+        if (e.Get("diffuseFactor").Get(k).IsNumber()) c.factor[size_t(k)] = float(e.Get("diffuseFactor").Get(k).GetNumberAsDouble());
+    if (e.Has("diffuseTexture") && e.Get("diffuseTexture").IsObject()) {
+      const tinygltf::Value& t = e.Get("diffuseTexture");
+      if (t.Has("index") && t.Get("index").IsInt()) c.texture = t.Get("index").GetNumberAsInt();
+      if (t.Has("texCoord") && t.Get("texCoord").IsInt()) c.texCoord = t.Get("texCoord").GetNumberAsInt();
+      if (t.Has("extensions") && t.Get("extensions").Has("KHR_texture_transform"))
+        c.transform = &t.Get("extensions").Get("KHR_texture_transform");
+    }
+    return c;
+  }
+  const auto& f = m.pbrMetallicRoughness.baseColorFactor;
+  for (size_t k = 0; k < 4 && k < f.size(); ++k) c.factor[k] = float(f[k]);
+  c.texture = m.pbrMetallicRoughness.baseColorTexture.index;
+  c.texCoord = m.pbrMetallicRoughness.baseColorTexture.texCoord;
+  auto tt = m.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
+  if (tt != m.pbrMetallicRoughness.baseColorTexture.extensions.end()) c.transform = &tt->second;
+  return c;
+}
+
+/// The images the materials' colour textures use (the only ones decoded).
+std::vector<char> colourImages(const tinygltf::Model& model) {
+  std::vector<char> needed(model.images.size(), 0);
+  for (const tinygltf::Material& m : model.materials) {
+    const int ti = colourSource(m).texture;
+    if (ti < 0 || size_t(ti) >= model.textures.size()) continue;
+    const int src = model.textures[size_t(ti)].source;
+    if (src >= 0 && size_t(src) < needed.size()) needed[size_t(src)] = 1;
+  }
+  return needed;
+}
+
 /// The base colour texture's KHR_texture_transform of material `mi` as the
 /// affine map uv' = (a*u + b*v + c, d*u + e*v + f) = T * R * S * uv (the
 /// extension's order: scale, then rotation counter-clockwise in UV space, then
 /// offset), or nullopt when it has none. Affine maps commute with the
 /// barycentric interpolation of UVs, so transforming each vertex's UVs is exact.
 std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, size_t mi, const std::string& path) {
-  const auto& ext = model.materials[mi].pbrMetallicRoughness.baseColorTexture.extensions;
-  auto it = ext.find("KHR_texture_transform");
-  if (it == ext.end() || model.materials[mi].pbrMetallicRoughness.baseColorTexture.index < 0) return std::nullopt;
-  const tinygltf::Value& t = it->second;
-  const std::string who = path + ": materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform";
+  const ColourSource cs = colourSource(model.materials[mi]);
+  if (!cs.transform || cs.texture < 0) return std::nullopt;
+  const tinygltf::Value& t = *cs.transform;
+  const std::string who = path + ": materials[" + std::to_string(mi) + "] " + cs.element + " KHR_texture_transform";
   auto pair = [&](const char* key, double fallback) -> std::array<double, 2> {
     if (!t.Has(key)) return {fallback, fallback};
     const tinygltf::Value& v = t.Get(key);
@@ -364,7 +413,7 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
   {
     std::vector<char> counted(model.textures.size(), 0);
     for (const tinygltf::Material& src : model.materials) {
-      const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
+      const int ti = colourSource(src).texture;
       if (ti < 0 || size_t(ti) >= model.textures.size() || counted[size_t(ti)]++) continue;
       const int img = model.textures[size_t(ti)].source;
       if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
@@ -373,9 +422,9 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
   for (const tinygltf::Material& src : model.materials) {
     MeshMaterial m;
     m.name = src.name;
-    const auto& f = src.pbrMetallicRoughness.baseColorFactor;
-    for (size_t k = 0; k < 4 && k < f.size(); ++k) m.baseColorFactor[k] = float(f[k]);
-    const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
+    const ColourSource cs = colourSource(src);
+    m.baseColorFactor = cs.factor;
+    const int ti = cs.texture;
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
       if (meshTextureOf[size_t(ti)] < 0)
         if (std::optional<MeshTexture> t =
@@ -387,12 +436,10 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
         }
       m.texture = meshTextureOf[size_t(ti)];
-      m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
+      m.texCoordSet = cs.texCoord;
       // KHR_texture_transform's texCoord overrides the textureInfo's.
-      auto tt = src.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
-      if (tt != src.pbrMetallicRoughness.baseColorTexture.extensions.end() && tt->second.Has("texCoord") &&
-          tt->second.Get("texCoord").IsInt())
-        m.texCoordSet = tt->second.Get("texCoord").GetNumberAsInt();
+      if (cs.transform && cs.transform->Has("texCoord") && cs.transform->Get("texCoord").IsInt())
+        m.texCoordSet = cs.transform->Get("texCoord").GetNumberAsInt();
     }
     mesh.materials.push_back(m);
   }
@@ -734,7 +781,7 @@ Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBi
   Mesh mesh;
   listFilesRead(model, path, mesh);
   refuseMissingImages(model, encoded, path, options, warnings);
-  decodeBaseColorImages(model, encoded, path, options, warnings);
+  decodeImages(model, encoded, colourImages(model), path, options, warnings);
   const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
   for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);

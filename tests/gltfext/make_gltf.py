@@ -11,6 +11,8 @@ voxels (the oracle): the extension applied by hand here, in exact arithmetic.
   make_gltf.py transform-ref OUT.gltf      the same with the transform applied to the UVs
   make_gltf.py instancing OUT.gltf         EXT_mesh_gpu_instancing: 4 instances (T, R, S)
   make_gltf.py instancing-ref OUT.gltf     one node per instance
+  make_gltf.py specgloss OUT.gltf          KHR_materials_pbrSpecularGlossiness diffuse factor and texture
+  make_gltf.py specgloss-ref OUT.gltf      the same as baseColorFactor and baseColorTexture
   make_gltf.py required EXT[,EXT] OUT.gltf the textured box requiring the extensions ("" for none)
   make_gltf.py corrupt KIND IN.glb OUT.glb a Draco GLB broken one way (truncated, attribute-id, bufferview)
 """
@@ -276,6 +278,27 @@ def required(ext, out):
     g.write(out)
 
 
+def specgloss(out, reference):
+    """KHR_materials_pbrSpecularGlossiness: the base colour is its diffuseFactor
+    x diffuseTexture (the metallic-roughness decoy factor, black, must be
+    ignored); the reference has them as baseColorFactor and baseColorTexture."""
+    pos, uv = soup(box_triangles((0, 0, 0), (40, 30, 20)), lambda i: QUADRANT_CENTRES[i % 4])
+    g = Gltf()
+    mat = g.textured_material()
+    pbr = g.doc["materials"][mat]["pbrMetallicRoughness"]
+    if reference:
+        pbr["baseColorFactor"] = [0.5, 1, 0.25, 1]
+    else:
+        g.doc["extensionsUsed"] = ["KHR_materials_pbrSpecularGlossiness"]
+        g.doc["materials"][mat] = {"name": "quadrants", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]},
+                                   "extensions": {"KHR_materials_pbrSpecularGlossiness": {
+                                       "diffuseFactor": [0.5, 1, 0.25, 1], "diffuseTexture": {"index": 0},
+                                       "specularFactor": [1, 1, 1], "glossinessFactor": 0.5}}}
+    m = g.mesh({"POSITION": g.accessor(pos, "VEC3"), "TEXCOORD_0": g.accessor(uv, "VEC2")}, None, mat, "box")
+    g.node(mesh=m, name="box")
+    g.write(out)
+
+
 def read_glb(path):
     b = open(path, "rb").read()
     length = struct.unpack("<I", b[12:16])[0]
@@ -318,6 +341,8 @@ def main(argv):
         transform(argv[2], kind.endswith("-ref"))
     elif kind in ("instancing", "instancing-ref"):
         instancing(argv[2], kind.endswith("-ref"))
+    elif kind in ("specgloss", "specgloss-ref"):
+        specgloss(argv[2], kind.endswith("-ref"))
     elif kind == "required":
         required(argv[2], argv[3])
     elif kind == "corrupt":
