@@ -89,8 +89,11 @@ for ext in KHR_mesh_quantization KHR_texture_transform EXT_mesh_gpu_instancing K
   $make required "$ext" "req_$ext.gltf"
   same_voxels "req_$ext.gltf" none.gltf
 done
+# EXT_texture_webp only used: the PNG fallback is baked, the WebP never decoded.
+$make webp-fallback webp.gltf
+same_voxels webp.gltf none.gltf
 # Anything else could change the voxels: refused by name, nothing written.
-for ext in KHR_texture_basisu EXT_texture_avif KHR_draco_mesh_compression_v2 EXT_future_extension; do
+for ext in EXT_texture_webp KHR_texture_basisu EXT_texture_avif EXT_future_extension; do
   $make required "KHR_mesh_quantization,$ext" "req_$ext.gltf"
   refused "req_$ext.gltf" "requires the extension $ext" "could change the voxels"
 done

@@ -14,6 +14,7 @@ voxels (the oracle): the extension applied by hand here, in exact arithmetic.
   make_gltf.py specgloss OUT.gltf          KHR_materials_pbrSpecularGlossiness diffuse factor and texture
   make_gltf.py specgloss-ref OUT.gltf      the same as baseColorFactor and baseColorTexture
   make_gltf.py required EXT[,EXT] OUT.gltf the textured box requiring the extensions ("" for none)
+  make_gltf.py webp-fallback OUT.gltf      the required "" box with an EXT_texture_webp source beside its PNG
   make_gltf.py corrupt KIND IN.glb OUT.glb a Draco GLB broken one way (truncated, attribute-id, bufferview)
 """
 import base64
@@ -260,7 +261,7 @@ def instancing(out, reference):
     g.write(out)
 
 
-def required(ext, out):
+def required(ext, out, webp=False):
     """The quadrant-textured box requiring `ext` (comma-separated names) and
     using KHR_materials_clearcoat and KHR_materials_sheen on its material."""
     tris = box_triangles((0, 0, 0), (30, 20, 10))
@@ -297,6 +298,13 @@ def specgloss(out, reference):
     m = g.mesh({"POSITION": g.accessor(pos, "VEC3"), "TEXCOORD_0": g.accessor(uv, "VEC2")}, None, mat, "box")
     g.node(mesh=m, name="box")
     g.write(out)
+
+
+def webp_fallback(out):
+    """The box of `required ""` whose texture also names an EXT_texture_webp
+    source (a bufferView of bytes that are no image at all) beside its PNG
+    fallback: vox reads the fallback and never decodes the WebP one."""
+    required("", out, webp=True)
 
 
 def read_glb(path):
@@ -343,6 +351,8 @@ def main(argv):
         instancing(argv[2], kind.endswith("-ref"))
     elif kind in ("specgloss", "specgloss-ref"):
         specgloss(argv[2], kind.endswith("-ref"))
+    elif kind == "webp-fallback":
+        webp_fallback(argv[2])
     elif kind == "required":
         required(argv[2], argv[3])
     elif kind == "corrupt":
