@@ -2,7 +2,8 @@
 // same model without the extension (the oracle): EXT_meshopt_compression
 // (compressed with libmeshoptimizer's encoder; the shared sample against its
 // own fallback buffer), and the malformed variants refused by name.
-// Draco and the voxel-level comparisons are in tests/cli/gltfext_test.sh.
+// Draco and the voxel-level comparisons are in tests/cli/gltfext_test.sh. Images:
+// decoded once, for base colour only (gltf_images.h).
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
@@ -199,4 +200,67 @@ TEST(GltfMeshopt, SharedSampleMatchesItsFallback) {
   const Mesh decoded = read(dir + "meshopt-fallback.gltf");
   expectSameGeometry(decoded, read(tmp.file("fallback.gltf")));
   EXPECT_EQ(decoded.triangleCount(), 60u);
+}
+
+namespace {
+
+// A 2x2 RGBA PNG: red, green / blue, white (alpha 128 on the white).
+const char* kPng2x2 =
+    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAE0lEQVR4nGP4z8DwHwyBNAg0AABJSQl4KKDbdwAAAABJRU5ErkJggg==";
+
+/// A triangle with UVs whose materials use images: image 0 (the PNG) as base
+/// colour of materials 0 and 1 (through textures 0 and 1, one sampler each),
+/// image 1 (`normalMap` bytes) only as material 0's normal map.
+std::string imagesGltf(const std::string& normalMap) {
+  std::vector<float> bin = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1};
+  json doc = json::parse(R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0},{"mesh":1}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}]},
+              {"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":1}]}],
+    "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":2}},
+                 {"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}],
+    "samplers":[{"magFilter":9728},{"magFilter":9729}],
+    "textures":[{"source":0,"sampler":0},{"source":0,"sampler":1},{"source":1}],
+    "bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":24}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+                 {"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"}]})");
+  doc["buffers"] = {{{"byteLength", 60}, {"uri", dataUri(bytesOf(bin))}}};
+  doc["images"] = {{{"uri", std::string("data:image/png;base64,") + kPng2x2}},
+                   {{"uri", "data:image/png;base64," + base64(normalMap)}}};
+  return doc.dump();
+}
+
+}  // namespace
+
+TEST(GltfImages, DecodedOnceForBaseColourOnly) {
+  voxtest::TempDir dir;
+  // The normal map is not a PNG at all: never decoded, so not an error.
+  voxtest::writeText(dir.file("t.gltf"), imagesGltf("not an image"));
+  std::vector<std::string> warnings;
+  const Mesh m = read(dir.file("t.gltf"), &warnings);
+  ASSERT_EQ(m.textures.size(), 2u) << "one per base colour texture (two samplers)";
+  for (const MeshTexture& t : m.textures) {
+    ASSERT_EQ(t.width, 2u);
+    ASSERT_EQ(t.height, 2u);
+    const std::vector<uint8_t> want = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128};
+    EXPECT_EQ(t.rgba, want) << "the same pixels for both textures of the shared image";
+  }
+  EXPECT_TRUE(m.textures[0].nearest);
+  EXPECT_FALSE(m.textures[1].nearest);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+}
+
+TEST(GltfImages, UndecodableBaseColourImageIsNamed) {
+  voxtest::TempDir dir;
+  std::string doc = imagesGltf("x");
+  const std::string good = std::string("data:image/png;base64,") + kPng2x2;
+  doc.replace(doc.find(good), good.size(), "data:image/png;base64," + base64("garbage bytes"));
+  voxtest::writeText(dir.file("bad.gltf"), doc);
+  EXPECT_TRUE(rejects(dir.file("bad.gltf"), {"bad.gltf", "image 0", "cannot be decoded"}));
+  std::vector<std::string> w;
+  MeshReadOptions lenient;
+  lenient.ignoreMissingMaterials = true;
+  const Mesh m = readMeshFile(dir.file("bad.gltf"), lenient, w);
+  EXPECT_TRUE(m.textures.empty());
+  ASSERT_FALSE(w.empty());
+  EXPECT_NE(w[0].find("image 0"), std::string::npos) << w[0];
 }

@@ -22,17 +22,19 @@ using nlohmann::json;
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
 // component type and the normalized flag; KHR_draco_mesh_compression:
 // gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h; KHR_texture_transform
-// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only change
-// shading, lights or variants that vox does not bake, so the voxels cannot change.
+// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only
+// change lights or shading vox does not bake, so the voxels cannot change.
 constexpr std::array<const char*, 5> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
                                                   "EXT_meshopt_compression", "KHR_texture_transform",
                                                   "EXT_mesh_gpu_instancing"};
-constexpr std::array<const char*, 13> kNoEffectOnVoxels = {
-    "KHR_materials_unlit",        "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular",     "KHR_materials_transmission",      "KHR_materials_volume",
-    "KHR_materials_clearcoat",    "KHR_materials_sheen",             "KHR_materials_iridescence",
-    "KHR_materials_anisotropy",   "KHR_materials_dispersion",        "KHR_lights_punctual",
-    "KHR_materials_pbrSpecularGlossiness"};
+constexpr std::array<const char*, 1> kNoEffectOnVoxels = {"KHR_lights_punctual"};
+
+/// KHR_materials_* extensions shade on top of the base colour (clearcoat,
+/// sheen, transmission, unlit, variants' default...): none changes the base
+/// colour or the geometry, so none can change the voxels. The exception,
+/// KHR_materials_pbrSpecularGlossiness, replaces the base colour: it is read
+/// (its diffuseFactor and diffuseTexture, gltf_reader.cpp).
+bool materialShadingOnly(const std::string& ext) { return ext.rfind("KHR_materials_", 0) == 0; }
 
 template <size_t N>
 bool listed(const std::array<const char*, N>& names, const std::string& s) {
@@ -99,7 +101,7 @@ class Checker {
     for (const json& e : *it) {
       if (!e.is_string()) bad("extensionsRequired", "holds a non-string entry");
       const std::string ext = e.get<std::string>();
-      if (!listed(kHonoured, ext) && !listed(kNoEffectOnVoxels, ext))
+      if (!listed(kHonoured, ext) && !listed(kNoEffectOnVoxels, ext) && !materialShadingOnly(ext))
         throwBadInput(path_ + ": requires the extension " + ext + ", which vox does not support and which could "
                       "change the voxels; convert the file without it (e.g. with gltf-transform)");
     }

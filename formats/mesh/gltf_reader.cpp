@@ -14,6 +14,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_draco.h"
+#include "formats/mesh/gltf_images.h"
 #include "formats/mesh/gltf_meshopt.h"
 #include "formats/mesh/gltf_json_check.h"
 #include "libvox/core/error.h"
@@ -217,12 +218,13 @@ std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBin
   return out + json + rest;
 }
 
-/// Loads the container (tinygltf: JSON or GLB, buffers, images decoded) from
+/// Loads the container (tinygltf: JSON or GLB, buffers; images kept encoded in `images`) from
 /// the file's bytes; external buffers and images are read beside `path`.
 /// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
-tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary,
+tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary, EncodedImages& images,
                           std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
+  deferImageDecoding(loader, images);
   loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeGltfFile,
                          &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
@@ -267,14 +269,15 @@ void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& 
 /// An external image that a texture uses and that could not be read is an
 /// error, as a missing OBJ map_Kd is (tinygltf only warns and leaves it
 /// empty); with ignoreMissingMaterials it is a warning and the texture is left out.
-void refuseMissingImages(const tinygltf::Model& model, const std::string& path, const MeshReadOptions& options,
-                         std::vector<std::string>& warnings) {
+void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& encoded, const std::string& path,
+                         const MeshReadOptions& options, std::vector<std::string>& warnings) {
   std::vector<bool> used(model.images.size(), false);
   for (const tinygltf::Texture& t : model.textures)
     if (t.source >= 0 && size_t(t.source) < used.size()) used[size_t(t.source)] = true;
   for (size_t i = 0; i < model.images.size(); ++i) {
     const tinygltf::Image& im = model.images[i];
-    if (!used[i] || !im.image.empty() || im.uri.empty() || im.uri.rfind("data:", 0) == 0) continue;
+    const bool received = i < encoded.received.size() && encoded.received[i];
+    if (!used[i] || received || im.uri.empty() || im.uri.rfind("data:", 0) == 0) continue;
     const std::string file = (std::filesystem::path(path).parent_path() / im.uri).string();
     if (options.ignoreMissingMaterials) {
       warnings.push_back(path + ": image " + std::to_string(i) + " (" + im.uri + ") could not be read; its textures are left out");
@@ -293,12 +296,13 @@ void refuseMissingImages(const tinygltf::Model& model, const std::string& path, 
 }
 
 /// glTF texture `ti` as a MeshTexture (its image as 8-bit RGBA, its sampler),
-/// or nullopt with a warning when its image is not 8-bit RGBA.
-std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t ti, const std::string& path,
+/// or nullopt with a warning when its image was not decoded. `lastUse`: no
+/// other texture needs the image's pixels, so they are moved, not copied.
+std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, const std::string& path,
                                           std::vector<std::string>& warnings) {
   const tinygltf::Texture& tex = model.textures[ti];
   if (tex.source < 0 || size_t(tex.source) >= model.images.size()) return std::nullopt;
-  const tinygltf::Image& im = model.images[size_t(tex.source)];
+  tinygltf::Image& im = model.images[size_t(tex.source)];
   if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
         im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
     warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
@@ -307,7 +311,8 @@ std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t t
   MeshTexture t;
   t.width = uint32_t(im.width);
   t.height = uint32_t(im.height);
-  t.rgba = im.image;
+  if (lastUse) t.rgba = std::move(im.image);
+  else t.rgba = im.image;
   t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
   if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
     const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
@@ -318,17 +323,66 @@ std::optional<MeshTexture> convertTexture(const tinygltf::Model& model, size_t t
   return t;
 }
 
+/// Where a material's base colour comes from: baseColorFactor and
+/// baseColorTexture, or, for KHR_materials_pbrSpecularGlossiness (which
+/// replaces the metallic-roughness model), diffuseFactor and diffuseTexture.
+struct ColourSource {
+  std::array<float, 4> factor{1, 1, 1, 1};
+  int texture = -1;  // textures[] index, or -1
+  int texCoord = 0;
+  const tinygltf::Value* transform = nullptr;  // the texture's KHR_texture_transform, if any
+  const char* element = "pbrMetallicRoughness.baseColorTexture";
+};
+
+ColourSource colourSource(const tinygltf::Material& m) {
+  ColourSource c;
+  auto sg = m.extensions.find("KHR_materials_pbrSpecularGlossiness");
+  if (sg != m.extensions.end() && sg->second.IsObject()) {
+    const tinygltf::Value& e = sg->second;
+    c.element = "KHR_materials_pbrSpecularGlossiness.diffuseTexture";
+    if (e.Has("diffuseFactor") && e.Get("diffuseFactor").IsArray())
+      for (int k = 0; k < 4 && k < int(e.Get("diffuseFactor").ArrayLen()); ++k)
+        if (e.Get("diffuseFactor").Get(k).IsNumber()) c.factor[size_t(k)] = float(e.Get("diffuseFactor").Get(k).GetNumberAsDouble());
+    if (e.Has("diffuseTexture") && e.Get("diffuseTexture").IsObject()) {
+      const tinygltf::Value& t = e.Get("diffuseTexture");
+      if (t.Has("index") && t.Get("index").IsInt()) c.texture = t.Get("index").GetNumberAsInt();
+      if (t.Has("texCoord") && t.Get("texCoord").IsInt()) c.texCoord = t.Get("texCoord").GetNumberAsInt();
+      if (t.Has("extensions") && t.Get("extensions").Has("KHR_texture_transform"))
+        c.transform = &t.Get("extensions").Get("KHR_texture_transform");
+    }
+    return c;
+  }
+  const auto& f = m.pbrMetallicRoughness.baseColorFactor;
+  for (size_t k = 0; k < 4 && k < f.size(); ++k) c.factor[k] = float(f[k]);
+  c.texture = m.pbrMetallicRoughness.baseColorTexture.index;
+  c.texCoord = m.pbrMetallicRoughness.baseColorTexture.texCoord;
+  auto tt = m.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
+  if (tt != m.pbrMetallicRoughness.baseColorTexture.extensions.end()) c.transform = &tt->second;
+  return c;
+}
+
+/// The images the materials' colour textures use (the only ones decoded).
+std::vector<char> colourImages(const tinygltf::Model& model) {
+  std::vector<char> needed(model.images.size(), 0);
+  for (const tinygltf::Material& m : model.materials) {
+    const int ti = colourSource(m).texture;
+    if (ti < 0 || size_t(ti) >= model.textures.size()) continue;
+    const int src = model.textures[size_t(ti)].source;
+    if (src >= 0 && size_t(src) < needed.size()) needed[size_t(src)] = 1;
+  }
+  return needed;
+}
+
 /// The base colour texture's KHR_texture_transform of material `mi` as the
 /// affine map uv' = (a*u + b*v + c, d*u + e*v + f) = T * R * S * uv (the
 /// extension's order: scale, then rotation counter-clockwise in UV space, then
 /// offset), or nullopt when it has none. Affine maps commute with the
 /// barycentric interpolation of UVs, so transforming each vertex's UVs is exact.
 std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, size_t mi, const std::string& path) {
-  const auto& ext = model.materials[mi].pbrMetallicRoughness.baseColorTexture.extensions;
-  auto it = ext.find("KHR_texture_transform");
-  if (it == ext.end() || model.materials[mi].pbrMetallicRoughness.baseColorTexture.index < 0) return std::nullopt;
-  const tinygltf::Value& t = it->second;
-  const std::string who = path + ": materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform";
+  const ColourSource cs = colourSource(model.materials[mi]);
+  if (!cs.transform || cs.texture < 0) return std::nullopt;
+  const tinygltf::Value& t = *cs.transform;
+  const std::string who = path + ": materials[" + std::to_string(mi) + "] " + cs.element + " KHR_texture_transform";
   auto pair = [&](const char* key, double fallback) -> std::array<double, 2> {
     if (!t.Has(key)) return {fallback, fallback};
     const tinygltf::Value& v = t.Get(key);
@@ -351,28 +405,41 @@ std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, s
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
 /// returned.
-uint32_t addMaterials(const tinygltf::Model& model, const std::string& path, Mesh& mesh,
+uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mesh,
                       std::vector<std::string>& warnings) {
   std::vector<int> meshTextureOf(model.textures.size(), -1);
+  // How many base colour textures still need each image's pixels.
+  std::vector<int> usesLeft(model.images.size(), 0);
+  {
+    std::vector<char> counted(model.textures.size(), 0);
+    for (const tinygltf::Material& src : model.materials) {
+      const int ti = colourSource(src).texture;
+      if (ti < 0 || size_t(ti) >= model.textures.size() || counted[size_t(ti)]++) continue;
+      const int img = model.textures[size_t(ti)].source;
+      if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
+    }
+  }
   for (const tinygltf::Material& src : model.materials) {
     MeshMaterial m;
     m.name = src.name;
-    const auto& f = src.pbrMetallicRoughness.baseColorFactor;
-    for (size_t k = 0; k < 4 && k < f.size(); ++k) m.baseColorFactor[k] = float(f[k]);
-    const int ti = src.pbrMetallicRoughness.baseColorTexture.index;
+    const ColourSource cs = colourSource(src);
+    m.baseColorFactor = cs.factor;
+    const int ti = cs.texture;
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
       if (meshTextureOf[size_t(ti)] < 0)
-        if (std::optional<MeshTexture> t = convertTexture(model, size_t(ti), path, warnings)) {
+        if (std::optional<MeshTexture> t =
+                convertTexture(model, size_t(ti), model.textures[size_t(ti)].source >= 0 &&
+                                   size_t(model.textures[size_t(ti)].source) < usesLeft.size() &&
+                                   --usesLeft[size_t(model.textures[size_t(ti)].source)] == 0,
+                               path, warnings)) {
           mesh.textures.push_back(std::move(*t));
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
         }
       m.texture = meshTextureOf[size_t(ti)];
-      m.texCoordSet = src.pbrMetallicRoughness.baseColorTexture.texCoord;
+      m.texCoordSet = cs.texCoord;
       // KHR_texture_transform's texCoord overrides the textureInfo's.
-      auto tt = src.pbrMetallicRoughness.baseColorTexture.extensions.find("KHR_texture_transform");
-      if (tt != src.pbrMetallicRoughness.baseColorTexture.extensions.end() && tt->second.Has("texCoord") &&
-          tt->second.Get("texCoord").IsInt())
-        m.texCoordSet = tt->second.Get("texCoord").GetNumberAsInt();
+      if (cs.transform && cs.transform->Has("texCoord") && cs.transform->Get("texCoord").IsInt())
+        m.texCoordSet = cs.transform->Get("texCoord").GetNumberAsInt();
     }
     mesh.materials.push_back(m);
   }
@@ -709,10 +776,12 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
 
 Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
                     std::vector<std::string>& warnings) {
-  const tinygltf::Model model = loadModel(bytes, path, isBinary, warnings);
+  EncodedImages encoded;
+  tinygltf::Model model = loadModel(bytes, path, isBinary, encoded, warnings);
   Mesh mesh;
   listFilesRead(model, path, mesh);
-  refuseMissingImages(model, path, options, warnings);
+  refuseMissingImages(model, encoded, path, options, warnings);
+  decodeImages(model, encoded, colourImages(model), path, options, warnings);
   const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
   for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);

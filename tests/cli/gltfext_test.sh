@@ -65,8 +65,9 @@ fi
 # make_gltf.py: integer and normalized accessors hold exactly the reference's
 # floats; transformed UVs land on texel-block centres (nearest sampling); the
 # instances are the reference's child nodes (one mirrored: --fill solid
-# checks that its triangles still wind outward).
-for k in quantized transform instancing; do
+# checks that its triangles still wind outward); the specular-glossiness
+# diffuse colour is the reference's base colour.
+for k in quantized transform instancing specgloss; do
   $make $k $k.gltf
   $make $k-ref ${k}_ref.gltf
   same_voxels $k.gltf ${k}_ref.gltf --fill solid
@@ -83,12 +84,16 @@ expect_exit 1 "$vox" diff plain.vdb ref.vdb --ignore-sources
 # material are ignored without a warning.
 $make required "" none.gltf
 for ext in KHR_mesh_quantization KHR_texture_transform EXT_mesh_gpu_instancing KHR_draco_mesh_compression \
-           EXT_meshopt_compression KHR_materials_clearcoat KHR_materials_unlit KHR_lights_punctual; do
+           EXT_meshopt_compression KHR_materials_clearcoat KHR_materials_unlit KHR_materials_variants \
+           KHR_materials_diffuse_transmission KHR_lights_punctual; do
   $make required "$ext" "req_$ext.gltf"
   same_voxels "req_$ext.gltf" none.gltf
 done
+# EXT_texture_webp only used: the PNG fallback is baked, the WebP never decoded.
+$make webp-fallback webp.gltf
+same_voxels webp.gltf none.gltf
 # Anything else could change the voxels: refused by name, nothing written.
-for ext in KHR_texture_basisu EXT_texture_avif KHR_materials_variants EXT_future_extension; do
+for ext in EXT_texture_webp KHR_texture_basisu EXT_texture_avif EXT_future_extension; do
   $make required "KHR_mesh_quantization,$ext" "req_$ext.gltf"
   refused "req_$ext.gltf" "requires the extension $ext" "could change the voxels"
 done

@@ -11,7 +11,10 @@ voxels (the oracle): the extension applied by hand here, in exact arithmetic.
   make_gltf.py transform-ref OUT.gltf      the same with the transform applied to the UVs
   make_gltf.py instancing OUT.gltf         EXT_mesh_gpu_instancing: 4 instances (T, R, S)
   make_gltf.py instancing-ref OUT.gltf     one node per instance
+  make_gltf.py specgloss OUT.gltf          KHR_materials_pbrSpecularGlossiness diffuse factor and texture
+  make_gltf.py specgloss-ref OUT.gltf      the same as baseColorFactor and baseColorTexture
   make_gltf.py required EXT[,EXT] OUT.gltf the textured box requiring the extensions ("" for none)
+  make_gltf.py webp-fallback OUT.gltf      the required "" box with an EXT_texture_webp source beside its PNG
   make_gltf.py corrupt KIND IN.glb OUT.glb a Draco GLB broken one way (truncated, attribute-id, bufferview)
 """
 import base64
@@ -258,7 +261,7 @@ def instancing(out, reference):
     g.write(out)
 
 
-def required(ext, out):
+def required(ext, out, webp=False):
     """The quadrant-textured box requiring `ext` (comma-separated names) and
     using KHR_materials_clearcoat and KHR_materials_sheen on its material."""
     tris = box_triangles((0, 0, 0), (30, 20, 10))
@@ -274,6 +277,34 @@ def required(ext, out):
     m = g.mesh({"POSITION": g.accessor(pos, "VEC3"), "TEXCOORD_0": g.accessor(uv, "VEC2")}, None, mat, "box")
     g.node(mesh=m, name="box")
     g.write(out)
+
+
+def specgloss(out, reference):
+    """KHR_materials_pbrSpecularGlossiness: the base colour is its diffuseFactor
+    x diffuseTexture (the metallic-roughness decoy factor, black, must be
+    ignored); the reference has them as baseColorFactor and baseColorTexture."""
+    pos, uv = soup(box_triangles((0, 0, 0), (40, 30, 20)), lambda i: QUADRANT_CENTRES[i % 4])
+    g = Gltf()
+    mat = g.textured_material()
+    pbr = g.doc["materials"][mat]["pbrMetallicRoughness"]
+    if reference:
+        pbr["baseColorFactor"] = [0.5, 1, 0.25, 1]
+    else:
+        g.doc["extensionsUsed"] = ["KHR_materials_pbrSpecularGlossiness"]
+        g.doc["materials"][mat] = {"name": "quadrants", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]},
+                                   "extensions": {"KHR_materials_pbrSpecularGlossiness": {
+                                       "diffuseFactor": [0.5, 1, 0.25, 1], "diffuseTexture": {"index": 0},
+                                       "specularFactor": [1, 1, 1], "glossinessFactor": 0.5}}}
+    m = g.mesh({"POSITION": g.accessor(pos, "VEC3"), "TEXCOORD_0": g.accessor(uv, "VEC2")}, None, mat, "box")
+    g.node(mesh=m, name="box")
+    g.write(out)
+
+
+def webp_fallback(out):
+    """The box of `required ""` whose texture also names an EXT_texture_webp
+    source (a bufferView of bytes that are no image at all) beside its PNG
+    fallback: vox reads the fallback and never decodes the WebP one."""
+    required("", out, webp=True)
 
 
 def read_glb(path):
@@ -318,6 +349,10 @@ def main(argv):
         transform(argv[2], kind.endswith("-ref"))
     elif kind in ("instancing", "instancing-ref"):
         instancing(argv[2], kind.endswith("-ref"))
+    elif kind in ("specgloss", "specgloss-ref"):
+        specgloss(argv[2], kind.endswith("-ref"))
+    elif kind == "webp-fallback":
+        webp_fallback(argv[2])
     elif kind == "required":
         required(argv[2], argv[3])
     elif kind == "corrupt":

@@ -1,0 +1,84 @@
+#include "formats/mesh/gltf_images.h"
+
+#include <stb/stb_image.h>
+#include <tbb/parallel_for.h>
+#include <tiny_gltf.h>
+
+#include <cstring>
+
+#include "libvox/core/error.h"
+
+namespace vox {
+
+namespace {
+
+bool keepEncoded(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                 const unsigned char* bytes, int size, void* user) {
+  auto& images = *static_cast<EncodedImages*>(user);
+  if (index < 0) return false;
+  if (size_t(index) >= images.bytes.size()) {
+    images.bytes.resize(size_t(index) + 1);
+    images.received.resize(size_t(index) + 1, 0);
+  }
+  images.bytes[size_t(index)].assign(reinterpret_cast<const char*>(bytes), size_t(std::max(size, 0)));
+  images.received[size_t(index)] = 1;
+  image->width = image->height = image->component = image->bits = -1;  // not decoded (yet)
+  return true;
+}
+
+struct Decoded {
+  std::vector<unsigned char> rgba;
+  int width = 0, height = 0;
+  bool ok = false;
+};
+
+Decoded decode(const std::string& bytes) {
+  Decoded d;
+  int n = 0;
+  if (bytes.empty() || bytes.size() > size_t(std::numeric_limits<int>::max())) return d;
+  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &d.width,
+                                      &d.height, &n, 4);
+  if (!px) return d;
+  d.rgba.assign(px, px + size_t(d.width) * size_t(d.height) * 4);
+  stbi_image_free(px);
+  d.ok = d.width > 0 && d.height > 0;
+  return d;
+}
+
+}  // namespace
+
+void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images) { loader.SetImageLoader(&keepEncoded, &images); }
+
+void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
+                  const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+  images.bytes.resize(model.images.size());
+  images.received.resize(model.images.size(), 0);
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < needed.size() && i < model.images.size(); ++i)
+    if (needed[i] && images.received[i]) todo.push_back(i);
+  // One task per image: a large texture is decoded on one thread, several in parallel.
+  std::vector<Decoded> out(todo.size());
+  tbb::parallel_for(size_t(0), todo.size(), [&](size_t k) { out[k] = decode(images.bytes[todo[k]]); },
+                    tbb::simple_partitioner());
+  for (size_t k = 0; k < todo.size(); ++k) {
+    tinygltf::Image& im = model.images[todo[k]];
+    images.bytes[todo[k]] = std::string();
+    if (!out[k].ok) {
+      const std::string what = path + ": image " + std::to_string(todo[k]) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'") +
+                               " cannot be decoded (not a PNG or JPEG that stb_image reads)";
+      if (options.ignoreMissingMaterials) {
+        warnings.push_back(what + "; its textures are left out");
+        continue;
+      }
+      throwBadInput(what + "; re-export it, or leave its textures out", Setting::IgnoreMissingMaterials);
+    }
+    im.width = out[k].width;
+    im.height = out[k].height;
+    im.component = 4;
+    im.bits = 8;
+    im.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    im.image = std::move(out[k].rgba);
+  }
+}
+
+}  // namespace vox

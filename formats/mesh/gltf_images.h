@@ -1,0 +1,40 @@
+// glTF images decoded once each, in parallel, and only when the voxels need
+// them: tinygltf is told to keep each image's encoded bytes instead of decoding
+// it while it parses (one after the other, every image, normal and
+// metallic-roughness maps too); afterwards the images that materials' colour
+// textures use are decoded by stb_image (PNG, JPEG, and the other
+// formats stb reads) to 8-bit RGBA on TBB's threads. The result does not
+// depend on the thread count: each image is decoded on its own.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "formats/mesh/mesh_input.h"
+
+namespace tinygltf {
+class Model;
+class TinyGLTF;
+}  // namespace tinygltf
+
+namespace vox {
+
+/// Every image's encoded bytes as tinygltf found them (a data URI, a
+/// bufferView, an external file), by image index.
+struct EncodedImages {
+  std::vector<std::string> bytes;
+  std::vector<char> received;  // 0: tinygltf never delivered the image (an external file it could not read)
+};
+
+/// Makes `loader` store each image's bytes in `images` instead of decoding it.
+void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images);
+
+/// Decodes the images i with needed[i] (those colour textures use) into
+/// model.images[i] (image = RGBA8 rows, top row first; width, height,
+/// component 4, bits 8) in parallel, and frees their encoded bytes. An image
+/// that does not decode is an error naming it (`path`, image index, uri), or
+/// with options.ignoreMissingMaterials a warning (its textures are left out).
+void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
+                  const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+
+}  // namespace vox

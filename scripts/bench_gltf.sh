@@ -1,0 +1,60 @@
+#!/bin/sh
+# glTF read speed (docs/gltf.md#performance), one run on this machine:
+#  * parse+decode throughput of a GLB (file bytes / the `parse` phase of
+#    `vox voxelize --report`, median of 3), plain, Draco-compressed (Debian's
+#    draco_transcoder) and textured (five 2048^2 JPEG base-colour textures), on
+#    one thread and on all of them;
+#  * `vox voxelize --res 256` of the textured 15 k-triangle model against the
+#    same model with its textures removed, in one hyperfine run (the ratio),
+#    and the textured run's parse (decode) against its voxelize phase.
+# Needs oiiotool (openimageio-tools), draco_transcoder (draco), hyperfine.
+# Usage: scripts/bench_gltf.sh [BUILD_DIR]   -> Markdown on stdout
+set -eu
+cd "$(dirname "$0")/.."
+root=$(pwd)
+VOX=$root/${1:-build}/bin/vox
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+all=$(nproc)
+
+for i in 0 1 2 3 4; do  # photo-like JPEGs: blurred noise, about 1.6 MB each
+  oiiotool --pattern noise:type=uniform:min=0:max=1:seed=$i 2048x2048 3 --blur 9x9 -d uint8 -o t$i.jpg
+done
+python3 "$root/bench/make_textured_glb.py" textured.glb plain.glb t0.jpg t1.jpg t2.jpg t3.jpg t4.jpg
+draco_transcoder -i plain.glb -o draco.glb >/dev/null
+
+echo "### Parse + decode throughput (MB/s of the file, median of 3)"
+echo
+echo "| file | size [MB] | 1 thread | $all threads |"
+echo "|---|---:|---:|---:|"
+for f in plain.glb draco.glb textured.glb; do
+  line="| $f | $(python3 -c "import os; print(f'{os.path.getsize(\"$f\")/1e6:.2f}')")"
+  for t in 1 "$all"; do
+    for r in 1 2 3; do
+      "$VOX" voxelize "$f" --res 8 -o p.vdb -q --threads "$t" --report "p$r.json"
+    done
+    line="$line | $(python3 -c "
+import json, os
+s = sorted([p['seconds'] for r in (1, 2, 3) for p in json.load(open(f'p{r}.json'))['phases'] if p['name'] == 'parse'])
+print(f'{os.path.getsize(\"$f\") / 1e6 / s[1]:.0f} ({s[1] * 1000:.0f} ms)')")"
+  done
+  echo "$line |"
+done
+echo
+
+echo "### Textured against untextured, --res 256, $all threads"
+echo
+hyperfine -N --warmup 1 --runs 7 --export-json v.json --export-markdown v.md \
+  -n "textured (5 x 2048^2 JPEG)" "$VOX voxelize textured.glb --res 256 -o a.vdb -q --threads $all" \
+  -n "textures removed" "$VOX voxelize plain.glb --res 256 -o b.vdb -q --threads $all" >/dev/null
+cat v.md
+python3 -c "
+import json
+r = json.load(open('v.json'))['results']
+print(f'\nratio textured / untextured: {r[0][\"mean\"] / r[1][\"mean\"]:.2f} (target <= 1.5)')"
+"$VOX" voxelize textured.glb --res 256 -o a.vdb -q --threads "$all" --report t.json
+python3 -c "
+import json
+ph = {p['name']: p['seconds'] for p in json.load(open('t.json'))['phases']}
+print(f'textured run: parse (with image decoding) {ph[\"parse\"] * 1000:.0f} ms, voxelize {ph[\"voxelize\"] * 1000:.0f} ms')"
