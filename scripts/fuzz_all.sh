@@ -3,8 +3,7 @@
 # other, and prints a table: target, runs, seconds, result.
 #   the parsers of their own scripts: pagefile (scripts/fuzz_pagefile.sh), vdb
 #     (scripts/fuzz_vdb.sh, when it exists);
-#   built here (tests/fuzz/fuzz_NAME.cpp): obj ply stl (as scripts/fuzz.sh
-#     builds them, but linked against the vox build), gltf blockmap classes
+#   built here (tests/fuzz/fuzz_NAME.cpp): obj ply stl gltf blockmap classes
 #     camera touched classtable rendermeta atlasmeta png exr.
 # The parsers under test are compiled with clang -fsanitize=fuzzer,address,undefined;
 # what they call from the rest of vox is linked from the CMake build's static
