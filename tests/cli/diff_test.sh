@@ -61,6 +61,22 @@ scenes)
   expect_stdout "level 3"
   expect_exit 1 "$vox" diff p12.vdb p12c.vdb --json
   jq_py "assert d['kind']=='pyramid' and d['levels_a']==5 and d['levels_b']==3 and not d['same'], d['levels_a']"
+  # --level: one level of each side; a plain scene (a --split file, the base scene) is taken as that level.
+  "$vox" mip h12.vdb -o lod.vdb --split --levels 2 --quiet
+  expect_exit 0 "$vox" diff p12.vdb lod.mip1.vdb --level 1
+  expect_stdout "same: "
+  expect_stdout "level 1"
+  expect_exit 1 "$vox" diff p12.vdb lod.mip1.vdb --level 2
+  expect_exit 0 "$vox" diff p12.vdb h12.vdb --level 0
+  expect_exit 1 "$vox" diff p12.vdb h12.vdb
+  expect_stdout "--level N compares one level"
+  expect_exit 0 "$vox" diff p12.vdb p12c.vdb --level 2 --json
+  jq_py "assert d['same'] and d['level']==2, d"
+  expect_exit 2 "$vox" diff p12.vdb p12c.vdb --level 3
+  expect_stderr "p12c.vdb has levels 0..2; --level 3 is not one of them"
+  "$vox" pack-chunks h12.vdb -o h12.vpk --quiet
+  expect_exit 2 "$vox" diff h12.vpk h12.vpk --level 1
+  expect_stderr "--level applies to scenes and pyramids"
   # The same results at any thread count.
   "$vox" diff h12.vdb h11.vdb --json --threads 1 > t1.json
   "$vox" diff h12.vdb h11.vdb --json --threads 2 > t2.json

@@ -87,6 +87,9 @@ int runDiff(DiffCommand& c) {
     throw vox::Error(vox::ErrorKind::Usage, o.a + " is " + kindText(ka) + " but " + o.b + " is " + kindText(kb) +
                                                 ": vox diff compares two files of one kind (or a render with a "
                                                 "metadata.json and --view N)");
+  if (given("--level") && ka != DiffKind::Scene)
+    throw vox::Error(vox::ErrorKind::Usage, "--level applies to scenes and pyramids (.vdb), not to " +
+                                                std::string(kindText(ka)));
   if (imageOptions && ka != DiffKind::Image)
     throw vox::Error(vox::ErrorKind::Usage, "--fail, --warn, --hardfail, --diff-image ... apply to images, not to " +
                                                 std::string(kindText(ka)));
@@ -114,6 +117,10 @@ Command registerDiff(CLI::App& root) {
   cmd->add_option("b", o.b, "Second file (the golden / reference one)")->required();
   cmd->add_flag("--json", o.json, "Print the comparison as JSON on stdout");
   cmd->add_flag("--ignore-sources", o.ignoreSources, "Scenes: do not compare the recorded source files");
+  cmd->add_option("--level", o.level,
+                  "Pyramids: compare level N only (a plain scene on either side is taken as that level, e.g. a "
+                  "mip --split file)")
+      ->type_name("N");
   cmd->add_option("--votes-tolerance", o.votesTolerance,
                   "Scenes: votes of one class may differ by this many per voxel")
       ->check(CLI::NonNegativeNumber);

@@ -22,6 +22,7 @@ struct DiffOptions {
   bool ignoreSources = false;
   unsigned threads = 0;
   // Scenes, pyramids, page files.
+  std::optional<uint32_t> level;  // pyramids: compare this level only (a plain scene is taken as it is)
   uint32_t votesTolerance = 0;
   double colorTolerance = 0;
   // Images (idiff's thresholds; unset = idiff's defaults, see docs/diff.md).

@@ -1,5 +1,6 @@
 // vox diff of scenes and pyramids (.vdb): the report of vox::diffScenes, per
 // level for pyramids.
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <iostream>
@@ -8,6 +9,7 @@
 #include "formats/core/json_diff.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
+#include "libvox/core/error.h"
 #include "libvox/scene/scene_diff.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/diff_common.h"
@@ -136,21 +138,34 @@ std::pair<T, T> readBoth(const DiffOptions& o, Read read) {
   return {std::move(first), second.get()};
 }
 
+/// Level `level` of the pyramid at `path`, or the plain scene there as it is.
+vox::Scene readLevel(const std::string& path, uint32_t level) {
+  if (!vox::isPyramidVdb(path)) return vox::readSceneVdb(path);
+  std::vector<vox::Scene> levels = vox::readPyramidVdb(path);
+  if (level >= levels.size())
+    throw vox::Error(vox::ErrorKind::Usage, path + " has levels 0.." + std::to_string(levels.size() - 1) +
+                                                 "; --level " + std::to_string(level) + " is not one of them");
+  return std::move(levels[level]);
+}
+
 }  // namespace
 
 int diffSceneFiles(const DiffOptions& o) {
   const bool pyramid = vox::isPyramidVdb(o.a) || vox::isPyramidVdb(o.b);
-  if (!pyramid) {
-    auto [a, b] = readBoth<vox::Scene>(o, [](const std::string& p) { return vox::readSceneVdb(p); });
+  if (!pyramid || o.level) {
+    const uint32_t level = o.level.value_or(0);
+    auto [a, b] = readBoth<vox::Scene>(o, [level](const std::string& p) { return readLevel(p, level); });
     const vox::SceneDiff d = vox::diffScenes(a, b, sceneOptions(o));
     if (o.json) {
       nlohmann::json j = sceneDiffJson(d, a.header(), o);
       j["kind"] = "scene";
       j["a"] = o.a, j["b"] = o.b;
+      if (o.level) j["level"] = *o.level;
       std::cout << j.dump(2) << "\n";
     } else {
       std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
-                << d.voxelsDiffering << " differ (scenes " << vox::toString(a.header().dims) << ")\n";
+                << d.voxelsDiffering << " differ (" << (o.level ? "level " + std::to_string(*o.level) + ", " : "")
+                << "scenes " << vox::toString(a.header().dims) << ")\n";
       std::cout << sceneDiffText(d, a.header(), o, "  ");
     }
     return d.same() ? kExitOk : kExitCheckFailed;
@@ -191,6 +206,8 @@ int diffSceneFiles(const DiffOptions& o) {
   } else {
     std::cout << (same ? "same" : "DIFFERENT") << ": pyramids of " << la.size() << " and " << lb.size()
               << " levels, " << compared << " voxels compared, " << differing << " differ\n";
+    if (la.size() != lb.size() && std::min(la.size(), lb.size()) == 1)
+      std::cout << "  (a plain scene is a pyramid of one level; --level N compares one level with it)\n";
     if (!meta.same() && !meta.differences.empty())
       std::cout << "  pyramid metadata differs at " << meta.differences[0].pointer << ": " << meta.differences[0].a
                 << " vs " << meta.differences[0].b << "\n";
