@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -19,11 +20,6 @@ struct PointHash {
     return size_t(h ^ (h >> 29));
   }
 };
-
-uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 }  // namespace
 
@@ -59,41 +55,49 @@ std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t,
       edges[it->second].second.net += a < b ? 1 : -1;
     }
   }
-  // Boundary edges, directed as the mesh runs them, grouped into loops
-  // (connected components: each is a closed 1-cycle, so its fan is closed too).
-  struct Boundary {
-    uint32_t from, to, triangle;
-    int64_t multiplicity;
-  };
-  std::vector<Boundary> boundary;
-  std::vector<uint32_t> parent(points.size());
-  std::iota(parent.begin(), parent.end(), 0u);
+  // Boundary edges, directed as the mesh runs them (an edge used m more times
+  // one way than the other counts m times), split into closed walks: the net
+  // boundary has as many edges into as out of every vertex, so following
+  // unused outgoing edges from a start always returns to it.
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(points.size());  // vertex -> (to, triangle)
+  std::vector<uint32_t> starts;
   for (const auto& [key, c] : edges) {
     if (c.net == 0) continue;
     const uint32_t lo = uint32_t(key >> 32), hi = uint32_t(key & 0xffffffffu);
-    boundary.push_back(c.net > 0 ? Boundary{lo, hi, c.firstTriangle, c.net}
-                                 : Boundary{hi, lo, c.firstTriangle, -c.net});
-    const uint32_t ra = findRoot(parent, lo), rb = findRoot(parent, hi);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    const uint32_t from = c.net > 0 ? lo : hi, to = c.net > 0 ? hi : lo;
+    for (int64_t m = 0; m < std::abs(c.net); ++m) out[from].push_back({to, c.firstTriangle});
+    starts.push_back(from);
   }
-  // Centroid of each loop's vertices (each vertex once), rounded to the lattice.
-  std::unordered_map<uint32_t, std::array<long double, 4>> sums;
-  std::vector<uint8_t> counted(points.size(), 0);
-  for (const Boundary& b : boundary)
-    for (uint32_t v : {b.from, b.to}) {
-      if (counted[v]) continue;
-      counted[v] = 1;
-      auto& s = sums[findRoot(parent, v)];
-      for (int k = 0; k < 3; ++k) s[k] += (long double)points[v][k];
-      s[3] += 1;
-    }
+  std::vector<uint32_t> used(points.size(), 0);  // outgoing edges used per vertex
   std::vector<CapTriangle> caps;
-  for (const Boundary& b : boundary) {
-    const auto& s = sums[findRoot(parent, b.from)];
-    LatticePoint apex;
-    for (int k = 0; k < 3; ++k) apex[k] = int64_t(std::llround(s[k] / s[3]));
-    // The mesh runs from -> to; the cap runs to -> from, so the edge cancels.
-    for (int64_t m = 0; m < b.multiplicity; ++m) caps.push_back({{apex, points[b.to], points[b.from]}, b.triangle});
+  std::vector<uint32_t> cycle, source, level, levelSource;
+  for (uint32_t s : starts) {
+    while (used[s] < out[s].size()) {
+      cycle.clear(), source.clear();
+      uint32_t v = s;
+      do {
+        const auto [to, tri] = out[v][used[v]++];
+        cycle.push_back(v), source.push_back(tri);
+        v = to;
+      } while (v != s);
+      // Balanced triangulation of the walk, reversed (the caps run against the
+      // mesh's boundary, so the edges cancel): each round cuts the triangles
+      // (p0, p2, p1), (p2, p4, p3), ... off the polygon and keeps p0, p2, p4,
+      // ...; triangles near the rim are as small as its edges, and each round
+      // doubles their size (a fan's long slivers would defeat CapField's tree).
+      while (cycle.size() >= 3) {
+        const size_t n = cycle.size();
+        level.clear(), levelSource.clear();
+        for (size_t i = 0; i + 1 < n; i += 2) {
+          caps.push_back({{points[cycle[i]], points[cycle[(i + 2) % n]], points[cycle[i + 1]]}, source[i]});
+          level.push_back(cycle[i]), levelSource.push_back(source[i]);
+        }
+        if (n % 2) level.push_back(cycle[n - 1]), levelSource.push_back(source[n - 1]);
+        if (n == 3) break;  // the last triangle closed it
+        cycle.swap(level), source.swap(levelSource);
+      }
+      // A walk of two edges (a -> b -> a) cancels itself: no cap.
+    }
   }
   return caps;
 }
@@ -187,17 +191,29 @@ namespace {
 
 CapField::CapField(const std::vector<CapTriangle>& caps) {
   tris_.reserve(caps.size());
+  // The caps' boundary: the edges the cap triangles do not share in both
+  // directions (the mesh's boundary edges, reversed), with multiplicity.
+  std::map<std::pair<LatticePoint, LatticePoint>, int64_t> net;
+  for (const CapTriangle& c : caps)
+    for (int i = 0; i < 3; ++i) {
+      const LatticePoint &a = c.v[i], &b = c.v[(i + 1) % 3];
+      if (a == b) continue;
+      if (a < b) ++net[{a, b}];
+      else --net[{b, a}];
+    }
+  for (const auto& [ab, count] : net)
+    for (int64_t m = 0; m < std::abs(count); ++m) {
+      const LatticePoint& from = count > 0 ? ab.first : ab.second;
+      const LatticePoint& to = count > 0 ? ab.second : ab.first;
+      Edge e;
+      for (int k = 0; k < 3; ++k) e.a[k] = double(from[k]) / kLatticeStepsPerVoxel, e.d[k] = double(to[k] - from[k]) / kLatticeStepsPerVoxel;
+      e.len = std::sqrt(dot3(e.d, e.d));
+      edges_.push_back(e);
+    }
   for (const CapTriangle& c : caps) {
     double v[3][3];
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
-    // The caps' boundary: the edge to -> from of each fan triangle (the fans'
-    // inner edges cancel, also across degenerate triangles, whose boundary is
-    // a closed path along one line).
-    Edge e;
-    for (int k = 0; k < 3; ++k) e.a[k] = v[1][k], e.d[k] = v[2][k] - v[1][k];
-    e.len = std::sqrt(dot3(e.d, e.d));
-    if (e.len > 0) edges_.push_back(e);
     Tri t;
     std::memcpy(t.v, v, sizeof v);
     double e1[3], e2[3];

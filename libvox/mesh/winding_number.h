@@ -1,7 +1,8 @@
 // Generalised winding number of an open triangle mesh, split as
 //   w_mesh(p) = W_capped(p) - w_caps(p)
-// where the caps close every boundary loop of the mesh (a fan of each loop
-// around its centroid), W_capped is the winding number of the closed, capped
+// where the caps close every boundary loop of the mesh (any surface spanning
+// the loops gives the same w_mesh; a balanced triangulation of each loop),
+// W_capped is the winding number of the closed, capped
 // mesh (an exact integer: the voxelizer counts signed ray crossings), and
 // w_caps is the solid-angle sum over the cap triangles only (few: they span
 // the holes), evaluated here.
@@ -27,12 +28,16 @@ using LatticePoint = std::array<int64_t, 3>;
 
 struct CapTriangle {
   LatticePoint v[3];
-  uint32_t sourceTriangle;  // a mesh triangle owning the boundary edge (for its class)
+  uint32_t sourceTriangle;  // a mesh triangle owning a boundary edge it spans (for its class)
 };
 
 /// The cap triangles closing every boundary loop of (triangles, lattice). Empty
 /// for closed, consistently oriented meshes. Deterministic (order of first
-/// appearance of the boundary edges in triangle order).
+/// appearance of the boundary edges in triangle order). Each loop (a closed
+/// walk along the boundary) is triangulated in rounds: (p0, p2, p1), (p2, p4,
+/// p3), ... then the same on p0, p2, p4, ...: small triangles along the rim,
+/// doubling inwards, n - 2 for n edges. A cap triangle's sourceTriangle owns
+/// the first boundary edge it spans.
 std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t, 3>>& triangles,
                                           const std::vector<LatticePoint>& lattice);
 
@@ -132,7 +137,7 @@ class CapField {
   template <class Item, class Points>
   static std::vector<Node> buildTree(std::vector<Item>& items, Points points);
   static constexpr uint32_t kLeafSize = 4;
-  static constexpr double kFar = 6.0;
+  static constexpr double kFar = 3.0;
   std::vector<Tri> tris_;    // in triTree_ order
   std::vector<Edge> edges_;  // the caps' boundary: the mesh's boundary edges, in edgeTree_ order
   std::vector<Node> triTree_, edgeTree_;
