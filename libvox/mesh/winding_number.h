@@ -2,10 +2,9 @@
 //   w_mesh(p) = W_capped(p) - w_caps(p)
 // where the caps close every boundary loop of the mesh (any surface spanning
 // the loops gives the same w_mesh; a balanced triangulation of each loop),
-// W_capped is the winding number of the closed, capped
-// mesh (an exact integer: the voxelizer counts signed ray crossings), and
-// w_caps is the solid-angle sum over the cap triangles only (few: they span
-// the holes), evaluated here.
+// W_capped is the winding number of the closed, capped mesh (an exact
+// integer: the voxelizer counts signed ray crossings), and w_caps is the
+// solid-angle sum over the cap triangles only, evaluated here.
 //
 // Units: grid space in lattice steps (2^-kSubvoxelBits voxel, as
 // libvox/mesh/voxelize.h snaps vertices); points as doubles in voxel units.
@@ -50,7 +49,7 @@ double triangleSolidAngle(const double a[3], const double b[3], const double c[3
 /// Why the bound is tight: off the caps, the gradient of a surface's solid
 /// angle depends only on the surface's boundary (Biot-Savart: grad Omega(q) =
 /// the line integral over the boundary of dl x (x - q) / |x - q|^3), and the
-/// caps' boundary is the mesh's boundary loops (the fans' inner edges cancel).
+/// caps' boundary is the mesh's boundary loops (the caps' inner edges cancel).
 /// So |grad w_caps(q)| <= (1 / 4pi) sum_e len_e / dist(q, e)^2 over the
 /// boundary edges e, however large the caps are, and a ball far from the
 /// holes' rims varies little even where it is close to a cap. Across a cap
