@@ -977,8 +977,9 @@ class WindingTile {
     for (int32_t i = i0; i < i1 && !any; ++i)
       for (int32_t j = j0; j < j1 && !any; ++j) any = anyFree(column(i, j), k0, k1);
     if (!any) return;
-    if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {
+    if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {  // the tree's value, else every cap triangle
       const double p[3] = {x0_ + i0 + 0.5, y0_ + j0 + 0.5, z0_ + k0 + 0.5};
+      if (caps_.ballField(p, 0, ball_) && decideVoxel(column(i0, j0), i0, j0, k0, p)) return;
       if (std::abs(double(windingAt(column(i0, j0), k0)) - caps_.winding(p)) > 0.5) setBits(inside_, column(i0, j0), k0, k1);
       return;
     }
@@ -1037,12 +1038,12 @@ class WindingTile {
   /// first, then the linear one.
   int sideOfRun(int32_t w, double radius, double ox, double oy, double oz0, double oz1) const {
     const CapField::Ball& b = ball_;
-    const double eA = b.slope * radius + b.slack, m = w - b.value;
+    const double eA = b.slope * radius + b.slack + b.valueError, m = w - b.value;
     const int sA = sideOf(m - eA, m + eA);
     if (sA >= 0) return sA;
     const double lxy = b.gradient[0] * ox + b.gradient[1] * oy;
     const double l0 = lxy + b.gradient[2] * oz0, l1 = lxy + b.gradient[2] * oz1;
-    const double eB = b.curvature * radius * radius + b.slack;
+    const double eB = (b.curvature * radius + b.gradientError) * radius + b.slack + b.valueError;
     return sideOf(m - std::max(l0, l1) - eB, m - std::min(l0, l1) + eB);
   }
 
@@ -1057,11 +1058,11 @@ class WindingTile {
     const double q[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
     const double d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], d = std::sqrt(d2);
     const double m = windingAt(col, k) - b.value - jump;
-    const double eA = b.slope * d + b.slack;
+    const double eA = b.slope * d + b.slack + b.valueError;
     int s = sideOf(m - eA, m + eA);
     if (s < 0) {
       const double l = m - (b.gradient[0] * q[0] + b.gradient[1] * q[1] + b.gradient[2] * q[2]);
-      const double eB = b.curvature * d2 + b.slack;
+      const double eB = (b.curvature * d + b.gradientError) * d + b.slack + b.valueError;
       s = sideOf(l - eB, l + eB);
     }
     if (s < 0) return false;

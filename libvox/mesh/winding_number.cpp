@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -19,11 +20,6 @@ struct PointHash {
     return size_t(h ^ (h >> 29));
   }
 };
-
-uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 }  // namespace
 
@@ -59,41 +55,49 @@ std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t,
       edges[it->second].second.net += a < b ? 1 : -1;
     }
   }
-  // Boundary edges, directed as the mesh runs them, grouped into loops
-  // (connected components: each is a closed 1-cycle, so its fan is closed too).
-  struct Boundary {
-    uint32_t from, to, triangle;
-    int64_t multiplicity;
-  };
-  std::vector<Boundary> boundary;
-  std::vector<uint32_t> parent(points.size());
-  std::iota(parent.begin(), parent.end(), 0u);
+  // Boundary edges, directed as the mesh runs them (an edge used m more times
+  // one way than the other counts m times), split into closed walks: the net
+  // boundary has as many edges into as out of every vertex, so following
+  // unused outgoing edges from a start always returns to it.
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(points.size());  // vertex -> (to, triangle)
+  std::vector<uint32_t> starts;
   for (const auto& [key, c] : edges) {
     if (c.net == 0) continue;
     const uint32_t lo = uint32_t(key >> 32), hi = uint32_t(key & 0xffffffffu);
-    boundary.push_back(c.net > 0 ? Boundary{lo, hi, c.firstTriangle, c.net}
-                                 : Boundary{hi, lo, c.firstTriangle, -c.net});
-    const uint32_t ra = findRoot(parent, lo), rb = findRoot(parent, hi);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    const uint32_t from = c.net > 0 ? lo : hi, to = c.net > 0 ? hi : lo;
+    for (int64_t m = 0; m < std::abs(c.net); ++m) out[from].push_back({to, c.firstTriangle});
+    starts.push_back(from);
   }
-  // Centroid of each loop's vertices (each vertex once), rounded to the lattice.
-  std::unordered_map<uint32_t, std::array<long double, 4>> sums;
-  std::vector<uint8_t> counted(points.size(), 0);
-  for (const Boundary& b : boundary)
-    for (uint32_t v : {b.from, b.to}) {
-      if (counted[v]) continue;
-      counted[v] = 1;
-      auto& s = sums[findRoot(parent, v)];
-      for (int k = 0; k < 3; ++k) s[k] += (long double)points[v][k];
-      s[3] += 1;
-    }
+  std::vector<uint32_t> used(points.size(), 0);  // outgoing edges used per vertex
   std::vector<CapTriangle> caps;
-  for (const Boundary& b : boundary) {
-    const auto& s = sums[findRoot(parent, b.from)];
-    LatticePoint apex;
-    for (int k = 0; k < 3; ++k) apex[k] = int64_t(std::llround(s[k] / s[3]));
-    // The mesh runs from -> to; the cap runs to -> from, so the edge cancels.
-    for (int64_t m = 0; m < b.multiplicity; ++m) caps.push_back({{apex, points[b.to], points[b.from]}, b.triangle});
+  std::vector<uint32_t> cycle, source, level, levelSource;
+  for (uint32_t s : starts) {
+    while (used[s] < out[s].size()) {
+      cycle.clear(), source.clear();
+      uint32_t v = s;
+      do {
+        const auto [to, tri] = out[v][used[v]++];
+        cycle.push_back(v), source.push_back(tri);
+        v = to;
+      } while (v != s);
+      // Balanced triangulation of the walk, reversed (the caps run against the
+      // mesh's boundary, so the edges cancel): each round cuts the triangles
+      // (p0, p2, p1), (p2, p4, p3), ... off the polygon and keeps p0, p2, p4,
+      // ...; triangles near the rim are as small as its edges, and each round
+      // doubles their size (a fan's long slivers would defeat CapField's tree).
+      while (cycle.size() >= 3) {
+        const size_t n = cycle.size();
+        level.clear(), levelSource.clear();
+        for (size_t i = 0; i + 1 < n; i += 2) {
+          caps.push_back({{points[cycle[i]], points[cycle[(i + 2) % n]], points[cycle[i + 1]]}, source[i]});
+          level.push_back(cycle[i]), levelSource.push_back(source[i]);
+        }
+        if (n % 2) level.push_back(cycle[n - 1]), levelSource.push_back(source[n - 1]);
+        if (n == 3) break;  // the last triangle closed it
+        cycle.swap(level), source.swap(levelSource);
+      }
+      // A walk of two edges (a -> b -> a) cancels itself: no cap.
+    }
   }
   return caps;
 }
@@ -177,19 +181,39 @@ constexpr double kGradientSign = 1.0;
 
 }  // namespace
 
+// A tree node is far from a ball when the gap between them exceeds kFar times
+// the node's radius: its dipole's error then falls as (r / gap)^2 per area.
+constexpr double CapField::kFar;
+
+namespace {
+
+}  // namespace
+
 CapField::CapField(const std::vector<CapTriangle>& caps) {
   tris_.reserve(caps.size());
+  // The caps' boundary: the edges the cap triangles do not share in both
+  // directions (the mesh's boundary edges, reversed), with multiplicity.
+  std::map<std::pair<LatticePoint, LatticePoint>, int64_t> net;
+  for (const CapTriangle& c : caps)
+    for (int i = 0; i < 3; ++i) {
+      const LatticePoint &a = c.v[i], &b = c.v[(i + 1) % 3];
+      if (a == b) continue;
+      if (a < b) ++net[{a, b}];
+      else --net[{b, a}];
+    }
+  for (const auto& [ab, count] : net)
+    for (int64_t m = 0; m < std::abs(count); ++m) {
+      const LatticePoint& from = count > 0 ? ab.first : ab.second;
+      const LatticePoint& to = count > 0 ? ab.second : ab.first;
+      Edge e;
+      for (int k = 0; k < 3; ++k) e.a[k] = double(from[k]) / kLatticeStepsPerVoxel, e.d[k] = double(to[k] - from[k]) / kLatticeStepsPerVoxel;
+      e.len = std::sqrt(dot3(e.d, e.d));
+      edges_.push_back(e);
+    }
   for (const CapTriangle& c : caps) {
     double v[3][3];
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
-    // The caps' boundary: the edge to -> from of each fan triangle (the fans'
-    // inner edges cancel, also across degenerate triangles, whose boundary is
-    // a closed path along one line).
-    Edge e;
-    for (int k = 0; k < 3; ++k) e.a[k] = v[1][k], e.d[k] = v[2][k] - v[1][k];
-    e.len = std::sqrt(dot3(e.d, e.d));
-    if (e.len > 0) edges_.push_back(e);
     Tri t;
     std::memcpy(t.v, v, sizeof v);
     double e1[3], e2[3];
@@ -210,6 +234,81 @@ CapField::CapField(const std::vector<CapTriangle>& caps) {
     t.r = t.r * (1 + 1e-12) + 1e-9;  // rounding of the centroid and distances
     tris_.push_back(t);
   }
+  triTree_ = buildTree(tris_, [](const Tri& t, double out[3][3]) {
+    std::memcpy(out, t.v, sizeof t.v);
+    return 3;
+  });
+  edgeTree_ = buildTree(edges_, [](const Edge& e, double out[3][3]) {
+    for (int k = 0; k < 3; ++k) out[0][k] = e.a[k], out[1][k] = e.a[k] + e.d[k];
+    return 2;
+  });
+  for (Node& n : triTree_) {  // area and area vector
+    n.size = 0, n.vec[0] = n.vec[1] = n.vec[2] = 0;
+    for (uint32_t i = n.begin; i < n.end; ++i) {
+      n.size += 0.5 / tris_[i].invN;
+      for (int k = 0; k < 3; ++k) n.vec[k] += 0.5 * tris_[i].n[k];
+    }
+  }
+  for (Node& n : edgeTree_) {  // length and vector sum
+    n.size = 0, n.vec[0] = n.vec[1] = n.vec[2] = 0;
+    for (uint32_t i = n.begin; i < n.end; ++i) {
+      n.size += edges_[i].len;
+      for (int k = 0; k < 3; ++k) n.vec[k] += edges_[i].d[k];
+    }
+  }
+}
+
+template <class Item, class Points>
+std::vector<CapField::Node> CapField::buildTree(std::vector<Item>& items, Points points) {
+  std::vector<Node> nodes;
+  if (items.empty()) return nodes;
+  auto centroid = [&](const Item& it, int axis) {
+    double v[3][3];
+    const int n = points(it, v);
+    double c = 0;
+    for (int i = 0; i < n; ++i) c += v[i][axis];
+    return c / n;
+  };
+  // Build breadth-first; nodes[i] covers [begin, end), split at the median of
+  // the longest axis of its box (ties by position in the list: deterministic).
+  nodes.push_back({{0, 0, 0}, 0, 0, uint32_t(items.size()), 0, 0, 0, {0, 0, 0}});
+  for (size_t ni = 0; ni < nodes.size(); ++ni) {
+    const uint32_t b = nodes[ni].begin, e = nodes[ni].end;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = b; i < e; ++i) {
+      double v[3][3];
+      const int n = points(items[i], v);
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[j][k]), hi[k] = std::max(hi[k], v[j][k]);
+    }
+    Node& node = nodes[ni];
+    for (int k = 0; k < 3; ++k) node.m[k] = 0.5 * (lo[k] + hi[k]);
+    double r = 0;
+    for (uint32_t i = b; i < e; ++i) {
+      double v[3][3];
+      const int n = points(items[i], v);
+      for (int j = 0; j < n; ++j) {
+        double d[3];
+        sub3(v[j], node.m, d);
+        r = std::max(r, std::sqrt(dot3(d, d)));
+      }
+    }
+    node.r = r * (1 + 1e-12) + 1e-9;
+    if (e - b <= kLeafSize) continue;
+    const int axis = hi[0] - lo[0] >= std::max(hi[1] - lo[1], hi[2] - lo[2]) ? 0 : hi[1] - lo[1] >= hi[2] - lo[2] ? 1 : 2;
+    std::vector<std::pair<double, uint32_t>> keys;
+    for (uint32_t i = b; i < e; ++i) keys.push_back({centroid(items[i], axis), i});
+    const uint32_t mid = b + (e - b) / 2;
+    std::nth_element(keys.begin(), keys.begin() + (mid - b), keys.end());
+    std::vector<Item> part;
+    for (const auto& k : keys) part.push_back(items[k.second]);
+    std::copy(part.begin(), part.end(), items.begin() + b);
+    const uint32_t left = uint32_t(nodes.size());
+    nodes[ni].left = left, nodes[ni].right = left + 1;
+    nodes.push_back({{0, 0, 0}, 0, b, mid, 0, 0, 0, {0, 0, 0}});
+    nodes.push_back({{0, 0, 0}, 0, mid, e, 0, 0, 0, {0, 0, 0}});
+  }
+  return nodes;
 }
 
 double CapField::reach() const { return std::sqrt(area_ / (2.0 * M_PI)); }
@@ -230,37 +329,91 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   ball.radius = radius;
   const double reachR = radius * (1 + 1e-12) + kPlaneTolerance;
   double s1 = 0, s2 = 0;  // sum_e len_e / gap_e^2, sum_e len_e / gap_e^3
-  double g[3] = {0, 0, 0};
-  for (const Edge& e : edges_) {
-    const double gap = segmentDistance(centre, e.a, e.d) - reachR;
-    if (gap <= 0) return false;  // the ball reaches a rim: no bound
-    s1 += e.len / (gap * gap);
-    s2 += e.len / (gap * gap * gap);
-    // Biot-Savart over the edge a -> b: (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| + ra . rb)),
-    // ra = a - centre, rb = b - centre (the denominator is 0 only on the edge itself).
-    double ra[3], rb[3], c[3];
-    sub3(e.a, centre, ra);
-    for (int k = 0; k < 3; ++k) rb[k] = ra[k] + e.d[k];
-    cross3(ra, rb, c);
-    const double la = std::sqrt(dot3(ra, ra)), lb = std::sqrt(dot3(rb, rb));
-    const double f = (la + lb) / (la * lb * (la * lb + dot3(ra, rb)));
-    for (int k = 0; k < 3; ++k) g[k] += c[k] * f;
+  double g[3] = {0, 0, 0}, gErr = 0;
+  uint32_t stack[128];
+  int top = 0;
+  if (!edgeTree_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = edgeTree_[stack[--top]];
+    double mc[3];
+    sub3(n.m, centre, mc);
+    const double dist = std::sqrt(dot3(mc, mc)), clear = dist - n.r;
+    if (clear - reachR > kFar * n.r) {
+      // Far: every edge at least `gap` from the ball; Biot-Savart of the
+      // edges ~ K(m) x (sum of edges), K(x) = (x - centre) / |x - centre|^3,
+      // off by at most len * r * 2 / clear^3 (K's derivative <= 2 / |x|^3).
+      const double gap = clear - reachR;
+      s1 += n.size / (gap * gap);
+      s2 += n.size / (gap * gap * gap);
+      double kx[3], c[3];
+      for (int k = 0; k < 3; ++k) kx[k] = mc[k] / (dist * dist * dist);
+      cross3(kx, n.vec, c);
+      for (int k = 0; k < 3; ++k) g[k] += c[k];
+      gErr += n.size * n.r * 2 / (clear * clear * clear);
+      continue;
+    }
+    if (n.left) {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
+      continue;
+    }
+    for (uint32_t i = n.begin; i < n.end; ++i) {
+      const Edge& e = edges_[i];
+      const double gap = segmentDistance(centre, e.a, e.d) - reachR;
+      if (gap <= 0) return false;  // the ball reaches a rim: no bound
+      s1 += e.len / (gap * gap);
+      s2 += e.len / (gap * gap * gap);
+      // Biot-Savart over the edge a -> b: (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| + ra . rb)),
+      // ra = a - centre, rb = b - centre (the denominator is 0 only on the edge itself).
+      double ra[3], rb[3], c[3];
+      sub3(e.a, centre, ra);
+      for (int k = 0; k < 3; ++k) rb[k] = ra[k] + e.d[k];
+      cross3(ra, rb, c);
+      const double la = std::sqrt(dot3(ra, ra)), lb = std::sqrt(dot3(rb, rb));
+      const double f = (la + lb) / (la * lb * (la * lb + dot3(ra, rb)));
+      for (int k = 0; k < 3; ++k) g[k] += c[k] * f;
+    }
   }
-  for (uint32_t i = 0; i < tris_.size(); ++i) {
-    const Tri& t = tris_[i];
-    const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
-    if (std::sqrt(dot3(dc, dc)) - t.r > reachR) continue;
-    if (triangleDistance(centre, t.v[0], t.v[1], t.v[2]) > reachR) continue;
-    double cv[3];
-    sub3(centre, t.v[0], cv);
-    if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane
-    ball.cut.push_back(i);
+  double value = 0, vErr = 0;
+  if (!triTree_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = triTree_[stack[--top]];
+    double mc[3];
+    sub3(n.m, centre, mc);
+    const double dist = std::sqrt(dot3(mc, mc)), clear = dist - n.r;
+    if (clear - reachR > kFar * n.r) {
+      // Far (and out of the ball's reach): solid angle ~ (area vector) . K(m),
+      // off by at most area * r * 2 / clear^3.
+      value += dot3(n.vec, mc) / (dist * dist * dist);
+      vErr += n.size * n.r * 2 / (clear * clear * clear);
+      continue;
+    }
+    if (n.left) {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
+      continue;
+    }
+    for (uint32_t i = n.begin; i < n.end; ++i) {
+      const Tri& t = tris_[i];
+      double a[3], b[3], c[3];
+      sub3(t.v[0], centre, a), sub3(t.v[1], centre, b), sub3(t.v[2], centre, c);
+      value += triangleSolidAngle(a, b, c);
+      const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
+      if (std::sqrt(dot3(dc, dc)) - t.r > reachR) continue;
+      if (triangleDistance(centre, t.v[0], t.v[1], t.v[2]) > reachR) continue;
+      double cv[3];
+      sub3(centre, t.v[0], cv);
+      if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane
+      ball.cut.push_back(i);
+    }
   }
-  ball.value = winding(centre);
+  ball.value = value / (4.0 * M_PI);
   for (int k = 0; k < 3; ++k) ball.gradient[k] = kGradientSign * g[k] / (4.0 * M_PI);
   ball.slope = s1 / (4.0 * M_PI) * (1 + 1e-9);
   ball.curvature = s2 / (4.0 * M_PI) * (1 + 1e-9);
-  ball.slack = 1e-9 + 1e-12 * radius * (std::sqrt(dot3(ball.gradient, ball.gradient)) + ball.slope);
+  ball.valueError = vErr / (4.0 * M_PI) * (1 + 1e-9);
+  ball.gradientError = gErr / (4.0 * M_PI) * (1 + 1e-9);
+  ball.slack = 1e-9 + 1e-12 * (radius * (std::sqrt(dot3(ball.gradient, ball.gradient)) + ball.slope) + std::abs(ball.value));
   return true;
 }
 

@@ -1,10 +1,10 @@
 // Generalised winding number of an open triangle mesh, split as
 //   w_mesh(p) = W_capped(p) - w_caps(p)
-// where the caps close every boundary loop of the mesh (a fan of each loop
-// around its centroid), W_capped is the winding number of the closed, capped
-// mesh (an exact integer: the voxelizer counts signed ray crossings), and
-// w_caps is the solid-angle sum over the cap triangles only (few: they span
-// the holes), evaluated here.
+// where the caps close every boundary loop of the mesh (any surface spanning
+// the loops gives the same w_mesh; a balanced triangulation of each loop),
+// W_capped is the winding number of the closed, capped mesh (an exact
+// integer: the voxelizer counts signed ray crossings), and w_caps is the
+// solid-angle sum over the cap triangles only, evaluated here.
 //
 // Units: grid space in lattice steps (2^-kSubvoxelBits voxel, as
 // libvox/mesh/voxelize.h snaps vertices); points as doubles in voxel units.
@@ -27,12 +27,16 @@ using LatticePoint = std::array<int64_t, 3>;
 
 struct CapTriangle {
   LatticePoint v[3];
-  uint32_t sourceTriangle;  // a mesh triangle owning the boundary edge (for its class)
+  uint32_t sourceTriangle;  // a mesh triangle owning a boundary edge it spans (for its class)
 };
 
 /// The cap triangles closing every boundary loop of (triangles, lattice). Empty
 /// for closed, consistently oriented meshes. Deterministic (order of first
-/// appearance of the boundary edges in triangle order).
+/// appearance of the boundary edges in triangle order). Each loop (a closed
+/// walk along the boundary) is triangulated in rounds: (p0, p2, p1), (p2, p4,
+/// p3), ... then the same on p0, p2, p4, ...: small triangles along the rim,
+/// doubling inwards, n - 2 for n edges. A cap triangle's sourceTriangle owns
+/// the first boundary edge it spans.
 std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t, 3>>& triangles,
                                           const std::vector<LatticePoint>& lattice);
 
@@ -45,7 +49,7 @@ double triangleSolidAngle(const double a[3], const double b[3], const double c[3
 /// Why the bound is tight: off the caps, the gradient of a surface's solid
 /// angle depends only on the surface's boundary (Biot-Savart: grad Omega(q) =
 /// the line integral over the boundary of dl x (x - q) / |x - q|^3), and the
-/// caps' boundary is the mesh's boundary loops (the fans' inner edges cancel).
+/// caps' boundary is the mesh's boundary loops (the caps' inner edges cancel).
 /// So |grad w_caps(q)| <= (1 / 4pi) sum_e len_e / dist(q, e)^2 over the
 /// boundary edges e, however large the caps are, and a ball far from the
 /// holes' rims varies little even where it is close to a cap. Across a cap
@@ -68,21 +72,32 @@ class CapField {
 
   /// The field over the ball of points within `radius` of `centre`, as two
   /// models with rigorous bounds, for any p in the ball, d = |p - centre|:
-  ///   |w_caps(p) - value - jump(p)| <= slope * d + slack
-  ///   |w_caps(p) - value - jump(p) - gradient . (p - centre)| <= curvature * d^2 + slack
+  ///   |w_caps(p) - value - jump(p)| <= slope * d + valueError + slack
+  ///   |w_caps(p) - value - jump(p) - gradient . (p - centre)|
+  ///       <= curvature * d^2 + gradientError * d + valueError + slack
   /// with gap_e = dist(centre, e) - radius > 0 for every boundary edge e:
   ///   slope = (1 / 4pi) sum_e len_e / gap_e^2 (the gradient bound above),
   ///   curvature = (1 / 4pi) sum_e len_e / gap_e^3 (the Biot-Savart kernel's
-  ///   derivative is at most 2 / r^3, and the Taylor remainder halves it),
-  /// each times (1 + 1e-9); slack = 1e-9 + 1e-12 * radius * (|gradient| + slope)
-  /// covers double rounding. gradient = grad w_caps(centre), exact (the closed
-  /// form of the Biot-Savart integral over each straight edge).
+  ///   derivative is at most 2 / r^3, and the Taylor remainder halves it).
+  /// value and gradient sum two bounding-sphere trees (Barill et al. 2018's
+  /// hierarchy, first order): near leaves exactly (every triangle's solid
+  /// angle, Van Oosterom-Strackee; every edge's Biot-Savart integral in closed
+  /// form), clusters farther than kFar radii by their dipole, area vector .
+  /// K(m) for triangles and K(m) x (sum of edges) for edges, K(x) = (x -
+  /// centre) / |x - centre|^3, whose error is at most size * r * 2 / clear^3
+  /// (size: area or length, r: the cluster's radius, clear: its distance from
+  /// the centre; K's derivative is at most 2 / |x|^3): valueError and
+  /// gradientError sum these / 4pi; a far edge cluster bounds its edges' part
+  /// of slope and curvature by length / gap^2 and / gap^3 (gap: the cluster's
+  /// distance from the ball). Each is times (1 + 1e-9); slack = 1e-9 + 1e-12 *
+  /// (radius * (|gradient| + slope) + |value|) covers double rounding.
   struct Ball {
     double centre[3];
     double radius;
-    double value;        // w_caps(centre), exact
-    double gradient[3];  // grad w_caps(centre), exact
+    double value;        // w_caps(centre), within valueError
+    double gradient[3];  // grad w_caps(centre), within gradientError (Euclidean norm)
     double slope, curvature, slack;
+    double valueError, gradientError;  // of the far clusters' dipole approximations
     std::vector<uint32_t> cut;  // cap triangles the ball reaches (their jumps count)
   };
   /// Fills `ball` and returns true when the ball stays clear of every boundary
@@ -109,8 +124,22 @@ class CapField {
     double a[3], d[3];  // a + t d, t in [0, 1]
     double len;
   };
-  std::vector<Tri> tris_;
-  std::vector<Edge> edges_;  // the caps' boundary: the mesh's boundary edges
+  /// A node of a bounding-sphere tree over triangles or edges: items
+  /// [begin, end) in tree order, children left/right (0 for a leaf), and the
+  /// sums a far node is approximated by: triangles: area, area vector (n / 2);
+  /// edges: length, vector sum of the edges.
+  struct Node {
+    double m[3], r;
+    uint32_t begin, end, left, right;
+    double size, vec[3];
+  };
+  template <class Item, class Points>
+  static std::vector<Node> buildTree(std::vector<Item>& items, Points points);
+  static constexpr uint32_t kLeafSize = 4;
+  static constexpr double kFar = 3.0;
+  std::vector<Tri> tris_;    // in triTree_ order
+  std::vector<Edge> edges_;  // the caps' boundary: the mesh's boundary edges, in edgeTree_ order
+  std::vector<Node> triTree_, edgeTree_;
   double area_ = 0;
 };
 
