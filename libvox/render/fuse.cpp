@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "libvox/core/color.h"
+#include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {
@@ -285,11 +286,19 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
 }
 
 Fuser::Fuser(const Dims& dims, const GridFrame& frame, const FuseSettings& settings)
-    : dims_(dims), frame_(frame), settings_(settings) {}
+    : dims_(dims), frame_(frame), settings_(settings) {
+  // Voxel keys pack 21 bits per axis.
+  if (dims.x >= (1u << 21) || dims.y >= (1u << 21) || dims.z >= (1u << 21))
+    throwUsage("fuse: grids up to 2097151 voxels per axis; this one is " + toString(dims));
+}
 
 FuseViewStats Fuser::add(const FuseView& view) {
   const Camera& cam = view.camera;
   const size_t W = cam.width, H = cam.height, N = W * H;
+  auto sized = [N](size_t n, bool optional) { return n == N || (optional && n == 0); };
+  if (!sized(view.depth.size(), false) || !sized(view.classes.size(), false) || !sized(view.faceAxis.size(), true) ||
+      !sized(view.color.size(), true) || !sized(view.weight.size(), true))
+    throw Error(ErrorKind::Internal, "Fuser::add: per-pixel arrays must hold width x height entries");
   FuseViewStats stats;
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
