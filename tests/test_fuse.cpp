@@ -127,6 +127,42 @@ TEST(FuseRay, DepthOnAFaceGoesToTheVoxelBehind) {
   EXPECT_EQ(h.voxel, (Coord3{4, 0, 0}));
 }
 
+// Without free counts the walk starts just before the depth: the same hit,
+// for any depth (on faces, inside voxels, before and beyond the grid).
+TEST(FuseRay, StartingNearTheDepthGivesTheSameHit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const Dims d{32, 20, 28};
+  uint64_t hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    vox::Ray r;
+    const double ext[3] = {double(d.x), double(d.y), double(d.z)};
+    for (int a = 0; a < 3; ++a) {
+      r.origin[size_t(a)] = -20 + 70 * unit(rng);
+      r.dir[size_t(a)] = ext[a] * unit(rng) - r.origin[size_t(a)];  // toward a point of the grid
+    }
+    if (i % 5 == 0) r.origin[0] = std::floor(r.origin[0]);  // lattice origins
+    if (i % 7 == 0) r.dir[1] = 0;                           // rays parallel to a plane
+    const double vs = i % 3 == 0 ? 0.25 : 1.0;
+    vox::DepthMeasure m;
+    m.kind = i % 4 == 0 ? vox::DepthKind::Z : vox::DepthKind::Distance;
+    m.float32 = i % 2 == 0;
+    const double len = std::sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
+    double depth = (m.kind == vox::DepthKind::Z ? 1.0 : len * vs) * 2 * unit(rng);
+    if (m.float32) depth = double(float(depth));
+    FuseCounts free;
+    const vox::FuseRayResult a = vox::fuseRay(r, vs, m, depth, d, &free);
+    const vox::FuseRayResult b = vox::fuseRay(r, vs, m, depth, d, nullptr);
+    ASSERT_EQ(a.hit, b.hit) << i;
+    if (a.hit) {
+      ++hits;
+      ASSERT_EQ(a.voxel, b.voxel) << i;
+      ASSERT_EQ(a.ambiguous, b.ambiguous) << i;
+    }
+  }
+  EXPECT_GT(hits, 2000u);
+}
+
 TEST(FuseRay, RaysThatMissTheGridVoteNothing) {
   vox::Ray r;
   r.origin = {-5, 0.5, 10};

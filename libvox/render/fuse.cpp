@@ -189,8 +189,15 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   if (tEnter > tExit) return out;                 // misses the grid
   if (!(key(tEnter) <= depth)) return out;        // the depth lies before the grid
   auto time = [&](int a, int64_t p) { return (double(p) - ray.origin[size_t(a)]) * inv[a]; };
+  // Crossings before tLow have keys strictly below the depth (a margin of
+  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
+  // there and evaluates it exactly only near the depth. Without free counts
+  // it starts at tLow: no crossing before it can be the hit or tie with it.
+  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
+  const double tStart = !free && tLow > tEnter ? tLow : tEnter;
+  if (tStart > tExit) return out;  // the ray leaves the grid before the depth
 
-  // The cell the ray is in at tEnter (entered at or before it), per axis.
+  // The cell the ray is in at tStart (entered at or before it), per axis.
   int64_t c[3];
   int step[3] = {0, 0, 0};
   double next[3] = {inf, inf, inf};
@@ -202,18 +209,18 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       c[a] = std::clamp<int64_t>(cell, 0, D[a] - 1);
       continue;
     }
-    const double p = o + tEnter * ray.dir[size_t(a)];
+    const double p = o + tStart * ray.dir[size_t(a)];
     int64_t cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(D[a]) + 1))) : 0;
     cell = std::clamp<int64_t>(cell, 0, D[a] - 1);
     if (ray.dir[size_t(a)] > 0) {
       step[a] = 1;
-      while (cell + 1 < D[a] && time(a, cell + 1) <= tEnter) ++cell;
-      while (cell > 0 && time(a, cell) > tEnter) --cell;
+      while (cell + 1 < D[a] && time(a, cell + 1) <= tStart) ++cell;
+      while (cell > 0 && time(a, cell) > tStart) --cell;
       next[a] = time(a, cell + 1);
     } else {
       step[a] = -1;
-      while (cell > 0 && time(a, cell) <= tEnter) --cell;
-      while (cell + 1 < D[a] && time(a, cell + 1) > tEnter) ++cell;
+      while (cell > 0 && time(a, cell) <= tStart) --cell;
+      while (cell + 1 < D[a] && time(a, cell + 1) > tStart) ++cell;
       next[a] = time(a, cell);
     }
     c[a] = cell;
@@ -223,7 +230,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   int tied = 0;
   bool chosen = false, chosenMulti = false, lastMulti = false;
   Coord3 chosenCell;
-  if (tEnter > 0 && key(tEnter) == depth) {
+  if (tStart == tEnter && tEnter > 0 && key(tEnter) == depth) {
     tied = 1;
     int axes = 0;
     bool faceCrossed = false;
@@ -239,11 +246,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
     }
   }
-  // Crossings before tLow have keys strictly below the depth (a margin of
-  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
-  // there and evaluates it exactly only near the depth.
-  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
-  bool enteredBelow = key(tEnter) < depth;  // the crossing that entered the current cell has key < depth
+  bool enteredBelow = key(tStart) < depth;  // the crossing that entered the current cell has key < depth
   for (;;) {
     const double tn = std::min(next[0], std::min(next[1], next[2]));
     const bool early = tn <= tLow;
@@ -349,7 +352,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
         }
         const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
         const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
-                                        &counts, face);
+                                        settings_.countFree ? &counts : nullptr, face);
         st += r.steps;
         fc += r.freeCells;
         if (!r.hit) {

@@ -156,7 +156,8 @@ struct FuseRayResult {
 
 /// Walks `ray` (grid space, as PixelRays makes it, not sanitized) up to depth
 /// `depth` (finite, > 0) in a grid of `dims`; adds free counts to `free` (when
-/// not null). `voxelSize` is the grid's (for key(t) of distance depths).
+/// not null; without it the walk starts just before the depth, a few steps
+/// per ray, with the same hit). `voxelSize` is the grid's (for key(t) of distance depths).
 /// `faceAxis` (0, 1, 2, or -1 unknown): the axis of the face the ray entered
 /// the hit voxel through, used only to break ties between crossings.
 FuseRayResult fuseRay(const Ray& ray, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
@@ -196,6 +197,7 @@ struct FuseSettings {
   // one. Free counts are one per ray whatever the weight (a larger weight
   // makes carving more conservative).
   uint32_t weight = 1;   // votes per pixel
+  bool countFree = true;  // false: votes only; each ray is walked from just before its depth
   unsigned threads = 0;  // 0 = all cores
 };
 

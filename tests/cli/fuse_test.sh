@@ -63,6 +63,10 @@ assert t['used'] + t['skipped']['no_depth'] + t['skipped']['no_class'] + t['skip
   jcheck rc.json "t=d['counts']['totals']; assert t['colored'] == t['occupied_after'] > 0"
   expect_exit 0 "$vox" render-canonical fc.vdb -o gc.png --camera cams.json --mode color --quiet
   for i in 0 1 2 3 4 5; do expect_exit 0 "$vox" diff c_00$i.png gc.view$i.png; done
+  # Votes only (no free-space walk): the same scene from noise-free renders, no free counts.
+  expect_exit 0 "$vox" fuse views.json -o fn.vdb --carve none --report rn.json --quiet
+  expect_exit 0 "$vox" diff f.vdb fn.vdb
+  jcheck rn.json "t=d['counts']['totals']; assert t['free_voxels'] == 0 and t['free_counts'] == 0 and t['carve'] == 'none'"
   # The same scene at any thread count.
   expect_exit 0 "$vox" fuse views.json -o f1.vdb --threads 1 --quiet
   expect_exit 0 "$vox" diff f.vdb f1.vdb

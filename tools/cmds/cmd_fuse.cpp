@@ -24,7 +24,7 @@ namespace voxcli {
 
 namespace {
 
-enum class CarveMode { On, Off };
+enum class CarveMode { On, Off, None };
 enum class DepthKindOption { FromFile, Distance, Z };
 
 struct FuseOptions {
@@ -38,7 +38,7 @@ struct FuseOptions {
 };
 
 const EnumNames<CarveMode>& carveNames() {
-  static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}};
+  static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}, {"none", CarveMode::None}};
   return n;
 }
 const EnumNames<DepthKindOption>& depthKindNames() {
@@ -107,7 +107,8 @@ int runFuse(const FuseOptions& o) {
 
   run.phase("fuse");
   vox::FuseSettings settings;
-  const bool carve = o.carve == CarveMode::On;  // free counts are gathered either way
+  const bool carve = o.carve == CarveMode::On;  // off: free counts are gathered, nothing removed
+  settings.countFree = o.carve != CarveMode::None;  // none: votes only, no free-space walk
   settings.weight = o.weight;
   settings.threads = run.threads();
   vox::GridFrame frame;
@@ -192,7 +193,7 @@ int runFuse(const FuseOptions& o) {
                             {"free_voxels", t.freeVoxels},
                             {"colored", t.colored},
                             {"pixels_per_second", fuseSeconds > 0 ? double(total.pixels) / fuseSeconds : 0.0},
-                            {"carve", carve},
+                            {"carve", nameOf(carveNames(), o.carve)},
                             {"weight", settings.weight}};
   char line[400];
   std::snprintf(line, sizeof line,
@@ -228,7 +229,9 @@ Command registerFuse(CLI::App& root) {
   addEnumOption(*cmd, "--depth-kind", opts->depthKind, depthKindNames(),
                 "distance (from the eye along the ray, render-canonical's) or z (camera-space depth); "
                 "default: the views file's, else distance");
-  addEnumOption(*cmd, "--carve", opts->carve, carveNames(), "Remove voxels whose free count exceeds their votes");
+  addEnumOption(*cmd, "--carve", opts->carve, carveNames(),
+                "on: count free space and remove voxels whose free count exceeds their votes; off: count, remove "
+                "nothing; none: votes only (no free-space walk, fastest)");
   cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536), times the view's confidence image if any")->default_val(1);
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runFuse(*opts); }};
