@@ -231,6 +231,41 @@ void roundTrip(bool withFaces, uint64_t seed) {
 TEST(Fuse, RoundTripWithNormalsIsExact) { roundTrip(true, 17); }
 TEST(Fuse, RoundTripDepthOnlyMissesOnlyAmbiguousPixels) { roundTrip(false, 18); }
 
+// Grazing rays: an eye on a grid plane looking along it (the middle row of an
+// odd-height image lies inside the plane). Mismatches stay within the pixels
+// reported ambiguous, and the in-plane rays are among them.
+TEST(Fuse, GrazingRaysAreReportedAmbiguous) {
+  std::mt19937_64 rng(11);
+  const Dims dims{24, 12, 24};
+  const Truth t = randomTruth(rng, dims, 0.04);
+  vox::GridFrame frame;
+  vox::Fuser fuser(dims, frame, vox::FuseSettings{});
+  const vox::Camera cam = vox::Camera::lookAt({-6.3, 3.0, 7.7}, {20, 3.0, 13.1}, {0, 1, 0}, 50, 41, 31);
+  std::vector<vox::PixelHit> hits;
+  const vox::FuseView view = renderView(t, frame, cam, true, &hits);
+  const vox::PixelRays rays(cam, frame);
+  uint64_t mismatched = 0, ambiguous = 0, middleRowHits = 0;
+  for (size_t i = 0; i < hits.size(); ++i) {
+    if (!hits[i].hit || !(hits[i].depth > 0)) continue;
+    const uint32_t x = uint32_t(i % cam.width), y = uint32_t(i / cam.width);
+    const vox::Ray ray = rays.ray(x, y);
+    if (y == 15) {
+      ASSERT_EQ(ray.dir[1], 0.0);
+      ++middleRowHits;
+    }
+    const vox::FuseRayResult r = vox::fuseRay(ray, 1.0, view.measure, view.depth[i], dims, nullptr, hits[i].faceAxis);
+    ambiguous += r.ambiguous ? 1 : 0;
+    if (y == 15) EXPECT_TRUE(r.ambiguous);
+    if (!r.hit || !(r.voxel == Coord3{hits[i].u, hits[i].v, hits[i].w})) {
+      ++mismatched;
+      EXPECT_TRUE(r.ambiguous) << "pixel " << x << ", " << y;
+    }
+  }
+  EXPECT_GT(middleRowHits, 0u);
+  EXPECT_LE(mismatched, ambiguous);
+  (void)fuser;
+}
+
 TEST(Fuse, CountsDoNotDependOnThreads) {
   std::mt19937_64 rng(5);
   const Dims dims{24, 12, 24};

@@ -199,12 +199,15 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
 
   // The cell the ray is in at tStart (entered at or before it), per axis.
   int64_t c[3];
+  bool inPlane = false;
   int step[3] = {0, 0, 0};
   double next[3] = {inf, inf, inf};
   for (int a = 0; a < 3; ++a) {
     const double o = ray.origin[size_t(a)];
     if (!moving[a]) {
       // Inside a grid plane: the lower cell (ceil(o) - 1), else the cell holding o.
+      // The ray touches the cells on both sides alike: no depth tells them apart.
+      if (o > 0 && o < double(D[a]) && o == std::floor(o)) inPlane = true;
       int64_t cell = int64_t(std::ceil(o)) - 1;
       c[a] = std::clamp<int64_t>(cell, 0, D[a] - 1);
       continue;
@@ -284,7 +287,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   }
   out.hit = true;
   out.voxel = chosen ? chosenCell : Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
-  out.ambiguous = chosen ? chosenMulti : (tied >= 2 || lastMulti);
+  out.ambiguous = inPlane || (chosen ? chosenMulti : (tied >= 2 || lastMulti));
   return out;
 }
 

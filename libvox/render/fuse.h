@@ -18,7 +18,9 @@
 //     entry distance). When several crossings round to the same float as d,
 //     the last of them wins (the deeper voxel). A ray crossing an edge or
 //     corner exactly enters the diagonal cell; a ray lying inside a grid
-//     plane is in the cell on the plane's lower side.
+//     plane is in the cell on the plane's lower side. Both count as
+//     ambiguous: render-canonical picks among the touching voxels by their
+//     occupancy, which a depth does not carry.
 //   * Free space: every cell the walk leaves before the hit cell and entered
 //     at a crossing with key(t) < d (strictly: cells entered at a crossing
 //     that rounds to d itself may hold the true hit) gets one free count.
@@ -151,7 +153,8 @@ struct FuseRayResult {
   Coord3 voxel;
   uint32_t freeCells = 0;  // cells given a free count
   uint32_t steps = 0;      // plane crossings walked
-  bool ambiguous = false;  // the depth's float matched several crossings (or an edge crossing) and nothing told them apart
+  bool ambiguous = false;  // the depth's float matched several crossings (or an edge crossing) and nothing told them
+                           // apart, or the ray lies inside a grid plane (the cells on both sides tie)
 };
 
 /// Walks `ray` (grid space, as PixelRays makes it, not sanitized) up to depth
