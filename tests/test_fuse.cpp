@@ -400,19 +400,20 @@ TEST(FuseScene, CarveRuleAndRunsAddUp) {
     c.addVote({1, 1, 1}, 2, 1);  // a: 3 votes against 3 free in total: back
     return c;
   };
-  vox::FusedScene one = vox::applyFusion(header(d), nullptr, {}, run1(), true);
+  vox::FusedScene one = vox::applyFusion(header(d), nullptr, run1(), true);
   EXPECT_EQ(one.totals.occupiedAfter, 2u);  // b, c
   EXPECT_EQ(one.totals.rejected, 1u);       // a
   EXPECT_EQ(one.free.freeAt({1, 1, 1}), 1u);
   EXPECT_EQ(one.free.freeAt({2, 2, 2}), 3u);
   EXPECT_EQ(one.free.freeAt({4, 4, 4}), 1u);
   // Second run on top of the first, through the free list a file would hold.
-  const std::vector<std::pair<Coord3, uint32_t>> freeList = one.free.freeVoxels();
-  vox::FusedScene two = vox::applyFusion(header(d), &one.scene, freeList, run2(), true);
+  FuseCounts second = run2();
+  for (const auto& [c, n] : one.free.freeVoxels()) second.addFreeCount(c, n);
+  vox::FusedScene two = vox::applyFusion(header(d), &one.scene, std::move(second), true);
   // One run with everything.
   FuseCounts all = run1();
   all.merge(run2());
-  vox::FusedScene both = vox::applyFusion(header(d), nullptr, {}, std::move(all), true);
+  vox::FusedScene both = vox::applyFusion(header(d), nullptr, std::move(all), true);
   std::set<uint64_t> occTwo, occBoth;
   two.scene.forEachVoxel([&](const vox::VoxelView& v) { occTwo.insert(FuseCounts::voxelKey(v.at)); });
   both.scene.forEachVoxel([&](const vox::VoxelView& v) { occBoth.insert(FuseCounts::voxelKey(v.at)); });
@@ -421,7 +422,7 @@ TEST(FuseScene, CarveRuleAndRunsAddUp) {
   EXPECT_EQ(two.totals.removed, 1u);  // c
   EXPECT_EQ(two.totals.created, 1u);  // a again
   // Carving off keeps everything.
-  vox::FusedScene off = vox::applyFusion(header(d), nullptr, {}, run1(), false);
+  vox::FusedScene off = vox::applyFusion(header(d), nullptr, run1(), false);
   EXPECT_EQ(off.totals.occupiedAfter, 3u);
   EXPECT_EQ(off.free.freeAt({1, 1, 1}), 3u);
 }

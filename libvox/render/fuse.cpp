@@ -100,6 +100,14 @@ void FuseCounts::addFreeCount(Coord3 c, uint64_t n) {
   last_ = nullptr;
 }
 
+uint32_t* FuseCounts::freeBrick(Coord3 o) {
+  std::unique_ptr<Brick>& b = free_[brickKey(o.u >> 3, o.v >> 3, o.w >> 3)];
+  if (!b) b = std::make_unique<Brick>(Brick{});
+  lastKey_ = ~uint64_t(0);
+  last_ = nullptr;
+  return b->data();
+}
+
 uint32_t FuseCounts::freeAt(Coord3 c) const {
   const auto it = free_.find(brickKey(c.u >> 3, c.v >> 3, c.w >> 3));
   return it == free_.end() ? 0 : (*it->second)[size_t(((c.u & 7) << 6) | ((c.v & 7) << 3) | (c.w & 7))];

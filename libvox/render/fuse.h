@@ -88,6 +88,9 @@ class FuseCounts {
   const std::unordered_map<uint64_t, ColorSum>& colorSums() const { return colors_; }
   /// Adds `n` free counts at `c` (saturating).
   void addFreeCount(Coord3 c, uint64_t n);
+  /// The 512 free counts of the 8^3 brick at `origin` (a multiple of 8 on
+  /// each axis), created zeroed when absent; index (x << 6) | (y << 3) | z.
+  uint32_t* freeBrick(Coord3 origin);
   /// The free count at `c` (0 when none).
   uint32_t freeAt(Coord3 c) const;
   /// Replaces the free count at `c` (a brick must hold it already unless n == 0).

@@ -116,6 +116,11 @@ EOF
   jcheck rk.json "t=d['counts']['totals']; assert t['removed'] == 0 and t['occupied_after'] == t['occupied_before'] and t['free_voxels'] > 0"
   expect_exit 0 "$vox" render-canonical kept.vdb -o k.png --camera cams.json --view 0 --mode class --quiet
   expect_exit 1 "$vox" diff t.view0.class.png k.png
+  # The free counts kept.vdb stored carve on a later run that adds nothing (every pixel beyond "far").
+  python3 -c "import json; d=json.load(open('views.json')); json.dump({'far': 0.001, 'views': d['views'][:1]}, open('nothing.json','w'))"
+  expect_exit 0 "$vox" fuse nothing.json -i kept.vdb -o later.vdb --report rl.json --quiet
+  jcheck rl.json "t=d['counts']['totals']; assert t['used'] == 0 and t['removed'] == 1, t"
+  expect_exit 0 "$vox" diff clean.vdb later.vdb
   ;;
 refine)
   # Fusing views 0-2 then 3-5 with -i gives the scene of fusing all six at once.

@@ -73,14 +73,14 @@ int runFuse(const FuseOptions& o) {
 
   // The grid and the classes: the input scene's, the views file's, or the first depth image's.
   std::optional<vox::Scene> base;
-  vox::FreeCounts baseFree;
+  vox::FuseCounts baseFree;  // the input's `free` grid
   vox::SceneHeader header;
   std::optional<vox::LoadedFuseView> first;
   if (!o.input.empty()) {
     run.input(o.input);
     vox::requireRegularFile(o.input);
     base = vox::readSceneVdb(o.input);
-    baseFree = vox::readFreeGrid(o.input);
+    vox::readFreeGrid(o.input, baseFree);
     header = base->header();
     if (header.mipLevel != 0) vox::throwBadInput(o.input + ": a mip level; fuse into a full-resolution scene");
     if (views.classes)
@@ -164,7 +164,8 @@ int runFuse(const FuseOptions& o) {
 
   run.phase("carve");
   vox::FuseCounts counts = std::move(fuser).finish();
-  vox::FusedScene fused = vox::applyFusion(header, base ? &*base : nullptr, baseFree, std::move(counts), carve);
+  counts.merge(std::move(baseFree));
+  vox::FusedScene fused = vox::applyFusion(header, base ? &*base : nullptr, std::move(counts), carve);
   base.reset();
 
   run.phase("write");
@@ -219,7 +220,8 @@ Command registerFuse(CLI::App& root) {
       "Each pixel with a depth and a class votes for the voxel its ray (render-canonical's ray\n"
       "through the pixel centre) reaches at that depth; the voxels the ray crossed before it get a\n"
       "free count (grid 'free'); a voxel whose free count exceeds its votes is removed (--carve off\n"
-      "keeps everything). -i adds to an existing scene (votes and free counts add up).\n"
+      "keeps everything, --carve none counts no free space). -i adds to an existing scene (votes and\n"
+      "free counts add up). Optional per view: normal (ties), color and confidence images.\n"
       "VIEWS.json: {\"views\": [{\"depth\": \"v.depth.exr\", \"label\": \"v.class.png\", \"camera\": ...}], ...};\n"
       "docs/fuse.md has the file, the tie rules and the report.\n"
       "Example: vox render-canonical s.vdb -o v.png --orbit 6 --mode depth,class && vox fuse views.json -o fused.vdb");
