@@ -267,6 +267,16 @@ EOF2
   expect_stderr "depth8.png"
   expect_stderr "one 16-bit channel"
   ;;
+image8k)
+  # An 8K view (7680x4320, 33 M pixels): the fused scene is the voxels the render touched.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb --quiet
+  expect_exit 0 "$vox" render-canonical h.vdb -o o.png --view iso --size 7680x4320 --mode depth,class,normal \
+    --touched touched.json --quiet
+  echo '{"views": [{"depth": "o.depth.exr", "label": "o.class.png", "normal": "o.normal.png"}]}' >views.json
+  expect_exit 0 "$vox" fuse views.json -o f.vdb --report r.json --quiet
+  jcheck r.json "t=d['counts']['totals']; assert t['pixels'] == 7680 * 4320 and t['ambiguous'] == 0; \
+assert t['occupied_after'] == json.load(open('touched.json'))['voxels_touched'], t"
+  ;;
 *)
   echo "unknown group $group" >&2
   exit 2
