@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Benchmarks `vox fuse` (docs/fuse.md): rays per second and voxel steps per
 # ray when fusing VIEWS orbit renders (depth, class, normal) of the demo
-# hamlet back into its grid, against render-canonical casting the same views
+# hamlet back into its grid (with carving, and votes only), against render-canonical casting the same views
 # (the ratio comes from one hyperfine run), and the fused scene's peak memory.
 # Writes markdown to docs/bench-fuse.md (or $OUT).
 #
@@ -39,6 +39,7 @@ PY
 hyperfine --warmup 1 --runs "$runs" --export-json times.json \
   -n "render-canonical (depth)" "$vox render-canonical h.vdb -o r.exr --orbit $views --size $size --mode depth --threads $threads --quiet" \
   -n "fuse" "$vox fuse views.json -o f.vdb --threads $threads --quiet" \
+  -n "fuse --carve none" "$vox fuse views.json -o fn.vdb --carve none --threads $threads --quiet" \
   -n "fuse --threads 1" "$vox fuse views.json -o f1.vdb --threads 1 --quiet" >&2
 "$vox" fuse views.json -o f.vdb --threads "$threads" --quiet --report report.json
 rss=$( (command -v /usr/bin/time >/dev/null && /usr/bin/time -f %M "$vox" fuse views.json -o f.vdb --threads "$threads" --quiet 2>&1 >/dev/null | tail -1) || echo "")
@@ -64,8 +65,9 @@ lines.append('| --- | ---: | ---: |')
 for k in mean:
     lines.append('| `%s` | %.3f | %.3f |' % (k, mean[k], sd[k]))
 lines.append('')
-lines.append('* fuse / render-canonical (same views, same hyperfine run): **%.2fx** the time'
-             % (mean['fuse'] / mean['render-canonical (depth)']))
+lines.append('* fuse / render-canonical (same views, same hyperfine run): **%.2fx** the time; votes only '
+             '(`--carve none`): %.2fx' % (mean['fuse'] / mean['render-canonical (depth)'],
+                                         mean['fuse --carve none'] / mean['render-canonical (depth)']))
 lines.append('* rays (pixels with a depth and a class): %d of %d pixels; voxel steps per ray: %.1f; '
              'free counts: %d on %d voxels' % (tot['rays'], tot['pixels'], tot['steps_per_ray'], tot['free_counts'], tot['free_voxels']))
 lines.append('* rays per second in the fuse phase (wall clock of `Fuser::add`, %s threads): **%.2f M rays/s**, %.0f M voxel steps/s'

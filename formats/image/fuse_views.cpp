@@ -324,7 +324,10 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
       if (it == map.end())
         bad(where, labelName + ": label " + (colour ? hexColor(key) : std::to_string(key)) + " at pixel (" +
                        std::to_string(x) + ", " + std::to_string(y) + ") is not in the label map" +
-                       (spec.labels.is_string() || spec.labels.is_null() ? " (no class has that display colour)" : ""));
+                       (spec.labels.is_string() || spec.labels.is_null()
+                            ? " (no class has that display colour; for a render of a scene with its own classes, "
+                              "give the views file that scene's \"classes\", or fuse with -i)"
+                            : ""));
       view.classes[i] = it->second;
     }
 

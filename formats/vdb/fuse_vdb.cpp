@@ -29,29 +29,33 @@ void writeFusedSceneVdb(const Scene& scene, const FuseCounts& free, const std::s
   writeVdbFile(path, grids, meta, "scene");
 }
 
-FreeCounts readFreeGrid(const std::string& path) {
+void readFreeGrid(const std::string& path, FuseCounts& into) {
   ensureOpenVdbInitialized();
   VdbSceneFile file = readVdbSceneFile(path, /*occupancyOnly=*/false);
-  FreeCounts out;
   for (const openvdb::GridBase::Ptr& g : file.grids) {
     if (g->getName() != kFreeGridName) continue;
     auto grid = openvdb::GridBase::grid<openvdb::Int32Grid>(g);
     if (!grid) throwBadInput(path + ": grid 'free' must be int32 (the free-space counts `vox fuse` writes)");
     grid->tree().voxelizeActiveTiles();
     const Dims d = file.header.dims;
-    for (auto it = grid->cbeginValueOn(); it; ++it) {
-      const openvdb::Coord c = it.getCoord();
-      if (*it <= 0)
-        throwBadInput(path + ": grid 'free' holds " + std::to_string(*it) + " at " +
-                      toString(Coord3{c.x(), c.y(), c.z()}) + "; free counts are >= 1");
-      if (c.x() < 0 || c.y() < 0 || c.z() < 0 || uint32_t(c.x()) >= d.x || uint32_t(c.y()) >= d.y ||
-          uint32_t(c.z()) >= d.z)
-        throwBadInput(path + ": grid 'free' has a voxel " + toString(Coord3{c.x(), c.y(), c.z()}) +
-                      " outside the dims " + toString(d));
-      out.push_back({Coord3{c.x(), c.y(), c.z()}, uint32_t(*it)});
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+      const openvdb::Coord o = leaf->origin();
+      uint32_t* brick = nullptr;
+      for (auto it = leaf->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord c = it.getCoord();
+        const Coord3 at{c.x(), c.y(), c.z()};
+        if (*it <= 0)
+          throwBadInput(path + ": grid 'free' holds " + std::to_string(*it) + " at " + toString(at) +
+                        "; free counts are >= 1");
+        if (c.x() < 0 || c.y() < 0 || c.z() < 0 || uint32_t(c.x()) >= d.x || uint32_t(c.y()) >= d.y ||
+            uint32_t(c.z()) >= d.z)
+          throwBadInput(path + ": grid 'free' has a voxel " + toString(at) + " outside the dims " + toString(d));
+        if (!brick) brick = into.freeBrick(Coord3{o.x(), o.y(), o.z()});
+        uint32_t& n = brick[it.pos()];
+        n = uint32_t(std::min<uint64_t>(uint64_t(n) + uint64_t(*it), UINT32_MAX));
+      }
     }
   }
-  return out;
 }
 
 }  // namespace vox

@@ -17,9 +17,10 @@ inline constexpr const char* kFreeGridName = "free";
 /// to `path`. Throws vox::Error (Io).
 void writeFusedSceneVdb(const Scene& scene, const FuseCounts& free, const std::string& path);
 
-/// The `free` grid of a scene file (empty when the file has none). Throws
-/// vox::Error (BadInput) naming the file when the grid is not int32, holds a
-/// count <= 0 or a voxel outside the dims.
-FreeCounts readFreeGrid(const std::string& path);
+/// Adds the `free` grid of a scene file to `into` (nothing when the file has
+/// none), leaf by leaf into its bricks. Throws vox::Error (BadInput) naming
+/// the file when the grid is not int32, holds a count <= 0 or a voxel outside
+/// the dims.
+void readFreeGrid(const std::string& path, FuseCounts& into);
 
 }  // namespace vox

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "libvox/core/color.h"
+#include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {
@@ -99,6 +100,14 @@ void FuseCounts::addFreeCount(Coord3 c, uint64_t n) {
   last_ = nullptr;
 }
 
+uint32_t* FuseCounts::freeBrick(Coord3 o) {
+  std::unique_ptr<Brick>& b = free_[brickKey(o.u >> 3, o.v >> 3, o.w >> 3)];
+  if (!b) b = std::make_unique<Brick>(Brick{});
+  lastKey_ = ~uint64_t(0);
+  last_ = nullptr;
+  return b->data();
+}
+
 uint32_t FuseCounts::freeAt(Coord3 c) const {
   const auto it = free_.find(brickKey(c.u >> 3, c.v >> 3, c.w >> 3));
   return it == free_.end() ? 0 : (*it->second)[size_t(((c.u & 7) << 6) | ((c.v & 7) << 3) | (c.w & 7))];
@@ -188,31 +197,41 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   if (tEnter > tExit) return out;                 // misses the grid
   if (!(key(tEnter) <= depth)) return out;        // the depth lies before the grid
   auto time = [&](int a, int64_t p) { return (double(p) - ray.origin[size_t(a)]) * inv[a]; };
+  // Crossings before tLow have keys strictly below the depth (a margin of
+  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
+  // there and evaluates it exactly only near the depth. Without free counts
+  // it starts at tLow: no crossing before it can be the hit or tie with it.
+  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
+  const double tStart = !free && tLow > tEnter ? tLow : tEnter;
+  if (tStart > tExit) return out;  // the ray leaves the grid before the depth
 
-  // The cell the ray is in at tEnter (entered at or before it), per axis.
+  // The cell the ray is in at tStart (entered at or before it), per axis.
   int64_t c[3];
+  bool inPlane = false;
   int step[3] = {0, 0, 0};
   double next[3] = {inf, inf, inf};
   for (int a = 0; a < 3; ++a) {
     const double o = ray.origin[size_t(a)];
     if (!moving[a]) {
       // Inside a grid plane: the lower cell (ceil(o) - 1), else the cell holding o.
+      // The ray touches the cells on both sides alike: no depth tells them apart.
+      if (o > 0 && o < double(D[a]) && o == std::floor(o)) inPlane = true;
       int64_t cell = int64_t(std::ceil(o)) - 1;
       c[a] = std::clamp<int64_t>(cell, 0, D[a] - 1);
       continue;
     }
-    const double p = o + tEnter * ray.dir[size_t(a)];
+    const double p = o + tStart * ray.dir[size_t(a)];
     int64_t cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(D[a]) + 1))) : 0;
     cell = std::clamp<int64_t>(cell, 0, D[a] - 1);
     if (ray.dir[size_t(a)] > 0) {
       step[a] = 1;
-      while (cell + 1 < D[a] && time(a, cell + 1) <= tEnter) ++cell;
-      while (cell > 0 && time(a, cell) > tEnter) --cell;
+      while (cell + 1 < D[a] && time(a, cell + 1) <= tStart) ++cell;
+      while (cell > 0 && time(a, cell) > tStart) --cell;
       next[a] = time(a, cell + 1);
     } else {
       step[a] = -1;
-      while (cell > 0 && time(a, cell) <= tEnter) --cell;
-      while (cell + 1 < D[a] && time(a, cell + 1) > tEnter) ++cell;
+      while (cell > 0 && time(a, cell) <= tStart) --cell;
+      while (cell + 1 < D[a] && time(a, cell + 1) > tStart) ++cell;
       next[a] = time(a, cell);
     }
     c[a] = cell;
@@ -222,7 +241,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   int tied = 0;
   bool chosen = false, chosenMulti = false, lastMulti = false;
   Coord3 chosenCell;
-  if (tEnter > 0 && key(tEnter) == depth) {
+  if (tStart == tEnter && tEnter > 0 && key(tEnter) == depth) {
     tied = 1;
     int axes = 0;
     bool faceCrossed = false;
@@ -238,11 +257,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       chosenCell = Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
     }
   }
-  // Crossings before tLow have keys strictly below the depth (a margin of
-  // 1e-6 relative, far above float32's rounding of 6e-8): the walk skips key()
-  // there and evaluates it exactly only near the depth.
-  const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
-  bool enteredBelow = key(tEnter) < depth;  // the crossing that entered the current cell has key < depth
+  bool enteredBelow = key(tStart) < depth;  // the crossing that entered the current cell has key < depth
   for (;;) {
     const double tn = std::min(next[0], std::min(next[1], next[2]));
     const bool early = tn <= tLow;
@@ -280,16 +295,24 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   }
   out.hit = true;
   out.voxel = chosen ? chosenCell : Coord3{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
-  out.ambiguous = chosen ? chosenMulti : (tied >= 2 || lastMulti);
+  out.ambiguous = inPlane || (chosen ? chosenMulti : (tied >= 2 || lastMulti));
   return out;
 }
 
 Fuser::Fuser(const Dims& dims, const GridFrame& frame, const FuseSettings& settings)
-    : dims_(dims), frame_(frame), settings_(settings) {}
+    : dims_(dims), frame_(frame), settings_(settings) {
+  // Voxel keys pack 21 bits per axis.
+  if (dims.x >= (1u << 21) || dims.y >= (1u << 21) || dims.z >= (1u << 21))
+    throwUsage("fuse: grids up to 2097151 voxels per axis; this one is " + toString(dims));
+}
 
 FuseViewStats Fuser::add(const FuseView& view) {
   const Camera& cam = view.camera;
   const size_t W = cam.width, H = cam.height, N = W * H;
+  auto sized = [N](size_t n, bool optional) { return n == N || (optional && n == 0); };
+  if (!sized(view.depth.size(), false) || !sized(view.classes.size(), false) || !sized(view.faceAxis.size(), true) ||
+      !sized(view.color.size(), true) || !sized(view.weight.size(), true))
+    throw Error(ErrorKind::Internal, "Fuser::add: per-pixel arrays must hold width x height entries");
   FuseViewStats stats;
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
@@ -340,7 +363,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
         }
         const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
         const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
-                                        &counts, face);
+                                        settings_.countFree ? &counts : nullptr, face);
         st += r.steps;
         fc += r.freeCells;
         if (!r.hit) {

@@ -18,7 +18,9 @@
 //     entry distance). When several crossings round to the same float as d,
 //     the last of them wins (the deeper voxel). A ray crossing an edge or
 //     corner exactly enters the diagonal cell; a ray lying inside a grid
-//     plane is in the cell on the plane's lower side.
+//     plane is in the cell on the plane's lower side. Both count as
+//     ambiguous: render-canonical picks among the touching voxels by their
+//     occupancy, which a depth does not carry.
 //   * Free space: every cell the walk leaves before the hit cell and entered
 //     at a crossing with key(t) < d (strictly: cells entered at a crossing
 //     that rounds to d itself may hold the true hit) gets one free count.
@@ -86,6 +88,9 @@ class FuseCounts {
   const std::unordered_map<uint64_t, ColorSum>& colorSums() const { return colors_; }
   /// Adds `n` free counts at `c` (saturating).
   void addFreeCount(Coord3 c, uint64_t n);
+  /// The 512 free counts of the 8^3 brick at `origin` (a multiple of 8 on
+  /// each axis), created zeroed when absent; index (x << 6) | (y << 3) | z.
+  uint32_t* freeBrick(Coord3 origin);
   /// The free count at `c` (0 when none).
   uint32_t freeAt(Coord3 c) const;
   /// Replaces the free count at `c` (a brick must hold it already unless n == 0).
@@ -151,12 +156,14 @@ struct FuseRayResult {
   Coord3 voxel;
   uint32_t freeCells = 0;  // cells given a free count
   uint32_t steps = 0;      // plane crossings walked
-  bool ambiguous = false;  // the depth's float matched several crossings (or an edge crossing) and nothing told them apart
+  bool ambiguous = false;  // the depth's float matched several crossings (or an edge crossing) and nothing told them
+                           // apart, or the ray lies inside a grid plane (the cells on both sides tie)
 };
 
 /// Walks `ray` (grid space, as PixelRays makes it, not sanitized) up to depth
 /// `depth` (finite, > 0) in a grid of `dims`; adds free counts to `free` (when
-/// not null). `voxelSize` is the grid's (for key(t) of distance depths).
+/// not null; without it the walk starts just before the depth, a few steps
+/// per ray, with the same hit). `voxelSize` is the grid's (for key(t) of distance depths).
 /// `faceAxis` (0, 1, 2, or -1 unknown): the axis of the face the ray entered
 /// the hit voxel through, used only to break ties between crossings.
 FuseRayResult fuseRay(const Ray& ray, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
@@ -196,6 +203,7 @@ struct FuseSettings {
   // one. Free counts are one per ray whatever the weight (a larger weight
   // makes carving more conservative).
   uint32_t weight = 1;   // votes per pixel
+  bool countFree = true;  // false: votes only; each ray is walked from just before its depth
   unsigned threads = 0;  // 0 = all cores
 };
 

@@ -18,8 +18,7 @@ struct Existing {
 
 }  // namespace
 
-FusedScene applyFusion(const SceneHeader& header, const Scene* base, const FreeCounts& baseFree, FuseCounts&& counts,
-                       bool carve) {
+FusedScene applyFusion(const SceneHeader& header, const Scene* base, FuseCounts&& counts, bool carve) {
   FusedScene out;
   // Input voxels, by key.
   std::vector<Existing> existing;
@@ -38,9 +37,8 @@ FusedScene applyFusion(const SceneHeader& header, const Scene* base, const FreeC
   }
   out.totals.occupiedBefore = existing.size();
 
-  // Free counts: the input's plus the new ones (saturating at 2^32 - 1), kept
-  // in the counts' bricks, which become the output's.
-  for (const auto& [c, n] : baseFree) counts.addFreeCount(c, n);
+  // Free counts (the input's and the new ones) stay in the counts' bricks,
+  // which become the output's.
   // New votes grouped by voxel (sorted by voxel key, then class).
   const std::vector<FuseCounts::Vote> votes = counts.votes();
   const auto& colors = counts.colorSums();

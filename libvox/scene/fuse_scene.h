@@ -24,8 +24,6 @@
 
 namespace vox {
 
-using FreeCounts = std::vector<std::pair<Coord3, uint32_t>>;  // voxel, count > 0
-
 struct FuseTotals {
   uint64_t occupiedBefore = 0, occupiedAfter = 0;
   uint64_t voxelsVoted = 0;   // distinct voxels that got new votes
@@ -43,8 +41,8 @@ struct FusedScene {
 };
 
 /// `header` is the output's (the input scene's when `base` is given); every
-/// new vote's class must be in its class table.
-FusedScene applyFusion(const SceneHeader& header, const Scene* base, const FreeCounts& baseFree, FuseCounts&& counts,
-                       bool carve);
+/// new vote's class must be in its class table. `counts` holds the new votes
+/// and every free count, the input's (its `free` grid) included.
+FusedScene applyFusion(const SceneHeader& header, const Scene* base, FuseCounts&& counts, bool carve);
 
 }  // namespace vox

@@ -63,6 +63,10 @@ assert t['used'] + t['skipped']['no_depth'] + t['skipped']['no_class'] + t['skip
   jcheck rc.json "t=d['counts']['totals']; assert t['colored'] == t['occupied_after'] > 0"
   expect_exit 0 "$vox" render-canonical fc.vdb -o gc.png --camera cams.json --mode color --quiet
   for i in 0 1 2 3 4 5; do expect_exit 0 "$vox" diff c_00$i.png gc.view$i.png; done
+  # Votes only (no free-space walk): the same scene from noise-free renders, no free counts.
+  expect_exit 0 "$vox" fuse views.json -o fn.vdb --carve none --report rn.json --quiet
+  expect_exit 0 "$vox" diff f.vdb fn.vdb
+  jcheck rn.json "t=d['counts']['totals']; assert t['free_voxels'] == 0 and t['free_counts'] == 0 and t['carve'] == 'none'"
   # The same scene at any thread count.
   expect_exit 0 "$vox" fuse views.json -o f1.vdb --threads 1 --quiet
   expect_exit 0 "$vox" diff f.vdb f1.vdb
@@ -112,6 +116,11 @@ EOF
   jcheck rk.json "t=d['counts']['totals']; assert t['removed'] == 0 and t['occupied_after'] == t['occupied_before'] and t['free_voxels'] > 0"
   expect_exit 0 "$vox" render-canonical kept.vdb -o k.png --camera cams.json --view 0 --mode class --quiet
   expect_exit 1 "$vox" diff t.view0.class.png k.png
+  # The free counts kept.vdb stored carve on a later run that adds nothing (every pixel beyond "far").
+  python3 -c "import json; d=json.load(open('views.json')); json.dump({'far': 0.001, 'views': d['views'][:1]}, open('nothing.json','w'))"
+  expect_exit 0 "$vox" fuse nothing.json -i kept.vdb -o later.vdb --report rl.json --quiet
+  jcheck rl.json "t=d['counts']['totals']; assert t['used'] == 0 and t['removed'] == 1, t"
+  expect_exit 0 "$vox" diff clean.vdb later.vdb
   ;;
 refine)
   # Fusing views 0-2 then 3-5 with -i gives the scene of fusing all six at once.
@@ -257,6 +266,16 @@ EOF2
   expect_exit 3 "$vox" fuse d8.json -o d8.vdb
   expect_stderr "depth8.png"
   expect_stderr "one 16-bit channel"
+  ;;
+image8k)
+  # An 8K view (7680x4320, 33 M pixels): the fused scene is the voxels the render touched.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb --quiet
+  expect_exit 0 "$vox" render-canonical h.vdb -o o.png --view iso --size 7680x4320 --mode depth,class,normal \
+    --touched touched.json --quiet
+  echo '{"views": [{"depth": "o.depth.exr", "label": "o.class.png", "normal": "o.normal.png"}]}' >views.json
+  expect_exit 0 "$vox" fuse views.json -o f.vdb --report r.json --quiet
+  jcheck r.json "t=d['counts']['totals']; assert t['pixels'] == 7680 * 4320 and t['ambiguous'] == 0; \
+assert t['occupied_after'] == json.load(open('touched.json'))['voxels_touched'], t"
   ;;
 *)
   echo "unknown group $group" >&2

@@ -2,7 +2,7 @@
 # `vox fuse` (docs/fuse.md): unit tests against render-canonical's caster
 # (tests/test_fuse.cpp) and end-to-end groups (tests/cli/fuse_test.sh).
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_fuse.cpp)
-foreach(group roundtrip carving refine bad_input extremes png_depth)
+foreach(group roundtrip carving refine bad_input extremes png_depth image8k)
   add_test(NAME fuse.${group}
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/fuse_test.sh ${group}
                    $<TARGET_FILE:vox> ${CMAKE_CURRENT_SOURCE_DIR})

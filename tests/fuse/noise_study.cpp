@@ -86,7 +86,7 @@ Result fuse(const Truth& t, const std::vector<Rendered>& views, double sigmaVoxe
     fuser.add(v);
   }
   vox::SceneHeader h = t.scene.header();
-  vox::FusedScene f = vox::applyFusion(h, nullptr, {}, std::move(fuser).finish(), true);
+  vox::FusedScene f = vox::applyFusion(h, nullptr, std::move(fuser).finish(), true);
   Result res;
   res.visible = visible.size();
   uint64_t both = 0, inTruth = 0, correct = 0;

@@ -24,7 +24,7 @@ namespace voxcli {
 
 namespace {
 
-enum class CarveMode { On, Off };
+enum class CarveMode { On, Off, None };
 enum class DepthKindOption { FromFile, Distance, Z };
 
 struct FuseOptions {
@@ -38,7 +38,7 @@ struct FuseOptions {
 };
 
 const EnumNames<CarveMode>& carveNames() {
-  static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}};
+  static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}, {"none", CarveMode::None}};
   return n;
 }
 const EnumNames<DepthKindOption>& depthKindNames() {
@@ -73,14 +73,14 @@ int runFuse(const FuseOptions& o) {
 
   // The grid and the classes: the input scene's, the views file's, or the first depth image's.
   std::optional<vox::Scene> base;
-  vox::FreeCounts baseFree;
+  vox::FuseCounts baseFree;  // the input's `free` grid
   vox::SceneHeader header;
   std::optional<vox::LoadedFuseView> first;
   if (!o.input.empty()) {
     run.input(o.input);
     vox::requireRegularFile(o.input);
     base = vox::readSceneVdb(o.input);
-    baseFree = vox::readFreeGrid(o.input);
+    vox::readFreeGrid(o.input, baseFree);
     header = base->header();
     if (header.mipLevel != 0) vox::throwBadInput(o.input + ": a mip level; fuse into a full-resolution scene");
     if (views.classes)
@@ -107,7 +107,8 @@ int runFuse(const FuseOptions& o) {
 
   run.phase("fuse");
   vox::FuseSettings settings;
-  const bool carve = o.carve == CarveMode::On;  // free counts are gathered either way
+  const bool carve = o.carve == CarveMode::On;  // off: free counts are gathered, nothing removed
+  settings.countFree = o.carve != CarveMode::None;  // none: votes only, no free-space walk
   settings.weight = o.weight;
   settings.threads = run.threads();
   vox::GridFrame frame;
@@ -163,7 +164,8 @@ int runFuse(const FuseOptions& o) {
 
   run.phase("carve");
   vox::FuseCounts counts = std::move(fuser).finish();
-  vox::FusedScene fused = vox::applyFusion(header, base ? &*base : nullptr, baseFree, std::move(counts), carve);
+  counts.merge(std::move(baseFree));
+  vox::FusedScene fused = vox::applyFusion(header, base ? &*base : nullptr, std::move(counts), carve);
   base.reset();
 
   run.phase("write");
@@ -192,7 +194,7 @@ int runFuse(const FuseOptions& o) {
                             {"free_voxels", t.freeVoxels},
                             {"colored", t.colored},
                             {"pixels_per_second", fuseSeconds > 0 ? double(total.pixels) / fuseSeconds : 0.0},
-                            {"carve", carve},
+                            {"carve", nameOf(carveNames(), o.carve)},
                             {"weight", settings.weight}};
   char line[400];
   std::snprintf(line, sizeof line,
@@ -218,7 +220,8 @@ Command registerFuse(CLI::App& root) {
       "Each pixel with a depth and a class votes for the voxel its ray (render-canonical's ray\n"
       "through the pixel centre) reaches at that depth; the voxels the ray crossed before it get a\n"
       "free count (grid 'free'); a voxel whose free count exceeds its votes is removed (--carve off\n"
-      "keeps everything). -i adds to an existing scene (votes and free counts add up).\n"
+      "keeps everything, --carve none counts no free space). -i adds to an existing scene (votes and\n"
+      "free counts add up). Optional per view: normal (ties), color and confidence images.\n"
       "VIEWS.json: {\"views\": [{\"depth\": \"v.depth.exr\", \"label\": \"v.class.png\", \"camera\": ...}], ...};\n"
       "docs/fuse.md has the file, the tie rules and the report.\n"
       "Example: vox render-canonical s.vdb -o v.png --orbit 6 --mode depth,class && vox fuse views.json -o fused.vdb");
@@ -228,7 +231,9 @@ Command registerFuse(CLI::App& root) {
   addEnumOption(*cmd, "--depth-kind", opts->depthKind, depthKindNames(),
                 "distance (from the eye along the ray, render-canonical's) or z (camera-space depth); "
                 "default: the views file's, else distance");
-  addEnumOption(*cmd, "--carve", opts->carve, carveNames(), "Remove voxels whose free count exceeds their votes");
+  addEnumOption(*cmd, "--carve", opts->carve, carveNames(),
+                "on: count free space and remove voxels whose free count exceeds their votes; off: count, remove "
+                "nothing; none: votes only (no free-space walk, fastest)");
   cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536), times the view's confidence image if any")->default_val(1);
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runFuse(*opts); }};
