@@ -196,11 +196,23 @@ std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBin
           changed = true;
         }
     }
+  // Buffers that hold an image's bufferView are left alone (tinygltf reads
+  // images from them, so they need their real length; it then reports the missing data).
+  std::vector<char> holdsImage(doc.contains("buffers") && doc["buffers"].is_array() ? doc["buffers"].size() : 0, 0);
+  if (doc.contains("images") && doc["images"].is_array() && doc.contains("bufferViews") && doc["bufferViews"].is_array())
+    for (const auto& im : doc["images"])
+      if (im.is_object() && im.contains("bufferView") && im["bufferView"].is_number_unsigned() &&
+          im["bufferView"].get<uint64_t>() < doc["bufferViews"].size()) {
+        const auto& v = doc["bufferViews"][size_t(im["bufferView"].get<uint64_t>())];
+        if (v.is_object() && v.contains("buffer") && v["buffer"].is_number_unsigned() &&
+            v["buffer"].get<uint64_t>() < holdsImage.size())
+          holdsImage[size_t(v["buffer"].get<uint64_t>())] = 1;
+      }
   if (doc.contains("buffers") && doc["buffers"].is_array())
     for (size_t i = 0; i < doc["buffers"].size(); ++i) {
       auto& b = doc["buffers"][i];
       // In a .glb, buffer 0 without a uri is the BIN chunk.
-      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0)) {
+      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0) && !holdsImage[i]) {
         b["uri"] = "data:application/octet-stream;base64,AA==";
         b["byteLength"] = 1;
         changed = true;
@@ -653,12 +665,18 @@ class NodeWalker {
     // than mixed with decoded points it need not match.
     const tinygltf::Value& ids = ext.Get("attributes");
     std::vector<DracoAttributeRequest> requests;
+    std::vector<std::pair<std::string, int>> plain;  // attributes stored uncompressed beside the Draco data
     for (const char* name : {"POSITION", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"}) {
       auto it = prim.attributes.find(name);
       if (it == prim.attributes.end()) continue;
-      if (!ids.Has(name) || !ids.Get(name).IsInt())
-        throwBadInput(who + ": " + name + " is not among the extension's compressed attributes; the file is "
-                      "malformed (re-export it)");
+      if (!ids.Has(name) || !ids.Get(name).IsInt()) {
+        // The extension lets other attributes be stored as usual, one value per decoded point.
+        if (std::string(name) == "POSITION")
+          throwBadInput(who + ": POSITION is not among the extension's compressed attributes; the file is "
+                        "malformed (re-export it)");
+        plain.emplace_back(name, it->second);
+        continue;
+      }
       const bool normalized = it->second >= 0 && size_t(it->second) < model_.accessors.size() &&
                               model_.accessors[size_t(it->second)].normalized;
       requests.push_back({name, ids.Get(name).GetNumberAsInt(), normalized});
@@ -671,6 +689,19 @@ class NodeWalker {
       if (n == "TEXCOORD_0") d.uv0 = std::move(dec.values[r]);
       if (n == "TEXCOORD_1") d.uv1 = std::move(dec.values[r]);
       if (n == "COLOR_0") d.colors = std::move(dec.values[r]), d.colorComponents = dec.components[r];
+    }
+    for (const auto& [n, accessor] : plain) {
+      Values values = acc_.read(accessor, n.c_str());
+      if (values.size() != dec.points)
+        throwBadInput(who + ": " + n + " is stored uncompressed in accessor " + std::to_string(accessor) + " with " +
+                      std::to_string(values.size()) + " values, but the Draco data has " + std::to_string(dec.points) +
+                      " points; the file is malformed (re-export it)");
+      if (n == "TEXCOORD_0") d.uv0 = std::move(values);
+      if (n == "TEXCOORD_1") d.uv1 = std::move(values);
+      if (n == "COLOR_0") {
+        d.colors = std::move(values);
+        d.colorComponents = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(accessor)].type));
+      }
     }
     d.positionSource = "Draco attribute " + std::to_string(requests[0].uniqueId) + " (POSITION) of " + primitive.substr(path_.size() + 2);
     d.indices = std::move(dec.indices);
@@ -722,7 +753,8 @@ class NodeWalker {
     for (const auto& v : acc_.read(accessor, "indices")) {
       if (v[0] < 0 || v[0] >= double(count))
         throwBadInput(path_ + ": accessor " + std::to_string(accessor) + " (indices) refers to vertex " +
-                      std::to_string(int64_t(v[0])) + " of " + std::to_string(count));
+                      (v[0] > -1e18 && v[0] < 1e18 ? std::to_string(int64_t(v[0])) : std::to_string(v[0])) + " of " +
+                      std::to_string(count));
       idx.push_back(uint32_t(v[0]));
     }
     return idx;

@@ -42,6 +42,8 @@ if command -v draco_transcoder >/dev/null; then
   refused attrid.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "POSITION names Draco attribute 9"
   $make corrupt bufferview grid_draco.glb view.glb
   refused view.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "bufferView 7 does not exist"
+  $make corrupt uncompressed-count grid_draco.glb count.glb
+  refused count.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "COLOR_0 is stored uncompressed" "5 values"
 else
   fail "draco_transcoder not found: install Debian's draco package (scripts/install-deps.sh)"
 fi

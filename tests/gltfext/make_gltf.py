@@ -323,7 +323,9 @@ def write_glb(path, doc, rest):
 def corrupt(kind, src, out):
     """The Draco GLB `src` broken one way: its Draco bytes cut to a third
     (truncated), POSITION mapped to a Draco attribute id the data does not have
-    (attribute-id), the extension's bufferView past the file's (bufferview)."""
+    (attribute-id), the extension's bufferView past the file's (bufferview),
+    COLOR_0 stored uncompressed with fewer values than Draco points
+    (uncompressed-count)."""
     doc, rest = read_glb(src)
     prim = doc["meshes"][0]["primitives"][0]
     ext = prim["extensions"]["KHR_draco_mesh_compression"]
@@ -334,6 +336,9 @@ def corrupt(kind, src, out):
         ext["attributes"]["POSITION"] = 9
     elif kind == "bufferview":
         ext["bufferView"] = len(doc["bufferViews"]) + 5
+    elif kind == "uncompressed-count":  # COLOR_0 left to its accessor, which has too few values
+        del ext["attributes"]["COLOR_0"]
+        doc["accessors"][prim["attributes"]["COLOR_0"]]["count"] = 5
     else:
         sys.exit("make_gltf.py: unknown corruption " + kind)
     write_glb(out, doc, rest)
