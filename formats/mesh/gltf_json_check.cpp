@@ -22,11 +22,11 @@ using nlohmann::json;
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
 // component type and the normalized flag; KHR_draco_mesh_compression:
 // gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h; KHR_texture_transform
-// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only
+// and EXT_mesh_gpu_instancing: gltf_reader.cpp; EXT_texture_webp: gltf_images.h), and extensions that only
 // change lights or shading vox does not bake, so the voxels cannot change.
-constexpr std::array<const char*, 5> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+constexpr std::array<const char*, 6> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
                                                   "EXT_meshopt_compression", "KHR_texture_transform",
-                                                  "EXT_mesh_gpu_instancing"};
+                                                  "EXT_mesh_gpu_instancing", "EXT_texture_webp"};
 constexpr std::array<const char*, 1> kNoEffectOnVoxels = {"KHR_lights_punctual"};
 
 /// KHR_materials_* extensions shade on top of the base colour (clearcoat,

@@ -278,6 +278,17 @@ void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& 
     if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / im.uri).string());
 }
 
+/// The image texture `tex` samples: its EXT_texture_webp source when it has
+/// one (vox decodes WebP), else its `source` (the PNG or JPEG fallback, or the
+/// only one); -1 when there is none or the index names no image.
+int imageOf(const tinygltf::Model& model, const tinygltf::Texture& tex) {
+  auto webp = tex.extensions.find("EXT_texture_webp");
+  int src = tex.source;
+  if (webp != tex.extensions.end() && webp->second.Has("source") && webp->second.Get("source").IsInt())
+    src = webp->second.Get("source").GetNumberAsInt();
+  return src >= 0 && size_t(src) < model.images.size() ? src : -1;
+}
+
 /// An external image that a texture uses and that could not be read is an
 /// error, as a missing OBJ map_Kd is (tinygltf only warns and leaves it
 /// empty); with ignoreMissingMaterials it is a warning and the texture is left out.
@@ -285,7 +296,7 @@ void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& enco
                          const MeshReadOptions& options, std::vector<std::string>& warnings) {
   std::vector<bool> used(model.images.size(), false);
   for (const tinygltf::Texture& t : model.textures)
-    if (t.source >= 0 && size_t(t.source) < used.size()) used[size_t(t.source)] = true;
+    if (const int src = imageOf(model, t); src >= 0) used[size_t(src)] = true;
   for (size_t i = 0; i < model.images.size(); ++i) {
     const tinygltf::Image& im = model.images[i];
     const bool received = i < encoded.received.size() && encoded.received[i];
@@ -313,8 +324,9 @@ void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& enco
 std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, const std::string& path,
                                           std::vector<std::string>& warnings) {
   const tinygltf::Texture& tex = model.textures[ti];
-  if (tex.source < 0 || size_t(tex.source) >= model.images.size()) return std::nullopt;
-  tinygltf::Image& im = model.images[size_t(tex.source)];
+  const int src = imageOf(model, tex);
+  if (src < 0) return std::nullopt;
+  tinygltf::Image& im = model.images[size_t(src)];
   if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
         im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
     warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
@@ -325,7 +337,7 @@ std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, boo
   t.height = uint32_t(im.height);
   if (lastUse) t.rgba = std::move(im.image);
   else t.rgba = im.image;
-  t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
+  t.source = im.uri.empty() ? "image " + std::to_string(src) : im.uri;
   if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
     const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
     t.wrapS = wrapOf(s.wrapS);
@@ -379,7 +391,7 @@ std::vector<char> colourImages(const tinygltf::Model& model) {
   for (const tinygltf::Material& m : model.materials) {
     const int ti = colourSource(m).texture;
     if (ti < 0 || size_t(ti) >= model.textures.size()) continue;
-    const int src = model.textures[size_t(ti)].source;
+    const int src = imageOf(model, model.textures[size_t(ti)]);
     if (src >= 0 && size_t(src) < needed.size()) needed[size_t(src)] = 1;
   }
   return needed;
@@ -427,7 +439,7 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
     for (const tinygltf::Material& src : model.materials) {
       const int ti = colourSource(src).texture;
       if (ti < 0 || size_t(ti) >= model.textures.size() || counted[size_t(ti)]++) continue;
-      const int img = model.textures[size_t(ti)].source;
+      const int img = imageOf(model, model.textures[size_t(ti)]);
       if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
     }
   }
@@ -440,9 +452,8 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
       if (meshTextureOf[size_t(ti)] < 0)
         if (std::optional<MeshTexture> t =
-                convertTexture(model, size_t(ti), model.textures[size_t(ti)].source >= 0 &&
-                                   size_t(model.textures[size_t(ti)].source) < usesLeft.size() &&
-                                   --usesLeft[size_t(model.textures[size_t(ti)].source)] == 0,
+                convertTexture(model, size_t(ti), imageOf(model, model.textures[size_t(ti)]) >= 0 &&
+                                   --usesLeft[size_t(imageOf(model, model.textures[size_t(ti)]))] == 0,
                                path, warnings)) {
           mesh.textures.push_back(std::move(*t));
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
