@@ -5,6 +5,7 @@ triangles in five bands, each band a material with its own JPEG texture
 removed (same materials as plain colours).
 
   make_textured_glb.py OUT_TEXTURED.glb OUT_PLAIN.glb T0.jpg ... T4.jpg
+  make_textured_glb.py --plain OUT.glb S R      untextured, S x R quads (2 S R triangles)
 """
 import json
 import math
@@ -22,8 +23,7 @@ def glb(path, doc, bin_):
         f.write(struct.pack("<II", len(bin_), 0x004E4942) + bin_)
 
 
-def build(textures):
-    S, R = 96, 80  # 96 x 80 quads = 15 360 triangles
+def build(textures, S=96, R=80):  # 96 x 80 quads = 15 360 triangles
     bands = 5
     bin_ = bytearray()
     views, accessors, meshes = [], [], []
@@ -78,5 +78,8 @@ def build(textures):
 
 
 if __name__ == "__main__":
-    glb(sys.argv[1], *build(sys.argv[3:8]))
-    glb(sys.argv[2], *build([]))
+    if sys.argv[1] == "--plain":
+        glb(sys.argv[2], *build([], int(sys.argv[3]), int(sys.argv[4])))
+    else:
+        glb(sys.argv[1], *build(sys.argv[3:8]))
+        glb(sys.argv[2], *build([]))

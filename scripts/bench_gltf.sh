@@ -1,9 +1,10 @@
 #!/bin/sh
 # glTF read speed (docs/gltf.md#performance), one run on this machine:
-#  * parse+decode throughput of a GLB (file bytes / the `parse` phase of
-#    `vox voxelize --report`, median of 3), plain, Draco-compressed (Debian's
-#    draco_transcoder) and textured (five 2048^2 JPEG base-colour textures), on
-#    one thread and on all of them;
+#  * parse+decode throughput of a GLB (file bytes and triangles / the `parse`
+#    phase of `vox voxelize --report`, median of 3): a plain 240 k-triangle
+#    model, the same Draco-compressed (Debian's draco_transcoder, its default
+#    quantization), and the textured 15 k-triangle model (five 2048^2 JPEG
+#    base-colour textures), on one thread and on all of them;
 #  * `vox voxelize --res 256` of the textured 15 k-triangle model against the
 #    same model with its textures removed, in one hyperfine run (the ratio),
 #    and the textured run's parse (decode) against its voxelize phase.
@@ -22,22 +23,25 @@ for i in 0 1 2 3 4; do  # photo-like JPEGs: blurred noise, about 1.6 MB each
   oiiotool --pattern noise:type=uniform:min=0:max=1:seed=$i 2048x2048 3 --blur 9x9 -d uint8 -o t$i.jpg
 done
 python3 "$root/bench/make_textured_glb.py" textured.glb plain.glb t0.jpg t1.jpg t2.jpg t3.jpg t4.jpg
-draco_transcoder -i plain.glb -o draco.glb >/dev/null
+python3 "$root/bench/make_textured_glb.py" --plain big.glb 400 300
+draco_transcoder -i big.glb -o big-draco.glb >/dev/null
 
-echo "### Parse + decode throughput (MB/s of the file, median of 3)"
+echo "### Parse + decode throughput (median of 3; MB/s of the file, M triangles/s)"
 echo
-echo "| file | size [MB] | 1 thread | $all threads |"
-echo "|---|---:|---:|---:|"
-for f in plain.glb draco.glb textured.glb; do
+echo "| file | size [MB] | triangles | 1 thread | $all threads |"
+echo "|---|---:|---:|---:|---:|"
+for f in big.glb big-draco.glb textured.glb; do
   line="| $f | $(python3 -c "import os; print(f'{os.path.getsize(\"$f\")/1e6:.2f}')")"
   for t in 1 "$all"; do
     for r in 1 2 3; do
       "$VOX" voxelize "$f" --res 8 -o p.vdb -q --threads "$t" --report "p$r.json"
     done
+    [ "$t" = 1 ] && line="$line | $(python3 -c "import json; print(json.load(open('p1.json'))['counts']['triangles'])")"
     line="$line | $(python3 -c "
 import json, os
-s = sorted([p['seconds'] for r in (1, 2, 3) for p in json.load(open(f'p{r}.json'))['phases'] if p['name'] == 'parse'])
-print(f'{os.path.getsize(\"$f\") / 1e6 / s[1]:.0f} ({s[1] * 1000:.0f} ms)')")"
+d = [json.load(open(f'p{r}.json')) for r in (1, 2, 3)]
+s = sorted([p['seconds'] for j in d for p in j['phases'] if p['name'] == 'parse'])[1]
+print(f'{s * 1000:.0f} ms: {os.path.getsize(\"$f\") / 1e6 / s:.0f} MB/s, {d[0][\"counts\"][\"triangles\"] / 1e6 / s:.1f} M tri/s')")"
   done
   echo "$line |"
 done
@@ -52,9 +56,11 @@ cat v.md
 python3 -c "
 import json
 r = json.load(open('v.json'))['results']
-print(f'\nratio textured / untextured: {r[0][\"mean\"] / r[1][\"mean\"]:.2f} (target <= 1.5)')"
+print(f'\nratio textured / untextured: wall {r[0][\"mean\"] / r[1][\"mean\"]:.2f} (target <= 1.5), '
+      f'CPU (user + system) {(r[0][\"user\"] + r[0][\"system\"]) / (r[1][\"user\"] + r[1][\"system\"]):.2f}')"
 "$VOX" voxelize textured.glb --res 256 -o a.vdb -q --threads "$all" --report t.json
 python3 -c "
 import json
 ph = {p['name']: p['seconds'] for p in json.load(open('t.json'))['phases']}
 print(f'textured run: parse (with image decoding) {ph[\"parse\"] * 1000:.0f} ms, voxelize {ph[\"voxelize\"] * 1000:.0f} ms')"
+echo "load average while measuring: $(cut -d' ' -f1-3 /proc/loadavg) on $all cores"

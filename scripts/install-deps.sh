@@ -9,7 +9,8 @@
 #                                  OpenImageIO command-line peers, hyperfine, clang
 #                                  for the fuzzers, gnuplot for the study plot; numpy,
 #                                  node and Chromium for the export checks; Draco's
-#                                  draco_transcoder for the glTF extension tests)
+#                                  draco_transcoder and WebP's cwebp for the glTF
+#                                  extension tests)
 set -eu
 [ "${VOX_SKIP_INSTALL:-0}" = 1 ] && exit 0
 profile=${1:-all}
@@ -18,10 +19,10 @@ profile=${1:-all}
 BUILD="build-essential cmake pkg-config ccache ninja-build make
 libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1g-dev
 libopenexr-dev libimath-dev libpng-dev
-libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev libmeshoptimizer-dev"
+libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev libmeshoptimizer-dev libwebp-dev"
 # The test suite (scripts/test.sh) and the benchmark scripts.
 TEST="libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy
-libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium draco"
+libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium draco webp"
 # clang's sanitizer and libFuzzer runtimes are only a recommendation of clang:
 # without them -fsanitize=fuzzer,address does not link (tests/fuzz/smoke.sh).
 TEST="$TEST libclang-rt-dev"

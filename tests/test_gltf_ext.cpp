@@ -264,3 +264,23 @@ TEST(GltfImages, UndecodableBaseColourImageIsNamed) {
   ASSERT_FALSE(w.empty());
   EXPECT_NE(w[0].find("image 0"), std::string::npos) << w[0];
 }
+
+TEST(GltfFuzzFindings, HugeFloatIndexAndImageViewPastItsBuffer) {
+  voxtest::TempDir dir;
+  // An indices accessor of floats (invalid, but read) naming vertex 1.8e28:
+  // refused with the number, not an out-of-range conversion.
+  std::vector<float> bin = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1.8e28f, 0, 1};
+  json doc = json::parse(R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+    "bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":12}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+                 {"bufferView":1,"componentType":5126,"count":3,"type":"SCALAR"}]})");
+  doc["buffers"] = {{{"byteLength", 48}, {"uri", dataUri(bytesOf(bin))}}};
+  voxtest::writeText(dir.file("f.gltf"), doc.dump());
+  EXPECT_TRUE(rejects(dir.file("f.gltf"), {"accessor 1 (indices)", "refers to vertex 1799"}));
+  // An image's bufferView past the end of its buffer: tinygltf would hand the
+  // image reader bytes past the buffer; the JSON check refuses it first.
+  doc["bufferViews"][1]["byteLength"] = 40;
+  voxtest::writeText(dir.file("v.gltf"), doc.dump());
+  EXPECT_TRUE(rejects(dir.file("v.gltf"), {"bufferViews[1]", "past the end of buffer 0 (48 bytes)"}));
+}

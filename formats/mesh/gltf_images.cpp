@@ -3,6 +3,7 @@
 #include <stb/stb_image.h>
 #include <tbb/parallel_for.h>
 #include <tiny_gltf.h>
+#include <webp/decode.h>
 
 #include <cstring>
 
@@ -32,10 +33,20 @@ struct Decoded {
   bool ok = false;
 };
 
+bool isWebp(const std::string& b) { return b.size() >= 12 && b.compare(0, 4, "RIFF") == 0 && b.compare(8, 4, "WEBP") == 0; }
+
 Decoded decode(const std::string& bytes) {
   Decoded d;
   int n = 0;
   if (bytes.empty() || bytes.size() > size_t(std::numeric_limits<int>::max())) return d;
+  if (isWebp(bytes)) {  // EXT_texture_webp
+    uint8_t* px = WebPDecodeRGBA(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &d.width, &d.height);
+    if (!px) return d;
+    d.rgba.assign(px, px + size_t(d.width) * size_t(d.height) * 4);
+    WebPFree(px);
+    d.ok = d.width > 0 && d.height > 0;
+    return d;
+  }
   stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &d.width,
                                       &d.height, &n, 4);
   if (!px) return d;
@@ -65,7 +76,7 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
     images.bytes[todo[k]] = std::string();
     if (!out[k].ok) {
       const std::string what = path + ": image " + std::to_string(todo[k]) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'") +
-                               " cannot be decoded (not a PNG or JPEG that stb_image reads)";
+                               " cannot be decoded (not a PNG or JPEG that stb_image reads, nor a WebP)";
       if (options.ignoreMissingMaterials) {
         warnings.push_back(what + "; its textures are left out");
         continue;

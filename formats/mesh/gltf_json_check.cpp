@@ -22,11 +22,11 @@ using nlohmann::json;
 // Extensions vox reads (KHR_mesh_quantization: the accessor reader takes every
 // component type and the normalized flag; KHR_draco_mesh_compression:
 // gltf_draco.h; EXT_meshopt_compression: gltf_meshopt.h; KHR_texture_transform
-// and EXT_mesh_gpu_instancing: gltf_reader.cpp), and extensions that only
+// and EXT_mesh_gpu_instancing: gltf_reader.cpp; EXT_texture_webp: gltf_images.h), and extensions that only
 // change lights or shading vox does not bake, so the voxels cannot change.
-constexpr std::array<const char*, 5> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+constexpr std::array<const char*, 6> kHonoured = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
                                                   "EXT_meshopt_compression", "KHR_texture_transform",
-                                                  "EXT_mesh_gpu_instancing"};
+                                                  "EXT_mesh_gpu_instancing", "EXT_texture_webp"};
 constexpr std::array<const char*, 1> kNoEffectOnVoxels = {"KHR_lights_punctual"};
 
 /// KHR_materials_* extensions shade on top of the base colour (clearcoat,
@@ -112,8 +112,19 @@ class Checker {
     const std::string el = "bufferViews[" + std::to_string(i) + "]";
     if (!v.is_object()) bad(el, "is not an object");
     reference(v, "buffer", el, "buffers");
-    integer(v, "byteOffset", el, 0, INT64_MAX);
-    integer(v, "byteLength", el, 1, INT64_MAX);
+    const int64_t offset = integer(v, "byteOffset", el, 0, INT64_MAX).value_or(0);
+    const std::optional<int64_t> length = integer(v, "byteLength", el, 1, INT64_MAX);
+    // Inside its buffer (tinygltf hands image bufferViews to the image reader unchecked).
+    auto buffer = v.find("buffer");
+    if (length && buffer != v.end() && buffer->is_number_unsigned() && buffer->get<uint64_t>() < size("buffers")) {
+      const json& b = doc_["buffers"][size_t(buffer->get<uint64_t>())];
+      auto bl = b.is_object() ? b.find("byteLength") : b.end();
+      if (b.is_object() && bl != b.end() && bl->is_number_unsigned() &&
+          (uint64_t(offset) > bl->get<uint64_t>() || uint64_t(*length) > bl->get<uint64_t>() - uint64_t(offset)))
+        bad(el, "spans bytes " + std::to_string(offset) + ".." + std::to_string(uint64_t(offset) + uint64_t(*length)) +
+                    ", past the end of buffer " + std::to_string(buffer->get<uint64_t>()) + " (" +
+                    std::to_string(bl->get<uint64_t>()) + " bytes)");
+    }
     if (auto stride = integer(v, "byteStride", el, 4, 252); stride && *stride % 4 != 0)
       bad(el + ".byteStride", "is " + std::to_string(*stride) + ", not a multiple of 4");
   }

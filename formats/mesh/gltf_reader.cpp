@@ -196,11 +196,23 @@ std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBin
           changed = true;
         }
     }
+  // Buffers that hold an image's bufferView are left alone (tinygltf reads
+  // images from them, so they need their real length; it then reports the missing data).
+  std::vector<char> holdsImage(doc.contains("buffers") && doc["buffers"].is_array() ? doc["buffers"].size() : 0, 0);
+  if (doc.contains("images") && doc["images"].is_array() && doc.contains("bufferViews") && doc["bufferViews"].is_array())
+    for (const auto& im : doc["images"])
+      if (im.is_object() && im.contains("bufferView") && im["bufferView"].is_number_unsigned() &&
+          im["bufferView"].get<uint64_t>() < doc["bufferViews"].size()) {
+        const auto& v = doc["bufferViews"][size_t(im["bufferView"].get<uint64_t>())];
+        if (v.is_object() && v.contains("buffer") && v["buffer"].is_number_unsigned() &&
+            v["buffer"].get<uint64_t>() < holdsImage.size())
+          holdsImage[size_t(v["buffer"].get<uint64_t>())] = 1;
+      }
   if (doc.contains("buffers") && doc["buffers"].is_array())
     for (size_t i = 0; i < doc["buffers"].size(); ++i) {
       auto& b = doc["buffers"][i];
       // In a .glb, buffer 0 without a uri is the BIN chunk.
-      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0)) {
+      if (hasExtension(b, "EXT_meshopt_compression") && !b.contains("uri") && !(isBinary && i == 0) && !holdsImage[i]) {
         b["uri"] = "data:application/octet-stream;base64,AA==";
         b["byteLength"] = 1;
         changed = true;
@@ -266,6 +278,17 @@ void listFilesRead(const tinygltf::Model& model, const std::string& path, Mesh& 
     if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0) mesh.filesRead.push_back((dir / im.uri).string());
 }
 
+/// The image texture `tex` samples: its EXT_texture_webp source when it has
+/// one (vox decodes WebP), else its `source` (the PNG or JPEG fallback, or the
+/// only one); -1 when there is none or the index names no image.
+int imageOf(const tinygltf::Model& model, const tinygltf::Texture& tex) {
+  auto webp = tex.extensions.find("EXT_texture_webp");
+  int src = tex.source;
+  if (webp != tex.extensions.end() && webp->second.Has("source") && webp->second.Get("source").IsInt())
+    src = webp->second.Get("source").GetNumberAsInt();
+  return src >= 0 && size_t(src) < model.images.size() ? src : -1;
+}
+
 /// An external image that a texture uses and that could not be read is an
 /// error, as a missing OBJ map_Kd is (tinygltf only warns and leaves it
 /// empty); with ignoreMissingMaterials it is a warning and the texture is left out.
@@ -273,7 +296,7 @@ void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& enco
                          const MeshReadOptions& options, std::vector<std::string>& warnings) {
   std::vector<bool> used(model.images.size(), false);
   for (const tinygltf::Texture& t : model.textures)
-    if (t.source >= 0 && size_t(t.source) < used.size()) used[size_t(t.source)] = true;
+    if (const int src = imageOf(model, t); src >= 0) used[size_t(src)] = true;
   for (size_t i = 0; i < model.images.size(); ++i) {
     const tinygltf::Image& im = model.images[i];
     const bool received = i < encoded.received.size() && encoded.received[i];
@@ -301,8 +324,9 @@ void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& enco
 std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, const std::string& path,
                                           std::vector<std::string>& warnings) {
   const tinygltf::Texture& tex = model.textures[ti];
-  if (tex.source < 0 || size_t(tex.source) >= model.images.size()) return std::nullopt;
-  tinygltf::Image& im = model.images[size_t(tex.source)];
+  const int src = imageOf(model, tex);
+  if (src < 0) return std::nullopt;
+  tinygltf::Image& im = model.images[size_t(src)];
   if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
         im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
     warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
@@ -313,7 +337,7 @@ std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, boo
   t.height = uint32_t(im.height);
   if (lastUse) t.rgba = std::move(im.image);
   else t.rgba = im.image;
-  t.source = im.uri.empty() ? "image " + std::to_string(tex.source) : im.uri;
+  t.source = im.uri.empty() ? "image " + std::to_string(src) : im.uri;
   if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
     const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
     t.wrapS = wrapOf(s.wrapS);
@@ -367,7 +391,7 @@ std::vector<char> colourImages(const tinygltf::Model& model) {
   for (const tinygltf::Material& m : model.materials) {
     const int ti = colourSource(m).texture;
     if (ti < 0 || size_t(ti) >= model.textures.size()) continue;
-    const int src = model.textures[size_t(ti)].source;
+    const int src = imageOf(model, model.textures[size_t(ti)]);
     if (src >= 0 && size_t(src) < needed.size()) needed[size_t(src)] = 1;
   }
   return needed;
@@ -415,7 +439,7 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
     for (const tinygltf::Material& src : model.materials) {
       const int ti = colourSource(src).texture;
       if (ti < 0 || size_t(ti) >= model.textures.size() || counted[size_t(ti)]++) continue;
-      const int img = model.textures[size_t(ti)].source;
+      const int img = imageOf(model, model.textures[size_t(ti)]);
       if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
     }
   }
@@ -428,9 +452,8 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
       if (meshTextureOf[size_t(ti)] < 0)
         if (std::optional<MeshTexture> t =
-                convertTexture(model, size_t(ti), model.textures[size_t(ti)].source >= 0 &&
-                                   size_t(model.textures[size_t(ti)].source) < usesLeft.size() &&
-                                   --usesLeft[size_t(model.textures[size_t(ti)].source)] == 0,
+                convertTexture(model, size_t(ti), imageOf(model, model.textures[size_t(ti)]) >= 0 &&
+                                   --usesLeft[size_t(imageOf(model, model.textures[size_t(ti)]))] == 0,
                                path, warnings)) {
           mesh.textures.push_back(std::move(*t));
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
@@ -653,12 +676,18 @@ class NodeWalker {
     // than mixed with decoded points it need not match.
     const tinygltf::Value& ids = ext.Get("attributes");
     std::vector<DracoAttributeRequest> requests;
+    std::vector<std::pair<std::string, int>> plain;  // attributes stored uncompressed beside the Draco data
     for (const char* name : {"POSITION", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"}) {
       auto it = prim.attributes.find(name);
       if (it == prim.attributes.end()) continue;
-      if (!ids.Has(name) || !ids.Get(name).IsInt())
-        throwBadInput(who + ": " + name + " is not among the extension's compressed attributes; the file is "
-                      "malformed (re-export it)");
+      if (!ids.Has(name) || !ids.Get(name).IsInt()) {
+        // The extension lets other attributes be stored as usual, one value per decoded point.
+        if (std::string(name) == "POSITION")
+          throwBadInput(who + ": POSITION is not among the extension's compressed attributes; the file is "
+                        "malformed (re-export it)");
+        plain.emplace_back(name, it->second);
+        continue;
+      }
       const bool normalized = it->second >= 0 && size_t(it->second) < model_.accessors.size() &&
                               model_.accessors[size_t(it->second)].normalized;
       requests.push_back({name, ids.Get(name).GetNumberAsInt(), normalized});
@@ -671,6 +700,19 @@ class NodeWalker {
       if (n == "TEXCOORD_0") d.uv0 = std::move(dec.values[r]);
       if (n == "TEXCOORD_1") d.uv1 = std::move(dec.values[r]);
       if (n == "COLOR_0") d.colors = std::move(dec.values[r]), d.colorComponents = dec.components[r];
+    }
+    for (const auto& [n, accessor] : plain) {
+      Values values = acc_.read(accessor, n.c_str());
+      if (values.size() != dec.points)
+        throwBadInput(who + ": " + n + " is stored uncompressed in accessor " + std::to_string(accessor) + " with " +
+                      std::to_string(values.size()) + " values, but the Draco data has " + std::to_string(dec.points) +
+                      " points; the file is malformed (re-export it)");
+      if (n == "TEXCOORD_0") d.uv0 = std::move(values);
+      if (n == "TEXCOORD_1") d.uv1 = std::move(values);
+      if (n == "COLOR_0") {
+        d.colors = std::move(values);
+        d.colorComponents = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(accessor)].type));
+      }
     }
     d.positionSource = "Draco attribute " + std::to_string(requests[0].uniqueId) + " (POSITION) of " + primitive.substr(path_.size() + 2);
     d.indices = std::move(dec.indices);
@@ -722,7 +764,8 @@ class NodeWalker {
     for (const auto& v : acc_.read(accessor, "indices")) {
       if (v[0] < 0 || v[0] >= double(count))
         throwBadInput(path_ + ": accessor " + std::to_string(accessor) + " (indices) refers to vertex " +
-                      std::to_string(int64_t(v[0])) + " of " + std::to_string(count));
+                      (v[0] > -1e18 && v[0] < 1e18 ? std::to_string(int64_t(v[0])) : std::to_string(v[0])) + " of " +
+                      std::to_string(count));
       idx.push_back(uint32_t(v[0]));
     }
     return idx;

@@ -7,8 +7,12 @@
 // * Primitives in modes TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN, indexed or
 //   not; other modes are skipped with a warning.
 // * Materials: baseColorFactor, baseColorTexture (its image decoded to RGBA8,
-//   its sampler's wrap modes and mag filter, its texCoord set); COLOR_0
-//   (vec3/vec4, float or normalized) multiplies in.
+//   its sampler's wrap modes and mag filter, its texCoord set, its
+//   KHR_texture_transform applied to the UVs), or KHR_materials_pbrSpecularGlossiness's
+//   diffuseFactor and diffuseTexture; COLOR_0 (vec3/vec4, float or normalized)
+//   multiplies in. Only those images are decoded, once each, in parallel
+//   (formats/mesh/gltf_images.h).
+// * EXT_mesh_gpu_instancing: one copy of the node's mesh per instance.
 // * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
 // * KHR_draco_mesh_compression: the primitive's Draco data decoded
 //   (formats/mesh/gltf_draco.h); a corrupt one is refused naming the primitive.

@@ -42,6 +42,8 @@ if command -v draco_transcoder >/dev/null; then
   refused attrid.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "POSITION names Draco attribute 9"
   $make corrupt bufferview grid_draco.glb view.glb
   refused view.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "bufferView 7 does not exist"
+  $make corrupt uncompressed-count grid_draco.glb count.glb
+  refused count.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "COLOR_0 is stored uncompressed" "5 values"
 else
   fail "draco_transcoder not found: install Debian's draco package (scripts/install-deps.sh)"
 fi
@@ -83,17 +85,30 @@ expect_exit 1 "$vox" diff plain.vdb ref.vdb --ignore-sources
 # Honoured or without effect on the voxels: read, and KHR_materials_* on the
 # material are ignored without a warning.
 $make required "" none.gltf
-for ext in KHR_mesh_quantization KHR_texture_transform EXT_mesh_gpu_instancing KHR_draco_mesh_compression \
+for ext in KHR_mesh_quantization KHR_texture_transform EXT_mesh_gpu_instancing KHR_draco_mesh_compression EXT_texture_webp \
            EXT_meshopt_compression KHR_materials_clearcoat KHR_materials_unlit KHR_materials_variants \
            KHR_materials_diffuse_transmission KHR_lights_punctual; do
   $make required "$ext" "req_$ext.gltf"
   same_voxels "req_$ext.gltf" none.gltf
 done
-# EXT_texture_webp only used: the PNG fallback is baked, the WebP never decoded.
-$make webp-fallback webp.gltf
-same_voxels webp.gltf none.gltf
+# EXT_texture_webp: the quadrant texture as lossless WebP (Debian's cwebp)
+# bakes the same voxels; with a black PNG fallback the WebP is still the one
+# used; a truncated WebP is refused naming its image.
+if command -v cwebp >/dev/null; then
+  $make png quadrants.png
+  cwebp -quiet -lossless quadrants.png -o quadrants.webp || fail "cwebp failed"
+  for mode in only fallback; do
+    $make webp $mode quadrants.webp webp_$mode.gltf
+    grep -q '"image/webp"' webp_$mode.gltf || fail "webp_$mode.gltf has no WebP image"
+    same_voxels webp_$mode.gltf none.gltf
+  done
+  $make webp corrupt quadrants.webp webp_corrupt.gltf
+  refused webp_corrupt.gltf "webp_corrupt.gltf: image 1 cannot be decoded"
+else
+  fail "cwebp not found: install Debian's webp package (scripts/install-deps.sh)"
+fi
 # Anything else could change the voxels: refused by name, nothing written.
-for ext in EXT_texture_webp KHR_texture_basisu EXT_texture_avif EXT_future_extension; do
+for ext in KHR_texture_basisu EXT_texture_avif EXT_future_extension; do
   $make required "KHR_mesh_quantization,$ext" "req_$ext.gltf"
   refused "req_$ext.gltf" "requires the extension $ext" "could change the voxels"
 done

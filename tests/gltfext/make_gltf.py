@@ -14,7 +14,8 @@ voxels (the oracle): the extension applied by hand here, in exact arithmetic.
   make_gltf.py specgloss OUT.gltf          KHR_materials_pbrSpecularGlossiness diffuse factor and texture
   make_gltf.py specgloss-ref OUT.gltf      the same as baseColorFactor and baseColorTexture
   make_gltf.py required EXT[,EXT] OUT.gltf the textured box requiring the extensions ("" for none)
-  make_gltf.py webp-fallback OUT.gltf      the required "" box with an EXT_texture_webp source beside its PNG
+  make_gltf.py png OUT.png                 the quadrant texture
+  make_gltf.py webp MODE IN.webp OUT.gltf  the required "" box textured by IN.webp (MODE only, fallback, corrupt)
   make_gltf.py corrupt KIND IN.glb OUT.glb a Draco GLB broken one way (truncated, attribute-id, bufferview)
 """
 import base64
@@ -261,7 +262,7 @@ def instancing(out, reference):
     g.write(out)
 
 
-def required(ext, out, webp=False):
+def required(ext, out, webp=None, fallback=False):
     """The quadrant-textured box requiring `ext` (comma-separated names) and
     using KHR_materials_clearcoat and KHR_materials_sheen on its material."""
     tris = box_triangles((0, 0, 0), (30, 20, 10))
@@ -276,6 +277,13 @@ def required(ext, out, webp=False):
         g.doc["extensionsRequired"] = names
     m = g.mesh({"POSITION": g.accessor(pos, "VEC3"), "TEXCOORD_0": g.accessor(uv, "VEC2")}, None, mat, "box")
     g.node(mesh=m, name="box")
+    if webp is not None:
+        g.doc["images"].append({"bufferView": g.view(webp), "mimeType": "image/webp"})
+        g.doc["textures"][0] = {"sampler": 0, "extensions": {"EXT_texture_webp": {"source": len(g.doc["images"]) - 1}}}
+        if fallback:  # image 0 becomes a black PNG, the texture's fallback source
+            g.doc["images"][0] = {"bufferView": g.view(png(1, 1, [[(0, 0, 0, 255)]])), "mimeType": "image/png"}
+            g.doc["textures"][0]["source"] = 0
+        g.doc["extensionsUsed"].append("EXT_texture_webp")
     g.write(out)
 
 
@@ -300,11 +308,16 @@ def specgloss(out, reference):
     g.write(out)
 
 
-def webp_fallback(out):
-    """The box of `required ""` whose texture also names an EXT_texture_webp
-    source (a bufferView of bytes that are no image at all) beside its PNG
-    fallback: vox reads the fallback and never decodes the WebP one."""
-    required("", out, webp=True)
+def webp(mode, webp_file, out):
+    """The box of `required ""` textured from the WebP `webp_file` (the
+    quadrant texture, written by cwebp -lossless) through EXT_texture_webp:
+    mode "only" (required, no fallback source), "fallback" (a black PNG as the
+    texture's fallback source, which vox must not use) or "corrupt" (the WebP's
+    bytes cut in half, required)."""
+    data = open(webp_file, "rb").read()
+    if mode == "corrupt":
+        data = data[:len(data) // 2]
+    required("EXT_texture_webp" if mode != "fallback" else "", out, webp=data, fallback=(mode == "fallback"))
 
 
 def read_glb(path):
@@ -323,7 +336,9 @@ def write_glb(path, doc, rest):
 def corrupt(kind, src, out):
     """The Draco GLB `src` broken one way: its Draco bytes cut to a third
     (truncated), POSITION mapped to a Draco attribute id the data does not have
-    (attribute-id), the extension's bufferView past the file's (bufferview)."""
+    (attribute-id), the extension's bufferView past the file's (bufferview),
+    COLOR_0 stored uncompressed with fewer values than Draco points
+    (uncompressed-count)."""
     doc, rest = read_glb(src)
     prim = doc["meshes"][0]["primitives"][0]
     ext = prim["extensions"]["KHR_draco_mesh_compression"]
@@ -334,6 +349,9 @@ def corrupt(kind, src, out):
         ext["attributes"]["POSITION"] = 9
     elif kind == "bufferview":
         ext["bufferView"] = len(doc["bufferViews"]) + 5
+    elif kind == "uncompressed-count":  # COLOR_0 left to its accessor, which has too few values
+        del ext["attributes"]["COLOR_0"]
+        doc["accessors"][prim["attributes"]["COLOR_0"]]["count"] = 5
     else:
         sys.exit("make_gltf.py: unknown corruption " + kind)
     write_glb(out, doc, rest)
@@ -351,8 +369,10 @@ def main(argv):
         instancing(argv[2], kind.endswith("-ref"))
     elif kind in ("specgloss", "specgloss-ref"):
         specgloss(argv[2], kind.endswith("-ref"))
-    elif kind == "webp-fallback":
-        webp_fallback(argv[2])
+    elif kind == "webp":
+        webp(argv[2], argv[3], argv[4])
+    elif kind == "png":
+        open(argv[2], "wb").write(TEXTURE)
     elif kind == "required":
         required(argv[2], argv[3])
     elif kind == "corrupt":
