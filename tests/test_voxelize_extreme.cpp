@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "libvox/core/memory_budget.h"
 #include "libvox/mesh/placement.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "libvox/scene/voxelize_check.h"
@@ -109,10 +110,13 @@ TEST(VoxelizeExtreme, SliversNonManifoldAndSelfIntersecting) {
 
 TEST(VoxelizeExtreme, SolidFillOfAHugeBoxIsRefusedBeforeAnyWork) {
   // A thin diagonal sliver across a 4096^3 grid: its bounding box is 2^36
-  // voxels, whose inside flags alone would take GiBs. Refused up front, naming
-  // the fix (fewer voxels), not run.
+  // voxels, whose inside flags alone take 8 GiB. Refused up front by the
+  // memory guard (here with a 4 GiB limit, as the CLI sets one), naming the
+  // fix (fewer voxels), not run.
   const Mesh sliver = meshOf({{0, 0, 0}, {4096, 4096, 4096}, {4096, 4096, 4095}}, {{0, 1, 2}});
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { run(sliver, header(4096), FillMode::Solid); }, ErrorKind::Usage,
-                                      {"68719476736-voxel bounding box", "GiB", "fill only the surface"}));
-  EXPECT_EQ(voxtest::settingOfError([&] { run(sliver, header(4096), FillMode::Solid); }), Setting::VoxelSpacing);
+  const MemoryLimit before = processMemoryLimit();
+  setProcessMemoryLimit({uint64_t(4) << 30, "4.00 GiB (test)"}, "--max-memory");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { run(sliver, header(4096), FillMode::Solid); }, ErrorKind::Resource,
+                                      {"68719476736-voxel box", "GiB", "fill only the surface", "4.00 GiB (test)"}));
+  setProcessMemoryLimit(before, "--max-memory");
 }

@@ -7,6 +7,7 @@
 
 #include "formats/vdb/vdb_checked_file.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/placement.h"
 #include "libvox/scene/scene_grids.h"
@@ -14,6 +15,65 @@
 #include "libvox/mesh/voxelize.h"
 
 namespace vox {
+
+namespace {
+
+/// The memory guard (libvox/core/memory_budget.h): the inside bits cover the
+/// whole output grid (one bit per voxel); the scene holds the inside voxels,
+/// whose share is measured on a 32^3 lattice of output voxel centres (cheap:
+/// 32768 samples). Refuses before the sampling, with the largest resolution
+/// that fits (the estimate scales with the voxel count).
+void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double thr, const SceneHeader& header,
+                          const std::string& path) {
+  const Dims dims = header.dims;
+  const double count = double(dims.count());
+  const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
+  openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(accessor,
+                                                                                                     grid.transform());
+  const uint32_t n[3] = {std::min(dims.x, 32u), std::min(dims.y, 32u), std::min(dims.z, 32u)};
+  uint64_t inside = 0, samples = 0;
+  for (uint32_t a = 0; a < n[0]; ++a)
+    for (uint32_t b = 0; b < n[1]; ++b)
+      for (uint32_t c = 0; c < n[2]; ++c) {
+        const double u = (a + 0.5) * dims.x / n[0], v = (b + 0.5) * dims.y / n[1], w = (c + 0.5) * dims.z / n[2];
+        const openvdb::Vec3d p(header.origin[0] + u * header.voxelSize, header.origin[1] + v * header.voxelSize,
+                               header.origin[2] + w * header.voxelSize);
+        const openvdb::Vec3d ip = grid.worldToIndex(p);
+        if (!(std::abs(ip.x()) < 1e9 && std::abs(ip.y()) < 1e9 && std::abs(ip.z()) < 1e9)) continue;
+        const float value = sampler.isSample(ip);
+        ++samples;
+        if (levelSet ? value <= 0.0f : double(value) >= thr) ++inside;
+      }
+  const double share = samples ? std::max(double(inside) / double(samples), 0.01) : 1.0;
+  // Per inside voxel: its share of an 8^3 builder block with one 2 KB vote
+  // block, then of the scene's occupancy, surface and vote leaves (measured:
+  // docs/reliability.md "Memory").
+  constexpr double kPerInsideVoxel = 12.0;
+  const double resident = double(residentBytesNow());
+  auto estimateAt = [&](double scale) {  // scale: voxel count relative to this grid's
+    MemoryEstimate e;
+    e.add("resident before sampling", resident);
+    e.add("inside bits", count * scale / 8);
+    e.add("scene", count * scale * share * kPerInsideVoxel);
+    return e;
+  };
+  const MemoryEstimate e = estimateAt(1.0);
+  const MemoryLimit limit = processMemoryLimit();
+  std::string suggestion;
+  if (!limit.unlimited() && e.bytes() > limit.bytes) {
+    const uint32_t res = dims.maxAxis();
+    const uint64_t best = largestFitting(1, res, limit.bytes, [&](uint64_t r) {
+      const double k = double(r) / res;
+      return estimateAt(k * k * k).bytes();
+    });
+    if (best)
+      suggestion = "a resolution of " + std::to_string(best) + " would need about " +
+                   formatBytes(estimateAt(std::pow(double(best) / res, 3)).bytes());
+  }
+  checkProcessMemory(e, "resampling " + path + " at " + toString(dims), suggestion);
+}
+
+}  // namespace
 
 Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) {
   ensureOpenVdbInitialized();
@@ -72,8 +132,7 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   const Dims dims = header.dims;
   const double vs = header.voxelSize;
   const uint64_t count = dims.count();
-  if (count > (uint64_t(1) << 34))
-    throwUsage(path + ": a " + toString(dims) + " grid is too large; lower the resolution", Setting::Resolution);
+  checkGridInputMemory(*grid, levelSet, thr, header, path);
 
   // Inside test at every output voxel centre, one slab of w per thread; each
   // voxel sets its own bit, so the result does not depend on the split.

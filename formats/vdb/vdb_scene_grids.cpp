@@ -10,6 +10,8 @@
 #include "formats/core/file_util.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_checked_file.h"
+#include "formats/vdb/vdb_memory.h"
+#include "libvox/core/memory_budget.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
 
@@ -113,6 +115,17 @@ VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly) {
   const openvdb::MetaMap::Ptr meta = file.metadata();
   f.metadata = metaEntriesOf(*meta);
   f.header = sceneHeaderFromMetadata(f.metadata, path);
+  {
+    // The memory guard (libvox/core/memory_budget.h), before any grid is read.
+    MemoryEstimate e;
+    e.add("resident before reading", residentBytesNow());
+    double grids = 0;
+    for (const VdbGridFrame& g : file.frame().grids)
+      if (g.checked && g.instanceParent.empty() && (!occupancyOnly || g.uniqueName == kOccupancyGridName))
+        grids += double(g.leafCount) * double(vdbLeafBytes(g.type));
+    e.add("grids", grids);
+    checkProcessMemory(e, "reading " + path);
+  }
   for (const VdbGridFrame& g : file.frame().grids) {
     // Grids vox could not check (point grids) are never read; the scene's own
     // grids are never of such a type, so one named like them is refused.

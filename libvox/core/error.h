@@ -19,6 +19,7 @@ enum class ErrorKind {
   Usage,     // the options make no sense together (exit 2)
   BadInput,  // an input file is missing, malformed or not what was expected (exit 3)
   Io,        // the system failed: cannot write an output, disk full (exit 4)
+  Resource,  // the run would need more memory than the limit allows (exit 4; libvox/core/memory_budget.h)
   Internal,  // a bug: an invariant did not hold (exit 4)
 };
 
@@ -49,6 +50,7 @@ enum class Setting {
   FieldOfView,             // vertical field of view
   ImageSize,               // image width and height
   RenderLevel,             // which level of a page file is rendered
+  MemoryLimit,             // the memory a run may plan to use
 };
 
 struct Error : std::runtime_error {

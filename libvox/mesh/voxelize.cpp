@@ -22,6 +22,7 @@
 
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/mesh/winding_number.h"
@@ -325,9 +326,11 @@ std::vector<Vec3i> snapToGridLattice(const Mesh& mesh, const SceneHeader& header
 }
 
 /// The solid fill's box: the voxels the mesh's triangles touch, clamped to
-/// the domain; nullopt when that is empty. Refuses boxes of more than 2^34
-/// voxels (their bit sets alone would take GiBs).
-std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>& lattice, Dims dims) {
+/// the domain; nullopt when that is empty. Its bit sets (one for the winding
+/// rule, four for parity) are checked against the process's memory limit
+/// (libvox/core/memory_budget.h) before they are allocated; the CLI has
+/// already checked the whole bake, this catches library callers (mip --source).
+std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>& lattice, Dims dims, SolidRule rule) {
   const int32_t dimv[3] = {int32_t(dims.x), int32_t(dims.y), int32_t(dims.z)};
   int32_t lo[3], hi[3];
   bool empty = false;
@@ -341,11 +344,11 @@ std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>&
     else volume *= uint64_t(hi[i] - lo[i] + 1);
   }
   if (empty) return std::nullopt;
-  if (volume > (uint64_t(1) << 34))
-    throwUsage("solid fill of a " + std::to_string(volume) + "-voxel bounding box needs about " +
-                   std::to_string(volume / (uint64_t(1) << 31)) +
-                   " GiB of working memory; fill only the surface, or use fewer, larger voxels",
-               Setting::VoxelSpacing);
+  MemoryEstimate bits;
+  bits.add("resident", residentBytesNow());
+  bits.add("solid-fill bits", double(volume) / 8 * (rule == SolidRule::Parity ? 4 : 1));
+  checkProcessMemory(bits, "a solid fill of a " + std::to_string(volume) + "-voxel box",
+                     "fill only the surface, or use fewer, larger voxels");
   return VoxelBox(lo, hi);
 }
 
@@ -1122,7 +1125,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
   std::optional<VoxelBox> box;
   std::vector<CapTriangle> caps;
   if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) {
-    box = solidFillBox(mesh, lattice, header.dims);
+    box = solidFillBox(mesh, lattice, header.dims, settings.solidRule);
     if (box && settings.solidRule == SolidRule::Winding) {
       caps = capBoundaryLoops(mesh.triangles, lattice);
       // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the

@@ -23,6 +23,7 @@
 #include "libvox/mesh/placement.h"
 #include "libvox/core/sha256.h"
 #include "libvox/mesh/voxelize.h"
+#include "libvox/mesh/voxelize_memory.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cli/number_checks.h"
 
@@ -277,6 +278,80 @@ PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
   return p;
 }
 
+namespace {
+
+/// A voxel size with three significant digits, rounded up (larger voxels: fewer of them).
+std::string voxelSizeText(double size) {
+  const double scale = std::pow(10.0, std::floor(std::log10(size)) - 2);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", std::ceil(size / scale - 1e-9) * scale);
+  return buf;
+}
+
+}  // namespace
+
+void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb) {
+  const uint64_t resident = vox::residentBytesNow();
+  vox::VoxelizeSettings settings;
+  settings.fill = o.fill;
+  settings.solidRule = o.solidRule;
+  const bool sdf = o.method == VoxelizeMethod::Sdf;
+  auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
+    const vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
+    vox::MemoryEstimate e;
+    e.add("resident before the bake", resident);
+    if (sdf) {
+      // meshToVolume: a float distance and an int32 closest-triangle grid over a
+      // band of 2 voxels each side, with its per-thread working grids (measured).
+      e.add("OpenVDB distance field", f.surfaceVoxels * 180.0);
+      e.add("scene grids", f.blocks * 3000.0 + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 * 3000.0 : 0.0));
+      return e;
+    }
+    for (vox::MemoryPart& part : vox::estimateMeshBake(f, p.mesh, settings).parts) e.parts.push_back(std::move(part));
+    if (openvdb) {
+      // The scene built from the blocks: bool leaves for occupancy and surface,
+      // an int32 vote leaf per class, a Vec3s colour leaf.
+      const double leaves = f.blocks + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 : 0.0);
+      e.add("scene grids", leaves * 2 * 200 + f.blockClasses * 2200 + (p.mesh.hasColor() ? f.blocks * 6300 : 0.0));
+    }
+    return e;
+  };
+  const vox::MemoryEstimate estimate = estimateFor(p.header, uint64_t(1) << 22);
+  const vox::Dims d = p.header.dims;
+  const std::string what = "a " + vox::toString(d) + " " + nameOf(fillModeNames(), o.fill) + " bake" +
+                           (sdf ? " (--method sdf)" : "");
+  std::string suggestion;
+  if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
+    // The largest resolution whose estimate fits (coarser counting: a few ms each).
+    auto headerAt = [&](uint64_t res) {
+      VoxelizeOptions r = o;
+      r.resolution = uint32_t(res);
+      r.voxelSize = 0;
+      vox::SceneHeader h = p.header;
+      placeScene(r, p.mesh, h);
+      return h;
+    };
+    auto bytesAt = [&](uint64_t res) { return estimateFor(headerAt(res), uint64_t(1) << 18).bytes(); };
+    const uint64_t limit = run.memoryLimit().bytes;
+    const uint64_t hi = std::min<uint64_t>(4096, std::max<uint64_t>(1, d.maxAxis()));
+    uint64_t best = vox::largestFitting(1, hi, limit, bytesAt);
+    // The search counts coarsely; the run at the suggested setting estimates
+    // finely: step down until the fine estimate fits too.
+    uint64_t fine = best ? estimateFor(headerAt(best), uint64_t(1) << 22).bytes() : 0;
+    for (int i = 0; i < 20 && best > 1 && fine > limit; ++i) {
+      best = std::max<uint64_t>(1, best * 97 / 100);
+      fine = estimateFor(headerAt(best), uint64_t(1) << 22).bytes();
+    }
+    if (best > 0 && fine <= limit) {
+      suggestion = o.voxelSize > 0 ? "--voxel-size " + voxelSizeText(headerAt(best).voxelSize)
+                                   : "--res " + std::to_string(best);
+      suggestion += " would need about " + vox::formatBytes(fine);
+    }
+    if (suggestion.empty() && o.fill == vox::FillMode::Solid) suggestion = "--fill surface needs less";
+  }
+  run.checkMemory(estimate, what, suggestion);
+}
+
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar) {
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
@@ -305,6 +380,7 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   PreparedMeshes p = prepareMeshes(o, run);
+  checkMeshBakeMemory(o, run, p, false);
   run.phase("voxelize");
   auto bar = run.progress("voxelize");
   vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, voxelizeSettings(o, run, *bar));

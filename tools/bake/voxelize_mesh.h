@@ -81,6 +81,12 @@ struct PreparedMeshes {
 };
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run);
 
+/// The memory guard of a mesh bake (libvox/mesh/voxelize_memory.h): estimates
+/// the peak before the work and refuses, with the largest --res (or the
+/// smallest --voxel-size) that fits, when it exceeds --max-memory. `openvdb`:
+/// the bake builds OpenVDB trees (--method sdf, --check), not only blocks.
+void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb);
+
 /// Voxelizer settings from the options (fill mode, threads), reporting progress to `bar`.
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar);
 

@@ -32,7 +32,69 @@ void addCommonOptions(CLI::App& cmd, CommonOptions& o) {
       ->type_name("N");
   cmd.add_flag("--progress", o.progress, "Draw progress bars even when stderr is not a terminal");
   cmd.add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
+  addMaxMemoryOption(cmd, o.maxMemory);
 }
+
+void addMaxMemoryOption(CLI::App& cmd, std::string& text) {
+  cmd.add_option("--max-memory", text,
+                 "Refuse, before the work, a run whose estimated peak memory exceeds SIZE (12G, 500M; 0 = no "
+                 "limit; default " + std::to_string(int(vox::kDefaultMemoryFraction * 100)) +
+                     "% of physical memory)")
+      ->type_name("SIZE");
+}
+
+namespace {
+std::mutex gPhaseMutex;
+std::string gPhase;
+}  // namespace
+
+std::string currentPhase() {
+  std::lock_guard<std::mutex> lock(gPhaseMutex);
+  return gPhase;
+}
+
+std::string suggestSetting(const std::string& option, uint64_t lo, uint64_t hi, const vox::MemoryLimit& limit,
+                           const std::function<uint64_t(uint64_t)>& estimateAt,
+                           const std::function<std::string(uint64_t)>& show) {
+  if (limit.unlimited()) return "";
+  if (lo > hi || estimateAt(lo) > limit.bytes) return "";
+  const uint64_t best = vox::largestFitting(lo, hi, limit.bytes, estimateAt);
+  return option + " " + (show ? show(best) : std::to_string(best)) + " would need about " +
+         vox::formatBytes(estimateAt(best));
+}
+
+void Run::checkMemory(const vox::MemoryEstimate& estimate, const std::string& what, const std::string& suggestion) {
+  vox::checkProcessMemory(estimate, what, suggestion);
+}
+
+void Run::checkWorkMemory(const std::string& what, double perGridByte, const vox::MemoryEstimate& extra,
+                          const std::string& suggestion) {
+  uint64_t grids = 0;
+  for (const vox::CheckedEstimate& c : vox::checkedEstimates())
+    for (const vox::MemoryPart& p : c.estimate.parts)
+      if (p.name == "grids") grids += p.bytes;
+  vox::MemoryEstimate e;
+  e.add("resident after reading", vox::residentBytesNow());
+  e.add("working copies", double(grids) * perGridByte);
+  for (const vox::MemoryPart& p : extra.parts) e.parts.push_back(p);
+  checkMemory(e, what, suggestion);
+}
+
+namespace {
+/// The report's "memory": the limit and every estimate checked (the largest
+/// is the run's estimated peak), for docs/reliability.md's calibration.
+nlohmann::json memoryReport(const vox::MemoryLimit& limit) {
+  nlohmann::json checks = nlohmann::json::array();
+  uint64_t largest = 0;
+  for (const vox::CheckedEstimate& c : vox::checkedEstimates()) {
+    nlohmann::json parts = nlohmann::json::object();
+    for (const vox::MemoryPart& p : c.estimate.parts) parts[p.name] = p.bytes;
+    checks.push_back({{"what", c.what}, {"estimate_bytes", c.estimate.bytes()}, {"parts", parts}});
+    largest = std::max(largest, c.estimate.bytes());
+  }
+  return {{"limit_bytes", limit.bytes}, {"limit", limit.description}, {"estimate_bytes", largest}, {"checks", checks}};
+}
+}  // namespace
 
 namespace {
 std::mutex gStderrMutex;
@@ -66,6 +128,8 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   threads_ = options.threads == 0 ? cores : options.threads;
   limit_ = std::make_unique<ThreadLimit>(threads_);
+  memoryLimit_ = vox::memoryLimitFrom(options.maxMemory, "--max-memory");
+  vox::setProcessMemoryLimit(memoryLimit_, "--max-memory");
   start_ = phaseStart_ = std::chrono::steady_clock::now();
   report_ = {{"tool", "vox"},         {"version", vox::kToolVersion}, {"command", command_},
              {"argv", argv},          {"threads", threads_},          {"phases", nlohmann::json::array()},
@@ -83,6 +147,10 @@ void Run::endPhase() {
 
 void Run::phase(const std::string& name) {
   endPhase();
+  {
+    std::lock_guard<std::mutex> lock(gPhaseMutex);
+    gPhase = name;
+  }
   phaseName_ = name;
   phaseStart_ = std::chrono::steady_clock::now();
 }
@@ -145,6 +213,7 @@ int Run::finish(int code) {
   }
   if (!options_.reportPath.empty()) {
     report_["exit_code"] = code;
+    report_["memory"] = memoryReport(memoryLimit_);
     report_["total_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     report_["inputs"] = inputs_;
     nlohmann::json outs = nlohmann::json::array();

@@ -13,12 +13,14 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "formats/core/file_util.h"
+#include "libvox/core/memory_budget.h"
 
 namespace CLI {
 class App;
@@ -41,10 +43,13 @@ struct CommonOptions {
   unsigned threads = 0;     // --threads N (0 = all cores)
   bool progress = false;    // --progress: bars even when stderr is not a terminal
   bool quiet = false;       // --quiet: no messages or bars, errors only
+  std::string maxMemory;    // --max-memory SIZE ("" = the default share of physical memory, "0" = no limit)
 };
 
-/// Adds --report, --depfile, --threads, --progress, --quiet to a subcommand.
+/// Adds --report, --depfile, --threads, --progress, --quiet, --max-memory to a subcommand.
 void addCommonOptions(CLI::App& cmd, CommonOptions& options);
+/// Only --max-memory, for commands without the other common options (info).
+void addMaxMemoryOption(CLI::App& cmd, std::string& text);
 
 /// A progress bar on stderr, drawn only when stderr is a terminal (or
 /// --progress) and not --quiet. update() is cheap and thread-safe.
@@ -83,6 +88,21 @@ class Run {
   /// A message on stderr ("vox CMD: ..."), suppressed by --quiet.
   void note(const std::string& message) const;
 
+  /// The memory limit of this run (--max-memory, else the default share of
+  /// physical memory; libvox/core/memory_budget.h).
+  const vox::MemoryLimit& memoryLimit() const { return memoryLimit_; }
+  /// The one memory guard: records the estimate in the report ("memory") and
+  /// throws vox::Error (Resource, exit 4) before the work when it exceeds the
+  /// limit. `what` names the work ("a 4096^3 surface bake of cube.obj");
+  /// `suggestion` says what would fit ("--res 2048 would need about 7.9 GiB").
+  void checkMemory(const vox::MemoryEstimate& estimate, const std::string& what, const std::string& suggestion = "");
+  /// After the inputs were read (each read checked its own grids): checks the
+  /// work on them, resident memory now plus `perGridByte` times the grids
+  /// read (a command's copies, levels, pages; measured, docs/reliability.md
+  /// "Memory"), plus `extra` (parts that do not scale with the scene).
+  void checkWorkMemory(const std::string& what, double perGridByte, const vox::MemoryEstimate& extra = {},
+                       const std::string& suggestion = "");
+
   /// Writes the depfile and the report beside the outputs, then commits every
   /// file of the run together (vox::commitAll: all reach the disk before any is
   /// renamed into place). Returns `code` for convenience.
@@ -94,12 +114,26 @@ class Run {
   CommonOptions options_;
   unsigned threads_;
   std::unique_ptr<struct ThreadLimit> limit_;
+  vox::MemoryLimit memoryLimit_;
   nlohmann::json report_;
   std::vector<std::string> inputs_;
   std::vector<vox::AtomicOutput> outputs_;
   std::chrono::steady_clock::time_point start_, phaseStart_;
   std::string phaseName_;
 };
+
+/// The phase the current run is in ("voxelize", "write"...; "" before any),
+/// for the out-of-memory message of tools/cli/dispatch.cpp.
+std::string currentPhase();
+
+/// "--res 2048 would need about 7.9 GiB": the largest value of `option` in
+/// [lo, hi] whose estimate fits `limit` (estimateAt grows with the value), or
+/// "" when none does. `smallerIsCheaper` = false for settings such as a voxel
+/// size, where larger values cost less (then `lo`..`hi` are indices into the
+/// caller's scale and `show` prints the setting for an index).
+std::string suggestSetting(const std::string& option, uint64_t lo, uint64_t hi, const vox::MemoryLimit& limit,
+                           const std::function<uint64_t(uint64_t)>& estimateAt,
+                           const std::function<std::string(uint64_t)>& show = nullptr);
 
 /// Parses "X,Y,Z" into three positive integers; throws vox::Error (Usage).
 std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& option);

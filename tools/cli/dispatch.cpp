@@ -1,7 +1,12 @@
 #include "tools/cli/dispatch.h"
 #include "tools/cli/signal_cleanup.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <atomic>
+#include <cstring>
+#include <exception>
 #include <iostream>
 #include <new>
 
@@ -16,6 +21,7 @@ int exitCodeFor(vox::ErrorKind kind) {
     case vox::ErrorKind::Usage: return kExitUsage;
     case vox::ErrorKind::BadInput: return kExitBadInput;
     case vox::ErrorKind::Io:
+    case vox::ErrorKind::Resource:
     case vox::ErrorKind::Internal: return kExitIoOrInternal;
   }
   return kExitIoOrInternal;
@@ -49,6 +55,7 @@ const char* optionFor(vox::Setting s) {
     case vox::Setting::FieldOfView: return "--fov";
     case vox::Setting::ImageSize: return "--size";
     case vox::Setting::RenderLevel: return "--level";
+    case vox::Setting::MemoryLimit: return "--max-memory";
   }
   return "";
 }
@@ -61,7 +68,54 @@ std::string messageFor(const vox::Error& e) {
 
 namespace {
 std::vector<std::string> gInvocation;
+
+char gTerminateCommand[64] = "vox";
+
+void writeStderr(const char* s) {
+  size_t left = std::strlen(s);
+  while (left > 0) {
+    const ssize_t n = ::write(STDERR_FILENO, s, left);
+    if (n <= 0) return;
+    s += n;
+    left -= size_t(n);
+  }
 }
+
+/// The out-of-memory advice, the same for a caught std::bad_alloc and one that
+/// reached std::terminate.
+const char* const kOutOfMemoryAdvice =
+    ": lower --res (or raise --voxel-size), or give the run more memory; --max-memory sets the limit the "
+    "estimate is checked against (docs/reliability.md)";
+
+// std::terminate: an exception escaped where none may (a noexcept function, a
+// destructor, a thread) or terminate was called directly. Whatever the cause,
+// the run ends like any other failed run: its unfinished outputs removed, one
+// line on stderr, exit 4 (an allocation failure above all must never abort).
+// Writes with write(2) only: the heap may be exhausted. A second thread that
+// terminates meanwhile waits here until the first one has exited.
+[[noreturn]] void onTerminate() {
+  static std::atomic<bool> entered{false};
+  if (entered.exchange(true))
+    for (;;) pause();
+  bool outOfMemory = false;
+  if (std::exception_ptr e = std::current_exception()) try {
+      std::rethrow_exception(e);
+    } catch (const std::bad_alloc&) {
+      outOfMemory = true;
+    } catch (...) {
+    }
+  vox::removeUncommittedOutputs();
+  writeStderr(gTerminateCommand);
+  if (outOfMemory) {
+    writeStderr(": error: out of memory");
+    writeStderr(kOutOfMemoryAdvice);
+  } else {
+    writeStderr(": internal error: the run was terminated (an exception escaped where none may)");
+  }
+  writeStderr("; no output was written\n");
+  ::_exit(kExitIoOrInternal);
+}
+}  // namespace
 
 const std::vector<std::string>& invocation() { return gInvocation; }
 
@@ -83,13 +137,18 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
     if (!c.app->parsed()) continue;
     const std::string name = c.app->get_name();
     installSignalCleanup(("vox " + name).c_str());
+    std::strncpy(gTerminateCommand, ("vox " + name).c_str(), sizeof gTerminateCommand - 1);
+    std::set_terminate(onTerminate);
     try {
       return c.run();
     } catch (const vox::Error& e) {
       std::cerr << "vox " << name << ": error: " << messageFor(e) << "\n";
       return exitCodeFor(e.kind);
     } catch (const std::bad_alloc&) {
-      std::cerr << "vox " << name << ": error: out of memory\n";
+      // Outputs are AtomicOutputs: the unwinding already removed their temporaries.
+      const std::string phase = currentPhase();
+      std::cerr << "vox " << name << ": error: out of memory" << (phase.empty() ? "" : " while in phase '" + phase + "'")
+                << kOutOfMemoryAdvice << "; no output was written\n";
       return kExitIoOrInternal;
     } catch (const std::exception& e) {
       std::cerr << "vox " << name << ": internal error: " << e.what() << "\n";

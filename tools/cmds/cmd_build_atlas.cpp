@@ -11,6 +11,7 @@
 #include "libvox/core/atlas_content.h"
 #include "libvox/core/bitmap_packing.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
 #include "libvox/core/summary_bytes.h"
 #include "libvox/core/texel_formats.h"
@@ -118,7 +119,8 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     for (uint32_t layer = 0; layer < L.layers; ++layer) {
       Output out;
       out.info = {L, content, format, layer, classId, o.scene};
-      out.image = vox::Image(width, L.height, channels, type);
+      // Pixels are allocated layer by layer, when the layer is filled (below).
+      out.image.width = width, out.image.height = L.height, out.image.channels = channels, out.image.type = type;
       out.exr = exr;
       std::string name = stem + "." + vox::atlasContentName(content);
       if (content == vox::AtlasContent::Votes) name += "." + std::to_string(classId);
@@ -154,83 +156,140 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
       else add(vox::AtlasContent::Votes, "r32ui", 1, vox::SampleType::U32, true, pc.classId, L.width);
     }
   }
+  // The bitmaps, like the images, hold one layer at a time: their layout is
+  // the atlas's with a single layer (a texel's layer is the one being filled).
+  vox::AtlasLayout oneLayer = L;
+  oneLayer.layers = 1;
   std::optional<vox::OccupancyBitmap> bits1, bits2;
-  if (wOcc) {
-    bits1.emplace(L, 1);
-    add(vox::AtlasContent::Occupancy, "bitmap", 1, vox::SampleType::U8, false, 0, bits1->rowBytes());
-  }
-  if (wOcc2) {
-    bits2.emplace(L, 2);
-    add(vox::AtlasContent::Occupancy2, "bitmap", 1, vox::SampleType::U8, false, 0, bits2->rowBytes());
+  const uint32_t bits1Row = (L.width + 7) / 8, bits2Row = (L.width + 3) / 4;  // OccupancyBitmap::rowBytes()
+  if (wOcc) add(vox::AtlasContent::Occupancy, "bitmap", 1, vox::SampleType::U8, false, 0, bits1Row);
+  if (wOcc2) add(vox::AtlasContent::Occupancy2, "bitmap", 1, vox::SampleType::U8, false, 0, bits2Row);
+
+  // The memory guard: the scene, plus one layer of every image (and its preview).
+  {
+    const uint64_t resident = vox::residentBytesNow();
+    auto estimateFor = [&](const vox::AtlasLayout& layout) {
+      vox::MemoryEstimate e;
+      e.add("resident after reading the scene", resident);
+      double images = 0, previews = 0;
+      for (const Output& out : outs) {
+        if (out.info.layer != 0) continue;
+        const double texels = double(layout.texelsPerLayer());
+        const double bytesPerTexel = out.image.width == L.width
+                                         ? double(out.image.channels * vox::sampleBytes(out.image.type))
+                                         : double(out.image.width) / double(L.width);  // bitmaps: bits per texel / 8
+        images += texels * bytesPerTexel;
+        // A preview: RGB (the summary's two panels side by side) plus its row slices.
+        if (o.preview) previews += texels * (out.info.content == vox::AtlasContent::Summary ? 8.0 : 4.0);
+      }
+      e.add("atlas images (one layer)", images * 1.05);  // + the encoders' row buffers
+      if (o.preview) e.add("previews (one layer)", previews);
+      return e;
+    };
+    const vox::MemoryEstimate estimate = estimateFor(L);
+    std::string suggestion;
+    if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
+      // Smaller layers hold fewer texels: the largest --max-side that fits.
+      const uint64_t smallest = std::max<uint64_t>(h.dims.x, h.dims.y);
+      suggestion = suggestSetting("--max-side", smallest, std::max<uint64_t>(smallest, L.maxSide), run.memoryLimit(),
+                                  [&](uint64_t side) {
+                                    return estimateFor(vox::AtlasLayout::make(h.dims, 0, uint32_t(side))).bytes();
+                                  });
+    }
+    run.checkMemory(estimate,
+                    "building the atlases of " + o.scene + " (" + std::to_string(L.width) + " x " +
+                        std::to_string(L.height) + " texels per layer, " + std::to_string(L.layers) +
+                        (L.layers == 1 ? " layer)" : " layers)"),
+                    suggestion);
   }
 
-  // Fill: one pass over the occupied voxels; empty texels stay 0.
-  run.phase("fill");
+  // Layer by layer: fill every image of the layer in one pass over the
+  // occupied voxels (empty texels stay 0), encode them, release them. So the
+  // memory is one layer's images (at most --max-side squared texels each),
+  // whatever the number of layers.
   auto progress = run.progress("atlas");
-  const double total = double(std::max<uint64_t>(1, stats.occupied));
+  const double total = double(std::max<uint64_t>(1, stats.occupied)) * L.layers;
   uint64_t done = 0;
-  scene.forEachVoxel([&](const vox::VoxelView& v) {
-    const vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
-    for (Output& out : outs) {
-      if (out.info.layer != t.layer) continue;
-      vox::Image& img = out.image;
-      const size_t px = size_t(t.y) * img.width + t.x;
-      switch (out.info.content) {
-        case vox::AtlasContent::Occupancy:
-        case vox::AtlasContent::Occupancy2: continue;  // bitmaps are packed below
-        default: break;
+  std::vector<std::exception_ptr> errors(outs.size() * (o.preview ? 2 : 1));
+  for (uint32_t layer = 0; layer < L.layers; ++layer) {
+    run.phase(L.layers > 1 ? "fill layer " + std::to_string(layer) : "fill");
+    std::vector<size_t> here;  // outs of this layer, in file order
+    for (size_t i = 0; i < outs.size(); ++i)
+      if (outs[i].info.layer == layer) {
+        vox::Image& img = outs[i].image;
+        img.pixels.assign(img.rowBytes() * img.height, 0);
+        here.push_back(i);
       }
-      const std::array<uint64_t, 4> val = vox::atlasTexel(out.info.content, &v, idFormat, out.info.classId);
-      for (uint32_t c = 0; c < img.channels; ++c) {
-        const size_t i = px * img.channels + c;
-        switch (img.type) {
-          case vox::SampleType::U8: img.pixels[i] = uint8_t(val[c]); break;
-          case vox::SampleType::U16: reinterpret_cast<uint16_t*>(img.pixels.data())[i] = uint16_t(val[c]); break;
-          case vox::SampleType::U32: reinterpret_cast<uint32_t*>(img.pixels.data())[i] = uint32_t(val[c]); break;
-          case vox::SampleType::F16:
-            reinterpret_cast<uint16_t*>(img.pixels.data())[i] = vox::floatToHalf(float(val[c]));
-            break;
-          case vox::SampleType::F32: reinterpret_cast<float*>(img.pixels.data())[i] = float(val[c]); break;
+    if (wOcc) bits1.emplace(oneLayer, 1);
+    if (wOcc2) bits2.emplace(oneLayer, 2);
+    scene.forEachVoxel([&](const vox::VoxelView& v) {
+      if ((++done & 0xffff) == 0) progress->update(double(done) / total);
+      vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+      if (t.layer != layer) return;
+      for (size_t i : here) {
+        Output& out = outs[i];
+        vox::Image& img = out.image;
+        const size_t px = size_t(t.y) * img.width + t.x;
+        switch (out.info.content) {
+          case vox::AtlasContent::Occupancy:
+          case vox::AtlasContent::Occupancy2: continue;  // bitmaps are packed below
+          default: break;
+        }
+        const std::array<uint64_t, 4> val = vox::atlasTexel(out.info.content, &v, idFormat, out.info.classId);
+        for (uint32_t c = 0; c < img.channels; ++c) {
+          const size_t k = px * img.channels + c;
+          switch (img.type) {
+            case vox::SampleType::U8: img.pixels[k] = uint8_t(val[c]); break;
+            case vox::SampleType::U16: reinterpret_cast<uint16_t*>(img.pixels.data())[k] = uint16_t(val[c]); break;
+            case vox::SampleType::U32: reinterpret_cast<uint32_t*>(img.pixels.data())[k] = uint32_t(val[c]); break;
+            case vox::SampleType::F16:
+              reinterpret_cast<uint16_t*>(img.pixels.data())[k] = vox::floatToHalf(float(val[c]));
+              break;
+            case vox::SampleType::F32: reinterpret_cast<float*>(img.pixels.data())[k] = float(val[c]); break;
+          }
         }
       }
+      t.layer = 0;  // the bitmaps hold this layer only
+      if (bits1) bits1->setOccupied(t);
+      if (bits2) bits2->setOccupied(t);
+    });
+    for (size_t i : here) {
+      if (outs[i].info.content == vox::AtlasContent::Occupancy) outs[i].image.pixels = std::move(bits1->layerBytes(0));
+      if (outs[i].info.content == vox::AtlasContent::Occupancy2) outs[i].image.pixels = std::move(bits2->layerBytes(0));
     }
-    if (bits1) bits1->setOccupied(t);
-    if (bits2) bits2->setOccupied(t);
-    if ((++done & 0xffff) == 0) progress->update(double(done) / total);
-  });
-  progress->done();
-  for (Output& out : outs) {
-    if (out.info.content == vox::AtlasContent::Occupancy) out.image.pixels = bits1->layerBytes(out.info.layer);
-    if (out.info.content == vox::AtlasContent::Occupancy2) out.image.pixels = bits2->layerBytes(out.info.layer);
-  }
+    bits1.reset(), bits2.reset();
 
-  // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not
-  // depend on it. --preview adds one job per file after the data files: a
-  // preview is drawn from its data image (so it shows exactly what was
-  // written) and deflated in row slices, so previews fill the cores the
-  // serial data encoders leave idle (docs/bench-atlas.md). The first failing
-  // file, in file order, is reported.
-  run.phase("write");
-  const size_t jobs = outs.size() * (o.preview ? 2 : 1);
-  std::vector<std::exception_ptr> errors(jobs);
-  vox::parallelForEach(jobs, run.threads(), 1, [&](size_t i) {
-    try {
-      if (i >= outs.size()) {
-        const Output& out = outs[i - outs.size()];
-        const vox::AtlasPreview preview =
-            vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
-        vox::writeAtlasPreview(preview, out.previewTempPath, run.threads());
-      } else if (outs[i].exr) {
-        vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
-      } else {
-        vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+    // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not
+    // depend on it. --preview adds one job per file after the data files: a
+    // preview is drawn from its data image (so it shows exactly what was
+    // written) and deflated in row slices, so previews fill the cores the
+    // serial data encoders leave idle (docs/bench-atlas.md). The first failing
+    // file, in file order, is reported.
+    run.phase(L.layers > 1 ? "write layer " + std::to_string(layer) : "write");
+    const size_t jobs = here.size() * (o.preview ? 2 : 1);
+    vox::parallelForEach(jobs, run.threads(), 1, [&](size_t j) {
+      const bool isPreview = j >= here.size();
+      const size_t i = here[isPreview ? j - here.size() : j];
+      try {
+        if (isPreview) {
+          const Output& out = outs[i];
+          const vox::AtlasPreview preview =
+              vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
+          vox::writeAtlasPreview(preview, out.previewTempPath, run.threads());
+        } else if (outs[i].exr) {
+          vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
+        } else {
+          vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+        }
+      } catch (...) {
+        errors[isPreview ? outs.size() + i : i] = std::current_exception();
       }
-    } catch (...) {
-      errors[i] = std::current_exception();
-    }
-  });
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+    });
+    for (size_t i : here) std::vector<uint8_t>().swap(outs[i].image.pixels);
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+  progress->done();
 
   // Sidecar: the layout and every file, for engines that do not read PNG text chunks.
   std::vector<vox::AtlasSidecarEntry> sideFiles;

@@ -361,6 +361,8 @@ int runExport(const ExportOptions& o) {
   Run run("export", o.common);
   run.phase("read");
   const ExportInput in = readInput(o, region, o.color == vox::FaceColor::Voxel, run);
+  // Faces, vertices and the encoded file, per exposed voxel face (measured).
+  run.checkWorkMemory("exporting " + o.input, 1.0);
   nlohmann::json& c = run.counts();
   c["input_kind"] = in.kind;
   c["level"] = o.level;

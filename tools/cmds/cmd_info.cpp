@@ -18,6 +18,7 @@
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
 #include "libvox/core/texel_formats.h"
+#include "libvox/core/memory_budget.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cmds/info_atlas.h"
@@ -35,6 +36,7 @@ struct InfoOptions {
   bool json = false;
   std::string pixel;  // "x,y" for atlases
   std::string scene;  // with --pixel: the scene, for class names and votes
+  std::string maxMemory;  // --max-memory (info has no other common option)
 };
 
 nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
@@ -182,6 +184,7 @@ int infoJsonFile(const InfoOptions& o) {
 }
 
 int runInfo(const InfoOptions& o) {
+  vox::setProcessMemoryLimit(vox::memoryLimitFrom(o.maxMemory, "--max-memory"), "--max-memory");
   vox::requireRegularFile(o.file);
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
@@ -270,6 +273,7 @@ Command registerInfo(CLI::App& root) {
   cmd->add_option("--scene", opts->scene,
                   "Atlases and renders: the scene (or page file) for class names and, with --pixel, votes "
                   "(default for atlases: the scene they name, when it exists)");
+  addMaxMemoryOption(*cmd, opts->maxMemory);
   return {cmd, [opts] { return runInfo(*opts); }};
 }
 

@@ -81,6 +81,9 @@ int runMip(const MipOptions& o) {
     run.note("note: " + o.input + " is already mip level " + std::to_string(base.header().mipLevel) +
              "; the pyramid continues from there");
 
+  // Levels above 0 hold about a third of level 0 again (surfaces shrink 4x
+  // per level), built through blocks and written with the scene (measured).
+  run.checkWorkMemory("the pyramid of " + o.input, 1.0);
   run.phase("reduce");
   vox::MipSettings settings;
   settings.occupancy = o.occupancy;

@@ -175,6 +175,9 @@ int runPack(const PackOptions& o) {
   vox::PackSettings pack = o.pack;
   pack.threads = run.threads();
   const std::vector<vox::Scene> levels = readLevels(o, run, pack);
+  // The page file is assembled in memory before it is written: payloads of
+  // a few bytes per voxel, chunk by chunk (measured).
+  run.checkWorkMemory("packing " + o.input, 1.0);
   run.phase("pack");
   const auto t0 = std::chrono::steady_clock::now();
   const vox::PackResult res = packLevels(levels, pack, o.input);

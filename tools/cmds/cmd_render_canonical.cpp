@@ -442,6 +442,15 @@ int runRenderCanonical(const RenderCanonicalOptions& o) {
   checkEyesNearGrid(views, in.frame);
   const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits, o.camera.orbit > 0);
 
+  {
+    // Per pixel of every view: the hit record and one image per mode (up to
+    // 16 bytes per sample) plus the encoder's copy; the scene's ray grid (measured).
+    double pixels = 0;
+    for (const vox::CameraView& v : views) pixels += double(v.camera.width) * v.camera.height;
+    vox::MemoryEstimate images;
+    images.add("images", pixels * (48.0 + 16.0 * double(modes.size())));
+    run.checkWorkMemory("rendering " + o.input, 1.0, images);
+  }
   run.phase("cast");
   const CastViews cast = castViews(run, in, views);
 

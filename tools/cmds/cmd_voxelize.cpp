@@ -14,6 +14,7 @@
 #include "libvox/scene/voxelize_sdf.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/bake/voxelize_mesh.h"
@@ -27,6 +28,7 @@ namespace {
 int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   if (isLightBake(o)) return runMeshesDirect(o, run, outputTemp);
   PreparedMeshes p = prepareMeshes(o, run);
+  checkMeshBakeMemory(o, run, p, true);
   const vox::Mesh& mesh = p.mesh;
   run.phase("voxelize");
   auto bar = run.progress("voxelize");
@@ -63,9 +65,24 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
 vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
   if (input != "demo:hamlet")
     throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
+  // The memory guard: the hamlet fills a fixed share of its cube (ground,
+  // buildings, trees), so its scene grows as res^3 plus a res^2 term (surfaces
+  // and the builder's partly filled blocks), measured at 64..1024
+  // (docs/reliability.md "Memory").
+  const uint64_t resident = vox::residentBytesNow();
+  auto hamletAt = [resident](uint64_t res) {
+    const double r = double(res);
+    vox::MemoryEstimate e;
+    e.add("resident before the bake", resident);
+    e.add("hamlet scene", 1.11 * r * r * r + 355 * r * r);
+    return e;
+  };
+  const uint32_t res = o.resolutionOrDefault();
+  run.checkMemory(hamletAt(res), "demo:hamlet at --res " + std::to_string(res),
+                  suggestSetting("--res", 1, res, run.memoryLimit(), [&](uint64_t r) { return hamletAt(r).bytes(); }));
   run.phase("generate");
   vox::HamletOptions h;
-  h.resolution = o.resolutionOrDefault();
+  h.resolution = res;
   h.threads = run.threads();
   auto bar = run.progress("hamlet");
   h.progress = [&bar](double f) { bar->update(f); };
@@ -80,6 +97,17 @@ vox::Scene readBlockMapInput(const VoxelizeOptions& o, Run& run, const std::stri
     throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
   run.phase("parse");
   run.input(input);
+  {
+    // The memory guard: the JSON document (nlohmann's tree: ~10 bytes per
+    // byte of text) and the scene of its blocks (one voxel per ~45 bytes of
+    // text, in partly filled 8^3 leaves), measured (docs/reliability.md "Memory").
+    const int64_t size = vox::fileSizeOrMinusOne(input);
+    vox::MemoryEstimate e;
+    e.add("resident before reading", vox::residentBytesNow());
+    e.add("JSON document", double(std::max<int64_t>(0, size)) * 12.0);
+    e.add("scene", double(std::max<int64_t>(0, size)) * 4.0);
+    run.checkMemory(e, "reading the block map " + input);
+  }
   vox::BlockMapOptions b;
   b.gridSize = parseTriple(o.gridSize, "--grid-size");
   return vox::readBlockMap(input, b);

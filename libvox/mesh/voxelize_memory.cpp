@@ -1,0 +1,190 @@
+#include "libvox/mesh/voxelize_memory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "libvox/mesh/voxel_blocks.h"
+
+namespace vox {
+
+namespace {
+
+using P3 = std::array<double, 3>;
+
+P3 sub(const P3& a, const P3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+P3 cross(const P3& a, const P3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double len(const P3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+P3 mid(const P3& a, const P3& b) { return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}; }
+
+/// Halvings until the longest edge is at most `side`.
+int splitDepth(const P3 t[3], double side) {
+  const double l = std::max({len(sub(t[1], t[0])), len(sub(t[2], t[1])), len(sub(t[0], t[2]))});
+  int d = 0;
+  for (double e = l; e > side && d < 30; e /= 2) ++d;
+  return d;
+}
+
+/// What one cell of the count holds.
+struct Cell {
+  double areaL1 = 0;                // sum of area * |n|_1 of the pieces given to it
+  std::array<uint8_t, 4> classes{};  // the first classes seen (enough to tell 1, 2, 3, 4+)
+  uint8_t classCount = 0;
+};
+
+class CellCounter {
+ public:
+  CellCounter(const Dims& dims, double side) : side_(side), dims_(dims) {
+    cells_.reserve(1 << 16);
+  }
+
+  /// One piece: its bounding box's voxels (closed boxes: a vertex on a voxel
+  /// face touches both voxels), clamped to the grid, as cells.
+  void add(const P3 t[3], double areaL1, uint8_t cls) {
+    int64_t lo[3], hi[3];
+    const uint32_t d[3] = {dims_.x, dims_.y, dims_.z};
+    for (int k = 0; k < 3; ++k) {
+      const double mn = std::min({t[0][k], t[1][k], t[2][k]}), mx = std::max({t[0][k], t[1][k], t[2][k]});
+      int64_t a = int64_t(std::ceil(mn)) - 1, b = int64_t(std::floor(mx));
+      a = std::max<int64_t>(a, 0);
+      b = std::min<int64_t>(b, int64_t(d[k]) - 1);
+      if (a > b) return;  // outside the grid (cropped by --bounds)
+      lo[k] = int64_t(double(a) / side_), hi[k] = int64_t(double(b) / side_);
+    }
+    const double n = double((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1));
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) {
+          Cell& c = cells_[uint64_t(x) << 42 | uint64_t(y) << 21 | uint64_t(z)];
+          c.areaL1 += areaL1 / n;
+          bool seen = false;
+          for (int i = 0; i < std::min<int>(c.classCount, 4); ++i) seen |= c.classes[size_t(i)] == cls;
+          if (!seen) {
+            if (c.classCount < 4) c.classes[c.classCount] = cls;
+            if (c.classCount < 255) ++c.classCount;
+          }
+        }
+  }
+
+  void split(const P3 t[3], int depth, double areaL1PerPiece, uint8_t cls) {
+    if (depth == 0) return add(t, areaL1PerPiece, cls);
+    const P3 m01 = mid(t[0], t[1]), m12 = mid(t[1], t[2]), m20 = mid(t[2], t[0]);
+    const P3 a[3] = {t[0], m01, m20}, b[3] = {m01, t[1], m12}, c[3] = {m20, m12, t[2]}, e[3] = {m01, m12, m20};
+    split(a, depth - 1, areaL1PerPiece, cls);
+    split(b, depth - 1, areaL1PerPiece, cls);
+    split(c, depth - 1, areaL1PerPiece, cls);
+    split(e, depth - 1, areaL1PerPiece, cls);
+  }
+
+  /// (blocks, block-classes): a cell of 8 voxels is one block; a coarser cell
+  /// holds about areaL1 / 64 blocks (a plane of area A and normal n crosses
+  /// A |n|_1 / 64 cubes of side 8 on average over its offsets), at least one,
+  /// at most all of them.
+  std::pair<double, double> blocks() const {
+    const double perSide = side_ / kBlockDim, most = perSide * perSide * perSide;
+    double blocks = 0, classes = 0;
+    for (const auto& [key, c] : cells_) {
+      const double b = perSide <= 1 ? 1.0 : std::clamp(c.areaL1 / (kBlockDim * kBlockDim) + 0.5, 1.0, most);
+      blocks += b;
+      // Blocks of a cell with several classes: about half of them hold the
+      // second class, and so on (class borders run through cells).
+      classes += b * (1 + 0.5 * std::max(0, int(c.classCount) - 1));
+    }
+    return {blocks, classes};
+  }
+
+ private:
+  double side_;
+  Dims dims_;
+  std::unordered_map<uint64_t, Cell> cells_;
+};
+
+}  // namespace
+
+SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
+                                  uint64_t maxPieces) {
+  SurfaceFootprint f;
+  const size_t nt = mesh.triangles.size();
+  if (nt == 0) return f;
+  // Grid space, g = (world - origin) / voxelSize, snapped to the voxelizer's
+  // lattice (2^-kSubvoxelBits voxel): a face that the division puts a hair
+  // beyond the grid's last voxel boundary still touches the last voxel.
+  std::vector<P3> g(mesh.positions.size());
+  const double lattice = double(int64_t(1) << kSubvoxelBits);
+  for (size_t i = 0; i < g.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      g[i][k] = std::round((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
+
+  P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  double volume6 = 0;
+  for (const auto& tri : mesh.triangles) {
+    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));  // |n| = 2 area
+    f.area += len(n) / 2;
+    for (int k = 0; k < 3; ++k) f.crossings[k] += std::abs(n[k]) / 2;
+    volume6 += t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) - t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
+               t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0]);
+    for (const P3& p : t)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
+  f.enclosedVoxels = std::abs(volume6) / 6;
+  const uint32_t dims[3] = {header.dims.x, header.dims.y, header.dims.z};
+  f.boxVoxels = 1;
+  for (int k = 0; k < 3; ++k)
+    f.boxVoxels *= std::max(0.0, std::min(double(dims[k]), std::floor(hi[k]) + 1) - std::max(0.0, std::ceil(lo[k]) - 1));
+  f.enclosedVoxels = std::min(f.enclosedVoxels, f.boxVoxels);
+  f.surfaceVoxels = f.crossings[0] + f.crossings[1] + f.crossings[2];
+
+  // The cell side: 8 voxels (one block) unless the pieces would be too many.
+  double side = kBlockDim;
+  std::vector<int> depth(nt);
+  for (;;) {
+    uint64_t pieces = 0;
+    for (size_t i = 0; i < nt && pieces <= maxPieces; ++i) {
+      const auto& tri = mesh.triangles[i];
+      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+      depth[i] = splitDepth(t, side);
+      pieces += depth[i] >= 31 ? maxPieces + 1 : uint64_t(1) << (2 * depth[i]);
+    }
+    if (pieces <= maxPieces || side > 1e9) break;
+    side *= 2;
+  }
+  CellCounter counter(header.dims, side);
+  for (size_t i = 0; i < nt; ++i) {
+    const auto& tri = mesh.triangles[i];
+    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+    const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
+    counter.split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])), i < triangleClass.size() ? triangleClass[i] : 0);
+  }
+  std::tie(f.blocks, f.blockClasses) = counter.blocks();
+  return f;
+}
+
+MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings) {
+  MemoryEstimate e;
+  // Heap blocks carry ~16 bytes of malloc header; a hash-map entry is a node
+  // (key, pointer, next, cached hash) plus a bucket pointer. Blocks on the
+  // border of two threads' triangles exist twice until merged, and the
+  // writer's compression buffers come on top: +20% (measured, docs/reliability.md).
+  constexpr double kMalloc = 16, kMapEntry = 48 + 8, kShared = 1.20;
+  e.add("surface blocks", f.blocks * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * kShared);
+  e.add("vote blocks", f.blockClasses * (sizeof(ClassBlock) + kMalloc + sizeof(void*)) * kShared);
+  if (mesh.hasColor()) e.add("colour blocks", f.blocks * (kBlockVoxels * 3 * sizeof(float) + kMalloc) * kShared);
+  e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
+  if (settings.fill == FillMode::Solid) {
+    const bool parity = settings.solidRule == SolidRule::Parity;
+    // One bit per voxel of the mesh's box (the surface), three more for parity's rays.
+    e.add("solid-fill bits", f.boxVoxels / 8 * (parity ? 4 : 1));
+    // Crossings (16 bytes), collected per thread then concatenated and sorted.
+    const double crossings = parity ? f.crossings[0] + f.crossings[1] + f.crossings[2] : f.crossings[2];
+    e.add("ray crossings", crossings * 16 * 2);
+    // Interior blocks keep their votes as runs (64-byte masks), not 2 KB vote blocks.
+    e.add("interior blocks", f.enclosedVoxels / kBlockVoxels * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * 1.8);
+  }
+  return e;
+}
+
+}  // namespace vox

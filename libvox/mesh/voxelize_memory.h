@@ -1,0 +1,52 @@
+// What a mesh bake (voxelizeMeshBlocks, then a scene writer) will need in
+// memory, estimated before the work from the mesh and the placement.
+//
+// The model follows the data structures: surface voxels live in 8^3 VoxelBlocks
+// (voxel_blocks.h), each with one 2 KB vote block per class present and a 6 KB
+// colour block when the mesh has colour, so the surface costs memory in the
+// number of 8^3 blocks the triangles touch (proportional to the surface area,
+// not to the grid's volume). That count is estimated by splitting every
+// triangle into pieces no longer than a cell side and counting the distinct
+// cells their bounding boxes touch (cells of 8 voxels, coarser for very large
+// surfaces, where the blocks per cell come from the area inside it). A solid
+// fill adds a bit per voxel of the mesh's box, the ray crossings, and a compact
+// 8^3 block per 512 voxels of enclosed volume (the divergence theorem on the
+// triangles; |volume| for inverted or open meshes).
+//
+// Cost: linear in the triangles plus at most `maxPieces` split pieces (a few
+// tens of ms at the default), no allocation proportional to the grid.
+// Calibration against measured peaks: docs/reliability.md ("Memory").
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "libvox/core/memory_budget.h"
+#include "libvox/core/scene_header.h"
+#include "libvox/mesh/mesh.h"
+#include "libvox/mesh/voxelize.h"
+
+namespace vox {
+
+/// The shape of a mesh in a placement: what the memory of a bake depends on.
+struct SurfaceFootprint {
+  double blocks = 0;            // 8^3 blocks the surface touches
+  double blockClasses = 0;      // sum over those blocks of the classes present (>= blocks)
+  double surfaceVoxels = 0;     // voxels the surface touches (about)
+  double area = 0;              // surface area, in voxel faces
+  double crossings[3] = {0, 0, 0};  // ray crossings along x, y, z (projected areas)
+  double enclosedVoxels = 0;    // |signed volume| in voxels
+  double boxVoxels = 0;         // voxels of the mesh's bounding box (clamped to the grid)
+};
+
+/// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
+/// dims). `maxPieces` bounds the work (coarser cells beyond it).
+SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
+                                  uint64_t maxPieces = uint64_t(1) << 22);
+
+/// The parts of a bake's peak beyond what is resident before it (the mesh is
+/// counted by the caller): vote blocks, colour blocks, solid-fill bits and
+/// crossings, interior blocks.
+MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings);
+
+}  // namespace vox

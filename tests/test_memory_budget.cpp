@@ -1,0 +1,165 @@
+// The memory guard's pieces: sizes as users write them, the limit, the
+// refusal, and the mesh footprint against the blocks a real bake creates.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
+#include "libvox/mesh/voxelize.h"
+#include "libvox/mesh/voxelize_memory.h"
+
+namespace vox {
+namespace {
+
+TEST(MemoryBudget, ParsesSizes) {
+  EXPECT_EQ(parseByteSize("0", "--max-memory"), 0u);
+  EXPECT_EQ(parseByteSize("123456", "--max-memory"), 123456u);
+  EXPECT_EQ(parseByteSize("64k", "--max-memory"), 64u << 10);
+  EXPECT_EQ(parseByteSize("500M", "--max-memory"), 500ull << 20);
+  EXPECT_EQ(parseByteSize("12G", "--max-memory"), 12ull << 30);
+  EXPECT_EQ(parseByteSize("12GB", "--max-memory"), 12ull << 30);
+  EXPECT_EQ(parseByteSize("1.5GiB", "--max-memory"), 3ull << 29);
+  EXPECT_EQ(parseByteSize("2t", "--max-memory"), 2ull << 40);
+  for (const char* bad : {"", "G", "12X", "-1", "1.2.3", "12 G", "nan", "1e3", "99999999999T"}) {
+    try {
+      parseByteSize(bad, "--max-memory");
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind, ErrorKind::Usage) << bad;
+      EXPECT_NE(std::string(e.what()).find("--max-memory"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(MemoryBudget, FormatsBytes) {
+  EXPECT_EQ(formatBytes(12), "12 bytes");
+  EXPECT_EQ(formatBytes(1536), "1.50 KiB");
+  EXPECT_EQ(formatBytes(uint64_t(7.9 * (1ull << 30))), "7.90 GiB");
+  EXPECT_EQ(formatBytes(uint64_t(31.2 * (1ull << 30))), "31.2 GiB");
+  EXPECT_EQ(formatBytes(500ull << 20), "500 MiB");
+}
+
+TEST(MemoryBudget, LimitsFromOptions) {
+  EXPECT_TRUE(memoryLimitFrom("0", "--max-memory").unlimited());
+  EXPECT_EQ(memoryLimitFrom("2G", "--max-memory").bytes, 2ull << 30);
+  const PhysicalMemory m = physicalMemory();
+  ASSERT_GT(m.bytes, 0u) << "no MemTotal in /proc/meminfo";
+  const MemoryLimit d = memoryLimitFrom("", "--max-memory");
+  EXPECT_NEAR(double(d.bytes), double(m.bytes) * kDefaultMemoryFraction, 1.0);
+  EXPECT_NE(d.description.find("80% of"), std::string::npos) << d.description;
+}
+
+TEST(MemoryBudget, RefusesOverTheLimitWithTheEstimateAndASuggestion) {
+  MemoryEstimate e;
+  e.add("vote blocks", uint64_t(6) << 30);
+  e.add("bits", uint64_t(2) << 30);
+  e.add("tiny", uint64_t(1));
+  EXPECT_EQ(e.bytes(), (uint64_t(8) << 30) + 1);
+  EXPECT_NO_THROW(checkMemory(e, {uint64_t(9) << 30, "9 GiB"}, "a bake", "", "--max-memory"));
+  EXPECT_NO_THROW(checkMemory(e, {0, "none"}, "a bake", "", "--max-memory"));
+  try {
+    checkMemory(e, {uint64_t(4) << 30, "4.00 GiB (--max-memory)"}, "a bake", "--res 512 would need about 1 GiB",
+                "--max-memory");
+    FAIL() << "not refused";
+  } catch (const Error& err) {
+    EXPECT_EQ(err.kind, ErrorKind::Resource);
+    const std::string m = err.what();
+    EXPECT_NE(m.find("a bake needs about 8.00 GiB (vote blocks 6.00 GiB, bits 2.00 GiB)"), std::string::npos) << m;
+    EXPECT_NE(m.find("but the memory limit is 4.00 GiB (--max-memory)"), std::string::npos) << m;
+    EXPECT_NE(m.find("--res 512 would need about 1 GiB"), std::string::npos) << m;
+    EXPECT_EQ(m.find("tiny"), std::string::npos) << m;  // parts under 1% left out
+  }
+}
+
+TEST(MemoryBudget, LargestFitting) {
+  auto cube = [](uint64_t n) { return n * n * n; };
+  EXPECT_EQ(largestFitting(1, 4096, 1000, cube), 10u);
+  EXPECT_EQ(largestFitting(1, 4096, 999, cube), 9u);
+  EXPECT_EQ(largestFitting(1, 4096, uint64_t(1) << 62, cube), 4096u);
+  EXPECT_EQ(largestFitting(2, 4096, 7, cube), 0u);
+}
+
+TEST(MemoryBudget, ResidentNow) { EXPECT_GT(residentBytesNow(), 1u << 20); }
+
+// ---------------------------------------------------------------- mesh footprint
+
+Mesh cubeMesh(double lo, double hi) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) m.positions.push_back({i & 1 ? hi : lo, i & 2 ? hi : lo, i & 4 ? hi : lo});
+  const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                             {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (const auto& t : f) m.triangles.push_back({t[0], t[1], t[2]});
+  m.triangleMaterial.assign(12, 0);
+  m.trianglePart.assign(12, 0);
+  m.materials.push_back({});
+  m.parts.push_back({});
+  return m;
+}
+
+/// A UV sphere: many small triangles in every orientation.
+Mesh sphereMesh(double radius, int rings, int segments) {
+  Mesh m;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double th = M_PI * r / rings, ph = 2 * M_PI * s / segments;
+      m.positions.push_back({radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph), radius * std::cos(th)});
+    }
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const uint32_t a = uint32_t(r * segments + s), b = uint32_t(r * segments + (s + 1) % segments);
+      const uint32_t c = a + uint32_t(segments), d = b + uint32_t(segments);
+      m.triangles.push_back({a, c, b});
+      m.triangles.push_back({b, c, d});
+    }
+  m.triangleMaterial.assign(m.triangles.size(), 0);
+  m.trianglePart.assign(m.triangles.size(), 0);
+  m.materials.push_back({});
+  m.parts.push_back({});
+  return m;
+}
+
+SceneHeader placed(double lo, double hi, uint32_t res) {
+  SceneHeader h;
+  h.voxelSize = (hi - lo) / res;
+  h.origin = {lo, lo, lo};
+  h.dims = {res, res, res};
+  return h;
+}
+
+/// The footprint's block count against the blocks a real bake creates.
+void expectBlocksNear(const Mesh& mesh, const SceneHeader& h, double tolerance, const char* what) {
+  const std::vector<uint8_t> cls(mesh.triangles.size(), 0);
+  const SurfaceFootprint f = surfaceFootprint(mesh, cls, h);
+  VoxelizeSettings s;
+  s.threads = 2;
+  const double real = double(voxelizeMeshBlocks(mesh, cls, h, s).blockCount());
+  EXPECT_GT(f.blocks, real / tolerance) << what << ": estimated " << f.blocks << " blocks, real " << real;
+  EXPECT_LT(f.blocks, real * tolerance) << what << ": estimated " << f.blocks << " blocks, real " << real;
+  // Coarser cells (a tight piece budget) stay within 2x too.
+  const SurfaceFootprint coarse = surfaceFootprint(mesh, cls, h, 2000);
+  EXPECT_GT(coarse.blocks, real / 2) << what << " (coarse): " << coarse.blocks << " vs " << real;
+  EXPECT_LT(coarse.blocks, real * 2) << what << " (coarse): " << coarse.blocks << " vs " << real;
+}
+
+TEST(MeshFootprint, CubeBlocksAndVolume) {
+  const Mesh m = cubeMesh(0, 1);
+  for (uint32_t res : {64u, 256u}) {
+    const SceneHeader h = placed(0, 1, res);
+    const SurfaceFootprint f = surfaceFootprint(m, std::vector<uint8_t>(12, 0), h);
+    EXPECT_NEAR(f.enclosedVoxels, double(res) * res * res, 1e-6 * res * res * res);
+    EXPECT_NEAR(f.crossings[2], 2.0 * res * res, 1e-6 * res * res);
+    expectBlocksNear(m, h, 1.25, "cube");
+  }
+}
+
+TEST(MeshFootprint, TiltedAndCurvedSurfaces) {
+  // A cube inside a larger grid (faces between voxel boundaries) and a sphere
+  // of 8000 small triangles in every orientation.
+  expectBlocksNear(cubeMesh(0.1, 0.9), placed(0, 1, 200), 1.3, "inner cube");
+  expectBlocksNear(sphereMesh(1.0, 40, 100), placed(-1.1, 1.1, 160), 1.5, "sphere 160");
+  expectBlocksNear(sphereMesh(1.0, 40, 100), placed(-1.1, 1.1, 24), 1.5, "sphere 24 (triangles smaller than voxels)");
+}
+
+}  // namespace
+}  // namespace vox
