@@ -6,7 +6,7 @@
 
 namespace vox {
 
-void writeFusedSceneVdb(const Scene& scene, const FuseCounts& free, const std::string& path) {
+void writeFusedSceneVdb(const Scene& scene, FuseCounts&& free, const std::string& path) {
   ensureOpenVdbInitialized();
   const SceneHeader& h = scene.header();
   openvdb::GridPtrVec grids;
@@ -15,7 +15,7 @@ void writeFusedSceneVdb(const Scene& scene, const FuseCounts& free, const std::s
   grid->setName(kFreeGridName);
   grid->setTransform(voxelCentreTransform(h.voxelSize, h.origin));
   // The counts' 8^3 bricks are OpenVDB's leaves, voxel for voxel.
-  free.forEachFreeBrick([&](Coord3 o, const uint32_t* n) {
+  free.drainFreeBricks([&](Coord3 o, const uint32_t* n) {
     openvdb::Int32Tree::LeafNodeType* leaf = nullptr;
     for (openvdb::Index i = 0; i < 512; ++i) {
       if (!n[i]) continue;

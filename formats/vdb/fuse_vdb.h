@@ -14,8 +14,9 @@ namespace vox {
 inline constexpr const char* kFreeGridName = "free";
 
 /// Writes `scene` and its free counts (inside the dims; clamped to 2^31 - 1)
-/// to `path`. Throws vox::Error (Io).
-void writeFusedSceneVdb(const Scene& scene, const FuseCounts& free, const std::string& path);
+/// to `path`, emptying `free` brick by brick as the grid is built (one copy
+/// in memory at a time). Throws vox::Error (Io).
+void writeFusedSceneVdb(const Scene& scene, FuseCounts&& free, const std::string& path);
 
 /// Adds the `free` grid of a scene file to `into` (nothing when the file has
 /// none), leaf by leaf into its bricks. Throws vox::Error (BadInput) naming

@@ -395,9 +395,10 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.outside = outside;
   stats.steps = steps;
   stats.freeCounts = freeCounts;
+  voted.erase(std::remove(voted.begin(), voted.end(), ~uint64_t(0)), voted.end());  // pixels that voted only
   std::sort(voted.begin(), voted.end());
   voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
-  if (!voted.empty() && voted.back() == ~uint64_t(0)) voted.pop_back();
+  voted.shrink_to_fit();
   stats.voxelsVoted = voted.size();
   stats.votedKeys = std::move(voted);
   return stats;

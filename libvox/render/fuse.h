@@ -118,6 +118,21 @@ class FuseCounts {
     uint64_t votes = 0;
   };
   std::vector<Vote> votes() const;
+  /// forEachFreeBrick that frees each brick after `fn` has seen it (the
+  /// counts are empty afterwards): writers hold one copy at a time.
+  template <typename Fn>
+  void drainFreeBricks(Fn&& fn) {
+    for (uint64_t key : sortedBrickKeys()) {
+      const auto it = free_.find(key);
+      const Coord3 o{int32_t(key >> 42) * 8, int32_t((key >> 21) & 0x1FFFFF) * 8, int32_t(key & 0x1FFFFF) * 8};
+      fn(o, it->second->data());
+      free_.erase(it);
+    }
+    blocks_.clear();
+    lastBlockKey_ = lastKey_ = ~uint64_t(0);
+    lastBlock_ = nullptr;
+    last_ = nullptr;
+  }
   uint64_t freeBricks() const { return free_.size(); }
   void dropVotes() {
     votes_.clear();

@@ -169,7 +169,7 @@ int runFuse(const FuseOptions& o) {
   base.reset();
 
   run.phase("write");
-  vox::writeFusedSceneVdb(fused.scene, fused.free, outTemp);
+  vox::writeFusedSceneVdb(fused.scene, std::move(fused.free), outTemp);
 
   const vox::FuseTotals& t = fused.totals;
   const uint64_t rays = total.used + total.outside;
