@@ -189,12 +189,17 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     const vox::MemoryEstimate estimate = estimateFor(L);
     std::string suggestion;
     if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
-      // Smaller layers hold fewer texels: the largest --max-side that fits.
-      const uint64_t smallest = std::max<uint64_t>(h.dims.x, h.dims.y);
-      suggestion = suggestSetting("--max-side", smallest, std::max<uint64_t>(smallest, L.maxSide), run.memoryLimit(),
-                                  [&](uint64_t side) {
-                                    return estimateFor(vox::AtlasLayout::make(h.dims, 0, uint32_t(side))).bytes();
-                                  });
+      // Smaller layers hold fewer texels: the largest --max-side that fits,
+      // among the smallest possible (the tile's side) and the powers of two
+      // above it (the sides GPUs like).
+      std::vector<uint32_t> sides{std::max(h.dims.x, h.dims.y)};
+      for (uint64_t p = 1; p < L.maxSide; p *= 2)
+        if (p > sides[0]) sides.push_back(uint32_t(p));
+      auto sideBytes = [&](uint64_t i) {
+        return estimateFor(vox::AtlasLayout::make(h.dims, 0, sides[size_t(i)])).bytes();
+      };
+      suggestion = suggestSetting("--max-side", 0, sides.size() - 1, run.memoryLimit(), sideBytes,
+                                  [&](uint64_t i) { return std::to_string(sides[size_t(i)]); });
     }
     run.checkMemory(estimate,
                     "building the atlases of " + o.scene + " (" + std::to_string(L.width) + " x " +
