@@ -56,7 +56,8 @@ if [ -d "$m" ]; then
 fi
 [ -f "$data/derived/armadillo_ls128.vdb" ] && row "armadillo_ls128.vdb (level set)" voxelize "$data/derived/armadillo_ls128.vdb" --res 384 -o a.vdb
 row "3 blocks in a 512^3 grid" voxelize three.json --grid-size 512,512,512 -o three.vdb
-row "3 blocks in a 512^3 grid" build-atlas three.vdb -o atlas3 --max-side 4096
+row "3 blocks in a 512^3 grid" build-atlas three.vdb -o atlas3
+row "3 blocks in a 512^3 grid" build-atlas three.vdb -o atlas3p --max-side 4096 --preview
 row "hamlet 512^3 scene" build-atlas h512.vdb -o atlas --all
 row "hamlet 512^3 scene" mip h512.vdb -o h512m.vdb
 row "hamlet 512^3 pyramid" pack-chunks h512m.vdb -o h512.vpk --mips

@@ -11,7 +11,7 @@ namespace vox {
 const std::vector<std::string>& defaultIgnoredJsonKeys() {
   static const std::vector<std::string> keys{"seconds", "*_seconds", "*_per_second", "*_per_s", "threads",
                                              "argv",    "inputs",    "outputs",      "scene",   "file",
-                                             "path"};
+                                             "path",    "memory"};
   return keys;
 }
 

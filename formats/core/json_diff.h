@@ -14,7 +14,9 @@
 // characters. defaultIgnoredJsonKeys() are the keys whose values change from
 // run to run without the result changing: timings and rates ("seconds",
 // "*_seconds", "*_per_second", "*_per_s"), the thread count, and paths as the
-// user typed them ("argv", "inputs", "outputs", "scene", "file", "path").
+// user typed them ("argv", "inputs", "outputs", "scene", "file", "path"), and
+// a run report's memory estimate and limit ("memory": they include the
+// process's resident memory when it checked, and the machine's size).
 //
 // Thread safety: pure functions.
 #pragma once

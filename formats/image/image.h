@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +50,12 @@ inline constexpr int kDefaultPngZlibLevel = 6;
 /// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
 /// `zlibLevel` 0..9. Throws vox::Error (Io).
 void writePng(const Image& image, const std::string& path, int zlibLevel = kDefaultPngZlibLevel);
+/// writePng's bytes for an image given row by row: `row(y)` returns row y
+/// (width * channels * sample bytes, valid until the next call), called for
+/// y = 0, 1, ... in order, so the image need never be in memory at once.
+void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType type,
+                  const std::vector<std::pair<std::string, std::string>>& text, const std::string& path, int zlibLevel,
+                  const std::function<const uint8_t*(uint32_t y)>& row);
 /// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
 /// deflated in up to 16 row slices on `threads` threads (formats/image/image_png_parallel.cpp).
 /// The bytes depend on the image only, not on `threads`; they differ from

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <filesystem>
 #include <memory>
 
@@ -81,7 +82,8 @@ namespace {
 // libpng reports errors by longjmp. These helpers hold the setjmp and touch no
 // C++ object with a destructor, so nothing is skipped when libpng jumps out.
 bool pngWriteAll(png_structp png, png_infop info, FILE* f, int level, uint32_t w, uint32_t h, int depth,
-                 int colorType, png_text* texts, int textCount, png_bytep* rows, bool swap16) {
+                 int colorType, png_text* texts, int textCount, const std::function<const uint8_t*(uint32_t)>& rowAt,
+                 bool swap16) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_init_io(png, f);
   png_set_compression_level(png, level);
@@ -93,7 +95,9 @@ bool pngWriteAll(png_structp png, png_infop info, FILE* f, int level, uint32_t w
   if (textCount > 0) png_set_text(png, info, texts, textCount);
   png_write_info(png, info);
   if (swap16) png_set_swap(png);  // PNG is big-endian; our samples are native
-  png_write_image(png, rows);
+  // Row by row (what png_write_image does for a non-interlaced image), so a
+  // caller can produce rows on demand instead of holding the image.
+  for (uint32_t y = 0; y < h; ++y) png_write_row(png, const_cast<png_bytep>(rowAt(y)));
   png_write_end(png, nullptr);
   return true;
 }
@@ -164,9 +168,16 @@ bool pngReadRows(png_structp png, png_infop info, png_bytep* rows) {
 }  // namespace
 
 void writePng(const Image& image, const std::string& path, int zlibLevel) {
-  if (image.type != SampleType::U8 && image.type != SampleType::U16)
-    throw Error(ErrorKind::Internal, path + ": PNG holds 8- or 16-bit samples, not " + sampleTypeName(image.type));
-  if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)
+  writePngRows(image.width, image.height, image.channels, image.type, image.text, path, zlibLevel,
+               [&image](uint32_t y) { return image.pixels.data() + y * image.rowBytes(); });
+}
+
+void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType type,
+                  const std::vector<std::pair<std::string, std::string>>& text, const std::string& path, int zlibLevel,
+                  const std::function<const uint8_t*(uint32_t y)>& row) {
+  if (type != SampleType::U8 && type != SampleType::U16)
+    throw Error(ErrorKind::Internal, path + ": PNG holds 8- or 16-bit samples, not " + sampleTypeName(type));
+  if (channels < 1 || channels > 4 || width == 0 || height == 0)
     throw Error(ErrorKind::Internal, path + ": bad image shape for PNG");
   FilePtr f(std::fopen(path.c_str(), "wb"), &std::fclose);
   if (!f) throwIo(path + ": cannot create the file: " + std::strerror(errno));
@@ -176,19 +187,15 @@ void writePng(const Image& image, const std::string& path, int zlibLevel) {
   if (!info) throwIo(path + ": libpng could not start");
   const int colorTypes[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                              PNG_COLOR_TYPE_RGBA};
-  std::vector<png_bytep> rows(image.height);
-  for (uint32_t y = 0; y < image.height; ++y)
-    rows[y] = const_cast<png_bytep>(image.pixels.data() + y * image.rowBytes());
-  std::vector<png_text> texts(image.text.size());
+  std::vector<png_text> texts(text.size());
   for (size_t i = 0; i < texts.size(); ++i) {
     texts[i].compression = PNG_TEXT_COMPRESSION_NONE;
-    texts[i].key = const_cast<png_charp>(image.text[i].first.c_str());
-    texts[i].text = const_cast<png_charp>(image.text[i].second.c_str());
-    texts[i].text_length = image.text[i].second.size();
+    texts[i].key = const_cast<png_charp>(text[i].first.c_str());
+    texts[i].text = const_cast<png_charp>(text[i].second.c_str());
+    texts[i].text_length = text[i].second.size();
   }
-  const bool ok = pngWriteAll(png, info, f.get(), zlibLevel, image.width, image.height,
-                              image.type == SampleType::U16 ? 16 : 8, colorTypes[image.channels], texts.data(),
-                              int(texts.size()), rows.data(), image.type == SampleType::U16);
+  const bool ok = pngWriteAll(png, info, f.get(), zlibLevel, width, height, type == SampleType::U16 ? 16 : 8,
+                              colorTypes[channels], texts.data(), int(texts.size()), row, type == SampleType::U16);
   png_destroy_write_struct(&png, &info);
   if (!ok) throwIo(path + ": PNG write failed: " + message);
   if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throwIo(outputName(path) + ": cannot write the file: " + std::strerror(errno));

@@ -98,21 +98,33 @@ refusals)
   expect_stderr "--max-memory"
   ;;
 atlas)
-  # A 3-voxel scene in a 512^3 grid: the atlas's layers are 16384 x 8192
-  # texels, written one layer at a time; a smaller --max-side makes smaller layers.
+  # A 3-voxel scene in a 512^3 grid: 16384 x 8192 texels per layer.
   printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}, {"position": [511, 511, 511], "blockType": "Grass"}, {"position": [100, 200, 300], "blockType": "Sand"}]}\n' >three.json
   expect_exit 0 "$vox" voxelize three.json --grid-size 512,512,512 -o three.vdb -q
-  refused "build-atlas 512^3 under 256M" "$vox" build-atlas three.vdb -o atlas --max-memory 256M
+  # Streamed (PNG files of a sparse scene: rows from the sorted occupied
+  # texels): memory in the voxels, so it runs under 100M.
+  measured "$vox" build-atlas three.vdb -o streamed --summary --occupancy --occupancy2 --identity --max-memory 100M --report s.json -q
+  [ "$code" = 0 ] || fail "streamed build-atlas under 100M: exit $code ($(head -c 300 err.txt))"
+  [ "$peak" -le $((100 * 1024 * 1024)) ] || fail "streamed build-atlas peaked at $peak bytes, over 100M"
+  within2x "build-atlas 512^3, 3 voxels, streamed" s.json
+  # --preview draws from whole images: the dense path, one layer at a time.
+  # Refused under 256M with a --max-side that fits, which then runs within it.
+  refused "build-atlas --preview 512^3 under 256M" "$vox" build-atlas three.vdb -o atlas --preview --max-memory 256M
   expect_stderr "--max-side "
   [ ! -e atlas ] || fail "a refused build-atlas left its directory"
   side=$(grep -o -- '--max-side [0-9]*' err.txt | head -1 | cut -d' ' -f2)
-  measured "$vox" build-atlas three.vdb -o atlas --max-memory 256M --max-side "${side:-4096}" --report atlas.json -q
+  measured "$vox" build-atlas three.vdb -o dense --summary --occupancy --occupancy2 --identity --preview \
+    --max-memory 256M --max-side "${side:-4096}" --report d.json -q
   [ "$code" = 0 ] || fail "build-atlas --max-side ${side:-4096}: exit $code ($(head -c 300 err.txt))"
   [ "$peak" -le $((256 * 1024 * 1024)) ] || fail "build-atlas --max-side $side peaked at $peak bytes, over the 256M limit"
-  within2x "build-atlas 512^3, 3 voxels, --max-side $side" atlas.json
-  # The layers hold the voxels: verify one against the scene.
-  layer=$(ls atlas/three.occupancy.layer*.png 2>/dev/null | head -1)
-  [ -n "$layer" ] || layer=atlas/three.occupancy.png
+  within2x "build-atlas --preview 512^3, 3 voxels, --max-side $side" d.json
+  # The streamed files are the dense path's bytes (same layout at the same --max-side).
+  expect_exit 0 "$vox" build-atlas three.vdb -o streamed2 --summary --occupancy --occupancy2 --identity --max-side "${side:-4096}" -q
+  for f in dense/*.png; do
+    case $f in *.preview.png) continue ;; esac
+    cmp -s "$f" "streamed2/$(basename "$f")" || fail "streamed $(basename "$f") differs from the dense path's"
+  done
+  layer=$(ls streamed/three.occupancy*.png | head -1)
   expect_exit 0 "$vox" verify-bijection --atlas "$layer" --scene three.vdb
   ;;
 estimates)

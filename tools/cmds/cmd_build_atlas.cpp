@@ -2,6 +2,7 @@
 // their voxel<->texel addresses (the UVW atlas layout, formats/image/ATLAS.md),
 // and only what is asked.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <filesystem>
 
 #include "formats/image/atlas_meta.h"
@@ -165,7 +166,17 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   if (wOcc) add(vox::AtlasContent::Occupancy, "bitmap", 1, vox::SampleType::U8, false, 0, bits1Row);
   if (wOcc2) add(vox::AtlasContent::Occupancy2, "bitmap", 1, vox::SampleType::U8, false, 0, bits2Row);
 
-  // The memory guard: the scene, plus one layer of every image (and its preview).
+  // Sparse scenes (far fewer occupied voxels than texels in a layer) are
+  // written row by row from their occupied texels, sorted: memory in the
+  // voxels, not the grid. The same bytes as the dense path. PNG data files
+  // only: EXR files and --preview (drawn from the whole data image) take the
+  // dense path, one layer at a time.
+  const bool anyExr = std::any_of(outs.begin(), outs.end(), [](const Output& out) { return out.exr; });
+  const bool stream =
+      !o.preview && !anyExr && double(L.texelsPerLayer()) > 64.0 * double(std::max<uint64_t>(1, stats.occupied));
+
+  // The memory guard: the scene, plus one layer of every image (and its
+  // preview), or the sorted texels of the streamed files.
   {
     const uint64_t resident = vox::residentBytesNow();
     auto estimateFor = [&](const vox::AtlasLayout& layout) {
@@ -182,6 +193,21 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
         // A preview: RGB (the summary's two panels side by side) plus its row slices.
         if (o.preview) previews += texels * (out.info.content == vox::AtlasContent::Summary ? 8.0 : 4.0);
       }
+      if (stream) {
+        // Per occupied voxel: a sorted (texel, value) record of 40 bytes per
+        // image file, an 8-byte texel key for the bitmaps (+25%: vectors grow
+        // by doubling); a row per encoder.
+        size_t files = 0, images = 0;
+        for (const Output& out : outs)
+          if (out.info.layer == 0) {
+            ++files;
+            images += out.info.content != vox::AtlasContent::Occupancy &&
+                      out.info.content != vox::AtlasContent::Occupancy2;
+          }
+        e.add("sorted texels", double(stats.occupied) * (double(images) * 40.0 + 8.0) * 1.25);
+        e.add("rows", double(files) * double(L.width) * 8.0);
+        return e;
+      }
       e.add("atlas images (one layer)", images * 1.05);  // + the encoders' row buffers
       if (o.preview) e.add("previews (one layer)", previews);
       return e;
@@ -189,12 +215,17 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     const vox::MemoryEstimate estimate = estimateFor(L);
     std::string suggestion;
     if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
-      // Smaller layers hold fewer texels: the largest --max-side that fits.
-      const uint64_t smallest = std::max<uint64_t>(h.dims.x, h.dims.y);
-      suggestion = suggestSetting("--max-side", smallest, std::max<uint64_t>(smallest, L.maxSide), run.memoryLimit(),
-                                  [&](uint64_t side) {
-                                    return estimateFor(vox::AtlasLayout::make(h.dims, 0, uint32_t(side))).bytes();
-                                  });
+      // Smaller layers hold fewer texels: the largest --max-side that fits,
+      // among the smallest possible (the tile's side) and the powers of two
+      // above it (the sides GPUs like).
+      std::vector<uint32_t> sides{std::max(h.dims.x, h.dims.y)};
+      for (uint64_t p = 1; p < L.maxSide; p *= 2)
+        if (p > sides[0]) sides.push_back(uint32_t(p));
+      auto sideBytes = [&](uint64_t i) {
+        return estimateFor(vox::AtlasLayout::make(h.dims, 0, sides[size_t(i)])).bytes();
+      };
+      suggestion = suggestSetting("--max-side", 0, sides.size() - 1, run.memoryLimit(), sideBytes,
+                                  [&](uint64_t i) { return std::to_string(sides[size_t(i)]); });
     }
     run.checkMemory(estimate,
                     "building the atlases of " + o.scene + " (" + std::to_string(L.width) + " x " +
@@ -211,7 +242,75 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const double total = double(std::max<uint64_t>(1, stats.occupied)) * L.layers;
   uint64_t done = 0;
   std::vector<std::exception_ptr> errors(outs.size() * (o.preview ? 2 : 1));
-  for (uint32_t layer = 0; layer < L.layers; ++layer) {
+  struct Texel {
+    uint64_t key;  // y << 32 | x
+    std::array<uint64_t, 4> value;
+  };
+  for (uint32_t layer = 0; stream && layer < L.layers; ++layer) {
+    run.phase(L.layers > 1 ? "fill layer " + std::to_string(layer) : "fill");
+    std::vector<size_t> here;
+    for (size_t i = 0; i < outs.size(); ++i)
+      if (outs[i].info.layer == layer) here.push_back(i);
+    auto isBitmap = [&](size_t i) {
+      return outs[i].info.content == vox::AtlasContent::Occupancy ||
+             outs[i].info.content == vox::AtlasContent::Occupancy2;
+    };
+    std::vector<std::vector<Texel>> texels(here.size());
+    std::vector<uint64_t> occupiedKeys;
+    scene.forEachVoxel([&](const vox::VoxelView& v) {
+      if ((++done & 0xffff) == 0) progress->update(double(done) / total);
+      const vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+      if (t.layer != layer) return;
+      const uint64_t key = uint64_t(t.y) << 32 | t.x;
+      if (wOcc || wOcc2) occupiedKeys.push_back(key);
+      for (size_t j = 0; j < here.size(); ++j)
+        if (!isBitmap(here[j]))
+          texels[j].push_back({key, vox::atlasTexel(outs[here[j]].info.content, &v, idFormat, outs[here[j]].info.classId)});
+    });
+    std::sort(occupiedKeys.begin(), occupiedKeys.end());
+    for (auto& list : texels) std::sort(list.begin(), list.end(), [](const Texel& a, const Texel& b) { return a.key < b.key; });
+
+    run.phase(L.layers > 1 ? "write layer " + std::to_string(layer) : "write");
+    vox::parallelForEach(here.size(), run.threads(), 1, [&](size_t j) {
+      const size_t i = here[j];
+      const Output& out = outs[i];
+      const vox::Image& shape = out.image;
+      std::vector<uint8_t> row(shape.rowBytes(), 0);
+      size_t next = 0;
+      bool dirty = false;
+      const int bits = out.info.content == vox::AtlasContent::Occupancy ? 1 : 2;
+      try {
+        vox::writePngRows(shape.width, shape.height, shape.channels, shape.type, shape.text, out.tempPath,
+                          o.compression, [&](uint32_t y) -> const uint8_t* {
+                            if (dirty) std::fill(row.begin(), row.end(), uint8_t(0)), dirty = false;
+                            if (isBitmap(i)) {
+                              // OccupancyBitmap's packing: 8 (or 4) texels per byte along x.
+                              for (; next < occupiedKeys.size() && (occupiedKeys[next] >> 32) == y; ++next, dirty = true) {
+                                const uint32_t x = uint32_t(occupiedKeys[next]);
+                                if (bits == 1) row[x >> 3] |= uint8_t(1u << (x & 7));
+                                else row[x >> 2] |= uint8_t(1u << (2 * (x & 3)));
+                              }
+                            } else {
+                              const std::vector<Texel>& list = texels[j];
+                              for (; next < list.size() && (list[next].key >> 32) == y; ++next, dirty = true) {
+                                const size_t px = uint32_t(list[next].key);
+                                for (uint32_t c = 0; c < shape.channels; ++c) {
+                                  const size_t k = px * shape.channels + c;
+                                  if (shape.type == vox::SampleType::U8) row[k] = uint8_t(list[next].value[c]);
+                                  else reinterpret_cast<uint16_t*>(row.data())[k] = uint16_t(list[next].value[c]);
+                                }
+                              }
+                            }
+                            return row.data();
+                          });
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    });
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+  for (uint32_t layer = 0; !stream && layer < L.layers; ++layer) {
     run.phase(L.layers > 1 ? "fill layer " + std::to_string(layer) : "fill");
     std::vector<size_t> here;  // outs of this layer, in file order
     for (size_t i = 0; i < outs.size(); ++i)
