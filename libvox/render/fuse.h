@@ -33,6 +33,10 @@
 // Counts are integers summed per worker piece and merged: the result does not
 // depend on the thread count or on the order of views.
 //
+// With FreeScope::Voted (`vox fuse --free voted`, the default) free counts
+// are kept only at tracked voxels (the votes of a first pass, plus track()'s),
+// and the walk jumps the empty bricks of that set (fuseRay's `tracked`).
+//
 // Memory: free counts in hashed 8^3 bricks of uint32 (2 KB per brick the rays
 // cross, per worker), votes in a hash map per (voxel, class) hit; never the
 // volume.
