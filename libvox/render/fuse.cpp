@@ -168,7 +168,8 @@ struct KeyOf {
 }  // namespace
 
 FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
-                      FuseCounts* free, int faceAxis) {
+                      FuseCounts* free, int faceAxis, const RayGrid* tracked, RayGrid::Cursor* cursor) {
+  if (!free || !cursor) tracked = nullptr;
   FuseRayResult out;
   KeyOf key;
   key.length = std::sqrt(original.dir[0] * original.dir[0] + original.dir[1] * original.dir[1] +
@@ -258,7 +259,76 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
     }
   }
   bool enteredBelow = key(tStart) < depth;  // the crossing that entered the current cell has key < depth
+  // Tracked walk: jumps to the first cell after every crossing at or before
+  // `target` on each axis (the state the step-by-step walk has there: on each
+  // axis the planes crossed are exactly those whose time is <= target, as
+  // time() is monotone along an axis). Returns true when the ray left the grid.
+  auto jumpTo = [&](double target) {
+    bool left = false;
+    for (int a = 0; a < 3; ++a) {
+      if (!moving[a] || next[a] > target) continue;
+      const double p = ray.origin[size_t(a)] + target * ray.dir[size_t(a)];
+      int64_t cell;
+      if (step[a] > 0) {
+        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, double(c[a]), double(D[a])))) : c[a];
+        while (cell < D[a] && time(a, cell + 1) <= target) ++cell;
+        while (cell > c[a] && time(a, cell) > target) --cell;
+        next[a] = time(a, cell + 1);
+        left |= cell >= D[a];
+      } else {
+        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(c[a])))) : c[a];
+        while (cell >= 0 && time(a, cell) <= target) --cell;
+        while (cell < c[a] && time(a, cell + 1) > target) ++cell;
+        next[a] = time(a, cell);
+        left |= cell < 0;
+      }
+      c[a] = cell;
+    }
+    return left;
+  };
+  // The time the ray leaves box [lo, hi) (voxels, per axis), which holds the current cell.
+  auto boxExit = [&](const int64_t lo[3], const int64_t hi[3]) {
+    double t = inf;
+    for (int a = 0; a < 3; ++a)
+      if (moving[a]) t = std::min(t, time(a, step[a] > 0 ? hi[a] : lo[a]));
+    return t;
+  };
   for (;;) {
+    bool isTracked = true;
+    if (tracked) {
+      bool occ = false;
+      const int level = cursor->probe(c[0], c[1], c[2], occ);
+      isTracked = occ;
+      if (level >= 1) {
+        // An empty box around the cell: its brick, region or super-region
+        // (level 1, 2, 3), or the bricks closer than the distance field's
+        // nearest non-empty brick; the later exit of the two.
+        const int shift = level == 1 ? 3 : level == 2 ? 6 : 9;
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = (c[a] >> shift) << shift;
+          hi[a] = lo[a] + (int64_t(1) << shift);
+        }
+        double tb = boxExit(lo, hi);
+        const int64_t k = tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3);
+        if (k > 1) {
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = ((c[a] >> 3) - k + 1) * 8;
+            hi[a] = ((c[a] >> 3) + k) * 8;
+          }
+          tb = std::max(tb, boxExit(lo, hi));
+        }
+        // Only crossings before tLow (all "early": keys below the depth, no
+        // tie rules) are jumped; the cells left there hold no tracked voxel.
+        const double target = std::min(tb, tLow);
+        if (std::min(next[0], std::min(next[1], next[2])) <= target) {
+          ++out.steps;
+          if (jumpTo(target)) return out;  // the depth lies beyond the grid
+          enteredBelow = true;
+          continue;
+        }
+      }
+    }
     const double tn = std::min(next[0], std::min(next[1], next[2]));
     const bool early = tn <= tLow;
     double tnKey = 0;
@@ -266,7 +336,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       tnKey = key(tn);
       if (!(tnKey <= depth)) break;  // the depth is inside the current cell (tn = inf: it never leaves)
     }
-    if (free && enteredBelow) {
+    if (free && enteredBelow && isTracked) {
       free->addFree(int32_t(c[0]), int32_t(c[1]), int32_t(c[2]));
       ++out.freeCells;
     }
@@ -363,7 +433,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
         }
         const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
         const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
-                                        settings_.countFree ? &counts : nullptr, face);
+                                        settings_.countFree && settings_.freeScope == FreeScope::All ? &counts : nullptr, face);
         st += r.steps;
         fc += r.freeCells;
         if (!r.hit) {
@@ -401,6 +471,79 @@ FuseViewStats Fuser::add(const FuseView& view) {
   voted.shrink_to_fit();
   stats.voxelsVoted = voted.size();
   stats.votedKeys = std::move(voted);
+  return stats;
+}
+
+void Fuser::track(const std::vector<Coord3>& voxels) {
+  extraTracked_.insert(extraTracked_.end(), voxels.begin(), voxels.end());
+  tracked_.reset();
+}
+
+void Fuser::buildTracked() {
+  tracked_ = std::make_unique<RayGrid>(dims_);
+  for (const FuseCounts& p : pieces_)
+    for (const FuseCounts::Vote& v : p.votes()) tracked_->addVoxel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+  for (const Coord3& c : extraTracked_)
+    if (c.u >= 0 && c.v >= 0 && c.w >= 0 && uint32_t(c.u) < dims_.x && uint32_t(c.v) < dims_.y && uint32_t(c.w) < dims_.z)
+      tracked_->addVoxel(uint32_t(c.u), uint32_t(c.v), uint32_t(c.w));
+  tracked_->finish();
+}
+
+FuseViewStats Fuser::addFree(const FuseView& view) {
+  if (settings_.freeScope != FreeScope::Voted || !settings_.countFree)
+    throw Error(ErrorKind::Internal, "Fuser::addFree: only with countFree and FreeScope::Voted");
+  if (!tracked_) buildTracked();
+  const Camera& cam = view.camera;
+  const size_t W = cam.width, H = cam.height, N = W * H;
+  if (view.depth.size() != N || view.classes.size() != N || (!view.faceAxis.empty() && view.faceAxis.size() != N) ||
+      (!view.weight.empty() && view.weight.size() != N))
+    throw Error(ErrorKind::Internal, "Fuser::addFree: per-pixel arrays must hold width x height entries");
+  FuseViewStats stats;
+  stats.pixels = N;
+  const PixelRays rays(cam, frame_);
+  std::atomic<uint64_t> steps{0}, freeCounts{0};
+  std::mutex poolMutex;
+  std::vector<size_t> idle;
+  for (size_t i = 0; i < pieces_.size(); ++i) idle.push_back(i);
+  constexpr size_t kTile = 16;
+  const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
+  parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
+    size_t slot;
+    {
+      std::lock_guard<std::mutex> lock(poolMutex);
+      if (idle.empty()) {
+        pieces_.emplace_back();
+        slot = pieces_.size() - 1;
+      } else {
+        slot = idle.back();
+        idle.pop_back();
+      }
+    }
+    FuseCounts& counts = pieces_[slot];
+    RayGrid::Cursor cursor(*tracked_);
+    uint64_t st = 0, fc = 0;
+    const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
+    const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
+    for (size_t y = y0; y < y1; ++y)
+      for (size_t x = x0; x < x1; ++x) {
+        // The pixels add() walks (same filter): they carve whether or not they voted.
+        const size_t i = y * W + x;
+        const double d = view.depth[i];
+        if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) continue;
+        if ((view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) == 0) continue;
+        const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
+        const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
+                                        &counts, face, tracked_.get(), &cursor);
+        st += r.steps;
+        fc += r.freeCells;
+      }
+    steps += st;
+    freeCounts += fc;
+    std::lock_guard<std::mutex> lock(poolMutex);
+    idle.push_back(slot);
+  });
+  stats.steps = steps;
+  stats.freeCounts = freeCounts;
   return stats;
 }
 

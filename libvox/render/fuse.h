@@ -33,6 +33,10 @@
 // Counts are integers summed per worker piece and merged: the result does not
 // depend on the thread count or on the order of views.
 //
+// With FreeScope::Voted (`vox fuse --free voted`, the default) free counts
+// are kept only at tracked voxels (the votes of a first pass, plus track()'s),
+// and the walk jumps the empty bricks of that set (fuseRay's `tracked`).
+//
 // Memory: free counts in hashed 8^3 bricks of uint32 (2 KB per brick the rays
 // cross, per worker), votes in a hash map per (voxel, class) hit; never the
 // volume.
@@ -47,6 +51,7 @@
 
 #include "libvox/core/types.h"
 #include "libvox/render/camera.h"
+#include "libvox/render/ray_grid.h"
 #include "libvox/render/raycast.h"
 #include "libvox/render/render.h"
 
@@ -170,7 +175,7 @@ struct FuseRayResult {
   bool hit = false;     // the depth falls inside the grid: `voxel` is valid
   Coord3 voxel;
   uint32_t freeCells = 0;  // cells given a free count
-  uint32_t steps = 0;      // plane crossings walked
+  uint32_t steps = 0;      // plane crossings walked one by one, plus empty boxes jumped (`tracked`)
   bool ambiguous = false;  // the depth's float matched several crossings (or an edge crossing) and nothing told them
                            // apart, or the ray lies inside a grid plane (the cells on both sides tie)
 };
@@ -181,8 +186,15 @@ struct FuseRayResult {
 /// per ray, with the same hit). `voxelSize` is the grid's (for key(t) of distance depths).
 /// `faceAxis` (0, 1, 2, or -1 unknown): the axis of the face the ray entered
 /// the hit voxel through, used only to break ties between crossings.
+///
+/// `tracked` (with `free`): free counts go only to the voxels it holds
+/// (occupied bits), and the walk jumps over its empty 8^3 bricks (and larger
+/// empty boxes) before the depth, one step per box instead of one per voxel.
+/// The counts it adds are exactly the full walk's at the tracked voxels, and
+/// the hit is the same. `cursor` must be a cursor of `tracked` (one per thread).
 FuseRayResult fuseRay(const Ray& ray, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
-                      FuseCounts* free, int faceAxis = -1);
+                      FuseCounts* free, int faceAxis = -1, const RayGrid* tracked = nullptr,
+                      RayGrid::Cursor* cursor = nullptr);
 
 /// One view: its camera (width x height = the images' size), a depth per
 /// pixel (row-major, row 0 at the top; 0, negative, NaN or inf = no depth)
@@ -213,12 +225,19 @@ struct FuseViewStats {
   std::vector<uint64_t> votedKeys;  // FuseCounts::voxelKey of those voxels, sorted
 };
 
+/// Where free counts are kept (docs/fuse.md, "Free space").
+enum class FreeScope {
+  All,    // every cell a ray crosses before its hit: one walk step per voxel
+  Voted,  // only voxels with votes (this run's, or given by track()): two passes, empty bricks jumped
+};
+
 struct FuseSettings {
   // Votes per pixel: weight, times the pixel's confidence when the view has
   // one. Free counts are one per ray whatever the weight (a larger weight
   // makes carving more conservative).
   uint32_t weight = 1;   // votes per pixel
   bool countFree = true;  // false: votes only; each ray is walked from just before its depth
+  FreeScope freeScope = FreeScope::All;  // Voted: add() votes only; free counts come from addFree()
   unsigned threads = 0;  // 0 = all cores
 };
 
@@ -228,9 +247,20 @@ class Fuser {
  public:
   Fuser(const Dims& dims, const GridFrame& frame, const FuseSettings& settings);
   FuseViewStats add(const FuseView& view);
+  /// FreeScope::Voted, after add() has seen every view: also keep free counts
+  /// at `voxels` (the input scene's occupied voxels and its `free` entries).
+  void track(const std::vector<Coord3>& voxels);
+  /// FreeScope::Voted, second pass: every view again (same order not needed),
+  /// adding free counts at the tracked voxels: those that got votes in add()
+  /// plus track()'s. Returns the view's steps and free counts (the other
+  /// fields are add()'s business and stay 0).
+  FuseViewStats addFree(const FuseView& view);
   FuseCounts finish() &&;
 
  private:
+  void buildTracked();
+  std::vector<Coord3> extraTracked_;
+  std::unique_ptr<RayGrid> tracked_;
   Dims dims_;
   GridFrame frame_;
   FuseSettings settings_;

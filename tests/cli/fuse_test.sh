@@ -245,7 +245,12 @@ EOF2
   expect_exit 0 "$vox" fuse z.json -o z.vdb --report rz.json --quiet
   expect_exit 0 "$vox" info --json z.vdb
   jcheck out.txt "assert d['bounds']['min'][1] == 1 and d['bounds']['max'][1] == 1, d['bounds']; assert d['occupied'] > 100"
-  jcheck rz.json "t=d['counts']['totals']; assert t['used'] == 24 * 16 and t['free_counts'] > 0 and t['ambiguous'] == 0"
+  # The default --free voted keeps free counts only at voted voxels: none here (only the floor is voted, and
+  # no ray crosses it before its depth). --free all counts the cells in front of the floor; same scene.
+  jcheck rz.json "t=d['counts']['totals']; assert t['used'] == 24 * 16 and t['free_counts'] == 0 and t['ambiguous'] == 0 and t['free'] == 'voted'"
+  expect_exit 0 "$vox" fuse z.json -o za.vdb --free all --report rza.json --quiet
+  jcheck rza.json "t=d['counts']['totals']; assert t['used'] == 24 * 16 and t['free_counts'] > 0 and t['ambiguous'] == 0 and t['free'] == 'all'"
+  expect_exit 0 "$vox" diff z.vdb za.vdb
   expect_exit 0 "$vox" fuse dist.json -o dist.vdb --quiet
   expect_exit 0 "$vox" info --json dist.vdb
   jcheck out.txt "assert d['bounds']['min'][1] >= 1 and d['bounds']['max'][1] >= 2, d['bounds']"

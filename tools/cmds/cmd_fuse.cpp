@@ -26,6 +26,7 @@ namespace {
 
 enum class CarveMode { On, Off, None };
 enum class DepthKindOption { FromFile, Distance, Z };
+enum class FreeOption { Voted, All };
 
 struct FuseOptions {
   std::string views;
@@ -33,12 +34,17 @@ struct FuseOptions {
   std::string output;
   DepthKindOption depthKind = DepthKindOption::FromFile;
   CarveMode carve = CarveMode::On;
+  FreeOption free = FreeOption::Voted;
   uint32_t weight = 1;
   CommonOptions common;
 };
 
 const EnumNames<CarveMode>& carveNames() {
   static const EnumNames<CarveMode> n{{"on", CarveMode::On}, {"off", CarveMode::Off}, {"none", CarveMode::None}};
+  return n;
+}
+const EnumNames<FreeOption>& freeNames() {
+  static const EnumNames<FreeOption> n{{"voted", FreeOption::Voted}, {"all", FreeOption::All}};
   return n;
 }
 const EnumNames<DepthKindOption>& depthKindNames() {
@@ -109,6 +115,10 @@ int runFuse(const FuseOptions& o) {
   vox::FuseSettings settings;
   const bool carve = o.carve == CarveMode::On;  // off: free counts are gathered, nothing removed
   settings.countFree = o.carve != CarveMode::None;  // none: votes only, no free-space walk
+  // voted: free counts only where they can change a carve (voxels with votes,
+  // now or in the input), in a second pass over the views that jumps empty bricks.
+  settings.freeScope = o.free == FreeOption::Voted ? vox::FreeScope::Voted : vox::FreeScope::All;
+  const bool secondPass = settings.countFree && settings.freeScope == vox::FreeScope::Voted;
   settings.weight = o.weight;
   settings.threads = run.threads();
   vox::GridFrame frame;
@@ -158,7 +168,30 @@ int runFuse(const FuseOptions& o) {
     total.outside += s.outside;
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
-    if (bar) bar->update(double(i + 1) / double(views.views.size()));
+    if (bar) bar->update(double(i + 1) / double(views.views.size()) * (secondPass ? 0.5 : 1.0));
+  }
+  if (secondPass) {
+    // Second pass: free counts at the voxels with votes, the input's occupied
+    // voxels and its `free` entries (docs/fuse.md, "Free space").
+    std::vector<vox::Coord3> extra;
+    if (base) base->forEachVoxel([&](const vox::VoxelView& v) { extra.push_back(v.at); });
+    for (const auto& [c, n] : baseFree.freeVoxels()) extra.push_back(c);
+    fuser.track(extra);
+    extra = {};
+    for (size_t i = 0; i < views.views.size(); ++i) {
+      const vox::LoadedFuseView loaded = vox::loadFuseView(views.views[i], header.classes, kindOverride);
+      const auto t0 = std::chrono::steady_clock::now();
+      const vox::FuseViewStats s = fuser.addFree(loaded.view);
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      fuseSeconds += secs;
+      nlohmann::json& v = perView[i];
+      v["free_counts"] = v["free_counts"].get<uint64_t>() + s.freeCounts;
+      v["steps"] = v["steps"].get<uint64_t>() + s.steps;
+      v["seconds"] = v["seconds"].get<double>() + secs;
+      total.steps += s.steps;
+      total.freeCounts += s.freeCounts;
+      if (bar) bar->update(0.5 + double(i + 1) / double(views.views.size()) * 0.5);
+    }
   }
   if (bar) bar->done();
 
@@ -195,6 +228,7 @@ int runFuse(const FuseOptions& o) {
                             {"colored", t.colored},
                             {"pixels_per_second", fuseSeconds > 0 ? double(total.pixels) / fuseSeconds : 0.0},
                             {"carve", nameOf(carveNames(), o.carve)},
+                            {"free", nameOf(freeNames(), o.free)},
                             {"weight", settings.weight}};
   char line[400];
   std::snprintf(line, sizeof line,
@@ -234,6 +268,9 @@ Command registerFuse(CLI::App& root) {
   addEnumOption(*cmd, "--carve", opts->carve, carveNames(),
                 "on: count free space and remove voxels whose free count exceeds their votes; off: count, remove "
                 "nothing; none: votes only (no free-space walk, fastest)");
+  addEnumOption(*cmd, "--free", opts->free, freeNames(),
+                "where free counts are kept: voted (default: voxels with votes, now or in -i's scene or free grid; "
+                "fast) or all (every voxel a ray crosses: runs with -i add up exactly like one run; slow)");
   cmd->add_option("--weight", opts->weight, "Votes per pixel (1..65536), times the view's confidence image if any")->default_val(1);
   addCommonOptions(*cmd, opts->common);
   return {cmd, [opts] { return runFuse(*opts); }};

@@ -14,6 +14,7 @@
 #include "formats/image/render_meta.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
+#include "formats/vdb/fuse_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
@@ -133,6 +134,10 @@ void printScene(const nlohmann::json& j) {
     o << line("bounds", "(empty scene)");
   else
     o << line("bounds", v3(j["bounds"]["min"]) + " .. " + v3(j["bounds"]["max"]) + " (index, inclusive)");
+  if (j.contains("free_grid"))
+    o << line("free grid", "'" + std::string(vox::kFreeGridName) + "' (" + j["free_grid"]["type"].get<std::string>() + ", " +
+                               count(j["free_grid"]["leaves"].get<uint64_t>()) +
+                               " leaves of 8^3): vox fuse's free-space counts, read back by vox fuse -i (docs/fuse.md)");
   const int64_t fileBytes = j["file_bytes"].get<int64_t>();
   o << line("memory", bytes(j["memory_bytes"].get<uint64_t>()) + " in OpenVDB trees" +
                           (fileBytes >= 0 ? "; file " + bytes(uint64_t(fileBytes)) : ""));
@@ -250,6 +255,8 @@ int runInfo(const InfoOptions& o) {
   }
   const vox::Scene scene = vox::readSceneVdb(o.file);
   nlohmann::json j = sceneJson(o.file, scene);
+  for (const vox::VdbGridFrame& g : frame.grids)
+    if (g.uniqueName == vox::kFreeGridName) j["free_grid"] = {{"type", g.type}, {"leaves", g.leafCount}};  // a `vox fuse` output
   const nlohmann::json pyramid = pyramidInfoJson(o.file);  // `vox mip` files: the levels above 0
   if (!pyramid.is_null()) j["pyramid"] = pyramid;
   if (o.json)

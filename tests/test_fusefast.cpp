@@ -1,0 +1,211 @@
+// The tracked free-space walk of `vox fuse --free voted` (docs/fuse.md, "Free
+// space") against the full walk as the oracle: per ray, the tracked walk adds
+// exactly the full walk's free counts at the tracked voxels (and none
+// elsewhere) with the same hit; per fusion, FreeScope::Voted gives the same
+// votes, the same free counts at every voxel with votes or tracked, and the
+// same scene as FreeScope::All, at any thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+#include "libvox/render/camera.h"
+#include "libvox/render/fuse.h"
+#include "libvox/render/ray_grid.h"
+#include "libvox/render/render.h"
+#include "libvox/scene/fuse_scene.h"
+#include "libvox/scene/scene.h"
+
+namespace {
+
+using vox::Coord3;
+using vox::Dims;
+using vox::FuseCounts;
+
+std::map<uint64_t, uint32_t> freeMap(const FuseCounts& c) {
+  std::map<uint64_t, uint32_t> m;
+  for (const auto& [at, n] : c.freeVoxels()) m[FuseCounts::voxelKey(at)] = n;
+  return m;
+}
+
+TEST(FuseRayTracked, SameCountsAtTrackedVoxelsAndSameHit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const Dims d{150, 70, 140};
+  // Tracked voxels: a few clusters (surfaces) and scattered voxels; most bricks empty.
+  vox::RayGrid tracked(d);
+  std::set<uint64_t> trackedKeys;
+  auto track = [&](int64_t u, int64_t v, int64_t w) {
+    if (u < 0 || v < 0 || w < 0 || u >= d.x || v >= d.y || w >= d.z) return;
+    tracked.addVoxel(uint32_t(u), uint32_t(v), uint32_t(w));
+    trackedKeys.insert(FuseCounts::voxelKey(Coord3{int32_t(u), int32_t(v), int32_t(w)}));
+  };
+  for (int k = 0; k < 12; ++k) {
+    const int64_t cu = int64_t(unit(rng) * d.x), cv = int64_t(unit(rng) * d.y), cw = int64_t(unit(rng) * d.z);
+    for (int64_t u = cu - 6; u < cu + 6; ++u)
+      for (int64_t w = cw - 6; w < cw + 6; ++w) track(u, cv, w);
+  }
+  for (int k = 0; k < 200; ++k) track(int64_t(unit(rng) * d.x), int64_t(unit(rng) * d.y), int64_t(unit(rng) * d.z));
+  for (int64_t u = 0; u < d.x; ++u) track(u, 0, 0);  // a line along the grid's edge
+  tracked.finish();
+
+  FuseCounts full, fast;
+  uint64_t hits = 0, fullSteps = 0, fastSteps = 0;
+  vox::RayGrid::Cursor cursor(tracked);
+  for (int i = 0; i < 20000; ++i) {
+    vox::Ray r;
+    const double ext[3] = {double(d.x), double(d.y), double(d.z)};
+    for (int a = 0; a < 3; ++a) {
+      r.origin[size_t(a)] = -40 + (ext[a] + 80) * unit(rng);
+      r.dir[size_t(a)] = ext[a] * unit(rng) - r.origin[size_t(a)];
+    }
+    if (i % 5 == 0) r.origin[0] = std::floor(r.origin[0]);  // lattice origins
+    if (i % 7 == 0) r.dir[1] = 0;                           // rays parallel to a plane
+    if (i % 11 == 0) r.origin[2] = 8 * std::floor(r.origin[2] / 8);  // on brick planes
+    if (i % 13 == 0) r.dir[0] = r.dir[2];                   // diagonal: edge crossings
+    const double vs = i % 3 == 0 ? 0.25 : 1.0;
+    vox::DepthMeasure m;
+    m.kind = i % 4 == 0 ? vox::DepthKind::Z : vox::DepthKind::Distance;
+    m.float32 = i % 2 == 0;
+    const double len = std::sqrt(r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2]);
+    double depth = (m.kind == vox::DepthKind::Z ? 1.0 : len * vs) * 2 * unit(rng);
+    if (m.float32) depth = double(float(depth));
+    const int face = i % 3 - 1 + (i % 9 == 0 ? 1 : 0);
+    const vox::FuseRayResult a = vox::fuseRay(r, vs, m, depth, d, &full, face);
+    const vox::FuseRayResult b = vox::fuseRay(r, vs, m, depth, d, &fast, face, &tracked, &cursor);
+    fullSteps += a.steps;
+    fastSteps += b.steps;
+    ASSERT_EQ(a.hit, b.hit) << i;
+    if (a.hit) {
+      ++hits;
+      ASSERT_EQ(a.voxel, b.voxel) << i;
+      ASSERT_EQ(a.ambiguous, b.ambiguous) << i;
+    }
+  }
+  EXPECT_GT(hits, 2000u);
+  std::map<uint64_t, uint32_t> want;
+  for (const auto& [k, n] : freeMap(full))
+    if (trackedKeys.count(k)) want[k] = n;
+  const std::map<uint64_t, uint32_t> got = freeMap(fast);
+  EXPECT_GT(want.size(), 300u);
+  EXPECT_EQ(got, want);
+  EXPECT_LT(fastSteps * 4, fullSteps);  // the jumps do skip most of the walk
+}
+
+// Renders of a scene whose voxels are removed for some views: the other
+// views' votes sit where these views' rays pass, so voted voxels get free counts.
+struct Scenes {
+  std::unique_ptr<vox::RayGrid> a, b;
+  std::set<uint64_t> occupied;
+};
+
+Scenes scenes(std::mt19937_64& rng, Dims dims) {
+  Scenes s;
+  s.a = std::make_unique<vox::RayGrid>(dims);
+  s.b = std::make_unique<vox::RayGrid>(dims);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (uint32_t w = 0; w < dims.z; ++w)
+    for (uint32_t v = 0; v < dims.y; ++v)
+      for (uint32_t u = 0; u < dims.x; ++u) {
+        const bool box = u >= 10 && u < 20 && w >= 12 && w < 22 && v < 9;
+        if (!(v == 0 || box || unit(rng) < 0.004)) continue;
+        s.a->addVoxel(u, v, w);
+        if (!(box && (u + w) % 3 != 0) && unit(rng) < 0.9) s.b->addVoxel(u, v, w);
+      }
+  s.a->finish();
+  s.b->finish();
+  return s;
+}
+
+vox::FuseView view(const vox::RayGrid& g, const vox::GridFrame& frame, const vox::Camera& cam) {
+  const vox::ViewHits hits = vox::castView(g, frame, cam, 1);
+  vox::FuseView v;
+  v.camera = cam;
+  v.depth.assign(hits.pixels.size(), std::numeric_limits<double>::infinity());
+  v.classes.assign(hits.pixels.size(), 0);
+  v.faceAxis.assign(hits.pixels.size(), -1);
+  for (size_t i = 0; i < hits.pixels.size(); ++i) {
+    const vox::PixelHit& p = hits.pixels[i];
+    if (!p.hit) continue;
+    v.depth[i] = double(p.depth);
+    v.classes[i] = uint8_t(1 + (p.u + p.w) % 4);
+    v.faceAxis[i] = p.faceAxis;
+  }
+  return v;
+}
+
+TEST(FuseTracked, VotedScopeEqualsAllScopeWhereItCounts) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const Dims dims{40, 24, 40};
+  const Scenes s = scenes(rng, dims);
+  vox::GridFrame frame;
+  std::vector<vox::FuseView> views;
+  for (int i = 0; i < 8; ++i) {
+    const double a = 6.28318 * unit(rng);
+    const vox::Vec3d eye = i % 4 == 3 ? vox::Vec3d{30, 15, 8} : vox::Vec3d{20 + 60 * std::cos(a), 12 + 30 * unit(rng), 20 + 60 * std::sin(a)};
+    const vox::Vec3d target{40 * unit(rng), 6 * unit(rng), 40 * unit(rng)};
+    const vox::Camera cam = vox::Camera::lookAt(eye, target, {0, 1, 0}, 60, 64 + uint32_t(i), 48);
+    views.push_back(view(i % 2 ? *s.a : *s.b, frame, cam));
+  }
+  // Extra tracked voxels (an input scene's): a floating slab the views see through.
+  std::vector<Coord3> extra;
+  for (int32_t u = 25; u < 35; ++u)
+    for (int32_t w = 25; w < 35; ++w) extra.push_back({u, 14, w});
+
+  vox::FuseSettings all;
+  all.threads = 1;
+  vox::Fuser ref(dims, frame, all);
+  for (const vox::FuseView& v : views) ref.add(v);
+  FuseCounts refCounts = std::move(ref).finish();
+  const std::map<uint64_t, uint32_t> refFree = freeMap(refCounts);
+  std::set<uint64_t> keep;
+  for (const FuseCounts::Vote& v : refCounts.votes()) keep.insert(FuseCounts::voxelKey(v.at));
+  for (const Coord3& c : extra) keep.insert(FuseCounts::voxelKey(c));
+  std::map<uint64_t, uint32_t> want;
+  for (const auto& [k, n] : refFree)
+    if (keep.count(k)) want[k] = n;
+  uint64_t votedWithFree = 0;
+  for (const FuseCounts::Vote& v : refCounts.votes()) votedWithFree += refFree.count(FuseCounts::voxelKey(v.at));
+  EXPECT_GT(votedWithFree, 20u);  // the test sees voted voxels that rays also cross
+  EXPECT_GT(want.size(), votedWithFree);  // and the floating slab
+  const vox::FusedScene refScene = vox::applyFusion([&] {
+    vox::SceneHeader h;
+    h.dims = dims;
+    h.classes = vox::blockPalette();
+    return h;
+  }(), nullptr, std::move(refCounts), true);
+
+  for (unsigned threads : {1u, 2u, 3u}) {
+    vox::FuseSettings voted;
+    voted.threads = threads;
+    voted.freeScope = vox::FreeScope::Voted;
+    vox::Fuser fuser(dims, frame, voted);
+    for (const vox::FuseView& v : views) fuser.add(v);
+    fuser.track(extra);
+    for (size_t i = views.size(); i-- > 0;) fuser.addFree(views[i]);  // any order
+    FuseCounts counts = std::move(fuser).finish();
+    EXPECT_EQ(freeMap(counts), want) << threads;
+    vox::SceneHeader h;
+    h.dims = dims;
+    h.classes = vox::blockPalette();
+    const vox::FusedScene scene = vox::applyFusion(h, nullptr, std::move(counts), true);
+    EXPECT_EQ(scene.totals.occupiedAfter, refScene.totals.occupiedAfter);
+    EXPECT_EQ(scene.totals.rejected, refScene.totals.rejected);
+    // Occupied voxels with their votes per class.
+    using Votes = std::vector<std::pair<int, uint64_t>>;
+    auto votesOf = [](const vox::VoxelView& v) {
+      Votes out;
+      for (const vox::ClassVotes& c : v.votes) out.push_back({int(c.classId), uint64_t(c.votes)});
+      return out;
+    };
+    std::map<uint64_t, Votes> occ, refOcc;
+    scene.scene.forEachVoxel([&](const vox::VoxelView& v) { occ[FuseCounts::voxelKey(v.at)] = votesOf(v); });
+    refScene.scene.forEachVoxel([&](const vox::VoxelView& v) { refOcc[FuseCounts::voxelKey(v.at)] = votesOf(v); });
+    EXPECT_EQ(occ, refOcc) << threads;
+  }
+}
+
+}  // namespace
