@@ -65,7 +65,11 @@ Image readPng(const std::string& path);
 enum class ExrCompression { None, Zip, Zips, Piz, Rle };
 /// EXR: U32 (UINT), F16 (HALF) or F32 (FLOAT), 1..4 channels named R, G, B, A
 /// (1 channel: R only; 2: R, G). Throws vox::Error (Io).
-void writeExr(const Image& image, const std::string& path, ExrCompression compression = ExrCompression::Zip);
+/// `threads` > 1 compresses the scanline blocks on OpenEXR's worker pool
+/// (grown to `threads` workers on first use, process-wide, never shrunk);
+/// blocks are written in order, so the bytes do not depend on `threads`.
+void writeExr(const Image& image, const std::string& path, ExrCompression compression = ExrCompression::Zip,
+              unsigned threads = 1);
 /// Reads an EXR written by writeExr (scanline, channels R[G[B[A]]] of one type).
 Image readExr(const std::string& path);
 

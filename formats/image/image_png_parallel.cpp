@@ -72,7 +72,9 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
         src = be.data();
       }
       *o++ = 1;
-      for (size_t i = 0; i < rowBytes; ++i) o[i] = uint8_t(src[i] - (i >= bpp ? src[i - bpp] : 0));
+      const size_t head = std::min(bpp, rowBytes);
+      for (size_t i = 0; i < head; ++i) o[i] = src[i];
+      for (size_t i = head; i < rowBytes; ++i) o[i] = uint8_t(src[i] - src[i - bpp]);
       o += rowBytes;
     }
     adler[s] = adler32(adler32(0, nullptr, 0), raw.data(), uInt(raw.size()));
@@ -80,16 +82,23 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
     z_stream zs{};
     if (deflateInit2(&zs, zlibLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
       throw Error(ErrorKind::Internal, "deflateInit2 failed");
+    // Deflated through a small buffer and appended: a slice's output takes the
+    // memory its compressed bytes need, not deflateBound's (the raw size and
+    // more, zero-filled), which for a mostly empty atlas is 30 times as much.
     std::vector<uint8_t>& out = packed[s];
-    out.resize(deflateBound(&zs, uLong(raw.size())) + 16);
+    uint8_t buffer[1 << 16];
     zs.next_in = raw.data();
     zs.avail_in = uInt(raw.size());
-    zs.next_out = out.data();
-    zs.avail_out = uInt(out.size());
     const bool last = s + 1 == slices;
-    const int r = deflate(&zs, last ? Z_FINISH : Z_FULL_FLUSH);
-    const bool ok = last ? r == Z_STREAM_END : (r == Z_OK && zs.avail_in == 0);
-    out.resize(out.size() - zs.avail_out);
+    const int flush = last ? Z_FINISH : Z_FULL_FLUSH;
+    int r = Z_OK;
+    do {
+      zs.next_out = buffer;
+      zs.avail_out = sizeof buffer;
+      r = deflate(&zs, flush);
+      out.insert(out.end(), buffer, buffer + (sizeof buffer - zs.avail_out));
+    } while (r == Z_OK && (zs.avail_out == 0 || zs.avail_in > 0));
+    const bool ok = last ? r == Z_STREAM_END : ((r == Z_OK || r == Z_BUF_ERROR) && zs.avail_in == 0);
     deflateEnd(&zs);
     if (!ok) throw Error(ErrorKind::Internal, "deflate failed on a PNG slice");
   });
@@ -106,7 +115,10 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
   z.reserve(total);
   z.push_back(cmf);
   z.push_back(flg);
-  for (const auto& p : packed) z.insert(z.end(), p.begin(), p.end());
+  for (auto& p : packed) {
+    z.insert(z.end(), p.begin(), p.end());
+    std::vector<uint8_t>().swap(p);
+  }
   put32(z, uint32_t(a));
 
   std::vector<uint8_t> file;
