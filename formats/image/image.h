@@ -49,8 +49,10 @@ inline constexpr int kDefaultPngZlibLevel = 6;
 /// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
 /// `zlibLevel` 0..9. Throws vox::Error (Io).
 void writePng(const Image& image, const std::string& path, int zlibLevel = kDefaultPngZlibLevel);
-/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
-/// deflated in up to 16 row slices on `threads` threads (formats/image/image_png_parallel.cpp).
+/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`;
+/// runs of >= 4 KiB of zero bytes with zlib's Z_RLE strategy, which codes them
+/// the same way faster), deflated in up to 16 row slices on `threads` threads
+/// (formats/image/image_png_parallel.cpp).
 /// The bytes depend on the image only, not on `threads`; they differ from
 /// writePng's (one deflate stream) but decode to the same pixels.
 void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);
