@@ -56,8 +56,10 @@ void writePng(const Image& image, const std::string& path, int zlibLevel = kDefa
 void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType type,
                   const std::vector<std::pair<std::string, std::string>>& text, const std::string& path, int zlibLevel,
                   const std::function<const uint8_t*(uint32_t y)>& row);
-/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`),
-/// deflated in up to 16 row slices on `threads` threads (formats/image/image_png_parallel.cpp).
+/// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`;
+/// runs of >= 4 KiB of zero bytes with zlib's Z_RLE strategy, which codes them
+/// the same way faster), deflated in up to 16 row slices on `threads` threads
+/// (formats/image/image_png_parallel.cpp).
 /// The bytes depend on the image only, not on `threads`; they differ from
 /// writePng's (one deflate stream) but decode to the same pixels.
 void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);
@@ -72,7 +74,11 @@ Image readPng(const std::string& path);
 enum class ExrCompression { None, Zip, Zips, Piz, Rle };
 /// EXR: U32 (UINT), F16 (HALF) or F32 (FLOAT), 1..4 channels named R, G, B, A
 /// (1 channel: R only; 2: R, G). Throws vox::Error (Io).
-void writeExr(const Image& image, const std::string& path, ExrCompression compression = ExrCompression::Zip);
+/// `threads` > 1 compresses the scanline blocks on OpenEXR's worker pool
+/// (grown to `threads` workers on first use, process-wide, never shrunk);
+/// blocks are written in order, so the bytes do not depend on `threads`.
+void writeExr(const Image& image, const std::string& path, ExrCompression compression = ExrCompression::Zip,
+              unsigned threads = 1);
 /// Reads an EXR written by writeExr (scanline, channels R[G[B[A]]] of one type).
 Image readExr(const std::string& path);
 

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -30,7 +31,19 @@ const char* const kChannelNames[4] = {"R", "G", "B", "A"};
 
 }  // namespace
 
-void writeExr(const Image& image, const std::string& path, ExrCompression compression) {
+namespace {
+
+/// OpenEXR's worker pool is process-wide and starts empty: grow it (only
+/// ever grow it, under a lock) so that a writer asking for `threads` finds them.
+void ensureExrWorkers(unsigned threads) {
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (Imf::globalThreadCount() < int(threads)) Imf::setGlobalThreadCount(int(threads));
+}
+
+}  // namespace
+
+void writeExr(const Image& image, const std::string& path, ExrCompression compression, unsigned threads) {
   const Imf::PixelType type = pixelType(image.type, path);
   if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)
     throw Error(ErrorKind::Internal, path + ": bad image shape for EXR");
@@ -47,7 +60,8 @@ void writeExr(const Image& image, const std::string& path, ExrCompression compre
       fb.insert(kChannelNames[ch],
                 Imf::Slice(type, reinterpret_cast<char*>(const_cast<uint8_t*>(image.pixels.data())) + ch * sb,
                            image.channels * sb, image.rowBytes()));
-    Imf::OutputFile out(path.c_str(), header);
+    if (threads > 1) ensureExrWorkers(threads);
+    Imf::OutputFile out(path.c_str(), header, threads > 1 ? int(threads) : 0);
     out.setFrameBuffer(fb);
     out.writePixels(int(image.height));
   } catch (const std::exception& e) {

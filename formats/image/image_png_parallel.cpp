@@ -8,6 +8,8 @@
 // combined Adler-32. Any inflater reads it as one ordinary stream. The cut
 // depends only on the image height, never on the thread count, so the bytes
 // are identical at any thread count. Scanlines use the SUB filter, as writePng.
+// Long runs of zero bytes (an atlas's empty texels) switch the slice's stream
+// to zlib's Z_RLE strategy, where the cut again depends on the bytes only.
 #include <zlib.h>
 
 #include <algorithm>
@@ -43,6 +45,11 @@ namespace {
 
 // Both public writers: `palette` empty for gray/RGB(A), else an indexed-colour
 // PNG (colour type 3) of the 1-channel 8-bit `image` with that PLTE.
+// Quiet runs at least this long (bytes) are deflated with Z_RLE: a quarter
+// of a 1024-texel RGBA8 row, long enough that a block boundary per switch
+// costs well under 1% of what the run saves.
+constexpr size_t kZeroRun = 4096;
+
 void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>& palette, const std::string& path,
                    int zlibLevel, unsigned threads) {
   if (image.type != SampleType::U8 && image.type != SampleType::U16)
@@ -72,7 +79,9 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
         src = be.data();
       }
       *o++ = 1;
-      for (size_t i = 0; i < rowBytes; ++i) o[i] = uint8_t(src[i] - (i >= bpp ? src[i - bpp] : 0));
+      const size_t head = std::min(bpp, rowBytes);
+      for (size_t i = 0; i < head; ++i) o[i] = src[i];
+      for (size_t i = head; i < rowBytes; ++i) o[i] = uint8_t(src[i] - src[i - bpp]);
       o += rowBytes;
     }
     adler[s] = adler32(adler32(0, nullptr, 0), raw.data(), uInt(raw.size()));
@@ -80,16 +89,80 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
     z_stream zs{};
     if (deflateInit2(&zs, zlibLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
       throw Error(ErrorKind::Internal, "deflateInit2 failed");
+    // Deflated through a small buffer and appended: a slice's output takes the
+    // memory its compressed bytes need, not deflateBound's (the raw size and
+    // more, zero-filled), which for a mostly empty atlas is 30 times as much.
     std::vector<uint8_t>& out = packed[s];
-    out.resize(deflateBound(&zs, uLong(raw.size())) + 16);
-    zs.next_in = raw.data();
-    zs.avail_in = uInt(raw.size());
-    zs.next_out = out.data();
-    zs.avail_out = uInt(out.size());
+    uint8_t buffer[1 << 16];
+    bool ok = true;
+    auto drain = [&](int flush) {  // deflates what is in zs.next_in, then `flush`
+      int r = Z_OK;
+      do {
+        zs.next_out = buffer;
+        zs.avail_out = sizeof buffer;
+        r = deflate(&zs, flush);
+        out.insert(out.end(), buffer, buffer + (sizeof buffer - zs.avail_out));
+      } while (r == Z_OK && (zs.avail_out == 0 || zs.avail_in > 0));
+      return r;
+    };
+    // Long runs of zero bytes (empty texels; a row's filter byte does not
+    // break a run) go through zlib's run-length strategy, the rest at the
+    // level asked. Both code a zero run as the same longest matches at
+    // distance 1, so the stream barely grows (a block boundary per switch),
+    // but the level-6 matcher spends most of an atlas's deflate time hashing
+    // every byte of its empty space. The cut depends on the bytes only.
+    const size_t stride = rowBytes + 1, n = raw.size();
+    // The end of the quiet run starting at i (i itself when raw[i] is not quiet).
+    auto quietEnd = [&](size_t j) {
+      while (j < n) {
+        const size_t col = j % stride;
+        if (col == 0) {
+          ++j;
+          continue;
+        }
+        const size_t rowEnd = std::min(n, j - col + stride);
+        for (uint64_t w; j + 8 <= rowEnd; j += 8) {
+          std::memcpy(&w, raw.data() + j, 8);
+          if (w != 0) break;
+        }
+        while (j < rowEnd && raw[j] == 0) ++j;
+        if (j < rowEnd) return j;
+      }
+      return n;
+    };
+    int strategy = Z_DEFAULT_STRATEGY;
+    auto feed = [&](size_t begin, size_t end, int want) {
+      if (begin == end) return;
+      if (want != strategy) {
+        int r = Z_BUF_ERROR;
+        for (int tries = 0; tries < 4096 && r == Z_BUF_ERROR; ++tries) {
+          zs.next_out = buffer;
+          zs.avail_out = sizeof buffer;
+          r = deflateParams(&zs, zlibLevel, want);
+          out.insert(out.end(), buffer, buffer + (sizeof buffer - zs.avail_out));
+        }
+        ok = ok && r == Z_OK;
+        strategy = want;
+      }
+      zs.next_in = raw.data() + begin;
+      zs.avail_in = uInt(end - begin);
+      const int r = drain(Z_NO_FLUSH);
+      ok = ok && (r == Z_OK || r == Z_BUF_ERROR) && zs.avail_in == 0;
+    };
+    size_t content = 0;  // start of the content not yet fed
+    for (size_t i = 0; i < n && zlibLevel > 0;) {
+      const size_t e = quietEnd(i);
+      if (e - i >= kZeroRun) {
+        feed(content, i, Z_DEFAULT_STRATEGY);
+        feed(i, e, Z_RLE);
+        content = e;
+      }
+      i = std::max(e, i + 1);
+    }
+    feed(content, n, Z_DEFAULT_STRATEGY);
     const bool last = s + 1 == slices;
-    const int r = deflate(&zs, last ? Z_FINISH : Z_FULL_FLUSH);
-    const bool ok = last ? r == Z_STREAM_END : (r == Z_OK && zs.avail_in == 0);
-    out.resize(out.size() - zs.avail_out);
+    const int r = drain(last ? Z_FINISH : Z_FULL_FLUSH);
+    ok = ok && (last ? r == Z_STREAM_END : ((r == Z_OK || r == Z_BUF_ERROR) && zs.avail_in == 0));
     deflateEnd(&zs);
     if (!ok) throw Error(ErrorKind::Internal, "deflate failed on a PNG slice");
   });
@@ -106,7 +179,10 @@ void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>
   z.reserve(total);
   z.push_back(cmf);
   z.push_back(flg);
-  for (const auto& p : packed) z.insert(z.end(), p.begin(), p.end());
+  for (auto& p : packed) {
+    z.insert(z.end(), p.begin(), p.end());
+    std::vector<uint8_t>().swap(p);
+  }
   put32(z, uint32_t(a));
 
   std::vector<uint8_t> file;

@@ -182,7 +182,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     auto estimateFor = [&](const vox::AtlasLayout& layout) {
       vox::MemoryEstimate e;
       e.add("resident after reading the scene", resident);
-      double images = 0, previews = 0;
+      double images = 0, previews = 0, largest = 0;
       for (const Output& out : outs) {
         if (out.info.layer != 0) continue;
         const double texels = double(layout.texelsPerLayer());
@@ -190,6 +190,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
                                          ? double(out.image.channels * vox::sampleBytes(out.image.type))
                                          : double(out.image.width) / double(L.width);  // bitmaps: bits per texel / 8
         images += texels * bytesPerTexel;
+        largest = std::max(largest, texels * bytesPerTexel);
         // A preview: RGB (the summary's two panels side by side) plus its row slices.
         if (o.preview) previews += texels * (out.info.content == vox::AtlasContent::Summary ? 8.0 : 4.0);
       }
@@ -209,6 +210,8 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
         return e;
       }
       e.add("atlas images (one layer)", images * 1.05);  // + the encoders' row buffers
+      // Each worker filters a PNG row slice (at most 1/16 of an image) before deflating it.
+      e.add("PNG slices being deflated", double(std::min(run.threads(), 16u)) * largest / 16);
       if (o.preview) e.add("previews (one layer)", previews);
       return e;
     };
@@ -358,12 +361,14 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     }
     bits1.reset(), bits2.reset();
 
-    // Encode: files in parallel (each PNG/EXR encoder is serial); bytes do not
-    // depend on it. --preview adds one job per file after the data files: a
-    // preview is drawn from its data image (so it shows exactly what was
-    // written) and deflated in row slices, so previews fill the cores the
-    // serial data encoders leave idle (docs/bench-atlas.md). The first failing
-    // file, in file order, is reported.
+    // Encode: files in parallel, and each file in parallel too: PNGs (atlases
+    // and the packed 1- and 2-bit bitmaps alike) are deflated in row slices
+    // (formats/image/image_png_parallel.cpp), EXRs in scanline blocks on
+    // OpenEXR's workers, so one large file (the usual case: a summary atlas)
+    // keeps every core busy; bytes depend on neither. --preview adds one job
+    // per file after the data files: a preview is drawn from its data image
+    // (so it shows exactly what was written). The first failing file, in file
+    // order, is reported.
     run.phase(L.layers > 1 ? "write layer " + std::to_string(layer) : "write");
     const size_t jobs = here.size() * (o.preview ? 2 : 1);
     vox::parallelForEach(jobs, run.threads(), 1, [&](size_t j) {
@@ -376,9 +381,9 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
               vox::atlasPreview(out.image, out.info, h.classes, fs::path(out.path).filename().string());
           vox::writeAtlasPreview(preview, out.previewTempPath, run.threads());
         } else if (outs[i].exr) {
-          vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip);
+          vox::writeExr(outs[i].image, outs[i].tempPath, vox::ExrCompression::Zip, run.threads());
         } else {
-          vox::writePng(outs[i].image, outs[i].tempPath, o.compression);
+          vox::writePngParallel(outs[i].image, outs[i].tempPath, o.compression, run.threads());
         }
       } catch (...) {
         errors[isPreview ? outs.size() + i : i] = std::current_exception();
