@@ -231,14 +231,20 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
     view.camera = renderCamera(*meta, depth, where + ": " + depthName);
   }
 
+  // A view's other images: read, recorded as inputs, and of the depth image's size.
+  auto readBeside = [&](const std::string& path, const std::string& role) {
+    Image image = readImage(path, where, role);
+    out.files.push_back(path);
+    if (image.width != depth.width || image.height != depth.height)
+      bad(where, role + " " + path + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " but " + depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                     "; a view's images must have one size");
+    return image;
+  };
+
   // Labels.
-  const Image label = readImage(spec.labelPath, where, "label");
-  out.files.push_back(spec.labelPath);
+  const Image label = readBeside(spec.labelPath, "label");
   const std::string labelName = "label " + spec.labelPath;
-  if (label.width != depth.width || label.height != depth.height)
-    bad(where, labelName + " is " + std::to_string(label.width) + "x" + std::to_string(label.height) + " but " +
-                   depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                   "; a view's images must have one size");
   const bool colour = label.channels >= 3;
   if (!isPngFile(spec.labelPath) || (colour && label.type != SampleType::U8))
     bad(where, labelName + ": a label image is an 8/16-bit gray PNG (the label value) or an 8-bit RGB(A) PNG (a colour "
@@ -332,13 +338,8 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
     }
 
   if (!spec.colorPath.empty()) {
-    const Image color = readImage(spec.colorPath, where, "color");
-    out.files.push_back(spec.colorPath);
+    const Image color = readBeside(spec.colorPath, "color");
     const std::string colorName = "color " + spec.colorPath;
-    if (color.width != depth.width || color.height != depth.height)
-      bad(where, colorName + " is " + std::to_string(color.width) + "x" + std::to_string(color.height) + " but " +
-                     depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                     "; a view's images must have one size");
     if (!isPngFile(spec.colorPath) || color.channels < 3 || color.type != SampleType::U8)
       bad(where, colorName + ": a colour image is an 8-bit RGB or RGBA PNG (sRGB); this one has " +
                      std::to_string(color.channels) + " channel(s) of " + sampleTypeName(color.type));
@@ -352,13 +353,8 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   }
 
   if (!spec.confidencePath.empty()) {
-    const Image conf = readImage(spec.confidencePath, where, "confidence");
-    out.files.push_back(spec.confidencePath);
+    const Image conf = readBeside(spec.confidencePath, "confidence");
     const std::string confName = "confidence " + spec.confidencePath;
-    if (conf.width != depth.width || conf.height != depth.height)
-      bad(where, confName + " is " + std::to_string(conf.width) + "x" + std::to_string(conf.height) + " but " +
-                     depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                     "; a view's images must have one size");
     if (!isPngFile(spec.confidencePath) || conf.channels != 1 || !(conf.type == SampleType::U8 || conf.type == SampleType::U16))
       bad(where, confName + ": a confidence image is a gray 8/16-bit PNG (the vote weight of each pixel); this one has " +
                      std::to_string(conf.channels) + " channel(s) of " + sampleTypeName(conf.type));
@@ -370,13 +366,8 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   }
 
   if (!spec.normalPath.empty()) {
-    const Image normal = readImage(spec.normalPath, where, "normal");
-    out.files.push_back(spec.normalPath);
+    const Image normal = readBeside(spec.normalPath, "normal");
     const std::string normalName = "normal " + spec.normalPath;
-    if (normal.width != depth.width || normal.height != depth.height)
-      bad(where, normalName + " is " + std::to_string(normal.width) + "x" + std::to_string(normal.height) + " but " +
-                     depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                     "; a view's images must have one size");
     if (!isPngFile(spec.normalPath) || normal.channels != 4 || normal.type != SampleType::U8)
       bad(where, normalName + ": a normal image is render-canonical's RGBA8 PNG; this one has " +
                      std::to_string(normal.channels) + " channel(s) of " + sampleTypeName(normal.type));
