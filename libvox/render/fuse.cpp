@@ -165,6 +165,36 @@ struct KeyOf {
   }
 };
 
+/// Hands the accumulators of `pieces` to tasks: a task takes one, fills it and
+/// gives it back. Which rows land in which accumulator varies with scheduling;
+/// the sums do not. A deque, so adding one keeps the slots others hold in place.
+class CountsPool {
+ public:
+  explicit CountsPool(std::deque<FuseCounts>& pieces) : pieces_(pieces) {
+    for (size_t i = 0; i < pieces_.size(); ++i) idle_.push_back(i);
+  }
+  size_t take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (idle_.empty()) {
+      pieces_.emplace_back();
+      return pieces_.size() - 1;
+    }
+    const size_t slot = idle_.back();
+    idle_.pop_back();
+    return slot;
+  }
+  FuseCounts& operator[](size_t slot) { return pieces_[slot]; }
+  void giveBack(size_t slot) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    idle_.push_back(slot);
+  }
+
+ private:
+  std::deque<FuseCounts>& pieces_;
+  std::mutex mutex_;
+  std::vector<size_t> idle_;
+};
+
 }  // namespace
 
 FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
@@ -388,28 +418,14 @@ FuseViewStats Fuser::add(const FuseView& view) {
   const PixelRays rays(cam, frame_);
   std::vector<uint64_t> voted(N, ~uint64_t(0));
   std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, zeroWeight{0}, outside{0}, steps{0}, freeCounts{0};
-  // A pool of accumulators: a task takes one, fills it, gives it back. Which
-  // rows land in which accumulator varies with scheduling; the sums do not.
-  std::mutex poolMutex;
-  std::vector<size_t> idle;
-  for (size_t i = 0; i < pieces_.size(); ++i) idle.push_back(i);
+  CountsPool pool(pieces_);
   // Tiles of 16 x 16 pixels: their rays cross a narrow cone of bricks that
   // stays in cache (rows fan out across the whole scene).
   constexpr size_t kTile = 16;
   const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
   parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
-    size_t slot;
-    {
-      std::lock_guard<std::mutex> lock(poolMutex);
-      if (idle.empty()) {
-        pieces_.emplace_back();  // a deque: the slots other workers hold stay in place
-        slot = pieces_.size() - 1;
-      } else {
-        slot = idle.back();
-        idle.pop_back();
-      }
-    }
-    FuseCounts& counts = pieces_[slot];
+    const size_t slot = pool.take();
+    FuseCounts& counts = pool[slot];
     uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
@@ -454,8 +470,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
     outside += out;
     steps += st;
     freeCounts += fc;
-    std::lock_guard<std::mutex> lock(poolMutex);
-    idle.push_back(slot);
+    pool.giveBack(slot);
   });
   stats.used = used;
   stats.ambiguous = ambiguous;
@@ -502,24 +517,12 @@ FuseViewStats Fuser::addFree(const FuseView& view) {
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
   std::atomic<uint64_t> steps{0}, freeCounts{0};
-  std::mutex poolMutex;
-  std::vector<size_t> idle;
-  for (size_t i = 0; i < pieces_.size(); ++i) idle.push_back(i);
+  CountsPool pool(pieces_);
   constexpr size_t kTile = 16;
   const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
   parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
-    size_t slot;
-    {
-      std::lock_guard<std::mutex> lock(poolMutex);
-      if (idle.empty()) {
-        pieces_.emplace_back();
-        slot = pieces_.size() - 1;
-      } else {
-        slot = idle.back();
-        idle.pop_back();
-      }
-    }
-    FuseCounts& counts = pieces_[slot];
+    const size_t slot = pool.take();
+    FuseCounts& counts = pool[slot];
     RayGrid::Cursor cursor(*tracked_);
     uint64_t st = 0, fc = 0;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
@@ -539,8 +542,7 @@ FuseViewStats Fuser::addFree(const FuseView& view) {
       }
     steps += st;
     freeCounts += fc;
-    std::lock_guard<std::mutex> lock(poolMutex);
-    idle.push_back(slot);
+    pool.giveBack(slot);
   });
   stats.steps = steps;
   stats.freeCounts = freeCounts;
