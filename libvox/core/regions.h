@@ -1,0 +1,69 @@
+// Region bakes: the tiling that splits a world into parts, and the key that
+// says which world a part belongs to.
+//
+// The tiling (`vox voxelize --region I/N`) cuts the x-z plane of the world's
+// index domain; every tile spans the whole y range. Cuts fall on multiples of
+// kRegionAlignVoxels voxels (the largest page-file chunk edge), so every chunk
+// of every chunk size lies in exactly one tile and a part's page file holds
+// whole chunks. The tiles of N are made by recursive halving:
+//   tile(box, N): if N == 1, the box is tile; otherwise cut the box across its
+//   longer axis in 32-voxel cells (x when equal) into a first part of
+//   floor(N/2) tiles and a second of N - floor(N/2), the cut at
+//   round(cells * floor(N/2) / N) cells from the low side (ties down), kept
+//   at >= 1 cell per side while the axis has >= 2 cells. Tiles are numbered
+//   depth first: the low side's tiles, then the high side's.
+// When N exceeds the number of cells some tiles are empty: a valid empty part.
+// The tiles of N are disjoint and cover the domain.
+//
+// Pure functions; thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "libvox/core/scene_header.h"
+#include "libvox/core/types.h"
+
+namespace vox {
+
+/// Tile edges fall on multiples of this many voxels (x and z).
+inline constexpr uint32_t kRegionAlignVoxels = 32;
+
+/// The largest tile count accepted (a sanity bound on `--region I/N`).
+inline constexpr uint32_t kMaxRegionCount = 1u << 20;
+
+struct RegionSpec {
+  uint32_t index = 0;
+  uint32_t count = 1;
+};
+
+/// Parses "I/N" (decimal, 0 <= I < N <= kMaxRegionCount). Throws vox::Error
+/// (Usage) naming the text and the rule on anything else.
+RegionSpec parseRegionSpec(std::string_view text);
+
+/// Tile `index` of `count` of the domain [0, dims) (inclusive box; empty() when
+/// the tile holds no voxel). Requires index < count.
+IndexBox regionTile(const Dims& dims, uint32_t index, uint32_t count);
+
+/// All `count` tiles, in index order.
+std::vector<IndexBox> regionTiles(const Dims& dims, uint32_t count);
+
+/// True when `box` (inclusive) has its x and z edges on the tiling's cells:
+/// each min a multiple of kRegionAlignVoxels, each max + 1 a multiple of it or
+/// the domain's end; y spanning the whole domain.
+bool isRegionAligned(const IndexBox& box, const Dims& dims);
+
+/// The key of a world bake: a hex SHA-256 over the header fields that decide
+/// its voxels (dims, voxel size, origin, mip level, class table, sources'
+/// kinds and digests or names, block-world placement) and `settings`, a
+/// canonical text of the options that change voxels (fill, rules, votes...),
+/// supplied by the command. Two parts with equal keys come from the same world
+/// bake. The header's own `region` is not part of the key.
+std::string regionWorldKey(const SceneHeader& header, std::string_view settings);
+
+/// Intersection of two inclusive boxes (empty() when they do not meet).
+IndexBox intersect(const IndexBox& a, const IndexBox& b);
+
+}  // namespace vox
