@@ -151,3 +151,78 @@ TEST(RegionRecord, MalformedRecordsAreRefusedByKey) {
                           R"({"index": -1, "count": 2, "box": null, "world_key": "k"})", R"([1,2])"})
     EXPECT_TRUE(throwsVoxError([&] { parse(bad); }, ErrorKind::BadInput, {"'vox:region'"})) << bad;
 }
+
+namespace {
+
+struct PartSet {
+  std::vector<SceneHeader> headers;
+  std::vector<RegionPart> parts() const {
+    std::vector<RegionPart> out;
+    for (size_t i = 0; i < headers.size(); ++i) out.push_back({"part" + std::to_string(i) + ".vdb", &headers[i]});
+    return out;
+  }
+};
+
+PartSet tiles(uint32_t n) {
+  SceneHeader world;
+  world.dims = {300, 40, 200};
+  world.classes.add({1, "stone", {1, 2, 3}, std::nullopt});
+  const std::string key = regionWorldKey(world, "s");
+  PartSet set;
+  for (uint32_t i = 0; i < n; ++i) {
+    SceneHeader h = world;
+    h.region = SceneRegion{i, n, regionTile(world.dims, i, n), key};
+    set.headers.push_back(h);
+  }
+  return set;
+}
+
+}  // namespace
+
+TEST(RegionParts, CompleteTilingsJoin) {
+  for (uint32_t n : {1u, 2u, 3u, 7u}) {
+    PartSet set = tiles(n);
+    std::reverse(set.headers.begin(), set.headers.end());  // any order
+    EXPECT_EQ(checkRegionParts(set.parts()), RegionPartSet::Tiles);
+  }
+}
+
+TEST(RegionParts, MissingDuplicateAndForeignPartsAreNamed) {
+  PartSet missing = tiles(3);
+  missing.headers.erase(missing.headers.begin() + 1);
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(missing.parts()); }, ErrorKind::BadInput,
+                             {"tile 1 of 3 is missing", "--region 1/3"}));
+  PartSet twice = tiles(3);
+  twice.headers[2] = twice.headers[0];
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(twice.parts()); }, ErrorKind::BadInput,
+                             {"part2.vdb", "tile 0 of 3 is also part0.vdb"}));
+  PartSet foreign = tiles(3);
+  foreign.headers[1].region->worldKey = std::string(64, 'f');
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(foreign.parts()); }, ErrorKind::BadInput,
+                             {"part1.vdb", "another bake", "world key"}));
+  PartSet classes = tiles(2);
+  classes.headers[1].classes.add({2, "water", {0, 0, 9}, std::nullopt});
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(classes.parts()); }, ErrorKind::BadInput, {"part1.vdb", "class table"}));
+  PartSet mixedCount = tiles(2);
+  PartSet three = tiles(3);
+  mixedCount.headers[1] = three.headers[1];
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(mixedCount.parts()); }, ErrorKind::BadInput, {"part1.vdb"}));
+  PartSet whole = tiles(2);
+  whole.headers[1].region.reset();
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(whole.parts()); }, ErrorKind::BadInput,
+                             {"part1.vdb", "not a part of a region bake"}));
+}
+
+TEST(RegionParts, BoxPartsMustBeDisjoint) {
+  PartSet set = tiles(1);
+  SceneHeader a = set.headers[0], b = a;
+  a.region->box = IndexBox{{0, 0, 0}, {63, 39, 63}};
+  b.region->box = IndexBox{{64, 0, 0}, {95, 31, 199}};
+  set.headers = {a, b};
+  EXPECT_EQ(checkRegionParts(set.parts()), RegionPartSet::Boxes);
+  set.headers[1].region->box.min.u = 32;
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(set.parts()); }, ErrorKind::BadInput, {"part1.vdb", "overlaps", "part0.vdb"}));
+  PartSet mixed = tiles(2);
+  mixed.headers[1].region = SceneRegion{0, 1, IndexBox{{0, 0, 0}, {31, 31, 31}}, mixed.headers[0].region->worldKey};
+  EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(mixed.parts()); }, ErrorKind::BadInput, {"--region-box"}));
+}

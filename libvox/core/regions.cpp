@@ -97,8 +97,8 @@ bool isRegionAligned(const IndexBox& box, const Dims& dims) {
   auto edgeOk = [&](int64_t lo, int64_t hi, uint32_t n) {
     return lo >= 0 && hi < int64_t(n) && lo % a == 0 && ((hi + 1) % a == 0 || hi + 1 == int64_t(n));
   };
-  return edgeOk(box.min.u, box.max.u, dims.x) && edgeOk(box.min.w, box.max.w, dims.z) && box.min.v == 0 &&
-         box.max.v == int64_t(dims.y) - 1;
+  return edgeOk(box.min.u, box.max.u, dims.x) && edgeOk(box.min.v, box.max.v, dims.y) &&
+         edgeOk(box.min.w, box.max.w, dims.z);
 }
 
 std::string regionWorldKey(const SceneHeader& h, std::string_view settings) {
@@ -129,6 +129,97 @@ std::string regionWorldKey(const SceneHeader& h, std::string_view settings) {
   Sha256 sha;
   sha.update(text.data(), text.size());
   return sha.hexDigest();
+}
+
+bool isTile(const SceneRegion& r, const Dims& dims) {
+  return r.count >= 1 && r.index < r.count && regionTile(dims, r.index, r.count) == r.box;
+}
+
+namespace {
+
+std::string tileName(const SceneRegion& r) { return "tile " + std::to_string(r.index) + " of " + std::to_string(r.count); }
+
+std::string boxText(const IndexBox& b) {
+  return b.empty() ? std::string("an empty box") : toString(b.min) + " .. " + toString(b.max);
+}
+
+// Why `h` is not a part of the same world as `first`, or "".
+std::string worldDifference(const SceneHeader& h, const SceneHeader& first) {
+  if (h.region->worldKey != first.region->worldKey)
+    return "its world key " + h.region->worldKey.substr(0, 12) + " differs from " + first.region->worldKey.substr(0, 12);
+  if (!(h.dims == first.dims)) return "its dims " + toString(h.dims) + " differ from " + toString(first.dims);
+  if (h.voxelSize != first.voxelSize || h.origin != first.origin) return "its voxel size or origin differs";
+  if (!(h.classes == first.classes)) return "its class table differs";
+  if (h.mipLevel != first.mipLevel) return "its mip level differs";
+  if (h.blockWorld != first.blockWorld) return "its block-world placement differs";
+  return {};
+}
+
+}  // namespace
+
+RegionPartSet checkRegionParts(const std::vector<RegionPart>& parts) {
+  if (parts.empty()) throw Error(ErrorKind::Usage, "no parts to merge");
+  for (const RegionPart& p : parts)
+    if (!p.header->region)
+      throwBadInput(p.path + ": not a part of a region bake (no region record); merge the parts that "
+                             "`--region I/N` or `--region-box` wrote");
+  const SceneHeader& first = *parts.front().header;
+  for (const RegionPart& p : parts)
+    if (const std::string why = worldDifference(*p.header, first); !why.empty())
+      throwBadInput(p.path + ": a part of another bake than " + parts.front().path + " (" + why +
+                    "); merge only the parts of one bake, made with the same inputs and settings");
+  bool allTiles = true;
+  for (const RegionPart& p : parts) allTiles = allTiles && isTile(*p.header->region, first.dims);
+  if (allTiles) {
+    const uint32_t count = first.region->count;
+    std::vector<const RegionPart*> byIndex(count, nullptr);
+    for (const RegionPart& p : parts) {
+      const SceneRegion& r = *p.header->region;
+      if (r.count != count)
+        throwBadInput(p.path + ": " + tileName(r) + ", but " + parts.front().path + " is " + tileName(*first.region) +
+                      "; merge the parts of one tiling");
+      if (byIndex[r.index])
+        throwBadInput(p.path + ": " + tileName(r) + " is also " + byIndex[r.index]->path + "; give each tile once");
+      byIndex[r.index] = &p;
+    }
+    for (uint32_t i = 0; i < count; ++i)
+      if (!byIndex[i])
+        throwBadInput("tile " + std::to_string(i) + " of " + std::to_string(count) +
+                      " is missing (the part `--region " + std::to_string(i) + "/" + std::to_string(count) +
+                      "` writes); bake it and merge all " + std::to_string(count) + " parts");
+    return RegionPartSet::Tiles;
+  }
+  // Boxes (`--region-box` records tile 0 of 1 with its box): no tiles of a larger tiling among them.
+  for (const RegionPart& p : parts) {
+    const SceneRegion& r = *p.header->region;
+    if (r.count > 1) {
+      const RegionPart* other = nullptr;
+      for (const RegionPart& q : parts)
+        if (q.header->region->count == 1) other = &q;
+      throwBadInput(p.path + ": " + tileName(r) + (isTile(r, first.dims) ? "" : " with a box that is not that tile") +
+                    (other ? ", but " + other->path + " is a `--region-box` part" : std::string()) +
+                    "; merge the parts of one tiling, or of `--region-box` only");
+    }
+  }
+  // Boxes: pairwise disjoint. Sorted by min u so that only neighbours in u are compared.
+  std::vector<const RegionPart*> order;
+  for (const RegionPart& p : parts) order.push_back(&p);
+  std::sort(order.begin(), order.end(), [](const RegionPart* a, const RegionPart* b) {
+    return a->header->region->box.min.u < b->header->region->box.min.u;
+  });
+  for (size_t i = 0; i < order.size(); ++i) {
+    const IndexBox& a = order[i]->header->region->box;
+    if (a.empty()) continue;
+    for (size_t j = i + 1; j < order.size(); ++j) {
+      const IndexBox& b = order[j]->header->region->box;
+      if (b.empty()) continue;
+      if (b.min.u > a.max.u) break;
+      if (!intersect(a, b).empty())
+        throwBadInput(order[j]->path + ": its box " + boxText(b) + " overlaps the box " + boxText(a) + " of " +
+                      order[i]->path + "; merge parts with disjoint boxes");
+    }
+  }
+  return RegionPartSet::Boxes;
 }
 
 IndexBox intersect(const IndexBox& a, const IndexBox& b) {

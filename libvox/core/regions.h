@@ -50,9 +50,9 @@ IndexBox regionTile(const Dims& dims, uint32_t index, uint32_t count);
 /// All `count` tiles, in index order.
 std::vector<IndexBox> regionTiles(const Dims& dims, uint32_t count);
 
-/// True when `box` (inclusive) has its x and z edges on the tiling's cells:
-/// each min a multiple of kRegionAlignVoxels, each max + 1 a multiple of it or
-/// the domain's end; y spanning the whole domain.
+/// True when `box` (inclusive) has its edges on the tiling's cells on every
+/// axis: each min a multiple of kRegionAlignVoxels, each max + 1 a multiple of
+/// it or the domain's end (tiles span y whole; `--region-box` may cut y too).
 bool isRegionAligned(const IndexBox& box, const Dims& dims);
 
 /// The key of a world bake: a hex SHA-256 over the header fields that decide
@@ -62,6 +62,30 @@ bool isRegionAligned(const IndexBox& box, const Dims& dims);
 /// supplied by the command. Two parts with equal keys come from the same world
 /// bake. The header's own `region` is not part of the key.
 std::string regionWorldKey(const SceneHeader& header, std::string_view settings);
+
+/// One input of a merge: the file it came from (for messages) and its header.
+struct RegionPart {
+  std::string path;
+  const SceneHeader* header = nullptr;  // not owned; dims, placement, classes and region are checked
+};
+
+/// How a set of parts joins.
+enum class RegionPartSet {
+  Tiles,  // every part is tile I of N of the same tiling and all N are there: the whole world
+  Boxes,  // parts from `--region-box` (recorded as tile 0 of 1 with their box): disjoint boxes;
+          // the union need not cover the world
+};
+
+/// Checks that `parts` join into one world, or throws vox::Error (BadInput)
+/// naming the part and the fix: a part without a region record; a part of
+/// another bake (world key, dims, placement, class table or mip level differ
+/// from the first part's); two parts that are the same tile or whose boxes
+/// overlap; a tile of N missing; a box that is not tile I of N although other
+/// parts are tiles. `parts` must not be empty.
+RegionPartSet checkRegionParts(const std::vector<RegionPart>& parts);
+
+/// True when `box` is exactly tile `r.index` of `r.count` of `dims`.
+bool isTile(const SceneRegion& r, const Dims& dims);
 
 /// Intersection of two inclusive boxes (empty() when they do not meet).
 IndexBox intersect(const IndexBox& a, const IndexBox& b);
