@@ -399,12 +399,15 @@ Column columnAt(const World& world, int32_t u, int32_t w) {
 
 // ---------------------------------------------------------------- votes
 
-/// The class a confused observer mistakes `c` for (Dirt: the ground's surface layer above it).
-Cls confusedWith(Cls c, const Column& col) {
+/// The class a confused observer mistakes `c` at height v for. In the ground
+/// the confusions stay among the ground's own classes (Dirt with the surface
+/// layer above it, a road's Stone with Dirt), which also keeps a ground block
+/// to two or three vote blocks.
+Cls confusedWith(Cls c, int32_t v, const Column& col) {
   switch (c) {
     case kGrass: return kDirt;
     case kDirt: return col.groundTop == kDirt ? kGrass : col.groundTop;
-    case kStone: return kPlank;
+    case kStone: return v < kGroundTop ? kDirt : kPlank;
     case kPlank: return kStone;
     case kSnow: return kStone;
     case kSand: return kDirt;
@@ -426,7 +429,7 @@ inline void emitVoxel(int32_t u, int32_t v, int32_t w, Cls c, const Column& col,
   // of those are exact ties (margin 0, lowest id wins).
   if (((h >> 8) & 3) == 0) {
     const uint32_t contest = ((h >> 10) & 7) == 0 ? main : (h >> 16) % (main + 1);
-    out.addVotes(at, confusedWith(c, col), contest, surface);
+    out.addVotes(at, confusedWith(c, v, col), contest, surface);
   }
 }
 
