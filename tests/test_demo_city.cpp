@@ -75,12 +75,13 @@ TEST(DemoCity, ABoxIsTheWholeCityCroppedToIt) {
   const Scene whole = buildCity(city(kTestExtent, 2));
   const Dense dense(whole);
   // Boxes that cut buildings, trees, the river and its bridges, tile edges
-  // (not multiples of 8), a single column, a box starting above the ground,
-  // and one reaching past the domain (clipped).
+  // (not multiples of 8), a single column, boxes starting above the ground
+  // (high ones skip whole tiles by their street blocks' height bound), and
+  // one reaching past the domain (clipped).
   const std::vector<IndexBox> boxes = {
       {{100, 0, 100}, {300, 95, 260}},  {{13, 3, 41}, {77, 50, 99}},   {{520, 0, 0}, {767, 20, 575}},
       {{200, 9, 200}, {420, 60, 420}},  {{33, 0, 37}, {33, 95, 37}},   {{0, 5, 300}, {767, 12, 330}},
-      {{700, 40, 500}, {900, 200, 700}}, {{40, 0, 230}, {190, 40, 380}}};
+      {{700, 40, 500}, {900, 200, 700}}, {{40, 0, 230}, {190, 40, 380}}, {{0, 60, 0}, {767, 95, 575}}};
   std::set<uint8_t> cutClasses;
   for (const IndexBox& box : boxes) {
     const Scene part = buildCity(city(kTestExtent, 2, box));

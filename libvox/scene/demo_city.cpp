@@ -207,6 +207,17 @@ int32_t lotCut(int64_t bx, int64_t bz, int axis, int32_t i, int32_t n) {
   return kStreet + (kPitch - kStreet) * i / n + jitter;
 }
 
+uint32_t lotHash(int64_t bx, int64_t bz, int32_t i, int32_t j) { return hashOf(bx, bz, i * 4 + j, kSaltLot); }
+
+/// Storeys of a lot's building from the lot's hash: mostly low houses, some
+/// mid-rise blocks, a few towers (kMaxStoreys at most); capped by the height.
+constexpr int32_t kMaxStoreys = 60;
+int32_t lotStoreys(const World& world, uint32_t h) {
+  const uint32_t r = (h >> 5) % 1000;
+  const int32_t storeys = r < 600 ? 2 + int32_t(r % 5) : r < 920 ? 7 + int32_t(r % 14) : 21 + int32_t(r % 40);
+  return std::min(storeys, world.maxStoreys);
+}
+
 Lot lotAt(const World& world, int64_t bx, int64_t bz, int32_t lx, int32_t lz) {
   const int32_t nx = lotCount(bx, bz, 0), nz = lotCount(bx, bz, 1);
   int32_t i = 0, j = 0;
@@ -218,14 +229,11 @@ Lot lotAt(const World& world, int64_t bx, int64_t bz, int32_t lx, int32_t lz) {
   lot.x1 = baseX + lotCut(bx, bz, 0, i + 1, nx);
   lot.z0 = baseZ + lotCut(bx, bz, 1, j, nz);
   lot.z1 = baseZ + lotCut(bx, bz, 1, j + 1, nz);
-  const uint32_t h = hashOf(bx, bz, i * 4 + j, kSaltLot), h2 = hashOf(bx, bz, i * 4 + j, kSaltLot + 100);
+  const uint32_t h = lotHash(bx, bz, i, j), h2 = hashOf(bx, bz, i * 4 + j, kSaltLot + 100);
   lot.yard = h % 3 == 2 ? kSand : kGrass;
   const int32_t setback = 2 + int32_t((h >> 2) % 4);
   lot.fx0 = lot.x0 + setback, lot.fx1 = lot.x1 - setback, lot.fz0 = lot.z0 + setback, lot.fz1 = lot.z1 - setback;
-  // Mostly low houses, some mid-rise blocks, a few towers; capped by the height.
-  const uint32_t r = (h >> 5) % 1000;
-  int32_t storeys = r < 600 ? 2 + int32_t(r % 5) : r < 920 ? 7 + int32_t(r % 14) : 21 + int32_t(r % 40);
-  storeys = std::min(storeys, world.maxStoreys);
+  const int32_t storeys = lotStoreys(world, h);
   lot.building = storeys >= 1 && lot.fx1 - lot.fx0 >= 10 && lot.fz1 - lot.fz0 >= 10 &&
                  !nearRiver(lot.fx0, lot.fx1, lot.fz0, lot.fz1, 3);
   if (!lot.building) return lot;
@@ -274,6 +282,10 @@ struct Tree {
   bool present = false;
   int32_t cx = 0, cz = 0, radius = 0, trunkTop = 0, canopyCentre = 0;
 };
+
+// The tallest tree: trunk 6 + 7 above the ground, canopy radius 7 around
+// trunkTop + radius - 2.
+constexpr int32_t kTreeTopBound = kGroundTop + 6 + 7 + 7 - 2 + 7 + 1;
 
 Tree treeOf(int64_t bx, int64_t bz, int32_t ci, int32_t cj, const Pond& pond) {
   Tree t;
@@ -445,9 +457,55 @@ IndexBox clipToDomain(const IndexBox& box, const World& world) {
   return b;
 }
 
+/// An upper bound of the occupied heights in street block (bx, bz): its
+/// tallest lot's building (rivers only take buildings away) or its tallest
+/// possible tree; computed from the block's hashes, not its columns.
+int32_t streetBlockTop(const World& world, int64_t bx, int64_t bz) {
+  int32_t top = kGroundTop;
+  if (hashOf(bx, bz, 0, kSaltBlock) % 100 < 14) {
+    top = kTreeTopBound;
+  } else {
+    int32_t storeys = 0;
+    for (int32_t i = 0, nx = lotCount(bx, bz, 0); i < nx; ++i)
+      for (int32_t j = 0, nz = lotCount(bx, bz, 1); j < nz; ++j)
+        storeys = std::max(storeys, lotStoreys(world, lotHash(bx, bz, i, j)));
+    if (storeys >= 1) top = kGroundTop + storeys * kStorey + 1 + kParapet;
+  }
+  return std::min(top, world.Y);
+}
+
+/// streetBlockTop() of the last few street blocks asked for (consecutive
+/// tiles share them: a street block holds 24 x 24 tiles).
+class StreetBlockTops {
+ public:
+  explicit StreetBlockTops(const World& world) : world_(world) {}
+  int32_t operator()(int64_t bx, int64_t bz) {
+    Entry& e = entries_[size_t(uint64_t(bx * 31 + bz) & (kEntries - 1))];
+    if (!e.valid || e.bx != bx || e.bz != bz) e = {true, bx, bz, streetBlockTop(world_, bx, bz)};
+    return e.top;
+  }
+
+ private:
+  struct Entry {
+    bool valid = false;
+    int64_t bx = 0, bz = 0;
+    int32_t top = 0;
+  };
+  static constexpr size_t kEntries = 64;
+  const World& world_;
+  Entry entries_[kEntries];
+};
+
 /// The voxels of tile (tx, tz) inside `box` (clipped, not empty) into `out`;
 /// returns the number produced.
-uint64_t fillTile(const World& world, int32_t tx, int32_t tz, const IndexBox& box, VoxelBlocks& out) {
+uint64_t fillTile(const World& world, int32_t tx, int32_t tz, const IndexBox& box, VoxelBlocks& out,
+                  StreetBlockTops& tops) {
+  // Boxes above everything the tile's street blocks hold cost no column.
+  int32_t bound = 0;
+  for (int64_t bx = floorDiv(tx * kTile, kPitch); bx <= floorDiv(tx * kTile + kTile - 1, kPitch); ++bx)
+    for (int64_t bz = floorDiv(tz * kTile, kPitch); bz <= floorDiv(tz * kTile + kTile - 1, kPitch); ++bz)
+      bound = std::max(bound, tops(bx, bz));
+  if (box.min.v >= bound) return 0;
   const int32_t u0 = std::max(tx * kTile, box.min.u), u1 = std::min(tx * kTile + kTile - 1, box.max.u);
   const int32_t w0 = std::max(tz * kTile, box.min.w), w1 = std::min(tz * kTile + kTile - 1, box.max.w);
   const int32_t nu = u1 - u0 + 3, nw = w1 - w0 + 3;  // with a ring of neighbours
@@ -527,7 +585,10 @@ VoxelBlocks buildCityBlocks(const CityOptions& options) {
   const World world = worldOf(options.extent);
   const IndexBox box = clipToDomain(options.box, world);
   VoxelBlocks result;
-  const TileRange tiles = tilesOf(box);
+  // A box above the tallest building (or tree) any city of this height holds is empty.
+  const int32_t worldTop = std::min(world.Y, std::max(kTreeTopBound, kGroundTop + std::min(kMaxStoreys, world.maxStoreys) *
+                                                                                       kStorey + 1 + kParapet));
+  const TileRange tiles = tilesOf(box.min.v < worldTop ? box : IndexBox{});
   const uint64_t n = tiles.count();
   if (n == 0) return result;
   // Fixed-size pieces of consecutive tiles, each into its own blocks: tiles
@@ -538,10 +599,11 @@ VoxelBlocks buildCityBlocks(const CityOptions& options) {
   std::vector<VoxelBlocks> parts(pieces);
   std::atomic<uint64_t> done{0};
   parallelPieces(size_t(n), options.threads, pieces, [&](size_t b, size_t e, size_t p) {
+    StreetBlockTops tops(world);
     for (size_t i = b; i < e; ++i) {
       int32_t tx, tz;
       tiles.at(i, tx, tz);
-      fillTile(world, tx, tz, box, parts[p]);
+      fillTile(world, tx, tz, box, parts[p], tops);
       if (options.progress && (i - b) % 256 == 255) options.progress(double(done += 256) / double(n));
     }
   });
@@ -580,7 +642,8 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
     int32_t tx, tz;
     tiles.at(i, tx, tz);
     VoxelBlocks scratch;
-    counts[k].occupied = fillTile(world, tx, tz, box, scratch);
+    StreetBlockTops tops(world);
+    counts[k].occupied = fillTile(world, tx, tz, box, scratch, tops);
     for (const VoxelBlock* b : scratch.sortedBlocks()) {
       ++counts[k].blocks;
       counts[k].classBlocks += b->classes.size();

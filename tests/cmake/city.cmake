@@ -6,3 +6,6 @@
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_demo_city.cpp)
 add_test(NAME city.cli COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/city_test.sh $<TARGET_FILE:vox>)
 set_tests_properties(city.cli PROPERTIES TIMEOUT 600)
+# The box benchmark (not a test: scripts/bench_city.sh runs it, docs/city.md records it).
+add_executable(vox_bench_city_boxes ${CMAKE_CURRENT_SOURCE_DIR}/city/bench_city_boxes.cpp)
+target_link_libraries(vox_bench_city_boxes PRIVATE libvox)
