@@ -156,14 +156,14 @@ TEST(DemoCity, HasEveryFeature) {
         // below is empty and above is a floor.
         if (d.at(u, v - 1, w) == 0 && d.at(u, v + 1, w) && v > 14) ++floorsAbove;
       }
-  // Windows: in a wall column, three empty rows between occupied ones,
-  // with the wall continuing beside the opening.
+  // Windows: three empty rows between occupied ones in a column (floor
+  // slabs are at least a storey, 6 rows, apart), open to the outside along
+  // x or z on one side.
   for (int32_t w = 0; w < Z; ++w)
-    for (int32_t u = 1; u < X - 1; ++u)
+    for (int32_t u = 0; u < X; ++u)
       for (int32_t v = 10; v + 3 < Y; ++v)
         if (d.at(u, v - 1, w) && !d.at(u, v, w) && !d.at(u, v + 1, w) && !d.at(u, v + 2, w) && d.at(u, v + 3, w) &&
-            ((d.at(u - 1, v, w) && d.at(u + 1, v, w)) || (d.at(u, v, w - 1) && d.at(u, v, w + 1)) ||
-             (!d.at(u - 1, v, w) && !d.at(u + 1, v, w)) || (!d.at(u, v, w - 1) && !d.at(u, v, w + 1))))
+            (!hits(u, v, w, 1, 0, 0) || !hits(u, v, w, -1, 0, 0) || !hits(u, v, w, 0, 0, 1) || !hits(u, v, w, 0, 0, -1)))
           ++windows;
   EXPECT_GT(enclosed, 1000u) << "hollow building interiors";
   EXPECT_GT(floorsAbove, 1000u) << "floor slabs above the ground floor";
