@@ -102,6 +102,21 @@ TEST(DemoCity, ABoxIsTheWholeCityCroppedToIt) {
   for (uint8_t c : {1, 2, 3, 4, 6, 7}) EXPECT_TRUE(cutClasses.count(c)) << "no box cuts class " << int(c);
 }
 
+TEST(DemoCity, ThePartsOfAPartitionMergeIntoTheWholeCity) {
+  // Six boxes tiling the x-z plane, cut at coordinates that are not
+  // multiples of 8 (so parts share 8^3 blocks), each with every height.
+  const std::array<uint32_t, 3> e{600, 80, 400};
+  const Scene whole = buildCity(city(e, 2));
+  const int32_t xs[] = {0, 203, 411, 600}, zs[] = {0, 157, 400};
+  VoxelBlocks merged;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 2; ++j)
+      merged.merge(buildCityBlocks(city(e, 1, {{xs[i], 0, zs[j]}, {xs[i + 1] - 1, 79, zs[j + 1] - 1}})));
+  const SceneDifference d = compareScenes(whole, SceneBuilder(std::move(merged), cityHeader(e)).build());
+  EXPECT_TRUE(d.same()) << d.voxelsDiffering << " voxels differ, first " << d.firstNote;
+  EXPECT_EQ(d.voxelsCompared, whole.occupiedCount());
+}
+
 TEST(DemoCity, EmptyBoxesGiveEmptyValidScenes) {
   const IndexBox empties[] = {IndexBox{},                                  // min > max
                               {{0, 95, 0}, {767, 95, 575}},               // above every roof of this height
