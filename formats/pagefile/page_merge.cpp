@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile_meta.h"
 #include "formats/pagefile/svo_layout.h"
 #include "libvox/core/error.h"
@@ -12,6 +13,8 @@
 #include "libvox/core/parallel.h"
 #include "libvox/core/regions.h"
 #include "libvox/core/version.h"
+#include "libvox/scene/mip.h"
+#include "libvox/scene/scene.h"
 
 namespace vox {
 
@@ -47,6 +50,11 @@ SceneHeader sceneHeaderOf(const Reader& r, const pagefile::PageMeta& meta) {
 
 [[noreturn]] void refuse(const Reader& r, const std::string& what) { throwBadInput(r.name() + ": " + what); }
 
+bool contains(const IndexBox& outer, const IndexBox& inner) {
+  return !outer.empty() && inner.min.u >= outer.min.u && inner.min.v >= outer.min.v && inner.min.w >= outer.min.w &&
+         inner.max.u <= outer.max.u && inner.max.v <= outer.max.v && inner.max.w <= outer.max.w;
+}
+
 // Every part is a part, and the parts agree on what decides the bytes of the
 // merged file besides their voxels.
 void checkSettingsAgree(const std::vector<Part>& parts) {
@@ -63,13 +71,77 @@ void checkSettingsAgree(const std::vector<Part>& parts) {
     if (b.layout != a.layout) differs("layout", pagefile::layoutName(a.layout), pagefile::layoutName(b.layout));
     if (b.alignLog2 != a.alignLog2)
       differs("payload alignment", std::to_string(1u << a.alignLog2), std::to_string(1u << b.alignLog2));
-    if (b.levelCount != 1)
-      refuse(*p.reader, "the part has " + std::to_string(b.levelCount) +
-                            " levels: --merge joins level 0 only so far; pack the parts without --mips, merge, "
-                            "then build the levels from the merged scene");
     if (p.meta.mipOccupancy != first.meta.mipOccupancy)
       differs("mip occupancy", "'" + first.meta.mipOccupancy + "'", "'" + p.meta.mipOccupancy + "'");
+    if (b.levelCount != a.levelCount)
+      differs("level count", std::to_string(a.levelCount), std::to_string(b.levelCount));
+    if (b.levelCount == 1) continue;
+    if (p.meta.mipOccupancy != "any" && p.meta.mipOccupancy != "majority")
+      refuse(*p.reader, "its levels came " + p.meta.mipOccupancy +
+                            ": a merge rebuilds the coarse levels, so pack the parts from their scenes with --mips "
+                            "[--occupancy any|majority] [--levels N]");
+    if (!p.meta.regionMips) refuse(*p.reader, "the part has mip levels but no 'region_mips' record: pack it again");
+    const pagefile::RegionMips& ra = *first.meta.regionMips;
+    const pagefile::RegionMips& rb = *p.meta.regionMips;
+    if (rb.levelsAsked != ra.levelsAsked)
+      differs("--levels", std::to_string(ra.levelsAsked), std::to_string(rb.levelsAsked));
+    if (rb.seamLevel != ra.seamLevel || (rb.seamLevel && rb.seamLevel != pagefile::kRegionSeamLevel))
+      differs("seam level", std::to_string(ra.seamLevel), std::to_string(rb.seamLevel));
   }
+}
+
+// The number of levels the single-process pack has: `--levels` + 1, or the
+// automatic rule of buildMipPyramid (stop after the first level with at most
+// one voxel) on the parts' counts per level (every voxel of a level below the
+// seam lies in one part). Returns 0 when the rule has not stopped by the
+// parts' last level and the seam level decides the rest.
+int worldLevelCount(const std::vector<Part>& parts) {
+  const int stored = parts.front().reader->header().levelCount;
+  if (stored == 1) return 1;
+  const pagefile::RegionMips& rm = *parts.front().meta.regionMips;
+  if (rm.levelsAsked) return int(rm.levelsAsked) + 1;
+  std::vector<uint64_t> counts(size_t(stored), 0);
+  for (const Part& p : parts)
+    for (const pagefile::IndexEntry& e : p.reader->entries()) counts[e.level] += e.occupied;
+  if (counts[0] <= 1) return 1;
+  for (int n = 1; n < stored; ++n)
+    if (counts[size_t(n)] <= 1) return n + 1;
+  return rm.seamLevel ? 0 : stored;
+}
+
+// The seam level of the world: the parts' seam voxels joined (each lies in
+// its part's box), with the world's placement at that level.
+Scene seamScene(const std::vector<Part>& parts, uint32_t level) {
+  const Part& first = parts.front();
+  SceneHeader h = first.header;
+  h.region.reset();
+  h.dims = mipDims(h.dims, int(level));
+  for (uint32_t k = 0; k < level; ++k) h.voxelSize *= 2;
+  h.mipLevel = int(level);
+  SceneBuilder b(h);
+  for (const Part& p : parts) {
+    const IndexBox& box = p.meta.region->box;
+    const std::array<uint32_t, 3> dims0 = p.reader->header().dims;
+    for (size_t i = 0; i < p.meta.regionMips->voxels.size(); ++i) {
+      const pagefile::SeamVoxel& v = p.meta.regionMips->voxels[i];
+      IndexBox span;  // the level-0 voxels it covers
+      span.min = {int64_t(v.at[0]) << level, int64_t(v.at[1]) << level, int64_t(v.at[2]) << level};
+      span.max = {std::min<int64_t>(span.min.u + (1 << level), dims0[0]) - 1,
+                  std::min<int64_t>(span.min.v + (1 << level), dims0[1]) - 1,
+                  std::min<int64_t>(span.min.w + (1 << level), dims0[2]) - 1};
+      if (v.at[0] >= h.dims.x || v.at[1] >= h.dims.y || v.at[2] >= h.dims.z || !contains(box, span))
+        refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]' lies outside the part's box");
+      const Coord3 c{int64_t(v.at[0]), int64_t(v.at[1]), int64_t(v.at[2])};
+      for (const ClassVotes& cv : v.votes) {
+        if (!h.classes.find(cv.classId))
+          refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]': class " +
+                                std::to_string(cv.classId) + " is not in the class table");
+        b.addVotes(c, cv.classId, cv.votes, v.surface);
+      }
+      if (v.color) b.setColor(c, {(*v.color)[0], (*v.color)[1], (*v.color)[2]});
+    }
+  }
+  return std::move(b).build();
 }
 
 // A chunk of the output and where its voxels come from: (part, entry) pairs,
@@ -90,14 +162,9 @@ IndexBox chunkBox(const std::array<uint32_t, 3>& cc, uint32_t C, const std::arra
   return b;
 }
 
-bool contains(const IndexBox& outer, const IndexBox& inner) {
-  return !outer.empty() && inner.min.u >= outer.min.u && inner.min.v >= outer.min.v && inner.min.w >= outer.min.w &&
-         inner.max.u <= outer.max.u && inner.max.v <= outer.max.v && inner.max.w <= outer.max.w;
-}
-
 // Chunks of every part, sorted by (level, key); a level-0 chunk has one source
 // and must lie inside its part's box.
-std::vector<OutChunk> collectChunks(const std::vector<Part>& parts) {
+std::vector<OutChunk> collectChunks(const std::vector<Part>& parts, int below) {
   struct Item {
     uint8_t level;
     uint64_t key;
@@ -110,6 +177,7 @@ std::vector<OutChunk> collectChunks(const std::vector<Part>& parts) {
     const auto& entries = r.entries();
     for (uint32_t ei = 0; ei < entries.size(); ++ei) {
       const pagefile::IndexEntry& e = entries[ei];
+      if (e.level >= below) continue;
       if (e.level == 0 && !contains(box, chunkBox(e.chunk(), r.header().chunkSide(), r.header().dims)))
         refuse(r, r.describe(ei) + " lies outside the part's box: the file is not the part its 'region' says");
       items.push_back({e.level, e.key, pi, ei});
@@ -209,7 +277,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   h.layout = first.reader->header().layout;
   h.chunkLog2 = first.reader->header().chunkLog2;
   h.alignLog2 = first.reader->header().alignLog2;
-  h.levelCount = first.reader->header().levelCount;
+  h.levelCount = first.reader->header().levelCount;  // the parts'; the world's is set below
   h.dims = first.reader->header().dims;
   h.voxelSize = first.reader->header().voxelSize;
   h.origin = first.reader->header().origin;
@@ -218,7 +286,12 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   for (const Part& p : parts) h.flags |= p.reader->header().flags;
   st.flagsFromParts = h.flags;
 
-  std::vector<OutChunk> chunks = collectChunks(parts);
+  // Levels: those below the seam level from the parts' chunks, the others
+  // rebuilt from the seam voxels.
+  int levelCount = worldLevelCount(parts);
+  const uint32_t seam = h.levelCount > 1 ? first.meta.regionMips->seamLevel : 0;
+  const int fromParts = seam ? std::min<int>(levelCount ? levelCount : int(seam), int(seam)) : levelCount;
+  std::vector<OutChunk> chunks = collectChunks(parts, fromParts);
   std::vector<size_t> toCopy, toEncode;
   for (size_t i = 0; i < chunks.size(); ++i) {
     OutChunk& c = chunks[i];
@@ -255,10 +328,36 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
     blobs[i].bytes = reencode(parts, chunks[i], h);
   });
   st.reencodeSeconds = secondsSince(t0);
+  // Mips: the seam level joined, the coarser levels reduced from it as
+  // buildMipPyramid does, each level packed as packChunks does.
+  t0 = std::chrono::steady_clock::now();
+  if (seam && levelCount != fromParts) {
+    std::vector<Scene> levels;
+    levels.push_back(seamScene(parts, seam));
+    MipSettings ms;
+    ms.occupancy = first.meta.mipOccupancy == "majority" ? MipOccupancy::Majority : MipOccupancy::Any;
+    ms.levels = levelCount ? levelCount - 1 - int(seam) : 0;
+    ms.threads = settings.threads;
+    if (levelCount == 0 || ms.levels > 0)
+      for (Scene& l : buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
+    levelCount = int(seam) + int(levels.size());
+    st.seamVoxels = levels[0].occupiedCount();
+    for (size_t k = 0; k < levels.size(); ++k)
+      for (pagefile::ChunkBlob& b : packLevel(levels[k], int(seam + k), h, settings.threads)) {
+        ++st.rebuiltChunks;
+        st.rebuiltBytes += b.bytes.size();
+        blobs.push_back(std::move(b));
+      }
+  }
+  h.levelCount = uint8_t(levelCount);
+  st.mipsSeconds = secondsSince(t0);
   st.copiedChunks = toCopy.size();
   st.reencodedChunks = toEncode.size();
   for (size_t i : toCopy) st.copiedBytes += blobs[i].bytes.size();
-  for (size_t i : toEncode) st.reencodedBytes += blobs[i].bytes.size();
+  for (size_t i : toEncode) {
+    st.reencodedBytes += blobs[i].bytes.size();
+    st.joinedChunks += chunks[i].sources.size() > 1 ? 1 : 0;
+  }
 
   // The metadata the single-process pack writes: the parts' class table,
   // sources and block world, no region, the levels counted here.

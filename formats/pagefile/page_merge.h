@@ -32,8 +32,11 @@ struct MergeStats {
   uint64_t partFileBytes = 0;     // sum of the parts' sizes
   uint64_t copiedChunks = 0, copiedBytes = 0;          // payloads copied verbatim
   uint64_t reencodedChunks = 0, reencodedBytes = 0;    // payloads decoded and encoded again (output bytes)
+  uint64_t joinedChunks = 0;      // of those, chunks of a mip level that several parts hold (joined by union)
+  uint64_t rebuiltChunks = 0, rebuiltBytes = 0;        // chunks of the levels rebuilt from the seam voxels
+  uint64_t seamVoxels = 0;        // voxels of the seam level, from the parts' metadata
   uint64_t flagsFromParts = 0;    // the world's channel flags (OR of the parts')
-  double checkSeconds = 0, copySeconds = 0, reencodeSeconds = 0, serializeSeconds = 0;
+  double checkSeconds = 0, copySeconds = 0, reencodeSeconds = 0, mipsSeconds = 0, serializeSeconds = 0;
 };
 
 struct MergeResult {

@@ -108,6 +108,10 @@ std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSett
   vox::MipSettings ms;
   ms.occupancy = o.occupancy;
   ms.levels = o.levels;
+  // A region part gets its levels up to the seam level whatever it holds;
+  // the merge decides the world's levels and rebuilds the coarser ones.
+  ms.levels = vox::mipLevelsToBuild(levels[0].header(), o.levels);
+  pack.mipLevelsAsked = uint32_t(o.levels);
   ms.threads = run.threads();
   for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
   pack.mipOccupancy = vox::mipOccupancyName(o.occupancy);
@@ -209,20 +213,25 @@ int runMerge(const PackOptions& o) {
                   {"copied_bytes", st.copiedBytes},
                   {"reencoded_chunks", st.reencodedChunks},
                   {"reencoded_bytes", st.reencodedBytes},
+                  {"joined_chunks", st.joinedChunks},
+                  {"rebuilt_chunks", st.rebuiltChunks},
+                  {"rebuilt_bytes", st.rebuiltBytes},
+                  {"seam_voxels", st.seamVoxels},
                   {"file_bytes", res.bytes.size()},
                   {"seconds",
                    {{"read", readSecs},
                     {"check", st.checkSeconds},
                     {"copy", st.copySeconds},
                     {"reencode", st.reencodeSeconds},
-                    {"mips", 0.0},
+                    {"mips", st.mipsSeconds},
                     {"assemble", st.serializeSeconds},
                     {"write", writeSecs},
                     {"total", total}}},
                   {"merge_mb_per_s", total > 0 ? double(res.bytes.size()) / 1e6 / total : 0.0}};
   run.note("merged " + std::to_string(o.merge.size()) + " parts into " + o.output + ": " +
            std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) + " chunks (" +
-           std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded), " +
+           std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded, " +
+           std::to_string(st.rebuiltChunks) + " rebuilt from the seam level), " +
            std::to_string(res.bytes.size()) + " bytes");
   return run.finish();
 }
