@@ -1,6 +1,11 @@
 #include "formats/pagefile/page_merge.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <exception>
 
@@ -8,6 +13,8 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile_meta.h"
 #include "formats/pagefile/svo_layout.h"
+#include "formats/core/file_util.h"
+#include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
 #include "libvox/core/parallel.h"
@@ -25,6 +32,39 @@ using pagefile::Reader;
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// The output, written in place with pwrite from any thread.
+class OutputFile {
+ public:
+  OutputFile(const std::string& path, uint64_t size) : path_(path) {
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd_ < 0) throwIo(outputName(path) + ": cannot create the file: " + std::strerror(errno));
+    if (::ftruncate(fd_, off_t(size)) != 0) fail(errno);
+  }
+  ~OutputFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  void write(uint64_t offset, const uint8_t* p, size_t n) {
+    while (n > 0) {
+      const ssize_t w = ::pwrite(fd_, p, n, off_t(offset));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) fail(w < 0 ? errno : ENOSPC);
+      p += w, n -= size_t(w), offset += uint64_t(w);
+    }
+  }
+  void close() {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) fail(errno);
+  }
+
+ private:
+  [[noreturn]] void fail(int err) const {
+    throwIo(outputName(path_) + ": cannot write the file: " + std::strerror(err));
+  }
+  std::string path_;
+  int fd_ = -1;
+};
 
 // One part: its reader, metadata and the scene header checkRegionParts reads.
 struct Part {
@@ -249,7 +289,8 @@ void forChunks(const std::vector<size_t>& which, unsigned threads, Fn&& work) {
 
 }  // namespace
 
-MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSettings& settings) {
+MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSettings& settings,
+                           const std::string& outputPath) {
   if (readers.empty()) throw Error(ErrorKind::Internal, "mergePageFiles: no parts");
   MergeResult result;
   MergeStats& st = result.stats;
@@ -300,37 +341,25 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   }
   st.checkSeconds = secondsSince(t0);
 
-  // Copy: payloads of parts whose flags are the world's, CRC checked.
-  std::vector<pagefile::ChunkBlob> blobs(chunks.size());
-  for (size_t i = 0; i < chunks.size(); ++i) {
-    blobs[i].level = chunks[i].level;
-    blobs[i].key = chunks[i].key;
-  }
-  t0 = std::chrono::steady_clock::now();
-  forChunks(toCopy, settings.threads, [&](size_t i) {
-    const auto [pi, ei] = chunks[i].sources[0];
-    const Reader& r = *parts[pi].reader;
-    const pagefile::IndexEntry& e = r.entries()[ei];
-    const std::span<const uint8_t> bytes = r.payload(ei);  // checks the CRC
-    blobs[i].occupied = e.occupied;
-    blobs[i].full = e.flags & pagefile::kChunkFull;
-    blobs[i].bytes.assign(bytes.begin(), bytes.end());
-  });
-  st.copySeconds = secondsSince(t0);
-
-  // Re-encode: chunks of parts that lack a channel of the world.
+  // Re-encode: chunks of parts that lack a channel of the world, and chunks
+  // of mip levels that several parts hold.
+  std::vector<pagefile::ChunkBlob> blobs(chunks.size());  // only toEncode's are filled
   t0 = std::chrono::steady_clock::now();
   forChunks(toEncode, settings.threads, [&](size_t i) {
     uint32_t occupied = 0;
     for (const auto& [pi, ei] : chunks[i].sources) occupied += parts[pi].reader->entries()[ei].occupied;
+    blobs[i].level = chunks[i].level;
+    blobs[i].key = chunks[i].key;
     blobs[i].occupied = occupied;
     blobs[i].full = occupied == h.chunkVoxels();
     blobs[i].bytes = reencode(parts, chunks[i], h);
   });
   st.reencodeSeconds = secondsSince(t0);
+
   // Mips: the seam level joined, the coarser levels reduced from it as
   // buildMipPyramid does, each level packed as packChunks does.
   t0 = std::chrono::steady_clock::now();
+  std::vector<pagefile::ChunkBlob> rebuilt;
   if (seam && levelCount != fromParts) {
     std::vector<Scene> levels;
     levels.push_back(seamScene(parts, seam));
@@ -346,22 +375,50 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
       for (pagefile::ChunkBlob& b : packLevel(levels[k], int(seam + k), h, settings.threads)) {
         ++st.rebuiltChunks;
         st.rebuiltBytes += b.bytes.size();
-        blobs.push_back(std::move(b));
+        rebuilt.push_back(std::move(b));
       }
   }
   h.levelCount = uint8_t(levelCount);
   st.mipsSeconds = secondsSince(t0);
-  st.copiedChunks = toCopy.size();
-  st.reencodedChunks = toEncode.size();
-  for (size_t i : toCopy) st.copiedBytes += blobs[i].bytes.size();
-  for (size_t i : toEncode) {
-    st.reencodedBytes += blobs[i].bytes.size();
-    st.joinedChunks += chunks[i].sources.size() > 1 ? 1 : 0;
+
+  // The file's chunks in index order: copied payloads are described by their
+  // part's index entry (their CRC is checked when they are copied), the others
+  // by their new bytes.
+  t0 = std::chrono::steady_clock::now();
+  const size_t total = chunks.size() + rebuilt.size();
+  std::vector<pagefile::ChunkSlot> slots(total);
+  std::vector<const std::vector<uint8_t>*> bytesOf(total, nullptr);
+  for (size_t i = 0; i < chunks.size(); ++i) {
+    if (chunks[i].copy) {
+      const auto [pi, ei] = chunks[i].sources[0];
+      const pagefile::IndexEntry& e = parts[pi].reader->entries()[ei];
+      slots[i] = {e.level, e.key, e.occupied, bool(e.flags & pagefile::kChunkFull), e.size, e.crc};
+      ++st.copiedChunks;
+      st.copiedBytes += e.size;
+    } else {
+      const pagefile::ChunkBlob& b = blobs[i];
+      slots[i] = {b.level, b.key, b.occupied, b.full, b.bytes.size(), 0};
+      bytesOf[i] = &b.bytes;
+      ++st.reencodedChunks;
+      st.reencodedBytes += b.bytes.size();
+      st.joinedChunks += chunks[i].sources.size() > 1 ? 1 : 0;
+    }
   }
+  for (size_t k = 0; k < rebuilt.size(); ++k) {
+    const pagefile::ChunkBlob& b = rebuilt[k];
+    slots[chunks.size() + k] = {b.level, b.key, b.occupied, b.full, b.bytes.size(), 0};
+    bytesOf[chunks.size() + k] = &b.bytes;
+  }
+  std::vector<size_t> computed;
+  for (size_t i = 0; i < total; ++i)
+    if (bytesOf[i]) computed.push_back(i);
+  parallelForEach(computed.size(), settings.threads, 64, [&](size_t j) {
+    const std::vector<uint8_t>& b = *bytesOf[computed[j]];
+    slots[computed[j]].crc = crc32c(b.data(), b.size());
+  });
 
   // The metadata the single-process pack writes: the parts' class table,
   // sources and block world, no region, the levels counted here.
-  t0 = std::chrono::steady_clock::now();
   pagefile::PageMeta meta;
   meta.toolVersion = kToolVersion;
   meta.classes = first.meta.classes;
@@ -371,21 +428,41 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   for (int l = 0; l < h.levelCount; ++l) {
     MergeResult::Level lv;
     lv.level = l;
-    for (const pagefile::ChunkBlob& b : blobs)
-      if (b.level == l) {
+    for (const pagefile::ChunkSlot& c : slots)
+      if (c.level == l) {
         ++lv.chunks;
-        lv.fullChunks += b.full ? 1 : 0;
-        lv.voxels += b.occupied;
-        lv.payloadBytes += b.bytes.size();
+        lv.fullChunks += c.full ? 1 : 0;
+        lv.voxels += c.occupied;
+        lv.payloadBytes += c.size;
       }
     result.levels.push_back(lv);
-    const auto d = h.levelDims(l);
     double vs = h.voxelSize;
     for (int k = 0; k < l; ++k) vs *= 2;
-    meta.levels.push_back({uint32_t(l), d, vs, lv.chunks, lv.voxels});
+    meta.levels.push_back({uint32_t(l), h.levelDims(l), vs, lv.chunks, lv.voxels});
   }
-  result.bytes = pagefile::serialize(h, pagefile::writePageMeta(meta), blobs);
-  st.serializeSeconds = secondsSince(t0);
+  const pagefile::FilePlan plan = pagefile::planFile(h, pagefile::writePageMeta(meta), slots);
+  result.fileBytes = plan.header.fileBytes;
+
+  // Write: the file at its final size (zeros between payloads), header, index
+  // and metadata, then every payload at its offset, in parallel; copied ones
+  // straight from the part's mapping once their CRC is checked.
+  OutputFile out(outputPath, plan.header.fileBytes);
+  out.write(0, plan.prefix.data(), plan.prefix.size());
+  st.writeSeconds = secondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  std::vector<size_t> all(total);
+  for (size_t i = 0; i < total; ++i) all[i] = i;
+  forChunks(all, settings.threads, [&](size_t i) {
+    if (bytesOf[i]) {
+      out.write(plan.entries[i].offset, bytesOf[i]->data(), bytesOf[i]->size());
+      return;
+    }
+    const auto [pi, ei] = chunks[i].sources[0];
+    const std::span<const uint8_t> bytes = parts[pi].reader->payload(ei);  // checks the CRC
+    out.write(plan.entries[i].offset, bytes.data(), bytes.size());
+  });
+  out.close();
+  st.copySeconds = secondsSince(t0);
   return result;
 }
 
