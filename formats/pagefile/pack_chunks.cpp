@@ -196,6 +196,7 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
   meta.sources = bh.sources;
   meta.mipOccupancy = s.mipOccupancy;
   meta.blockWorld = bh.blockWorld;
+  meta.region = bh.region;
 
   PackResult result;
   std::vector<pagefile::ChunkBlob> blobs;

@@ -26,6 +26,7 @@ std::string writePageMeta(const PageMeta& meta) {
             {"sources", json::parse(sourcesJson(meta.sources))}};
   if (!meta.mipOccupancy.empty()) j["mip_occupancy"] = meta.mipOccupancy;
   if (meta.blockWorld) j["block_world"] = json::parse(blockWorldJson(*meta.blockWorld));
+  if (meta.region) j["region"] = json::parse(regionJson(*meta.region));
   return j.dump();
 }
 
@@ -70,6 +71,12 @@ PageMeta readPageMeta(const std::string& text, const std::string& fileName) {
     if (j.contains("levels")) meta.levels = parse.levels(j["levels"]);
     meta.mipOccupancy = j.value("mip_occupancy", std::string());
     if (j.contains("block_world")) meta.blockWorld = blockWorldFromJson(j["block_world"], where + " 'block_world'");
+    if (j.contains("region")) {
+      // The region's box is checked against level 0's dims.
+      if (meta.levels.empty()) parse.fail("'region' needs 'levels' (the dims of level 0)");
+      const auto& d = meta.levels.front().dims;
+      meta.region = regionFromJson(j["region"], Dims{d[0], d[1], d[2]}, where + " 'region'");
+    }
   } catch (const json::exception& e) {
     parse.fail(std::string("is malformed: ") + e.what());
   }

@@ -35,6 +35,7 @@ struct PageMeta {
   std::vector<LevelMeta> levels;
   std::string mipOccupancy;             // "any", "majority" or "from FILE"; empty: no mips, key absent
   std::optional<BlockWorldPlacement> blockWorld;
+  std::optional<SceneRegion> region;    // as the scene's `vox:region`: the file is a part of a region bake
   bool operator==(const PageMeta&) const = default;
 };
 

@@ -107,6 +107,44 @@ BlockWorldPlacement blockWorldFromJson(const json& bw, const std::string& where)
   return p;
 }
 
+std::string regionJson(const SceneRegion& r) {
+  json box = nullptr;
+  if (!r.box.empty()) box = {r.box.min.u, r.box.min.v, r.box.min.w, r.box.max.u, r.box.max.v, r.box.max.w};
+  const json j = {{"index", r.index}, {"count", r.count}, {"box", box}, {"world_key", r.worldKey}};
+  return j.dump();
+}
+
+SceneRegion regionFromJson(const json& j, const Dims& dims, const std::string& where) {
+  if (!j.is_object()) throwBadInput(where + " must be an object with \"index\", \"count\", \"box\", \"world_key\"");
+  auto count = [&](const char* key) {
+    if (!j.contains(key) || !j[key].is_number_unsigned() || j[key].get<uint64_t>() > UINT32_MAX)
+      throwBadInput(where + " needs an integer \"" + key + "\" in 0..2^32-1");
+    return j[key].get<uint32_t>();
+  };
+  SceneRegion r;
+  r.index = count("index");
+  r.count = count("count");
+  if (r.count == 0 || r.index >= r.count) throwBadInput(where + ": \"index\" must be below \"count\"");
+  if (!j.contains("world_key") || !j["world_key"].is_string() || j["world_key"].get<std::string>().empty())
+    throwBadInput(where + " needs a non-empty string \"world_key\"");
+  r.worldKey = j["world_key"].get<std::string>();
+  const json& box = j.contains("box") ? j["box"] : json();
+  if (box.is_null()) return r;
+  if (!box.is_array() || box.size() != 6) throwBadInput(where + " \"box\" must be null or [umin,vmin,wmin,umax,vmax,wmax]");
+  int64_t v[6];
+  for (size_t i = 0; i < 6; ++i) {
+    if (!box[i].is_number_integer()) throwBadInput(where + " \"box\" must hold six integers");
+    v[i] = box[i].get<int64_t>();
+  }
+  const uint32_t n[3] = {dims.x, dims.y, dims.z};
+  for (int a = 0; a < 3; ++a)
+    if (v[a] < 0 || v[a] > v[a + 3] || v[a + 3] >= int64_t(n[a]))
+      throwBadInput(where + " \"box\" must lie inside the dims " + toString(dims) + " with each min <= its max");
+  r.box.min = {int32_t(v[0]), int32_t(v[1]), int32_t(v[2])};
+  r.box.max = {int32_t(v[3]), int32_t(v[4]), int32_t(v[5])};
+  return r;
+}
+
 std::string voteGridName(uint8_t classId) { return kVotesPrefix + std::to_string(classId); }
 
 bool looksLikeVoteGridName(const std::string& name) { return name.rfind(kVotesPrefix, 0) == 0; }
@@ -136,6 +174,7 @@ MetaEntries sceneFileMetadata(const SceneHeader& h) {
   meta["vox:classes"] = classTableJson(h.classes);
   meta["vox:sources"] = sourcesJson(h.sources);
   if (h.blockWorld) meta["vox:block_world"] = blockWorldJson(*h.blockWorld);
+  if (h.region) meta["vox:region"] = regionJson(*h.region);
   return meta;
 }
 
@@ -172,6 +211,8 @@ SceneHeader sceneHeaderFromMetadata(const MetaEntries& meta, const std::string& 
   if (auto text = optionalMeta<std::string>(meta, path, "vox:block_world"))
     h.blockWorld =
         blockWorldFromJson(parseJsonMeta(*text, path, "vox:block_world"), path + ": metadata 'vox:block_world'");
+  if (auto text = optionalMeta<std::string>(meta, path, "vox:region"))
+    h.region = regionFromJson(parseJsonMeta(*text, path, "vox:region"), h.dims, path + ": metadata 'vox:region'");
   return h;
 }
 

@@ -65,6 +65,12 @@ std::string blockWorldJson(const BlockWorldPlacement& placement);
 /// (BadInput) "WHERE ..." naming the entry and the key.
 std::vector<SceneSource> sourcesFromJson(const nlohmann::json& sources, const std::string& where);
 BlockWorldPlacement blockWorldFromJson(const nlohmann::json& placement, const std::string& where);
+/// `vox:region`: {"index": I, "count": N, "box": [umin, vmin, wmin, umax, vmax, wmax] or null
+/// when the tile is empty, "world_key": hex}; a part of a region bake (libvox/core/regions.h).
+std::string regionJson(const SceneRegion& region);
+/// Its reader: checks 0 <= index < count, a box inside `dims` (inclusive, min <= max)
+/// and a non-empty key; throws vox::Error (BadInput) "WHERE ..." naming the key.
+SceneRegion regionFromJson(const nlohmann::json& region, const Dims& dims, const std::string& where);
 
 // ---------------------------------------------------------------- writing
 

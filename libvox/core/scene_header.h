@@ -73,6 +73,18 @@ inline std::string placementProblem(double voxelSize, const std::array<double, 3
   return {};
 }
 
+/// What a scene part holds when it is one region of a larger bake
+/// (libvox/core/regions.h): the tile, the voxels it may hold, and the key of
+/// the world bake it belongs to. A part keeps the world's dims and placement,
+/// so its index coordinates are the world's and parts join by union.
+struct SceneRegion {
+  uint32_t index = 0;    // tile index, 0 <= index < count
+  uint32_t count = 1;    // tiles in the bake
+  IndexBox box;          // inclusive index box of the tile (empty(): the tile holds no voxel)
+  std::string worldKey;  // hex digest of everything that decides the world's voxels (regionWorldKey)
+  bool operator==(const SceneRegion&) const = default;
+};
+
 struct SceneHeader {
   Dims dims;                             // every axis >= 1
   double voxelSize = 1.0;                // world units per voxel edge, > 0
@@ -81,6 +93,7 @@ struct SceneHeader {
   std::vector<SceneSource> sources;
   int mipLevel = 0;                      // 0 = full resolution; level n has voxels 2^n wide
   std::optional<BlockWorldPlacement> blockWorld;
+  std::optional<SceneRegion> region;     // set on a part of a region bake; absent on whole scenes
   bool operator==(const SceneHeader&) const = default;
 };
 

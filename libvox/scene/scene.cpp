@@ -272,6 +272,7 @@ std::string headerDifference(const SceneHeader& a, const SceneHeader& b, bool ig
   if (!ignoreSources && a.sources != b.sources) return "sources differ";
   if (a.mipLevel != b.mipLevel) return "mip level differs";
   if (a.blockWorld != b.blockWorld) return "block-world placement differs";
+  if (a.region != b.region) return "region (part of a region bake) differs";
   return {};
 }
 

@@ -72,6 +72,15 @@ void compareHeaders(const SceneHeader& a, const SceneHeader& b, const SceneDiffO
     };
     d.header.push_back({"block_world", text(a.blockWorld), text(b.blockWorld)});
   }
+  if (a.region != b.region) {
+    auto text = [](const std::optional<SceneRegion>& r) {
+      if (!r) return std::string("whole scene");
+      std::string s = "part " + std::to_string(r->index) + "/" + std::to_string(r->count) + ", box ";
+      s += r->box.empty() ? std::string("empty") : toString(r->box.min) + " .. " + toString(r->box.max);
+      return s + ", world " + r->worldKey.substr(0, 12);
+    };
+    d.header.push_back({"region", text(a.region), text(b.region)});
+  }
   if (!o.ignoreSources) {
     bool same = a.sources.size() == b.sources.size();
     for (size_t i = 0; same && i < a.sources.size(); ++i) same = sameSourceContent(a.sources[i], b.sources[i]);

@@ -14,6 +14,7 @@
 #include "formats/image/render_meta.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
+#include "formats/scene/scene_meta.h"
 #include "formats/vdb/fuse_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_structure.h"
@@ -55,6 +56,7 @@ nlohmann::json sceneJson(const std::string& path, const vox::Scene& scene) {
       {"max", {h.origin[0] + h.dims.x * h.voxelSize, h.origin[1] + h.dims.y * h.voxelSize,
                h.origin[2] + h.dims.z * h.voxelSize}}};
   j["mip_level"] = h.mipLevel;
+  if (h.region) j["region"] = nlohmann::json::parse(vox::regionJson(*h.region));
   if (h.blockWorld)
     j["block_world"] = {{"world_scale", h.blockWorld->worldScale}, {"grid_size", h.blockWorld->gridSize}};
   j["occupied"] = s.occupied;
@@ -121,6 +123,7 @@ void printScene(const nlohmann::json& j) {
                                  j["block_world"]["grid_size"][0].dump() + "," + j["block_world"]["grid_size"][1].dump() +
                                  "," + j["block_world"]["grid_size"][2].dump() + " (block-map placement)");
   if (j["mip_level"].get<int>() != 0) o << line("mip level", j["mip_level"].dump());
+  if (j.contains("region")) o << line("region", regionText(j["region"]));
   o << line("occupied", count(occupied) + " voxels (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
                             " of the domain)");
   o << line("", count(surface) + " surface (" + percent(occupied ? double(surface) / double(occupied) : 0.0) + "), " +

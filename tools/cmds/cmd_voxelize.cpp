@@ -12,6 +12,8 @@
 #include "libvox/scene/voxelize_scene.h"
 #include "libvox/scene/voxelize_check.h"
 #include "libvox/scene/voxelize_sdf.h"
+#include "formats/scene/scene_vdb_direct.h"
+#include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/core/error.h"
 #include "libvox/core/memory_budget.h"
@@ -63,8 +65,9 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
 
 /// demo:hamlet at the resolution given (or the default).
 vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
-  if (input != "demo:hamlet")
-    throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
+  if (input != vox::kHamletName)
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "unknown demo scene '" + input + "'; the built-in scenes are demo:hamlet and demo:city");
   // The memory guard: the hamlet fills a fixed share of its cube (ground,
   // buildings, trees), so its scene grows as res^3 plus a res^2 term (surfaces
   // and the builder's partly filled blocks), measured at 64..1024
@@ -89,6 +92,75 @@ vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& i
   vox::Scene scene = vox::buildHamlet(h);
   bar->done();
   return scene;
+}
+
+/// The memory guard of a city bake: the 8^3 blocks the generator fills (a
+/// VoxelBlock with its hash-map entry, and a 2 KB vote block per class in it),
+/// held until the direct writer has written them, plus the writer's
+/// per-leaf tables and one grid's compressed leaves. Constants calibrated
+/// against measured peaks (docs/city.md "Memory").
+vox::MemoryEstimate cityBakeMemory(const vox::CityFootprint& f, uint64_t resident) {
+  vox::MemoryEstimate e;
+  e.add("resident before the bake", resident);
+  e.add("voxel blocks", f.blocks * 420.0);
+  e.add("class vote blocks", f.classBlocks * 2100.0);
+  e.add("writer", f.blocks * 120.0 + f.classBlocks * 24.0);
+  return e;
+}
+
+/// demo:city at --extent: generated into blocks and written straight to the
+/// .vdb (formats/scene/scene_vdb_direct.h), never as OpenVDB trees.
+int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  vox::CityOptions c;
+  c.extent = o.cityExtent();
+  c.threads = run.threads();
+  run.phase("estimate");
+  const uint64_t resident = vox::residentBytesNow();
+  const vox::CityFootprint footprint = vox::estimateCityFootprint(c);
+  const vox::MemoryEstimate estimate = cityBakeMemory(footprint, resident);
+  const std::string extentText = formatTriple(c.extent);
+  std::string suggestion;
+  if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
+    // The largest city with the same height and proportions that fits: the
+    // horizontal sides scaled by k / 1024.
+    auto scaled = [&](uint64_t k) {
+      std::array<uint32_t, 3> e = c.extent;
+      e[0] = uint32_t(std::max<uint64_t>(1, uint64_t(e[0]) * k / 1024));
+      e[2] = uint32_t(std::max<uint64_t>(1, uint64_t(e[2]) * k / 1024));
+      return e;
+    };
+    auto bytesAt = [&](uint64_t k) {
+      vox::CityOptions s = c;
+      s.extent = scaled(k);
+      return cityBakeMemory(vox::estimateCityFootprint(s, 512), resident).bytes();
+    };
+    suggestion = suggestSetting("--extent", 1, 1023, run.memoryLimit(), bytesAt,
+                                [&](uint64_t k) { return formatTriple(scaled(k)); });
+  }
+  run.checkMemory(estimate, "demo:city at --extent " + extentText, suggestion);
+
+  run.phase("generate");
+  auto bar = run.progress("city");
+  c.progress = [&bar](double f) { bar->update(f); };
+  vox::VoxelBlocks blocks = vox::buildCityBlocks(c);
+  bar->done();
+  const uint64_t blockCount = blocks.blockCount();
+  run.phase("write");
+  const vox::SceneHeader header = vox::cityHeader(c.extent);
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(header, blocks, outputTemp, run.threads());
+  const vox::Dims d = header.dims;
+  run.counts()["dims"] = {d.x, d.y, d.z};
+  run.counts()["voxel_size"] = header.voxelSize;
+  run.counts()["occupied_voxels"] = s.occupied;
+  run.counts()["surface_voxels"] = s.surface;
+  run.counts()["classes_present"] = s.classesPresent.size();
+  run.counts()["blocks"] = blockCount;
+  run.counts()["file_bytes"] = s.fileBytes;
+  run.counts()["estimated_occupied_voxels"] = uint64_t(footprint.occupied);
+  run.counts()["estimated_blocks"] = uint64_t(footprint.blocks);
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
+           std::to_string(s.classesPresent.size()) + " classes");
+  return run.finish();
 }
 
 /// A block map: one block is one voxel, placed in the world grid --grid-size.
@@ -139,7 +211,7 @@ vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& i
   vox::requireRegularFile(input);
   throw vox::Error(vox::ErrorKind::BadInput,
                    input + ": unsupported input; vox voxelize reads " + vox::describe(vox::FileKind::Mesh) + ", " +
-                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb) or demo:hamlet");
+                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb), demo:hamlet or demo:city");
 }
 
 int runVoxelize(const VoxelizeOptions& o) {
@@ -147,6 +219,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
   if (allInputsAreMeshes(o)) return runMeshes(o, run, outputTemp);
+  if (o.inputs[0] == vox::kCityName) return runCity(o, run, outputTemp);
   const vox::Scene scene = sceneOfInput(o, run, o.inputs[0]);
   run.phase("write");
   vox::writeSceneVdb(scene, outputTemp);

@@ -70,6 +70,7 @@ nlohmann::json pageFileJson(const std::string& path, const vox::pagefile::Reader
   j["classes"] = nlohmann::json::parse(vox::classTableJson(meta.classes));
   j["sources"] = nlohmann::json::parse(vox::sourcesJson(meta.sources));
   if (!meta.mipOccupancy.empty()) j["mip_occupancy"] = meta.mipOccupancy;
+  if (meta.region) j["region"] = nlohmann::json::parse(vox::regionJson(*meta.region));
   return j;
 }
 
@@ -92,6 +93,7 @@ std::string pageFileText(const std::string& path, const vox::pagefile::Header& h
   o << line("", "payloads " + bytes(payload) + " (" + percent(h.fileBytes ? double(payload) / double(h.fileBytes) : 0) +
                     "), index " + bytes(j["index_bytes"].get<uint64_t>()) + ", metadata " +
                     bytes(j["meta_bytes"].get<uint64_t>()));
+  if (j.contains("region")) o << line("region", regionText(j["region"]));
   std::string names;
   for (const auto& c : j["classes"]) names += (names.empty() ? "" : ", ") + c["name"].get<std::string>();
   o << line("classes", std::to_string(j["classes"].size()) + (names.empty() ? "" : ": " + fit(names, kWidth - 22)));

@@ -119,6 +119,17 @@ std::string line(const std::string& key, const std::string& value) {
   return "  " + pad(key, 14, false) + value + "\n";
 }
 
+std::string regionText(const nlohmann::json& r) {
+  std::string s = "tile " + r["index"].dump() + " of " + r["count"].dump() + ", ";
+  const nlohmann::json& b = r["box"];
+  if (b.is_null())
+    s += "empty tile";
+  else
+    s += "box (" + b[0].dump() + ", " + b[1].dump() + ", " + b[2].dump() + ") .. (" + b[3].dump() + ", " + b[4].dump() +
+         ", " + b[5].dump() + ")";
+  return s + ", world " + r["world_key"].get<std::string>().substr(0, 12);
+}
+
 std::string Table::str() const {
   const size_t n = columns_.size();
   std::vector<size_t> width(n, 0);

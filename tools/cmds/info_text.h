@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <string>
+
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace voxcli::infotext {
@@ -33,6 +35,10 @@ std::string fit(const std::string& s, size_t width);
 
 /// A key-value line: two spaces, the key padded to 14 columns, the value.
 std::string line(const std::string& key, const std::string& value);
+
+/// A part of a region bake, from its `region` JSON (formats/scene/scene_meta.h):
+/// "tile I of N, box (u, v, w) .. (u, v, w), world KEY12…" (or "empty tile").
+std::string regionText(const nlohmann::json& region);
 
 /// A table: columns left- or right-aligned, widths from the content, two
 /// spaces between columns, indented by four. Columns marked `shrink` are cut
