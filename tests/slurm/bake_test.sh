@@ -14,7 +14,7 @@
 # Exit 77 (ctest's skip code, SKIP_RETURN_CODE) with "SKIP: ..." when the Slurm
 # groups cannot run here (not root, slurm-wlm or munge not installed).
 set -u
-group=$1 vox=$2 src=$3
+group=$1 vox=$(realpath "$2") src=$(realpath "$3")
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=../cli/test_lib.sh
 . "$here/../cli/test_lib.sh"
@@ -38,8 +38,8 @@ need_cluster() {
 
 # The source: the procedural city when vox has it, else the hamlet.
 pick_source() {
-  if "$vox" voxelize demo:city --extent 256,64,256 --threads 1 -o probe.vdb -q >/dev/null 2>&1; then
-    SOURCE=(demo:city --extent 256,64,256 --threads 1)
+  if "$vox" voxelize demo:city --extent 512,64,512 --threads 1 -o probe.vdb -q >/dev/null 2>&1; then
+    SOURCE=(demo:city --extent 512,64,512 --threads 1)
   else
     SOURCE=(demo:hamlet --res 64 --threads 1)
   fi
@@ -52,8 +52,8 @@ pick_source() {
 need_regions() {
   local missing=""
   "$vox" voxelize "${SOURCE[@]}" --region 0/1 -o probe.vdb -q >probe.txt 2>&1 ||
-    missing="$missing vox voxelize --region ($(head -c 200 probe.txt));"
-  "$vox" merge --help >probe.txt 2>&1 || missing="$missing vox merge ($(head -c 200 probe.txt));"
+    missing="$missing vox voxelize --region ($(head -c 200 probe.txt | tr "\n" " "));"
+  "$vox" --help 2>&1 | grep -q '^ *merge ' || missing="$missing vox merge (not among vox --help's subcommands);"
   "$vox" pack-chunks --help 2>&1 | grep -q -- --merge || missing="$missing vox pack-chunks --merge;"
   rm -f probe.vdb probe.txt
   if [ -n "$missing" ]; then
@@ -204,10 +204,14 @@ make)
   expect_exit 0 "${mk[@]}" -j2 OUT=m1 --question  # up to date: nothing to do
 
   # Ctrl-C mid-run: SIGINT to make's process group, as a terminal sends it,
-  # as soon as the first part exists.
+  # as soon as the first part exists. Job control (set -m) gives make its own
+  # process group and leaves SIGINT handled (a script's background jobs
+  # otherwise ignore it).
   shopt -s nullglob
-  setsid "${mk[@]}" -j2 OUT=m2 >make.out 2>make.err &
+  set -m
+  "${mk[@]}" -j2 OUT=m2 >make.out 2>make.err &
   pgid=$!
+  set +m
   parts=()
   while kill -0 $pgid 2>/dev/null; do
     parts=(m2/part-*.vdb)
