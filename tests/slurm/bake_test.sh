@@ -116,25 +116,32 @@ cluster)
   [ -e "$dir" ] && fail "$dir still exists after stop_slurm_cluster"
   [ -z "${SLURM_CONF:-}" ] || fail "SLURM_CONF still set after stop_slurm_cluster"
 
-  # The traps: a shell that started a cluster and is killed (TERM) stops it.
-  bash -c ". '$here/slurm_cluster.sh'; start_slurm_cluster || exit 1
-           echo \"\$SLURM_CLUSTER_PIDS|\$SLURM_CLUSTER_DIR\" > '$work/started.txt'
-           sleep 600 </dev/null >/dev/null 2>&1 &
-           echo \$! > '$work/sleeper.pid'; wait \$!" &
-  starter=$!
-  for _ in $(seq 300); do [ -s started.txt ] && break; sleep 0.2; done
-  if [ ! -s started.txt ]; then
-    fail "the second cluster did not start"; kill -TERM $starter 2>/dev/null
-  else
-    kill -TERM $starter
-  fi
-  wait $starter 2>/dev/null
-  [ -s sleeper.pid ] && kill "$(cat sleeper.pid)" 2>/dev/null
-  IFS='|' read -r pids dir <started.txt
-  for p in $pids; do
-    [ -e /proc/$p ] && fail "daemon pid $p still alive after its shell got SIGTERM ($(cat /proc/$p/comm))"
+  # A shell that started a cluster and is killed stops it: its TERM trap at
+  # once, the watcher within seconds when SIGKILL leaves no trap to run.
+  for sig in TERM KILL; do
+    rm -f started.txt sleeper.pid
+    bash -c ". '$here/slurm_cluster.sh'; start_slurm_cluster || exit 1
+             echo \"\$SLURM_CLUSTER_PIDS|\$SLURM_CLUSTER_DIR\" > '$work/started.txt'
+             sleep 600 </dev/null >/dev/null 2>&1 &
+             echo \$! > '$work/sleeper.pid'; wait \$!" &
+    starter=$!
+    for _ in $(seq 300); do [ -s started.txt ] && break; sleep 0.2; done
+    [ -s started.txt ] || fail "SIG$sig: the cluster did not start"
+    kill -$sig $starter
+    wait $starter 2>/dev/null
+    [ -s sleeper.pid ] && kill "$(cat sleeper.pid)" 2>/dev/null
+    [ -s started.txt ] || continue
+    IFS='|' read -r pids dir <started.txt
+    for _ in $(seq 100); do
+      alive=""
+      for p in $pids; do [ -e /proc/$p ] && alive="$alive $p"; done
+      [ -z "$alive" ] && [ ! -e "$dir" ] && break
+      sleep 0.2
+    done
+    [ -z "$alive" ] || fail "SIG$sig to its shell: daemon pids$alive still alive after 20 s"
+    [ -z "$alive" ] || kill -KILL $alive 2>/dev/null
+    [ -n "$dir" ] && [ -e "$dir" ] && fail "SIG$sig to its shell: $dir still exists"
   done
-  [ -n "$dir" ] && [ -e "$dir" ] && fail "$dir still exists after its shell got SIGTERM"
   ;;
 
 bake)

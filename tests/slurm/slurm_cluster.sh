@@ -82,7 +82,9 @@ start_slurm_cluster() {
 
   # Stop the cluster however the caller's shell ends; an EXIT trap the caller
   # had before (e.g. removing its own work directory) still runs after it.
-  _slurm_prev_exit=$(trap -p EXIT | sed -e "s/^trap -- '//" -e "s/' EXIT\$//")
+  local prev; prev=$(trap -p EXIT)
+  _slurm_prev_exit=""
+  [ -z "$prev" ] || { eval "prev=($prev)"; _slurm_prev_exit=${prev[2]}; }  # trap -- 'CMD' EXIT
   trap 'stop_slurm_cluster; eval "$_slurm_prev_exit"' EXIT
   trap 'stop_slurm_cluster; trap - INT; kill -INT $$' INT
   trap 'stop_slurm_cluster; trap - TERM; kill -TERM $$' TERM
@@ -99,6 +101,27 @@ start_slurm_cluster() {
     echo "slurm_cluster: munged did not create $sock" >&2
     _slurm_logs; stop_slurm_cluster; return 4
   fi
+
+  # A watcher stops the daemons should this shell die without running its
+  # traps (SIGKILL); stop_slurm_cluster ends it first.
+  local owner=$BASHPID
+  (
+    while kill -0 "$owner" 2>/dev/null && [ -d "$dir" ]; do sleep 2; done
+    [ -d "$dir" ] || exit 0
+    pids=$(cat "$dir/run/daemons" 2>/dev/null)
+    # shellcheck disable=SC2086
+    kill -TERM $pids 2>/dev/null
+    for _ in 1 2 3 4 5 6 7 8 9 10; do
+      alive=0
+      for p in $pids; do kill -0 "$p" 2>/dev/null && alive=1; done
+      [ $alive = 1 ] || break
+      sleep 1
+    done
+    # shellcheck disable=SC2086
+    kill -KILL $pids 2>/dev/null; rm -rf "$dir"
+  ) </dev/null >/dev/null 2>&1 &
+  SLURM_CLUSTER_WATCHER=$!
+  echo "$SLURM_CLUSTER_PIDS" >"$dir/run/daemons"
 
   # The node as slurmd sees it (CPUs, memory); the ports free right now.
   local cpus mem ctld_port slurmd_port
@@ -149,12 +172,14 @@ EOF
 
   "$sbin/slurmctld" -D -i -f "$SLURM_CONF" </dev/null >>"$dir/log/slurmctld.stdout.log" 2>&1 &
   SLURM_CLUSTER_PIDS="$SLURM_CLUSTER_PIDS $!"
+  echo "$SLURM_CLUSTER_PIDS" >"$dir/run/daemons"
   if ! _slurm_wait 30 scontrol ping >/dev/null 2>&1; then
     echo "slurm_cluster: slurmctld did not answer on port $ctld_port" >&2
     _slurm_logs; stop_slurm_cluster; return 4
   fi
   "$sbin/slurmd" -D -N localhost -f "$SLURM_CONF" </dev/null >>"$dir/log/slurmd.stdout.log" 2>&1 &
   SLURM_CLUSTER_PIDS="$SLURM_CLUSTER_PIDS $!"
+  echo "$SLURM_CLUSTER_PIDS" >"$dir/run/daemons"
   if ! _slurm_wait 60 _slurm_node_idle; then
     echo "slurm_cluster: node localhost not idle after 60 s: $(sinfo -N 2>&1)" >&2
     _slurm_logs; stop_slurm_cluster; return 4
@@ -173,6 +198,11 @@ stop_slurm_cluster() {
       scancel $jobs 2>/dev/null
       _slurm_wait 20 test -z "$(squeue -h -o %A 2>/dev/null)" || true
     fi
+  fi
+  if [ -n "${SLURM_CLUSTER_WATCHER:-}" ]; then
+    kill -TERM "$SLURM_CLUSTER_WATCHER" 2>/dev/null
+    wait "$SLURM_CLUSTER_WATCHER" 2>/dev/null
+    SLURM_CLUSTER_WATCHER=""
   fi
   # slurmd, then slurmctld, then munged (the reverse of their start).
   for pid in $(echo "$SLURM_CLUSTER_PIDS" | tr ' ' '\n' | tac); do
