@@ -114,6 +114,7 @@ common=(--requeue)
 q() { printf ' %q' "$@"; }
 # shellcheck disable=SC2206
 pack=($pack_args)
+# shellcheck disable=SC2016  # the single-quoted lines are the job's own code
 {
   echo '#!/usr/bin/env bash'
   echo "# Region task of scripts/bake-slurm.sh: bakes region \$SLURM_ARRAY_TASK_ID of $regions."
