@@ -102,6 +102,21 @@ TEST(DemoCity, ABoxIsTheWholeCityCroppedToIt) {
   for (uint8_t c : {1, 2, 3, 4, 6, 7}) EXPECT_TRUE(cutClasses.count(c)) << "no box cuts class " << int(c);
 }
 
+TEST(DemoCity, ThePartsOfAPartitionMergeIntoTheWholeCity) {
+  // Six boxes tiling the x-z plane, cut at coordinates that are not
+  // multiples of 8 (so parts share 8^3 blocks), each with every height.
+  const std::array<uint32_t, 3> e{600, 80, 400};
+  const Scene whole = buildCity(city(e, 2));
+  const int32_t xs[] = {0, 203, 411, 600}, zs[] = {0, 157, 400};
+  VoxelBlocks merged;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 2; ++j)
+      merged.merge(buildCityBlocks(city(e, 1, {{xs[i], 0, zs[j]}, {xs[i + 1] - 1, 79, zs[j + 1] - 1}})));
+  const SceneDifference d = compareScenes(whole, SceneBuilder(std::move(merged), cityHeader(e)).build());
+  EXPECT_TRUE(d.same()) << d.voxelsDiffering << " voxels differ, first " << d.firstNote;
+  EXPECT_EQ(d.voxelsCompared, whole.occupiedCount());
+}
+
 TEST(DemoCity, EmptyBoxesGiveEmptyValidScenes) {
   const IndexBox empties[] = {IndexBox{},                                  // min > max
                               {{0, 95, 0}, {767, 95, 575}},               // above every roof of this height
@@ -156,14 +171,14 @@ TEST(DemoCity, HasEveryFeature) {
         // below is empty and above is a floor.
         if (d.at(u, v - 1, w) == 0 && d.at(u, v + 1, w) && v > 14) ++floorsAbove;
       }
-  // Windows: in a wall column, three empty rows between occupied ones,
-  // with the wall continuing beside the opening.
+  // Windows: three empty rows between occupied ones in a column (floor
+  // slabs are at least a storey, 6 rows, apart), open to the outside along
+  // x or z on one side.
   for (int32_t w = 0; w < Z; ++w)
-    for (int32_t u = 1; u < X - 1; ++u)
+    for (int32_t u = 0; u < X; ++u)
       for (int32_t v = 10; v + 3 < Y; ++v)
         if (d.at(u, v - 1, w) && !d.at(u, v, w) && !d.at(u, v + 1, w) && !d.at(u, v + 2, w) && d.at(u, v + 3, w) &&
-            ((d.at(u - 1, v, w) && d.at(u + 1, v, w)) || (d.at(u, v, w - 1) && d.at(u, v, w + 1)) ||
-             (!d.at(u - 1, v, w) && !d.at(u + 1, v, w)) || (!d.at(u, v, w - 1) && !d.at(u, v, w + 1))))
+            (!hits(u, v, w, 1, 0, 0) || !hits(u, v, w, -1, 0, 0) || !hits(u, v, w, 0, 0, 1) || !hits(u, v, w, 0, 0, -1)))
           ++windows;
   EXPECT_GT(enclosed, 1000u) << "hollow building interiors";
   EXPECT_GT(floorsAbove, 1000u) << "floor slabs above the ground floor";

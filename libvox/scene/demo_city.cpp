@@ -658,4 +658,12 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
   return f;
 }
 
+MemoryEstimate cityBakeMemory(const CityFootprint& f) {
+  MemoryEstimate e;
+  e.add("voxel blocks", f.blocks * 420.0);
+  e.add("class vote blocks", f.classBlocks * 2100.0);
+  e.add("writer", f.blocks * 120.0 + f.classBlocks * 24.0);
+  return e;
+}
+
 }  // namespace vox

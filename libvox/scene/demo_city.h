@@ -41,6 +41,7 @@
 #include <string>
 
 #include "libvox/core/city_extent.h"  // kCityName, kCityVoxelSize, extent limits, cityExtentProblem
+#include "libvox/core/memory_budget.h"
 #include "libvox/core/progress.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/voxel_blocks.h"
@@ -86,5 +87,13 @@ struct CityFootprint {
   double occupied = 0;         // occupied voxels
 };
 CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSampledTiles = 2048);
+
+/// The peak memory of generating a footprint into blocks and writing them
+/// with the direct scene writer (formats/scene/scene_vdb_direct.h), without
+/// what the process held before: a VoxelBlock with its hash-map entry per
+/// 8^3 block, a 2 KB vote block per class in it, both held until the writer
+/// is done, and the writer's per-leaf tables. Calibrated against measured
+/// peaks at 1024^2, 2048^2 and 4096^2 (docs/city.md "Memory guard").
+MemoryEstimate cityBakeMemory(const CityFootprint& footprint);
 
 }  // namespace vox

@@ -94,20 +94,6 @@ vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& i
   return scene;
 }
 
-/// The memory guard of a city bake: the 8^3 blocks the generator fills (a
-/// VoxelBlock with its hash-map entry, and a 2 KB vote block per class in it),
-/// held until the direct writer has written them, plus the writer's
-/// per-leaf tables and one grid's compressed leaves. Constants calibrated
-/// against measured peaks (docs/city.md "Memory").
-vox::MemoryEstimate cityBakeMemory(const vox::CityFootprint& f, uint64_t resident) {
-  vox::MemoryEstimate e;
-  e.add("resident before the bake", resident);
-  e.add("voxel blocks", f.blocks * 420.0);
-  e.add("class vote blocks", f.classBlocks * 2100.0);
-  e.add("writer", f.blocks * 120.0 + f.classBlocks * 24.0);
-  return e;
-}
-
 /// demo:city at --extent: generated into blocks and written straight to the
 /// .vdb (formats/scene/scene_vdb_direct.h), never as OpenVDB trees.
 int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
@@ -117,7 +103,9 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   run.phase("estimate");
   const uint64_t resident = vox::residentBytesNow();
   const vox::CityFootprint footprint = vox::estimateCityFootprint(c);
-  const vox::MemoryEstimate estimate = cityBakeMemory(footprint, resident);
+  vox::MemoryEstimate estimate;
+  estimate.add("resident before the bake", resident);
+  for (vox::MemoryPart& part : vox::cityBakeMemory(footprint).parts) estimate.parts.push_back(std::move(part));
   const std::string extentText = formatTriple(c.extent);
   std::string suggestion;
   if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
@@ -132,7 +120,7 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
     auto bytesAt = [&](uint64_t k) {
       vox::CityOptions s = c;
       s.extent = scaled(k);
-      return cityBakeMemory(vox::estimateCityFootprint(s, 512), resident).bytes();
+      return resident + vox::cityBakeMemory(vox::estimateCityFootprint(s, 512)).bytes();
     };
     suggestion = suggestSetting("--extent", 1, 1023, run.memoryLimit(), bytesAt,
                                 [&](uint64_t k) { return formatTriple(scaled(k)); });
