@@ -236,6 +236,36 @@ std::vector<uint8_t> encodeSvo(const ChunkVoxels& chunk, uint32_t flags, const C
   return writePayload(nodes, grids, flags);
 }
 
+std::vector<uint8_t> encodeSvoFromBricks(std::span<const SvoBrick> bricks, uint32_t side, uint32_t flags) {
+  const int depth = std::countr_zero(side) - 3;
+  // The chunk's own pyramid as the bricks show it: every brick voxel lands in
+  // its level's grid; buildNodeTree and writePayload then work as for votes.
+  std::vector<Grid> grids(size_t(depth) + 1);
+  for (int d = 0; d <= depth; ++d) {
+    Grid& g = grids[size_t(d)];
+    g.side = side >> d;
+    const size_t n = size_t(g.side) * g.side * g.side;
+    g.occ.assign(n, 0);
+    g.surface.assign(n, 0);
+    g.summary.assign(n, {0, 0, 0, 0});
+    g.color.assign(n, {0, 0, 0, 0});
+  }
+  for (const SvoBrick& b : bricks) {
+    if (b.level > depth) throw Error(ErrorKind::Internal, "encodeSvoFromBricks: brick level past the root");
+    Grid& g = grids[b.level];
+    const uint32_t S = g.side, ox = b.origin[0] >> b.level, oy = b.origin[1] >> b.level, oz = b.origin[2] >> b.level;
+    for (const DecodedVoxel& v : b.voxels) {
+      const uint32_t k = (ox + (v.index & 7)) + S * ((oy + ((v.index >> 3) & 7)) + S * (oz + (v.index >> 6)));
+      g.occ[k] = 1;
+      g.surface[k] = v.surface ? 1 : 0;
+      g.summary[k] = v.summary;
+      g.color[k] = v.color;
+    }
+  }
+  const std::vector<Node> nodes = buildNodeTree(grids, depth);
+  return writePayload(nodes, grids, flags);
+}
+
 // ------------------------------------------------------------------ decoder
 
 namespace {

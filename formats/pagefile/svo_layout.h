@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "formats/pagefile/layouts.h"
@@ -53,6 +54,12 @@ struct SvoBrick {
   std::vector<DecodedVoxel> voxels;  // index = bx + 8 * (by + 8 * bz) within the brick, ascending
 };
 
+/// The payload of one chunk from its decoded bricks (svoBricks of one or more
+/// files: every brick voxel, leaf and mip, is placed in its level's grid, so
+/// bricks of the same chunk from several region parts join by union), written
+/// by the same tree builder and writer as encodeSvo. For re-encoding without
+/// votes: the mip bricks are taken as they are, not recomputed. `side` is C.
+std::vector<uint8_t> encodeSvoFromBricks(std::span<const SvoBrick> bricks, uint32_t side, uint32_t flags);
 /// Every node of entry i of an svo-layout file with its brick, in node order
 /// (the same checks as Reader::decode). Throws vox::Error (BadInput) when the
 /// file has another layout.

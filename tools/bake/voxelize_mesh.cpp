@@ -207,16 +207,23 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->footer(
       "Inputs:\n"
       "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default " + res + ")\n"
+      "  demo:city     the built-in procedural city, 0.5 m voxels, --extent X,Y,Z voxels (default " +
+      formatTriple(vox::kCityDefaultExtent) + ";\n"
+      "                x, z up to " + std::to_string(vox::kCityMaxHorizontal) + ", y up to " +
+      std::to_string(vox::kCityMaxHeight) + ")\n"
       "  MAP.json      a block map (map.json): one voxel per block, dims = largest position + 1,\n"
       "                world placement from worldScale and --grid-size\n"
       "  MESH...       " + meshExtensions() + " (several combine into one scene), --res N on the\n"
       "                longest side (default " + res + "), --fill surface|solid, --classes FILE.json\n"
       "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
       "                inside where value >= T), resampled at --res (default " + res + ") or --voxel-size\n"
-      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
-  cmd->add_option("inputs", o.inputs, "Meshes (" + meshExtensions() + "), demo:hamlet, a map.json or a grid .vdb")->required();
+      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb\n"
+      "         vox voxelize demo:city --extent 4096,512,4096 -o city.vdb");
+  cmd->add_option("inputs", o.inputs, "Meshes (" + meshExtensions() + "), demo:hamlet, demo:city, a map.json or a grid .vdb")->required();
   cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
   cmd->add_option("--res", o.resolution, "Voxels on the longest axis (default " + res + ")")->check(CLI::Range(1u, 4096u));
+  cmd->add_option("--extent", o.extent,
+                  "demo:city: voxels along x, y, z (default " + formatTriple(vox::kCityDefaultExtent) + ")");
   cmd->add_option("--grid-size", o.gridSize, "Block maps: the world grid X,Y,Z")->capture_default_str();
   cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(FinitePositive);
   cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
@@ -249,7 +256,24 @@ bool allInputsAreMeshes(const VoxelizeOptions& o) {
                      [](const std::string& i) { return vox::fileKindOf(i) == vox::FileKind::Mesh; });
 }
 
+std::array<uint32_t, 3> VoxelizeOptions::cityExtent() const {
+  if (!extent) return vox::kCityDefaultExtent;
+  const std::array<uint32_t, 3> e = parseTriple(*extent, "--extent");
+  const std::string problem = vox::cityExtentProblem(e);
+  if (!problem.empty()) throw vox::Error(vox::ErrorKind::Usage, "--extent " + *extent + ": " + problem);
+  return e;
+}
+
 void checkVoxelizeOptions(const VoxelizeOptions& o) {
+  const bool city = o.inputs.size() == 1 && o.inputs[0] == vox::kCityName;
+  if (o.extent && !city)
+    throw vox::Error(vox::ErrorKind::Usage, "--extent applies to demo:city only (block maps take --grid-size, "
+                                            "the other inputs --res or --voxel-size)");
+  if (city && (o.resolution || o.voxelSize > 0))
+    throw vox::Error(vox::ErrorKind::Usage, std::string(o.resolution ? "--res" : "--voxel-size") +
+                                                " does not apply to demo:city: its voxels are 0.5 m; size the city "
+                                                "with --extent X,Y,Z (voxels)");
+  if (city) o.cityExtent();  // refuses a bad --extent before any work
   if (o.voxelSize > 0 && o.resolution)
     throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
   if (!vox::hasExtension(o.output, ".vdb"))
@@ -265,7 +289,7 @@ void checkVoxelizeOptions(const VoxelizeOptions& o) {
                      "--method sdf is a comparison of whole bakes and has no region bake; use --method exact");
   if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
     throw vox::Error(vox::ErrorKind::Usage,
-                     "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, "
+                     "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, demo:city, "
                      "map.json and .vdb inputs go one at a time");
 }
 
@@ -359,6 +383,7 @@ std::string voxelSettingsText(const VoxelizeOptions& o, const std::vector<std::s
   add("pad", std::to_string(o.pad));
   add("bounds", o.bounds);
   add("grid-size", o.gridSize);
+  add("extent", o.extent ? *o.extent : "-");
   add("grid", o.gridName);
   if (o.threshold) std::snprintf(buf, sizeof buf, "%.17g", *o.threshold);
   add("threshold", o.threshold ? std::string(buf) : "-");

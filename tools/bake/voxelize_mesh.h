@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "libvox/core/city_extent.h"
 #include "libvox/mesh/mesh.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/voxelize.h"
@@ -38,6 +39,7 @@ struct VoxelizeOptions {
   std::string output;
   uint32_t resolution = 0;  // voxels on the longest side; 0 = not given (kDefaultResolution)
   std::string gridSize = voxcli::formatTriple(vox::kDefaultBlockWorldGrid);  // block maps: the world grid X,Y,Z
+  std::optional<std::string> extent;  // demo:city: voxels X,Y,Z; none = vox::kCityDefaultExtent
   double voxelSize = 0;               // world units per voxel; 0 = not given (use the resolution)
   std::string gridName;
   std::optional<double> threshold;
@@ -61,6 +63,8 @@ struct VoxelizeOptions {
   /// For inputs placed by resolution or voxel size: the resolution, or 0 when
   /// a voxel size is given.
   uint32_t resolutionUnlessVoxelSize() const { return voxelSize > 0 ? 0 : resolutionOrDefault(); }
+  /// demo:city's extent: --extent parsed and checked (vox::Error Usage), else the default.
+  std::array<uint32_t, 3> cityExtent() const;
 };
 
 /// Adds the `voxelize` subcommand and every option to `root`, filling `opts`.

@@ -11,6 +11,7 @@
 #include "formats/core/file_util.h"
 #include "formats/pagefile/layouts.h"
 #include "formats/pagefile/pack_chunks.h"
+#include "formats/pagefile/page_merge.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
@@ -29,6 +30,7 @@ struct PackOptions {
   std::string input;
   std::string output;
   std::string verify;
+  std::vector<std::string> merge;  // --merge PART.vpk...
   vox::PackSettings pack;  // --chunk, --align, --layout; defaults from the library
   bool mips = false;
   int levels = 0;
@@ -159,7 +161,78 @@ void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::
            std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
 }
 
+// --merge PART.vpk... -o WORLD.vpk: the parts' page files joined into the
+// world's (formats/pagefile/page_merge.h).
+int runMerge(const PackOptions& o) {
+  if (o.output.empty()) vox::throwUsage("--merge PART.vpk... needs -o WORLD.vpk");
+  if (!vox::hasExtension(o.output, ".vpk"))
+    vox::throwUsage("-o " + o.output + ": a page file is written; name it *.vpk");
+  Run run("pack-chunks", o.common);
+  const std::string temp = run.output(o.output);
+  const auto start = std::chrono::steady_clock::now();
+  run.phase("read");
+  std::vector<vox::pagefile::Reader> readers;
+  readers.reserve(o.merge.size());
+  for (const std::string& path : o.merge) {
+    run.input(path);
+    vox::requireRegularFile(path);
+    readers.push_back(vox::pagefile::Reader::open(path));  // header, index, metadata checked
+  }
+  const double readSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<const vox::pagefile::Reader*> ptrs;
+  for (const auto& r : readers) ptrs.push_back(&r);
+  run.checkWorkMemory("merging " + std::to_string(o.merge.size()) + " parts", 1.0);
+  run.phase("merge");
+  vox::MergeSettings ms;
+  ms.threads = run.threads();
+  const vox::MergeResult res = vox::mergePageFiles(ptrs, ms);
+  run.phase("write");
+  const auto w0 = std::chrono::steady_clock::now();
+  writeBytes(res.bytes, temp, o.output);
+  const double writeSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  uint64_t voxels = 0, chunks = 0;
+  nlohmann::json lv = nlohmann::json::array();
+  for (const auto& l : res.levels) {
+    voxels += l.voxels;
+    chunks += l.chunks;
+    lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
+                  {"payload_bytes", l.payloadBytes}});
+  }
+  const vox::MergeStats& st = res.stats;
+  run.counts() = {{"parts", o.merge.size()},
+                  {"part_file_bytes", st.partFileBytes},
+                  {"levels", lv},
+                  {"chunks", chunks},
+                  {"voxels", voxels},
+                  {"copied_chunks", st.copiedChunks},
+                  {"copied_bytes", st.copiedBytes},
+                  {"reencoded_chunks", st.reencodedChunks},
+                  {"reencoded_bytes", st.reencodedBytes},
+                  {"file_bytes", res.bytes.size()},
+                  {"seconds",
+                   {{"read", readSecs},
+                    {"check", st.checkSeconds},
+                    {"copy", st.copySeconds},
+                    {"reencode", st.reencodeSeconds},
+                    {"mips", 0.0},
+                    {"assemble", st.serializeSeconds},
+                    {"write", writeSecs},
+                    {"total", total}}},
+                  {"merge_mb_per_s", total > 0 ? double(res.bytes.size()) / 1e6 / total : 0.0}};
+  run.note("merged " + std::to_string(o.merge.size()) + " parts into " + o.output + ": " +
+           std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) + " chunks (" +
+           std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded), " +
+           std::to_string(res.bytes.size()) + " bytes");
+  return run.finish();
+}
+
 int runPack(const PackOptions& o) {
+  if (!o.merge.empty()) {
+    if (!o.input.empty() || !o.verify.empty())
+      vox::throwUsage("--merge PART.vpk... takes no scene and no --verify: give the parts' page files after --merge");
+    return runMerge(o);
+  }
   if (!o.verify.empty()) {
     if (!o.input.empty() || !o.output.empty()) vox::throwUsage("--verify FILE takes no scene and no -o");
     return runVerify(o);
@@ -199,10 +272,14 @@ Command registerPackChunks(CLI::App& root) {
       layoutHelp() +
       "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
       "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
+      "--merge PART.vpk... -o WORLD.vpk: the parts of a region bake (packed with the same settings)\n"
+      "joined into exactly the file the single-process bake gives (PAGEFILE.md, \"Merging\").\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
   cmd->add_option("input", opts->input, "Scene or pyramid (.vdb)");
   cmd->add_option("-o,--output", opts->output, "Page file to write (.vpk)");
   cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
+  CLI::Option* merge = cmd->add_option("--merge", opts->merge,
+                                       "Join the page files of a region bake's parts (PART.vpk...) into the world's");
   cmd->add_option("--chunk", opts->pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
   cmd->add_option("--align", opts->pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
       ->capture_default_str();
@@ -211,6 +288,9 @@ Command registerPackChunks(CLI::App& root) {
   cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
   addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "With --mips: how a coarser voxel is occupied");
   addCommonOptions(*cmd, opts->common);
+  // The parts carry their settings: a merge takes none of the packing options.
+  for (const char* name : {"--chunk", "--align", "--layout", "--mips", "--levels", "--occupancy"})
+    merge->excludes(cmd->get_option(name));
   return {cmd, [opts] { return runPack(*opts); }};
 }
 

@@ -14,6 +14,8 @@
 #include "libvox/scene/voxelize_scene.h"
 #include "libvox/scene/voxelize_check.h"
 #include "libvox/scene/voxelize_sdf.h"
+#include "formats/scene/scene_vdb_direct.h"
+#include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/core/error.h"
 #include "libvox/core/memory_budget.h"
@@ -72,8 +74,9 @@ struct BakedScene {
 /// demo:hamlet at the resolution given (or the default); a region bake
 /// generates only its box (the surface test reads the design's neighbours).
 BakedScene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
-  if (input != "demo:hamlet")
-    throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
+  if (input != vox::kHamletName)
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "unknown demo scene '" + input + "'; the built-in scenes are demo:hamlet and demo:city");
   const uint32_t res = o.resolutionOrDefault();
   vox::HamletOptions h;
   h.resolution = res;
@@ -112,6 +115,74 @@ BakedScene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& i
   out.blocks = vox::buildHamletBlocks(h, header);
   bar->done();
   return out;
+}
+
+/// demo:city at --extent: generated into blocks and written straight to the
+/// .vdb (formats/scene/scene_vdb_direct.h), never as OpenVDB trees.
+int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  vox::CityOptions c;
+  c.extent = o.cityExtent();
+  c.threads = run.threads();
+  // A region bake generates its box only: the city's voxels are a function of
+  // their coordinates and the surface test reads the design's neighbours, so
+  // the part is the whole city cropped (libvox/scene/demo_city.h).
+  vox::SceneHeader header = vox::cityHeader(c.extent);
+  header.region = regionRecord(o, header, voxelSettingsText(o));
+  if (header.region) c.box = header.region->box;
+  run.phase("estimate");
+  const uint64_t resident = vox::residentBytesNow();
+  const vox::CityFootprint footprint = vox::estimateCityFootprint(c);
+  vox::MemoryEstimate estimate;
+  estimate.add("resident before the bake", resident);
+  for (vox::MemoryPart& part : vox::cityBakeMemory(footprint).parts) estimate.parts.push_back(std::move(part));
+  const std::string extentText = formatTriple(c.extent);
+  std::string suggestion;
+  if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
+    // The largest city with the same height and proportions that fits: the
+    // horizontal sides scaled by k / 1024.
+    auto scaled = [&](uint64_t k) {
+      std::array<uint32_t, 3> e = c.extent;
+      e[0] = uint32_t(std::max<uint64_t>(1, uint64_t(e[0]) * k / 1024));
+      e[2] = uint32_t(std::max<uint64_t>(1, uint64_t(e[2]) * k / 1024));
+      return e;
+    };
+    auto bytesAt = [&](uint64_t k) {
+      vox::CityOptions s = c;
+      s.extent = scaled(k);
+      return resident + vox::cityBakeMemory(vox::estimateCityFootprint(s, 512)).bytes();
+    };
+    suggestion = suggestSetting("--extent", 1, 1023, run.memoryLimit(), bytesAt,
+                                [&](uint64_t k) { return formatTriple(scaled(k)); });
+  }
+  run.checkMemory(estimate, "demo:city at --extent " + extentText, suggestion);
+
+  run.phase("generate");
+  auto bar = run.progress("city");
+  c.progress = [&bar](double f) { bar->update(f); };
+  vox::VoxelBlocks blocks = vox::buildCityBlocks(c);
+  bar->done();
+  const uint64_t blockCount = blocks.blockCount();
+  run.phase("write");
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(header, blocks, outputTemp, run.threads());
+  const vox::Dims d = header.dims;
+  run.counts()["dims"] = {d.x, d.y, d.z};
+  run.counts()["voxel_size"] = header.voxelSize;
+  run.counts()["occupied_voxels"] = s.occupied;
+  run.counts()["surface_voxels"] = s.surface;
+  run.counts()["classes_present"] = s.classesPresent.size();
+  run.counts()["blocks"] = blockCount;
+  run.counts()["file_bytes"] = s.fileBytes;
+  run.counts()["estimated_occupied_voxels"] = uint64_t(footprint.occupied);
+  run.counts()["estimated_blocks"] = uint64_t(footprint.blocks);
+  if (header.region) {
+    const vox::IndexBox& b = header.region->box;
+    run.counts()["region"] = {{"index", header.region->index}, {"count", header.region->count},
+                              {"box", b.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
+  }
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
+           std::to_string(s.classesPresent.size()) + " classes");
+  return run.finish();
 }
 
 /// A block map: one block is one voxel, placed in the world grid --grid-size.
@@ -161,7 +232,7 @@ vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& i
   vox::requireRegularFile(input);
   throw vox::Error(vox::ErrorKind::BadInput,
                    input + ": unsupported input; vox voxelize reads " + vox::describe(vox::FileKind::Mesh) + ", " +
-                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb) or demo:hamlet");
+                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb), demo:hamlet or demo:city");
 }
 
 /// A non-mesh input as blocks: the demo generated (its region only), block
@@ -182,6 +253,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
   if (allInputsAreMeshes(o)) return runMeshes(o, run, outputTemp);
+  if (o.inputs[0] == vox::kCityName) return runCity(o, run, outputTemp);
   BakedScene baked = bakeInput(o, run, o.inputs[0]);
   run.phase("write");
   // The direct writer (the mesh bake's): the same bytes as OpenVDB's writer but

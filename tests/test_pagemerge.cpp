@@ -1,0 +1,215 @@
+// Merging the page files of a region bake's parts (formats/pagefile/page_merge.h):
+// the merged bytes equal the single-process pack of the whole scene, for every
+// layout, chunk side and tile count, parts in any order; bad sets of parts are
+// refused naming the part. Parts are made here by cropping the world scene to
+// its tiles (what `vox voxelize --region I/N` bakes).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
+#include "formats/pagefile/page_merge.h"
+#include "formats/pagefile/pagefile.h"
+#include "libvox/core/regions.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/scene/scene.h"
+#include "test_util.h"
+
+namespace {
+
+using vox::pagefile::Layout;
+using vox::pagefile::Reader;
+
+// Tile `i` of `n` of `world`: the world's header with a region record, and
+// only the voxels inside the tile.
+vox::Scene cropToTile(const vox::Scene& world, uint32_t i, uint32_t n, const std::string& settings = "test") {
+  vox::SceneHeader h = world.header();
+  const vox::IndexBox box = vox::regionTile(h.dims, i, n);
+  h.region = vox::SceneRegion{i, n, box, vox::regionWorldKey(world.header(), settings)};
+  vox::SceneBuilder b(h);
+  world.forEachVoxel([&](const vox::VoxelView& v) {
+    const vox::Coord3 c = v.at;
+    if (box.empty() || c.u < box.min.u || c.u > box.max.u || c.v < box.min.v || c.v > box.max.v ||
+        c.w < box.min.w || c.w > box.max.w)
+      return;
+    for (const vox::ClassVotes& cv : v.votes) b.addVotes(c, cv.classId, cv.votes, v.surface);
+    if (v.color) b.setColor(c, *v.color);
+  });
+  return std::move(b).build();
+}
+
+std::vector<uint8_t> pack(const vox::Scene& s, const vox::PackSettings& ps) { return vox::packChunks({&s}, ps).bytes; }
+
+// A coloured scene over several tiles: coloured surface voxels in the low x
+// half only, so the parts on the high side have no colour channel.
+vox::Scene colouredScene() {
+  vox::SceneHeader h;
+  h.dims = {150, 40, 97};
+  h.voxelSize = 0.5;
+  h.origin = {-3, 0, 1};
+  h.classes.add({1, "a", {}, {}});
+  h.classes.add({2, "b", {}, {}});
+  h.classes.add({7, "g", {}, {}});
+  vox::SceneBuilder b(h);
+  for (int i = 0; i < 4000; ++i) {
+    const vox::Coord3 c{(i * 37) % 150, (i * 13) % 40, (i * 29) % 97};
+    b.addVotes(c, uint8_t(i % 3 == 0 ? 7 : 2), uint32_t(1 + i % 11), true);
+    b.addVotes(c, 1, uint32_t(i % 5), true);
+    if (c.u < 70) b.setColor(c, {float(i % 10) / 9.f, 0.25f, float(i % 4) / 3.f});
+  }
+  return std::move(b).build();
+}
+
+// Interior voxels (a solid block) only near the origin, surface voxels
+// elsewhere: most parts have no surface channel.
+vox::Scene interiorScene() {
+  vox::SceneHeader h;
+  h.dims = {130, 24, 110};
+  h.voxelSize = 1;
+  h.classes.add({1, "rock", {}, {}});
+  h.classes.add({3, "moss", {}, {}});
+  vox::SceneBuilder b(h);
+  for (int z = 2; z < 20; ++z)
+    for (int y = 0; y < 10; ++y)
+      for (int x = 3; x < 25; ++x) {
+        const bool edge = x == 3 || x == 24 || y == 0 || y == 9 || z == 2 || z == 19;
+        b.addVotes({x, y, z}, 1, uint32_t(1 + (x + y + z) % 9), edge);
+      }
+  for (int i = 0; i < 3000; ++i) b.addVotes({(i * 41) % 130, (i * 7) % 24, (i * 23) % 110}, 3, uint32_t(1 + i % 6), true);
+  return std::move(b).build();
+}
+
+struct Merged {
+  std::vector<std::vector<uint8_t>> partBytes;
+  std::vector<Reader> readers;
+};
+
+// The parts of `world` in tiles of `n`, packed, opened in the order `order` gives.
+Merged packParts(const vox::Scene& world, uint32_t n, const vox::PackSettings& ps) {
+  Merged m;
+  for (uint32_t i = 0; i < n; ++i) m.partBytes.push_back(pack(cropToTile(world, i, n), ps));
+  for (uint32_t i = 0; i < n; ++i)
+    m.readers.push_back(Reader::fromMemory(m.partBytes[i].data(), m.partBytes[i].size(), "part" + std::to_string(i) + ".vpk"));
+  return m;
+}
+
+std::vector<uint8_t> merge(const std::vector<const Reader*>& parts, unsigned threads = 1) {
+  vox::MergeSettings ms;
+  ms.threads = threads;
+  return vox::mergePageFiles(parts, ms).bytes;
+}
+
+std::vector<const Reader*> ptrs(const Merged& m) {
+  std::vector<const Reader*> out;
+  for (const Reader& r : m.readers) out.push_back(&r);
+  return out;
+}
+
+// Every layout, chunk side and tile count of the issue: merged == whole.
+void expectMergeIsWhole(const vox::Scene& world, const std::string& what) {
+  for (const auto& layout : vox::pagefile::layoutTable())
+    for (uint32_t chunk : {8u, 16u, 32u}) {
+      vox::PackSettings ps;
+      ps.layout = layout.id;
+      ps.chunkSide = chunk;
+      ps.alignment = 64;
+      const std::vector<uint8_t> whole = pack(world, ps);
+      for (uint32_t n : {1u, 2u, 3u, 7u}) {
+        const Merged m = packParts(world, n, ps);
+        std::vector<const Reader*> order = ptrs(m);
+        std::rotate(order.begin(), order.begin() + n / 2, order.end());  // any order
+        std::reverse(order.begin(), order.end());
+        const std::vector<uint8_t> merged = merge(order, 1 + n % 2);
+        EXPECT_TRUE(merged == whole) << what << ": layout " << layout.name << ", chunk " << chunk << ", N = " << n
+                                     << ": " << merged.size() << " bytes merged, " << whole.size() << " whole";
+      }
+    }
+}
+
+TEST(PageMerge, HamletPartsMergeToTheWholeFile) {
+  vox::HamletOptions ho;
+  ho.resolution = 128;
+  expectMergeIsWhole(vox::buildHamlet(ho), "hamlet 128");
+}
+
+TEST(PageMerge, ColouredPartsWithAndWithoutColourMergeToTheWholeFile) {
+  expectMergeIsWhole(colouredScene(), "coloured");
+}
+
+TEST(PageMerge, PartsWithoutInteriorVoxelsMergeToTheWholeFile) { expectMergeIsWhole(interiorScene(), "interior"); }
+
+TEST(PageMerge, IdenticalBytesAtAnyThreadCount) {
+  const vox::Scene world = colouredScene();
+  vox::PackSettings ps;
+  ps.layout = Layout::Svo;
+  const Merged m = packParts(world, 7, ps);
+  vox::MergeSettings ms;
+  const vox::MergeResult r = vox::mergePageFiles(ptrs(m), ms);
+  EXPECT_GT(r.stats.reencodedChunks, 0u);  // the parts without colour
+  EXPECT_GT(r.stats.copiedChunks, 0u);
+  const std::vector<uint8_t> one = merge(ptrs(m), 1);
+  EXPECT_EQ(one, r.bytes);
+  EXPECT_EQ(one, merge(ptrs(m), 2));
+  EXPECT_EQ(one, merge(ptrs(m), 0));
+}
+
+class PageMergeErrors : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    vox::HamletOptions ho;
+    ho.resolution = 64;
+    world = vox::buildHamlet(ho);
+    ps.chunkSide = 8;
+    ps.alignment = 64;
+    m = packParts(world, 3, ps);
+  }
+  ::testing::AssertionResult refused(const std::vector<const Reader*>& parts, std::initializer_list<std::string> needles) {
+    return voxtest::throwsVoxError([&] { merge(parts); }, vox::ErrorKind::BadInput, needles);
+  }
+  vox::Scene world;
+  vox::PackSettings ps;
+  Merged m;
+};
+
+TEST_F(PageMergeErrors, MissingRepeatedForeignAndWholeFiles) {
+  EXPECT_TRUE(refused({&m.readers[0], &m.readers[2]}, {"1 of 3"}));  // tile 1 missing
+  EXPECT_TRUE(refused({&m.readers[0], &m.readers[1], &m.readers[1], &m.readers[2]}, {"part1.vpk"}));
+  const std::vector<uint8_t> foreign = pack(cropToTile(world, 1, 3, "another bake"), ps);
+  const Reader f = Reader::fromMemory(foreign.data(), foreign.size(), "foreign.vpk");
+  EXPECT_TRUE(refused({&m.readers[0], &f, &m.readers[2]}, {"foreign.vpk"}));
+  const std::vector<uint8_t> whole = pack(world, ps);
+  const Reader w = Reader::fromMemory(whole.data(), whole.size(), "whole.vpk");
+  EXPECT_TRUE(refused({&m.readers[0], &w, &m.readers[2]}, {"whole.vpk", "region"}));
+  // A tile of another tiling overlaps.
+  const std::vector<uint8_t> half = pack(cropToTile(world, 0, 2), ps);
+  const Reader o = Reader::fromMemory(half.data(), half.size(), "half.vpk");
+  EXPECT_TRUE(refused({&m.readers[0], &m.readers[1], &m.readers[2], &o}, {"half.vpk"}));
+}
+
+TEST_F(PageMergeErrors, PartsPackedWithOtherSettings) {
+  for (int which = 0; which < 3; ++which) {
+    vox::PackSettings other = ps;
+    if (which == 0) other.chunkSide = 16;
+    if (which == 1) other.layout = Layout::Columns;
+    if (which == 2) other.alignment = 128;
+    const std::vector<uint8_t> bytes = pack(cropToTile(world, 2, 3), other);
+    const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "odd.vpk");
+    EXPECT_TRUE(refused({&m.readers[0], &m.readers[1], &r},
+                        {"odd.vpk", which == 0 ? "chunk side" : which == 1 ? "layout" : "alignment"}));
+  }
+}
+
+TEST_F(PageMergeErrors, CorruptPayloadNamesThePartAndTheChunk) {
+  std::vector<uint8_t> bad = m.partBytes[1];
+  const Reader clean = Reader::fromMemory(bad.data(), bad.size(), "x");
+  ASSERT_FALSE(clean.entries().empty());
+  const uint64_t at = clean.entries()[clean.entries().size() / 2].offset;
+  bad[at] ^= 0x10;
+  const Reader r = Reader::fromMemory(bad.data(), bad.size(), "corrupt.vpk");
+  EXPECT_TRUE(refused({&m.readers[0], &r, &m.readers[2]}, {"corrupt.vpk", "chunk"}));
+}
+
+}  // namespace
