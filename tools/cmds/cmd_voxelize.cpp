@@ -208,7 +208,8 @@ vox::Scene readBlockMapInput(const VoxelizeOptions& o, Run& run, const std::stri
 }
 
 /// An OpenVDB level set or fog volume, resampled at the resolution or voxel size.
-vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& input) {
+vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& input,
+                        std::optional<vox::SceneRegion>* region = nullptr) {
   run.phase("resample");
   run.input(input);
   vox::VdbGridInputOptions v;
@@ -217,6 +218,11 @@ vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& i
   v.voxelSize = o.voxelSize;
   v.resolution = o.resolutionUnlessVoxelSize();
   v.threads = run.threads();
+  if (region)  // a region bake resamples its box only
+    v.regionOf = [&o, region](const vox::SceneHeader& world) -> std::optional<vox::IndexBox> {
+      *region = regionRecord(o, world, voxelSettingsText(o));
+      return *region ? std::optional<vox::IndexBox>((*region)->box) : std::nullopt;
+    };
   auto bar = run.progress("resample");
   v.progress = [&bar](double f) { bar->update(f); };
   vox::Scene scene = vox::readVdbGridAsScene(input, v);
@@ -235,13 +241,22 @@ vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& i
                        vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb), demo:hamlet or demo:city");
 }
 
-/// A non-mesh input as blocks: the demo generated (its region only), block
-/// maps and grids read whole and cropped to the region (block maps: the
-/// surface flag comes from the map's neighbours, so the crop is exact).
+/// A non-mesh input as blocks: the demo and grids generated or resampled in
+/// their region only (with the neighbours the surface flag reads), block maps
+/// read whole and cropped to the region (the surface flag comes from the map's
+/// neighbours, so the crop is exact).
 BakedScene bakeInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
   if (vox::isDemoName(input)) return generateDemo(o, run, input);
-  const vox::Scene scene = sceneOfInput(o, run, input);
   BakedScene out;
+  if (vox::fileKindOf(input) == vox::FileKind::Vdb) {
+    std::optional<vox::SceneRegion> region;
+    const vox::Scene scene = resampleGrid(o, run, input, &region);
+    out.header = scene.header();
+    out.header.region = region;
+    out.blocks = vox::sceneBlocks(scene);
+    return out;
+  }
+  const vox::Scene scene = sceneOfInput(o, run, input);
   out.header = scene.header();
   out.header.region = regionRecord(o, out.header, voxelSettingsText(o));
   out.blocks = out.header.region ? vox::sceneBlocks(scene, &out.header.region->box) : vox::sceneBlocks(scene);
