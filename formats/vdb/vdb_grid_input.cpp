@@ -24,9 +24,9 @@ namespace {
 /// 32768 samples). Refuses before the sampling, with the largest resolution
 /// that fits (the estimate scales with the voxel count).
 void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double thr, const SceneHeader& header,
-                          const std::string& path) {
+                          const std::string& path, double sampledShare) {
   const Dims dims = header.dims;
-  const double count = double(dims.count());
+  const double count = double(dims.count()) * sampledShare;  // a region samples its share
   const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
   openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(accessor,
                                                                                                      grid.transform());
@@ -131,27 +131,51 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   placeGrid({wmin.x(), wmin.y(), wmin.z()}, {wmax.x(), wmax.y(), wmax.z()}, place, header);
   const Dims dims = header.dims;
   const double vs = header.voxelSize;
-  const uint64_t count = dims.count();
-  checkGridInputMemory(*grid, levelSet, thr, header, path);
+  header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
+  uint64_t bytes = 0;
+  const std::string sha = sha256File(path, &bytes);
+  header.sources.push_back({path, "vdb", sha, bytes});
+  // The voxels to build ([lo, hi]: the whole grid, or a region's box) and the
+  // ones to sample: those plus a 1-voxel halo, for the surface test.
+  int64_t lo[3] = {0, 0, 0}, hi[3] = {int64_t(dims.x) - 1, int64_t(dims.y) - 1, int64_t(dims.z) - 1};
+  const int64_t dimv[3] = {dims.x, dims.y, dims.z};
+  if (o.regionOf)
+    if (const std::optional<IndexBox> box = o.regionOf(header)) {
+      const int64_t bl[3] = {box->min.u, box->min.v, box->min.w}, bh[3] = {box->max.u, box->max.v, box->max.w};
+      for (int k = 0; k < 3; ++k) lo[k] = std::max(lo[k], bl[k]), hi[k] = std::min(hi[k], bh[k]);
+      if (box->empty()) hi[0] = lo[0] - 1;
+    }
+  SceneBuilder builder(header);
+  if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) return std::move(builder).build();
+  int64_t slo[3], shi[3], sext[3];
+  for (int k = 0; k < 3; ++k)
+    slo[k] = std::max<int64_t>(0, lo[k] - 1), shi[k] = std::min<int64_t>(dimv[k] - 1, hi[k] + 1),
+    sext[k] = shi[k] - slo[k] + 1;
+  const uint64_t count = uint64_t(sext[0]) * uint64_t(sext[1]) * uint64_t(sext[2]);
+  checkGridInputMemory(*grid, levelSet, thr, header, path, double(count) / double(dims.count()));
 
-  // Inside test at every output voxel centre, one slab of w per thread; each
+  // Inside test at every sampled voxel centre, one slab of w per thread; each
   // voxel sets its own bit, so the result does not depend on the split.
   std::vector<std::atomic<uint64_t>> inside((count + 63) / 64);
-  const unsigned slabs = std::max(1u, std::min<unsigned>(o.threads, dims.z));
+  const uint32_t slicesTotal = uint32_t(sext[2]);
+  const unsigned slabs = std::max(1u, std::min<unsigned>(o.threads, slicesTotal));
   std::atomic<uint32_t> slices{0};
   // A degenerate or extreme transform (a scale of 1e-170, a near-singular
   // matrix) maps output voxel centres to index coordinates no 32-bit node
   // holds; OpenVDB's sampler would convert them to int regardless.
   constexpr double kIndexLimit = double(1 << 30);
   std::atomic<bool> outOfRange{false};
-  parallelPieces(dims.z, slabs, slabs, [&](size_t w0, size_t w1, size_t) {
+  auto bit = [&](int64_t u, int64_t v, int64_t w) {
+    return (uint64_t(w - slo[2]) * uint64_t(sext[1]) + uint64_t(v - slo[1])) * uint64_t(sext[0]) + uint64_t(u - slo[0]);
+  };
+  parallelPieces(slicesTotal, slabs, slabs, [&](size_t w0, size_t w1, size_t) {
     // GridSampler keeps a reference to the accessor: it must outlive the sampler.
     const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
     openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
         accessor, grid->transform());
-    for (uint32_t w = uint32_t(w0); w < w1; ++w) {
-      for (uint32_t v = 0; v < dims.y; ++v)
-        for (uint32_t u = 0; u < dims.x; ++u) {
+    for (int64_t w = slo[2] + int64_t(w0); w < slo[2] + int64_t(w1); ++w) {
+      for (int64_t v = slo[1]; v <= shi[1]; ++v)
+        for (int64_t u = slo[0]; u <= shi[0]; ++u) {
           const openvdb::Vec3d p(wmin.x() + (u + 0.5) * vs, wmin.y() + (v + 0.5) * vs, wmin.z() + (w + 0.5) * vs);
           const openvdb::Vec3d ip = grid->worldToIndex(p);
           if (!(std::abs(ip.x()) < kIndexLimit && std::abs(ip.y()) < kIndexLimit && std::abs(ip.z()) < kIndexLimit)) {
@@ -160,33 +184,28 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
           }
           const float value = sampler.isSample(ip);
           if (levelSet ? value <= 0.0f : double(value) >= thr) {
-            const uint64_t i = (uint64_t(w) * dims.y + v) * dims.x + u;
+            const uint64_t i = bit(u, v, w);
             inside[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed);
           }
         }
-      if (o.progress) o.progress(double(++slices) / dims.z);
+      if (o.progress) o.progress(double(++slices) / slicesTotal);
     }
   });
 
   if (outOfRange)
     throwBadInput(path + ": grid '" + name + "': its transform maps the region to sample to index coordinates beyond "
                   "+-2^30 (a degenerate or extreme transform)");
-  header.classes.add({1, name, {200, 200, 200}, std::nullopt}, path);
-  uint64_t bytes = 0;
-  const std::string sha = sha256File(path, &bytes);
-  header.sources.push_back({path, "vdb", sha, bytes});
   auto in = [&](int64_t u, int64_t v, int64_t w) {
-    if (u < 0 || v < 0 || w < 0 || u >= dims.x || v >= dims.y || w >= dims.z) return false;
-    const uint64_t i = (uint64_t(w) * dims.y + uint64_t(v)) * dims.x + uint64_t(u);
+    if (u < slo[0] || v < slo[1] || w < slo[2] || u > shi[0] || v > shi[1] || w > shi[2]) return false;
+    const uint64_t i = bit(u, v, w);
     return ((inside[i >> 6].load(std::memory_order_relaxed) >> (i & 63)) & 1) != 0;
   };
-  SceneBuilder builder(header);
-  for (uint32_t w = 0; w < dims.z; ++w)
-    for (uint32_t v = 0; v < dims.y; ++v)
-      for (uint32_t u = 0; u < dims.x; ++u) {
+  for (int64_t w = lo[2]; w <= hi[2]; ++w)
+    for (int64_t v = lo[1]; v <= hi[1]; ++v)
+      for (int64_t u = lo[0]; u <= hi[0]; ++u) {
         if (!in(u, v, w)) continue;
-        const bool surface = !in(int64_t(u) - 1, v, w) || !in(u + 1, v, w) || !in(u, int64_t(v) - 1, w) ||
-                             !in(u, v + 1, w) || !in(u, v, int64_t(w) - 1) || !in(u, v, w + 1);
+        const bool surface = !in(u - 1, v, w) || !in(u + 1, v, w) || !in(u, v - 1, w) || !in(u, v + 1, w) ||
+                             !in(u, v, w - 1) || !in(u, v, w + 1);
         builder.addVotes({int32_t(u), int32_t(v), int32_t(w)}, 1, kInteriorVotes, surface);
       }
   return std::move(builder).build();

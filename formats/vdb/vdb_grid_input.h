@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -27,6 +28,12 @@ struct VdbGridInputOptions {
   double voxelSize = 0;              // world units per voxel (one of the two > 0)
   unsigned threads = 1;
   ProgressFn progress;
+  /// A region bake: called with the world's header (dims, placement, class,
+  /// source) once it is known, returns the inclusive index box to resample
+  /// (nullopt: the whole grid). Only the box and a 1-voxel halo around it are
+  /// sampled (the surface flag reads the 6 neighbours), so the scene is the
+  /// whole resampling cropped to the box, in the box's time and memory.
+  std::function<std::optional<IndexBox>(const SceneHeader&)> regionOf;
 };
 
 /// Throws vox::Error (BadInput) naming the file and grid, (Usage) for a fog

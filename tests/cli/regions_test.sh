@@ -4,7 +4,7 @@
 # scene cropped to its tile (checked through vox diff against the merge), and
 # `vox merge` of the parts writes exactly the single-process bake's bytes (cmp),
 # for meshes (surface with vertex colours, solid open and closed, both rules),
-# demo:hamlet and a block map. Bad command lines exit 2, bad sets of parts exit
+# demo:hamlet, demo:city, a block map and an OpenVDB level set. Bad command lines exit 2, bad sets of parts exit
 # 3 with nothing written; empty tiles merge; bytes equal at --threads 1 and 2.
 set -u
 vox=$1
@@ -74,6 +74,14 @@ run_case solid_open open.obj --res 90 --fill solid
 run_case parity_open open.obj --res 70 --fill solid --solid-rule parity
 run_case hamlet demo:hamlet --res 128
 run_case blockmap map.json --grid-size 100,12,90
+run_case city demo:city --extent 512,96,384
+# An OpenVDB level set (written by OpenVDB's own tool, when it is installed).
+if command -v vdb_tool >/dev/null; then
+  vdb_tool -sphere r=8 dim=64 voxel=0.25 name=ball -write ball_ls.vdb >/dev/null 2>&1 || fail "vdb_tool failed"
+  run_case grid ball_ls.vdb --res 100
+else
+  echo "regions: vdb_tool not installed: the OpenVDB grid input case is skipped"
+fi
 
 # Colour made it into the parts (the mesh has vertex colours).
 "$vox" info surface.2.0.vdb > info.txt && grep -q "voxels coloured" info.txt || fail "surface part has no colour"

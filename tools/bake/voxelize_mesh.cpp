@@ -383,6 +383,7 @@ std::string voxelSettingsText(const VoxelizeOptions& o, const std::vector<std::s
   add("pad", std::to_string(o.pad));
   add("bounds", o.bounds);
   add("grid-size", o.gridSize);
+  add("extent", o.extent ? *o.extent : "-");
   add("grid", o.gridName);
   if (o.threshold) std::snprintf(buf, sizeof buf, "%.17g", *o.threshold);
   add("threshold", o.threshold ? std::string(buf) : "-");

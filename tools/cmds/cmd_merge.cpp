@@ -3,6 +3,7 @@
 // byte what the single-process bake writes (libvox/scene/scene_parts.h,
 // docs/scale.md "Merging scenes").
 #include <CLI/CLI.hpp>
+#include <algorithm>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
@@ -32,7 +33,23 @@ int runMerge(const MergeOptions& o) {
   const std::string outTemp = run.output(o.output);  // checks the destination before the work
 
   // Each part is read, checked and added to the world's blocks, then
-  // released: the peak is the world's blocks plus one part.
+  // released: the peak is the world's blocks plus one part. The guard: the
+  // blocks hold about kBlockBytesPerFileByte bytes per byte of the parts'
+  // (compressed) files, measured on the hamlet and the city (docs/scale.md).
+  {
+    constexpr double kBlockBytesPerFileByte = 7.0;
+    uint64_t fileBytes = 0, largest = 0;
+    for (const std::string& path : o.parts) {
+      const int64_t size = std::max<int64_t>(0, vox::fileSizeOrMinusOne(path));
+      fileBytes += uint64_t(size);
+      largest = std::max<uint64_t>(largest, uint64_t(size));
+    }
+    vox::MemoryEstimate e;
+    e.add("resident before the merge", vox::residentBytesNow());
+    e.add("world blocks", double(fileBytes) * kBlockBytesPerFileByte);
+    e.add("one part read", double(largest) * kBlockBytesPerFileByte);
+    run.checkMemory(e, "merging " + std::to_string(o.parts.size()) + " parts");
+  }
   run.phase("read");
   std::vector<vox::SceneHeader> headers;
   vox::VoxelBlocks blocks;

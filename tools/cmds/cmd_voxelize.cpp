@@ -123,6 +123,12 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   vox::CityOptions c;
   c.extent = o.cityExtent();
   c.threads = run.threads();
+  // A region bake generates its box only: the city's voxels are a function of
+  // their coordinates and the surface test reads the design's neighbours, so
+  // the part is the whole city cropped (libvox/scene/demo_city.h).
+  vox::SceneHeader header = vox::cityHeader(c.extent);
+  header.region = regionRecord(o, header, voxelSettingsText(o));
+  if (header.region) c.box = header.region->box;
   run.phase("estimate");
   const uint64_t resident = vox::residentBytesNow();
   const vox::CityFootprint footprint = vox::estimateCityFootprint(c);
@@ -157,7 +163,6 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   bar->done();
   const uint64_t blockCount = blocks.blockCount();
   run.phase("write");
-  const vox::SceneHeader header = vox::cityHeader(c.extent);
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(header, blocks, outputTemp, run.threads());
   const vox::Dims d = header.dims;
   run.counts()["dims"] = {d.x, d.y, d.z};
@@ -169,6 +174,12 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   run.counts()["file_bytes"] = s.fileBytes;
   run.counts()["estimated_occupied_voxels"] = uint64_t(footprint.occupied);
   run.counts()["estimated_blocks"] = uint64_t(footprint.blocks);
+  if (header.region) {
+    const vox::IndexBox& b = header.region->box;
+    run.counts()["region"] = {{"index", header.region->index}, {"count", header.region->count},
+                              {"box", b.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
+  }
   run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
            std::to_string(s.classesPresent.size()) + " classes");
   return run.finish();
@@ -197,7 +208,8 @@ vox::Scene readBlockMapInput(const VoxelizeOptions& o, Run& run, const std::stri
 }
 
 /// An OpenVDB level set or fog volume, resampled at the resolution or voxel size.
-vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& input) {
+vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& input,
+                        std::optional<vox::SceneRegion>* region = nullptr) {
   run.phase("resample");
   run.input(input);
   vox::VdbGridInputOptions v;
@@ -206,6 +218,11 @@ vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& i
   v.voxelSize = o.voxelSize;
   v.resolution = o.resolutionUnlessVoxelSize();
   v.threads = run.threads();
+  if (region)  // a region bake resamples its box only
+    v.regionOf = [&o, region](const vox::SceneHeader& world) -> std::optional<vox::IndexBox> {
+      *region = regionRecord(o, world, voxelSettingsText(o));
+      return *region ? std::optional<vox::IndexBox>((*region)->box) : std::nullopt;
+    };
   auto bar = run.progress("resample");
   v.progress = [&bar](double f) { bar->update(f); };
   vox::Scene scene = vox::readVdbGridAsScene(input, v);
@@ -224,13 +241,22 @@ vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& i
                        vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb), demo:hamlet or demo:city");
 }
 
-/// A non-mesh input as blocks: the demo generated (its region only), block
-/// maps and grids read whole and cropped to the region (block maps: the
-/// surface flag comes from the map's neighbours, so the crop is exact).
+/// A non-mesh input as blocks: the demo and grids generated or resampled in
+/// their region only (with the neighbours the surface flag reads), block maps
+/// read whole and cropped to the region (the surface flag comes from the map's
+/// neighbours, so the crop is exact).
 BakedScene bakeInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
   if (vox::isDemoName(input)) return generateDemo(o, run, input);
-  const vox::Scene scene = sceneOfInput(o, run, input);
   BakedScene out;
+  if (vox::fileKindOf(input) == vox::FileKind::Vdb) {
+    std::optional<vox::SceneRegion> region;
+    const vox::Scene scene = resampleGrid(o, run, input, &region);
+    out.header = scene.header();
+    out.header.region = region;
+    out.blocks = vox::sceneBlocks(scene);
+    return out;
+  }
+  const vox::Scene scene = sceneOfInput(o, run, input);
   out.header = scene.header();
   out.header.region = regionRecord(o, out.header, voxelSettingsText(o));
   out.blocks = out.header.region ? vox::sceneBlocks(scene, &out.header.region->box) : vox::sceneBlocks(scene);
