@@ -111,7 +111,7 @@ common=(--requeue)
 
 # The batch scripts hold their arguments quoted (printf %q), so any path or
 # argument survives; Slurm copies a batch script when it is submitted.
-q() { printf ' %q' "$@"; }
+q() { [ $# = 0 ] || printf ' %q' "$@"; }
 # shellcheck disable=SC2206
 pack=($pack_args)
 # shellcheck disable=SC2016  # the single-quoted lines are the job's own code
