@@ -2,13 +2,14 @@
 # Growth tables (docs/growth.md): how each subcommand's CPU time and peak
 # memory grow with the scene, so a user can predict a bake. Every command runs
 # once per resolution under /usr/bin/time (CPU = user + system, peak = max
-# RSS) on the demo hamlet at RES^3 (and, when ../shared/data is there, the
-# Stanford bunny), and each table gives the CPU time per occupied voxel and
-# the growth exponent between consecutive rows:
+# RSS) on two scenes per resolution: the demo hamlet at RES^3 (solid: its
+# occupied voxels grow with the volume, as RES^3) and, when ../shared/data is
+# there, the Stanford bunny's surface (its voxels grow as RES^2, so a stage
+# whose cost follows the volume stands out). Each table gives the CPU time per
+# occupied voxel and the growth exponent between consecutive rows:
 #     exponent = log(CPU ratio) / log(occupied-voxel ratio)
-# 1 means the cost follows the occupied voxels; a stage that follows the
-# volume shows about 1.5 here (the hamlet's occupied voxels grow about as
-# RES^2, its volume as RES^3).
+# 1 means the cost follows the occupied voxels; on the bunny's surface a
+# stage that follows the volume shows about 1.5.
 # Usage: scripts/growth.sh [VOX] [DATA_DIR]     -> Markdown on stdout
 # Env: RESOLUTIONS (default "128 256 512 1024"), THREADS (default 2).
 set -u
@@ -48,24 +49,32 @@ for r in $resolutions; do
     run "voxelize bunny (surface)" "$r" b$r.vdb voxelize "$bunny" --res "$r" -o b$r.vdb
     run "voxelize bunny --fill solid" "$r" bs$r.vdb voxelize "$bunny" --res "$r" --fill solid -o bs$r.vdb
   fi
-  run "info" "$r" h$r.vdb info h$r.vdb
-  run "diff (same scene)" "$r" h$r.vdb diff h$r.vdb h$r.vdb
-  run "mip" "$r" h$r.vdb mip h$r.vdb -o m$r.vdb
-  run "pack-chunks --mips" "$r" h$r.vdb pack-chunks m$r.vdb -o p$r.vpk --mips
-  run "build-atlas --summary" "$r" h$r.vdb build-atlas h$r.vdb -o atlas$r --summary
-  run "build-atlas --occupancy" "$r" h$r.vdb build-atlas h$r.vdb -o occ$r --occupancy
-  run "render-canonical 1024x1024 iso" "$r" h$r.vdb render-canonical h$r.vdb -o iso$r.png --view iso --size 1024x1024
-  run "render-canonical 8 views, depth+class" "$r" h$r.vdb render-canonical h$r.vdb -o o$r.png --orbit 8 --size 512x512 --mode depth,class
-  python3 - "$r" <<'PY'
+  for scene in h b; do
+    [ -f $scene$r.vdb ] || continue
+    name=hamlet
+    [ $scene = b ] && name="bunny surface"
+    s=$scene$r
+    run "info ($name)" "$r" $s.vdb info $s.vdb
+    run "diff, same scene ($name)" "$r" $s.vdb diff $s.vdb $s.vdb
+    run "mip ($name)" "$r" $s.vdb mip $s.vdb -o m$s.vdb
+    run "pack-chunks --mips ($name)" "$r" $s.vdb pack-chunks m$s.vdb -o p$s.vpk --mips
+    run "build-atlas --summary ($name)" "$r" $s.vdb build-atlas $s.vdb -o atlas$s --summary
+    run "build-atlas --occupancy ($name)" "$r" $s.vdb build-atlas $s.vdb -o occ$s --occupancy
+    run "render-canonical 1024x1024 iso ($name)" "$r" $s.vdb render-canonical $s.vdb -o iso$s.png --view iso --size 1024x1024
+    run "render-canonical 8 views, depth+class ($name)" "$r" $s.vdb render-canonical $s.vdb -o o$s.png --orbit 8 \
+      --size 512x512 --mode depth,class
+    python3 - "$s" <<'PY'
 import json, sys
-r = sys.argv[1]
-json.dump({'views': [{'depth': 'o%s_%03d.depth.exr' % (r, i), 'label': 'o%s_%03d.class.png' % (r, i)} for i in range(8)]},
-          open('views%s.json' % r, 'w'))
+s = sys.argv[1]
+json.dump({'views': [{'depth': 'o%s_%03d.depth.exr' % (s, i), 'label': 'o%s_%03d.class.png' % (s, i)} for i in range(8)]},
+          open('views%s.json' % s, 'w'))
 PY
-  run "fuse 8 views of 512x512" "$r" f$r.vdb fuse views$r.json -o f$r.vdb
-  run "export .glb (culled)" "$r" h$r.vdb export h$r.vdb -o h$r.glb
-  run "export .glb --greedy" "$r" h$r.vdb export h$r.vdb -o hg$r.glb --greedy
-  rm -rf atlas$r occ$r ./*.glb ./*.exr ./*.png
+    run "fuse 8 views of 512x512 ($name)" "$r" f$s.vdb fuse views$s.json -o f$s.vdb
+    run "export .glb, culled ($name)" "$r" $s.vdb export $s.vdb -o $s.glb
+    run "export .glb --greedy ($name)" "$r" $s.vdb export $s.vdb -o g$s.glb --greedy
+    rm -rf atlas$s occ$s ./*.glb ./*.exr ./*.png m$s.vdb p$s.vpk f$s.vdb
+  done
+  rm -f bs$r.vdb
 done
 
 python3 - "$(cut -d' ' -f1-3 /proc/loadavg)" "$threads" <<'PY'

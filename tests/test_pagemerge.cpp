@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include "formats/pagefile/pagefile.h"
 #include "libvox/core/regions.h"
 #include "libvox/scene/demo_hamlet.h"
+#include "libvox/scene/mip.h"
 #include "libvox/scene/scene.h"
 #include "test_util.h"
 
@@ -41,7 +45,34 @@ vox::Scene cropToTile(const vox::Scene& world, uint32_t i, uint32_t n, const std
   return std::move(b).build();
 }
 
-std::vector<uint8_t> pack(const vox::Scene& s, const vox::PackSettings& ps) { return vox::packChunks({&s}, ps).bytes; }
+// How the levels are made: none (no --mips), or buildMipPyramid with an
+// occupancy rule and `--levels` (0: automatic).
+struct Mips {
+  bool on = false;
+  vox::MipOccupancy occupancy = vox::MipOccupancy::Any;
+  int levels = 0;
+  std::string name() const {
+    return on ? std::string("--mips --occupancy ") + vox::mipOccupancyName(occupancy) + " --levels " + std::to_string(levels)
+              : "no mips";
+  }
+};
+
+// What `vox pack-chunks SCENE --mips ...` writes (mipLevelsToBuild: a part
+// gets its levels up to the seam level).
+std::vector<uint8_t> pack(const vox::Scene& s, vox::PackSettings ps, const Mips& mips = {}) {
+  std::vector<vox::Scene> levels;
+  std::vector<const vox::Scene*> ptrs{&s};
+  if (mips.on) {
+    vox::MipSettings ms;
+    ms.occupancy = mips.occupancy;
+    ms.levels = vox::mipLevelsToBuild(s.header(), mips.levels);
+    levels = vox::buildMipPyramid(s, ms);
+    for (const vox::Scene& l : levels) ptrs.push_back(&l);
+    ps.mipOccupancy = vox::mipOccupancyName(mips.occupancy);
+    ps.mipLevelsAsked = uint32_t(mips.levels);
+  }
+  return vox::packChunks(ptrs, ps).bytes;
+}
 
 // A coloured scene over several tiles: coloured surface voxels in the low x
 // half only, so the parts on the high side have no colour channel.
@@ -88,18 +119,26 @@ struct Merged {
 };
 
 // The parts of `world` in tiles of `n`, packed, opened in the order `order` gives.
-Merged packParts(const vox::Scene& world, uint32_t n, const vox::PackSettings& ps) {
+Merged packParts(const vox::Scene& world, uint32_t n, const vox::PackSettings& ps, const Mips& mips = {}) {
   Merged m;
-  for (uint32_t i = 0; i < n; ++i) m.partBytes.push_back(pack(cropToTile(world, i, n), ps));
+  for (uint32_t i = 0; i < n; ++i) m.partBytes.push_back(pack(cropToTile(world, i, n), ps, mips));
   for (uint32_t i = 0; i < n; ++i)
     m.readers.push_back(Reader::fromMemory(m.partBytes[i].data(), m.partBytes[i].size(), "part" + std::to_string(i) + ".vpk"));
   return m;
 }
 
-std::vector<uint8_t> merge(const std::vector<const Reader*>& parts, unsigned threads = 1) {
+// The merged file's bytes (written to a temporary file, read back).
+std::vector<uint8_t> merge(std::span<const Reader* const> parts, unsigned threads = 1, vox::MergeResult* result = nullptr) {
   vox::MergeSettings ms;
   ms.threads = threads;
-  return vox::mergePageFiles(parts, ms).bytes;
+  const voxtest::TempDir dir;
+  const std::string path = dir.file("merged.vpk");
+  const vox::MergeResult r = vox::mergePageFiles(parts, ms, path);
+  if (result) *result = r;
+  std::ifstream in(path, std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes.size(), r.fileBytes);
+  return bytes;
 }
 
 std::vector<const Reader*> ptrs(const Merged& m) {
@@ -109,21 +148,21 @@ std::vector<const Reader*> ptrs(const Merged& m) {
 }
 
 // Every layout, chunk side and tile count of the issue: merged == whole.
-void expectMergeIsWhole(const vox::Scene& world, const std::string& what) {
+void expectMergeIsWhole(const vox::Scene& world, const std::string& what, const Mips& mips = {}) {
   for (const auto& layout : vox::pagefile::layoutTable())
     for (uint32_t chunk : {8u, 16u, 32u}) {
       vox::PackSettings ps;
       ps.layout = layout.id;
       ps.chunkSide = chunk;
       ps.alignment = 64;
-      const std::vector<uint8_t> whole = pack(world, ps);
+      const std::vector<uint8_t> whole = pack(world, ps, mips);
       for (uint32_t n : {1u, 2u, 3u, 7u}) {
-        const Merged m = packParts(world, n, ps);
+        const Merged m = packParts(world, n, ps, mips);
         std::vector<const Reader*> order = ptrs(m);
         std::rotate(order.begin(), order.begin() + n / 2, order.end());  // any order
         std::reverse(order.begin(), order.end());
         const std::vector<uint8_t> merged = merge(order, 1 + n % 2);
-        EXPECT_TRUE(merged == whole) << what << ": layout " << layout.name << ", chunk " << chunk << ", N = " << n
+        EXPECT_TRUE(merged == whole) << what << ", " << mips.name() << ": layout " << layout.name << ", chunk " << chunk << ", N = " << n
                                      << ": " << merged.size() << " bytes merged, " << whole.size() << " whole";
       }
     }
@@ -141,17 +180,83 @@ TEST(PageMerge, ColouredPartsWithAndWithoutColourMergeToTheWholeFile) {
 
 TEST(PageMerge, PartsWithoutInteriorVoxelsMergeToTheWholeFile) { expectMergeIsWhole(interiorScene(), "interior"); }
 
+const Mips kAnyAuto{true, vox::MipOccupancy::Any, 0};
+const Mips kMajorityAuto{true, vox::MipOccupancy::Majority, 0};
+
+TEST(PageMerge, HamletWithMipsMergesToTheWholeFile) {
+  vox::HamletOptions ho;
+  ho.resolution = 128;
+  const vox::Scene hamlet = vox::buildHamlet(ho);
+  expectMergeIsWhole(hamlet, "hamlet 128", kAnyAuto);
+  expectMergeIsWhole(hamlet, "hamlet 128", kMajorityAuto);
+}
+
+// The merge's paths are all taken: copies, chunks of mip levels joined from
+// several parts, levels rebuilt from the seam voxels.
+TEST(PageMerge, MipsTakeEveryPath) {
+  vox::HamletOptions ho;
+  ho.resolution = 128;
+  const vox::Scene hamlet = vox::buildHamlet(ho);
+  vox::PackSettings ps;
+  ps.chunkSide = 8;
+  ps.layout = Layout::Svo;
+  const Merged m = packParts(hamlet, 7, ps, kAnyAuto);
+  vox::MergeResult r;
+  const std::vector<uint8_t> bytes = merge(ptrs(m), 1, &r);
+  EXPECT_GT(r.stats.copiedChunks, 0u);
+  EXPECT_GT(r.stats.joinedChunks, 0u);
+  EXPECT_GT(r.stats.rebuiltChunks, 0u);
+  EXPECT_GT(r.stats.seamVoxels, 1u);
+  EXPECT_EQ(r.levels.size(), 8u);  // 128 -> 1: levels 0..7
+  EXPECT_EQ(bytes, pack(hamlet, ps, kAnyAuto));
+}
+
+TEST(PageMerge, HamletAtResolution256WithAndWithoutMips) {
+  vox::HamletOptions ho;
+  ho.resolution = 256;
+  ho.threads = 2;
+  const vox::Scene hamlet = vox::buildHamlet(ho);
+  expectMergeIsWhole(hamlet, "hamlet 256");
+  expectMergeIsWhole(hamlet, "hamlet 256", kAnyAuto);
+}
+
+TEST(PageMerge, ColouredAndInteriorScenesWithMips) {
+  expectMergeIsWhole(colouredScene(), "coloured", kAnyAuto);
+  expectMergeIsWhole(colouredScene(), "coloured", kMajorityAuto);
+  expectMergeIsWhole(interiorScene(), "interior", kAnyAuto);
+  expectMergeIsWhole(interiorScene(), "interior", kMajorityAuto);
+}
+
+// --levels below, at and past the seam level.
+TEST(PageMerge, LevelsAskedMergeToTheWholeFile) {
+  for (int levels : {1, 3, 4, 5, 7}) expectMergeIsWhole(colouredScene(), "coloured", {true, vox::MipOccupancy::Any, levels});
+}
+
+// A sparse world whose automatic pyramid stops early (a level with one voxel)
+// while most parts are empty.
+TEST(PageMerge, AutomaticPyramidThatStopsEarly) {
+  vox::SceneHeader h;
+  h.dims = {200, 30, 180};
+  h.classes.add({1, "a", {}, {}});
+  for (const std::vector<vox::Coord3>& pts : std::vector<std::vector<vox::Coord3>>{
+           {{5, 5, 5}}, {{5, 5, 5}, {6, 5, 5}}, {{0, 0, 0}, {150, 20, 170}}, {{31, 0, 31}, {32, 0, 32}, {33, 1, 33}}}) {
+    vox::SceneBuilder b(h);
+    for (const vox::Coord3& c : pts) b.addVotes(c, 1, 3, true);
+    const vox::Scene s = std::move(b).build();
+    expectMergeIsWhole(s, std::to_string(pts.size()) + " voxels", kAnyAuto);
+    expectMergeIsWhole(s, std::to_string(pts.size()) + " voxels", kMajorityAuto);
+  }
+}
+
 TEST(PageMerge, IdenticalBytesAtAnyThreadCount) {
   const vox::Scene world = colouredScene();
   vox::PackSettings ps;
   ps.layout = Layout::Svo;
   const Merged m = packParts(world, 7, ps);
-  vox::MergeSettings ms;
-  const vox::MergeResult r = vox::mergePageFiles(ptrs(m), ms);
+  vox::MergeResult r;
+  const std::vector<uint8_t> one = merge(ptrs(m), 1, &r);
   EXPECT_GT(r.stats.reencodedChunks, 0u);  // the parts without colour
   EXPECT_GT(r.stats.copiedChunks, 0u);
-  const std::vector<uint8_t> one = merge(ptrs(m), 1);
-  EXPECT_EQ(one, r.bytes);
   EXPECT_EQ(one, merge(ptrs(m), 2));
   EXPECT_EQ(one, merge(ptrs(m), 0));
 }
@@ -200,6 +305,33 @@ TEST_F(PageMergeErrors, PartsPackedWithOtherSettings) {
     EXPECT_TRUE(refused({&m.readers[0], &m.readers[1], &r},
                         {"odd.vpk", which == 0 ? "chunk side" : which == 1 ? "layout" : "alignment"}));
   }
+}
+
+TEST_F(PageMergeErrors, PartsWithOtherMipSettings) {
+  const Mips any{true, vox::MipOccupancy::Any, 0};
+  const Merged withMips = packParts(world, 3, ps, any);
+  const std::vector<uint8_t> none = pack(cropToTile(world, 2, 3), ps);  // no --mips
+  const Reader r0 = Reader::fromMemory(none.data(), none.size(), "nomips.vpk");
+  EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r0}, {"nomips.vpk", "--mips"}));
+  const std::vector<uint8_t> maj = pack(cropToTile(world, 2, 3), ps, {true, vox::MipOccupancy::Majority, 0});
+  const Reader r1 = Reader::fromMemory(maj.data(), maj.size(), "majority.vpk");
+  EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r1}, {"majority.vpk", "mip occupancy"}));
+  const std::vector<uint8_t> five = pack(cropToTile(world, 2, 3), ps, {true, vox::MipOccupancy::Any, 5});
+  const Reader r2 = Reader::fromMemory(five.data(), five.size(), "five.vpk");
+  EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r2}, {"five.vpk", "--levels"}));
+  // Levels that came from a `vox mip` pyramid file.
+  vox::PackSettings fromFile = ps;
+  const vox::Scene part = cropToTile(world, 2, 3);
+  vox::MipSettings ms;
+  ms.levels = vox::mipLevelsToBuild(part.header(), 0);
+  const std::vector<vox::Scene> levels = vox::buildMipPyramid(part, ms);
+  std::vector<const vox::Scene*> lp{&part};
+  for (const vox::Scene& l : levels) lp.push_back(&l);
+  fromFile.mipOccupancy = "from part2_mips.vdb";
+  const std::vector<uint8_t> pyr = vox::packChunks(lp, fromFile).bytes;
+  const Reader r3 = Reader::fromMemory(pyr.data(), pyr.size(), "pyramid.vpk");
+  const Reader* all3[] = {&withMips.readers[0], &withMips.readers[1], &r3};
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { merge(all3); }, vox::ErrorKind::BadInput, {"pyramid.vpk"}));
 }
 
 TEST_F(PageMergeErrors, CorruptPayloadNamesThePartAndTheChunk) {

@@ -12,6 +12,7 @@
 #include "libvox/core/parallel.h"
 #include "libvox/core/summary_bytes.h"
 #include "libvox/core/version.h"
+#include "libvox/scene/mip.h"
 #include "libvox/scene/scene_grids.h"
 
 namespace vox {
@@ -153,15 +154,16 @@ class ChunkGatherer {
 // contiguous ranges of chunks; each chunk's payload lands in its own slot, so
 // the result does not depend on the thread count. A layout's refusal is
 // reported for the first chunk in order.
-std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const pagefile::Header& h,
-                                           const PackSettings& s) {
+}  // namespace
+
+std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const pagefile::Header& h, unsigned threads) {
   const pagefile::LayoutCodec& codec = pagefile::codecOf(h.layout);
   const SceneGrids& g = scene.grids();
   const std::vector<uint64_t> keys = chunkKeys(g, h.chunkLog2);
   const uint32_t C = h.chunkSide(), N = h.chunkVoxels();
   std::vector<pagefile::ChunkBlob> out(keys.size());
   std::vector<std::exception_ptr> errors(keys.size());
-  parallelPieces(keys.size(), s.threads, 0, [&](size_t begin, size_t end, size_t) {
+  parallelPieces(keys.size(), threads, 0, [&](size_t begin, size_t end, size_t) {
     ChunkGatherer gatherer(g, C, codec.encoderNeedsVotes);
     for (size_t ci = begin; ci < end; ++ci) {
       const auto cc = mortonDecode(keys[ci]);
@@ -181,14 +183,46 @@ std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const 
   });
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
+  std::erase_if(out, [](const pagefile::ChunkBlob& b) { return b.occupied == 0; });  // leaves without active voxels
   return out;
+}
+
+namespace {
+
+// A region part's record for a merge: the settings, and the seam level's voxels
+// in full when the part has that level.
+pagefile::RegionMips regionMips(const std::vector<const Scene*>& levels, const PackSettings& s) {
+  pagefile::RegionMips r;
+  r.levelsAsked = s.mipLevelsAsked;
+  if (levels.size() <= pagefile::kRegionSeamLevel) return r;
+  r.seamLevel = pagefile::kRegionSeamLevel;
+  levels[r.seamLevel]->forEachVoxel([&](const VoxelView& v) {
+    pagefile::SeamVoxel sv;
+    sv.at = {uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w)};
+    sv.surface = v.surface;
+    sv.votes.assign(v.votes.begin(), v.votes.end());
+    if (v.color) sv.color = std::array<float, 3>{v.color->r, v.color->g, v.color->b};
+    r.voxels.push_back(std::move(sv));
+  });
+  return r;
 }
 
 }  // namespace
 
-PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& s) {
+int mipLevelsToBuild(const SceneHeader& header, int asked) {
+  const int reachable = maxMipLevels(header.dims);
+  if (!header.region || asked > reachable) return asked;
+  const int seam = std::min<int>(int(pagefile::kRegionSeamLevel), reachable);
+  return asked ? std::min(asked, seam) : seam;
+}
+
+pagefile::Header packHeader(const std::vector<const Scene*>& levels, const PackSettings& s) {
   checkSettings(s, levels.size());
-  const pagefile::Header h = fileHeader(levels, s);
+  return fileHeader(levels, s);
+}
+
+PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& s) {
+  const pagefile::Header h = packHeader(levels, s);
   const SceneHeader& bh = levels[0]->header();
   pagefile::PageMeta meta;
   meta.toolVersion = kToolVersion;
@@ -197,6 +231,7 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
   meta.mipOccupancy = s.mipOccupancy;
   meta.blockWorld = bh.blockWorld;
   meta.region = bh.region;
+  if (bh.region && levels.size() > 1) meta.regionMips = regionMips(levels, s);
 
   PackResult result;
   std::vector<pagefile::ChunkBlob> blobs;
@@ -208,8 +243,7 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
       throw Error(ErrorKind::Internal, "packChunks: level " + std::to_string(li) + " has the wrong dims");
     PackResult::Level lv;
     lv.level = int(li);
-    for (pagefile::ChunkBlob& b : packLevel(scene, int(li), h, s)) {
-      if (b.occupied == 0) continue;  // a leaf without active voxels
+    for (pagefile::ChunkBlob& b : packLevel(scene, int(li), h, s.threads)) {
       ++lv.chunks;
       lv.fullChunks += b.full ? 1 : 0;
       lv.voxels += b.occupied;

@@ -25,6 +25,7 @@ struct PackSettings {
   pagefile::Layout layout = pagefile::Layout::Bricks;
   unsigned threads = 1;       // 0: every core; any count gives the same bytes
   std::string mipOccupancy;   // recorded in the metadata ("any", "majority", "from FILE"), empty without mips
+  uint32_t mipLevelsAsked = 0;  // `--levels` (0: automatic), recorded for a region part's merge
 };
 
 struct PackResult {
@@ -37,9 +38,29 @@ struct PackResult {
 };
 
 /// Packs `levels` (level 0 first, then 1, 2, ... as buildMipPyramid makes them).
+/// A region part (header.region set) with mips also records `region_mips` in
+/// the metadata: the settings and, when it has level pagefile::kRegionSeamLevel,
+/// that level's voxels in full (what `--merge` rebuilds the coarse levels from).
 /// Throws vox::Error (Usage, with the Setting to change) for an unsupported
 /// chunk side, alignment or layout, and for a scene the layout cannot hold
 /// (columns: a coloured interior voxel).
 PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& settings);
+
+/// MipSettings::levels for packing `header`'s scene with `--levels asked`
+/// (0: automatic): `asked` for a whole scene; for a region part, every level
+/// up to pagefile::kRegionSeamLevel (or `asked` when smaller), whatever the
+/// part holds, so that a merge finds them where the world's automatic pyramid
+/// goes on. Leaves an `asked` beyond the grid's levels to buildMipPyramid's check.
+int mipLevelsToBuild(const SceneHeader& header, int asked);
+
+/// The header packChunks writes for `levels` and `settings` (channel flags
+/// from every level).
+pagefile::Header packHeader(const std::vector<const Scene*>& levels, const PackSettings& settings);
+
+/// The non-empty chunks of one level of a scene, encoded for `header` (its
+/// layout, chunk side and flags), in Morton order; `threads` as in PackSettings.
+/// What packChunks writes for that level.
+std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const pagefile::Header& header,
+                                           unsigned threads);
 
 }  // namespace vox

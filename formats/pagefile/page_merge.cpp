@@ -1,17 +1,27 @@
 #include "formats/pagefile/page_merge.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <exception>
 
 #include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile_meta.h"
 #include "formats/pagefile/svo_layout.h"
+#include "formats/core/file_util.h"
+#include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
 #include "libvox/core/parallel.h"
 #include "libvox/core/regions.h"
 #include "libvox/core/version.h"
+#include "libvox/scene/mip.h"
+#include "libvox/scene/scene.h"
 
 namespace vox {
 
@@ -22,6 +32,39 @@ using pagefile::Reader;
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// The output, written in place with pwrite from any thread.
+class OutputFile {
+ public:
+  OutputFile(const std::string& path, uint64_t size) : path_(path) {
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd_ < 0) throwIo(outputName(path) + ": cannot create the file: " + std::strerror(errno));
+    if (::ftruncate(fd_, off_t(size)) != 0) fail(errno);
+  }
+  ~OutputFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  void write(uint64_t offset, const uint8_t* p, size_t n) {
+    while (n > 0) {
+      const ssize_t w = ::pwrite(fd_, p, n, off_t(offset));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) fail(w < 0 ? errno : ENOSPC);
+      p += w, n -= size_t(w), offset += uint64_t(w);
+    }
+  }
+  void close() {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) fail(errno);
+  }
+
+ private:
+  [[noreturn]] void fail(int err) const {
+    throwIo(outputName(path_) + ": cannot write the file: " + std::strerror(err));
+  }
+  std::string path_;
+  int fd_ = -1;
+};
 
 // One part: its reader, metadata and the scene header checkRegionParts reads.
 struct Part {
@@ -47,6 +90,11 @@ SceneHeader sceneHeaderOf(const Reader& r, const pagefile::PageMeta& meta) {
 
 [[noreturn]] void refuse(const Reader& r, const std::string& what) { throwBadInput(r.name() + ": " + what); }
 
+bool contains(const IndexBox& outer, const IndexBox& inner) {
+  return !outer.empty() && inner.min.u >= outer.min.u && inner.min.v >= outer.min.v && inner.min.w >= outer.min.w &&
+         inner.max.u <= outer.max.u && inner.max.v <= outer.max.v && inner.max.w <= outer.max.w;
+}
+
 // Every part is a part, and the parts agree on what decides the bytes of the
 // merged file besides their voxels.
 void checkSettingsAgree(const std::vector<Part>& parts) {
@@ -63,13 +111,77 @@ void checkSettingsAgree(const std::vector<Part>& parts) {
     if (b.layout != a.layout) differs("layout", pagefile::layoutName(a.layout), pagefile::layoutName(b.layout));
     if (b.alignLog2 != a.alignLog2)
       differs("payload alignment", std::to_string(1u << a.alignLog2), std::to_string(1u << b.alignLog2));
-    if (b.levelCount != 1)
-      refuse(*p.reader, "the part has " + std::to_string(b.levelCount) +
-                            " levels: --merge joins level 0 only so far; pack the parts without --mips, merge, "
-                            "then build the levels from the merged scene");
     if (p.meta.mipOccupancy != first.meta.mipOccupancy)
       differs("mip occupancy", "'" + first.meta.mipOccupancy + "'", "'" + p.meta.mipOccupancy + "'");
+    if (b.levelCount != a.levelCount)
+      differs("level count", std::to_string(a.levelCount), std::to_string(b.levelCount));
+    if (b.levelCount == 1) continue;
+    if (p.meta.mipOccupancy != "any" && p.meta.mipOccupancy != "majority")
+      refuse(*p.reader, "its levels came " + p.meta.mipOccupancy +
+                            ": a merge rebuilds the coarse levels, so pack the parts from their scenes with --mips "
+                            "[--occupancy any|majority] [--levels N]");
+    if (!p.meta.regionMips) refuse(*p.reader, "the part has mip levels but no 'region_mips' record: pack it again");
+    const pagefile::RegionMips& ra = *first.meta.regionMips;
+    const pagefile::RegionMips& rb = *p.meta.regionMips;
+    if (rb.levelsAsked != ra.levelsAsked)
+      differs("--levels", std::to_string(ra.levelsAsked), std::to_string(rb.levelsAsked));
+    if (rb.seamLevel != ra.seamLevel || (rb.seamLevel && rb.seamLevel != pagefile::kRegionSeamLevel))
+      differs("seam level", std::to_string(ra.seamLevel), std::to_string(rb.seamLevel));
   }
+}
+
+// The number of levels the single-process pack has: `--levels` + 1, or the
+// automatic rule of buildMipPyramid (stop after the first level with at most
+// one voxel) on the parts' counts per level (every voxel of a level below the
+// seam lies in one part). Returns 0 when the rule has not stopped by the
+// parts' last level and the seam level decides the rest.
+int worldLevelCount(const std::vector<Part>& parts) {
+  const int stored = parts.front().reader->header().levelCount;
+  if (stored == 1) return 1;
+  const pagefile::RegionMips& rm = *parts.front().meta.regionMips;
+  if (rm.levelsAsked) return int(rm.levelsAsked) + 1;
+  std::vector<uint64_t> counts(size_t(stored), 0);
+  for (const Part& p : parts)
+    for (const pagefile::IndexEntry& e : p.reader->entries()) counts[e.level] += e.occupied;
+  if (counts[0] <= 1) return 1;
+  for (int n = 1; n < stored; ++n)
+    if (counts[size_t(n)] <= 1) return n + 1;
+  return rm.seamLevel ? 0 : stored;
+}
+
+// The seam level of the world: the parts' seam voxels joined (each lies in
+// its part's box), with the world's placement at that level.
+Scene seamScene(const std::vector<Part>& parts, uint32_t level) {
+  const Part& first = parts.front();
+  SceneHeader h = first.header;
+  h.region.reset();
+  h.dims = mipDims(h.dims, int(level));
+  for (uint32_t k = 0; k < level; ++k) h.voxelSize *= 2;
+  h.mipLevel = int(level);
+  SceneBuilder b(h);
+  for (const Part& p : parts) {
+    const IndexBox& box = p.meta.region->box;
+    const std::array<uint32_t, 3> dims0 = p.reader->header().dims;
+    for (size_t i = 0; i < p.meta.regionMips->voxels.size(); ++i) {
+      const pagefile::SeamVoxel& v = p.meta.regionMips->voxels[i];
+      IndexBox span;  // the level-0 voxels it covers
+      span.min = {int64_t(v.at[0]) << level, int64_t(v.at[1]) << level, int64_t(v.at[2]) << level};
+      span.max = {std::min<int64_t>(span.min.u + (1 << level), dims0[0]) - 1,
+                  std::min<int64_t>(span.min.v + (1 << level), dims0[1]) - 1,
+                  std::min<int64_t>(span.min.w + (1 << level), dims0[2]) - 1};
+      if (v.at[0] >= h.dims.x || v.at[1] >= h.dims.y || v.at[2] >= h.dims.z || !contains(box, span))
+        refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]' lies outside the part's box");
+      const Coord3 c{int64_t(v.at[0]), int64_t(v.at[1]), int64_t(v.at[2])};
+      for (const ClassVotes& cv : v.votes) {
+        if (!h.classes.find(cv.classId))
+          refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]': class " +
+                                std::to_string(cv.classId) + " is not in the class table");
+        b.addVotes(c, cv.classId, cv.votes, v.surface);
+      }
+      if (v.color) b.setColor(c, {(*v.color)[0], (*v.color)[1], (*v.color)[2]});
+    }
+  }
+  return std::move(b).build();
 }
 
 // A chunk of the output and where its voxels come from: (part, entry) pairs,
@@ -90,14 +202,9 @@ IndexBox chunkBox(const std::array<uint32_t, 3>& cc, uint32_t C, const std::arra
   return b;
 }
 
-bool contains(const IndexBox& outer, const IndexBox& inner) {
-  return !outer.empty() && inner.min.u >= outer.min.u && inner.min.v >= outer.min.v && inner.min.w >= outer.min.w &&
-         inner.max.u <= outer.max.u && inner.max.v <= outer.max.v && inner.max.w <= outer.max.w;
-}
-
 // Chunks of every part, sorted by (level, key); a level-0 chunk has one source
 // and must lie inside its part's box.
-std::vector<OutChunk> collectChunks(const std::vector<Part>& parts) {
+std::vector<OutChunk> collectChunks(const std::vector<Part>& parts, int below) {
   struct Item {
     uint8_t level;
     uint64_t key;
@@ -110,6 +217,7 @@ std::vector<OutChunk> collectChunks(const std::vector<Part>& parts) {
     const auto& entries = r.entries();
     for (uint32_t ei = 0; ei < entries.size(); ++ei) {
       const pagefile::IndexEntry& e = entries[ei];
+      if (e.level >= below) continue;
       if (e.level == 0 && !contains(box, chunkBox(e.chunk(), r.header().chunkSide(), r.header().dims)))
         refuse(r, r.describe(ei) + " lies outside the part's box: the file is not the part its 'region' says");
       items.push_back({e.level, e.key, pi, ei});
@@ -181,7 +289,8 @@ void forChunks(const std::vector<size_t>& which, unsigned threads, Fn&& work) {
 
 }  // namespace
 
-MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSettings& settings) {
+MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSettings& settings,
+                           const std::string& outputPath) {
   if (readers.empty()) throw Error(ErrorKind::Internal, "mergePageFiles: no parts");
   MergeResult result;
   MergeStats& st = result.stats;
@@ -209,7 +318,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   h.layout = first.reader->header().layout;
   h.chunkLog2 = first.reader->header().chunkLog2;
   h.alignLog2 = first.reader->header().alignLog2;
-  h.levelCount = first.reader->header().levelCount;
+  h.levelCount = first.reader->header().levelCount;  // the parts'; the world's is set below
   h.dims = first.reader->header().dims;
   h.voxelSize = first.reader->header().voxelSize;
   h.origin = first.reader->header().origin;
@@ -218,7 +327,12 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   for (const Part& p : parts) h.flags |= p.reader->header().flags;
   st.flagsFromParts = h.flags;
 
-  std::vector<OutChunk> chunks = collectChunks(parts);
+  // Levels: those below the seam level from the parts' chunks, the others
+  // rebuilt from the seam voxels.
+  int levelCount = worldLevelCount(parts);
+  const uint32_t seam = h.levelCount > 1 ? first.meta.regionMips->seamLevel : 0;
+  const int fromParts = seam ? std::min<int>(levelCount ? levelCount : int(seam), int(seam)) : levelCount;
+  std::vector<OutChunk> chunks = collectChunks(parts, fromParts);
   std::vector<size_t> toCopy, toEncode;
   for (size_t i = 0; i < chunks.size(); ++i) {
     OutChunk& c = chunks[i];
@@ -227,42 +341,84 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   }
   st.checkSeconds = secondsSince(t0);
 
-  // Copy: payloads of parts whose flags are the world's, CRC checked.
-  std::vector<pagefile::ChunkBlob> blobs(chunks.size());
-  for (size_t i = 0; i < chunks.size(); ++i) {
-    blobs[i].level = chunks[i].level;
-    blobs[i].key = chunks[i].key;
-  }
-  t0 = std::chrono::steady_clock::now();
-  forChunks(toCopy, settings.threads, [&](size_t i) {
-    const auto [pi, ei] = chunks[i].sources[0];
-    const Reader& r = *parts[pi].reader;
-    const pagefile::IndexEntry& e = r.entries()[ei];
-    const std::span<const uint8_t> bytes = r.payload(ei);  // checks the CRC
-    blobs[i].occupied = e.occupied;
-    blobs[i].full = e.flags & pagefile::kChunkFull;
-    blobs[i].bytes.assign(bytes.begin(), bytes.end());
-  });
-  st.copySeconds = secondsSince(t0);
-
-  // Re-encode: chunks of parts that lack a channel of the world.
+  // Re-encode: chunks of parts that lack a channel of the world, and chunks
+  // of mip levels that several parts hold.
+  std::vector<pagefile::ChunkBlob> blobs(chunks.size());  // only toEncode's are filled
   t0 = std::chrono::steady_clock::now();
   forChunks(toEncode, settings.threads, [&](size_t i) {
     uint32_t occupied = 0;
     for (const auto& [pi, ei] : chunks[i].sources) occupied += parts[pi].reader->entries()[ei].occupied;
+    blobs[i].level = chunks[i].level;
+    blobs[i].key = chunks[i].key;
     blobs[i].occupied = occupied;
     blobs[i].full = occupied == h.chunkVoxels();
     blobs[i].bytes = reencode(parts, chunks[i], h);
   });
   st.reencodeSeconds = secondsSince(t0);
-  st.copiedChunks = toCopy.size();
-  st.reencodedChunks = toEncode.size();
-  for (size_t i : toCopy) st.copiedBytes += blobs[i].bytes.size();
-  for (size_t i : toEncode) st.reencodedBytes += blobs[i].bytes.size();
+
+  // Mips: the seam level joined, the coarser levels reduced from it as
+  // buildMipPyramid does, each level packed as packChunks does.
+  t0 = std::chrono::steady_clock::now();
+  std::vector<pagefile::ChunkBlob> rebuilt;
+  if (seam && levelCount != fromParts) {
+    std::vector<Scene> levels;
+    levels.push_back(seamScene(parts, seam));
+    MipSettings ms;
+    ms.occupancy = first.meta.mipOccupancy == "majority" ? MipOccupancy::Majority : MipOccupancy::Any;
+    ms.levels = levelCount ? levelCount - 1 - int(seam) : 0;
+    ms.threads = settings.threads;
+    if (levelCount == 0 || ms.levels > 0)
+      for (Scene& l : buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
+    levelCount = int(seam) + int(levels.size());
+    st.seamVoxels = levels[0].occupiedCount();
+    for (size_t k = 0; k < levels.size(); ++k)
+      for (pagefile::ChunkBlob& b : packLevel(levels[k], int(seam + k), h, settings.threads)) {
+        ++st.rebuiltChunks;
+        st.rebuiltBytes += b.bytes.size();
+        rebuilt.push_back(std::move(b));
+      }
+  }
+  h.levelCount = uint8_t(levelCount);
+  st.mipsSeconds = secondsSince(t0);
+
+  // The file's chunks in index order: copied payloads are described by their
+  // part's index entry (their CRC is checked when they are copied), the others
+  // by their new bytes.
+  t0 = std::chrono::steady_clock::now();
+  const size_t total = chunks.size() + rebuilt.size();
+  std::vector<pagefile::ChunkSlot> slots(total);
+  std::vector<const std::vector<uint8_t>*> bytesOf(total, nullptr);
+  for (size_t i = 0; i < chunks.size(); ++i) {
+    if (chunks[i].copy) {
+      const auto [pi, ei] = chunks[i].sources[0];
+      const pagefile::IndexEntry& e = parts[pi].reader->entries()[ei];
+      slots[i] = {e.level, e.key, e.occupied, bool(e.flags & pagefile::kChunkFull), e.size, e.crc};
+      ++st.copiedChunks;
+      st.copiedBytes += e.size;
+    } else {
+      const pagefile::ChunkBlob& b = blobs[i];
+      slots[i] = {b.level, b.key, b.occupied, b.full, b.bytes.size(), 0};
+      bytesOf[i] = &b.bytes;
+      ++st.reencodedChunks;
+      st.reencodedBytes += b.bytes.size();
+      st.joinedChunks += chunks[i].sources.size() > 1 ? 1 : 0;
+    }
+  }
+  for (size_t k = 0; k < rebuilt.size(); ++k) {
+    const pagefile::ChunkBlob& b = rebuilt[k];
+    slots[chunks.size() + k] = {b.level, b.key, b.occupied, b.full, b.bytes.size(), 0};
+    bytesOf[chunks.size() + k] = &b.bytes;
+  }
+  std::vector<size_t> computed;
+  for (size_t i = 0; i < total; ++i)
+    if (bytesOf[i]) computed.push_back(i);
+  parallelForEach(computed.size(), settings.threads, 64, [&](size_t j) {
+    const std::vector<uint8_t>& b = *bytesOf[computed[j]];
+    slots[computed[j]].crc = crc32c(b.data(), b.size());
+  });
 
   // The metadata the single-process pack writes: the parts' class table,
   // sources and block world, no region, the levels counted here.
-  t0 = std::chrono::steady_clock::now();
   pagefile::PageMeta meta;
   meta.toolVersion = kToolVersion;
   meta.classes = first.meta.classes;
@@ -272,21 +428,41 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   for (int l = 0; l < h.levelCount; ++l) {
     MergeResult::Level lv;
     lv.level = l;
-    for (const pagefile::ChunkBlob& b : blobs)
-      if (b.level == l) {
+    for (const pagefile::ChunkSlot& c : slots)
+      if (c.level == l) {
         ++lv.chunks;
-        lv.fullChunks += b.full ? 1 : 0;
-        lv.voxels += b.occupied;
-        lv.payloadBytes += b.bytes.size();
+        lv.fullChunks += c.full ? 1 : 0;
+        lv.voxels += c.occupied;
+        lv.payloadBytes += c.size;
       }
     result.levels.push_back(lv);
-    const auto d = h.levelDims(l);
     double vs = h.voxelSize;
     for (int k = 0; k < l; ++k) vs *= 2;
-    meta.levels.push_back({uint32_t(l), d, vs, lv.chunks, lv.voxels});
+    meta.levels.push_back({uint32_t(l), h.levelDims(l), vs, lv.chunks, lv.voxels});
   }
-  result.bytes = pagefile::serialize(h, pagefile::writePageMeta(meta), blobs);
-  st.serializeSeconds = secondsSince(t0);
+  const pagefile::FilePlan plan = pagefile::planFile(h, pagefile::writePageMeta(meta), slots);
+  result.fileBytes = plan.header.fileBytes;
+
+  // Write: the file at its final size (zeros between payloads), header, index
+  // and metadata, then every payload at its offset, in parallel; copied ones
+  // straight from the part's mapping once their CRC is checked.
+  OutputFile out(outputPath, plan.header.fileBytes);
+  out.write(0, plan.prefix.data(), plan.prefix.size());
+  st.writeSeconds = secondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  std::vector<size_t> all(total);
+  for (size_t i = 0; i < total; ++i) all[i] = i;
+  forChunks(all, settings.threads, [&](size_t i) {
+    if (bytesOf[i]) {
+      out.write(plan.entries[i].offset, bytesOf[i]->data(), bytesOf[i]->size());
+      return;
+    }
+    const auto [pi, ei] = chunks[i].sources[0];
+    const std::span<const uint8_t> bytes = parts[pi].reader->payload(ei);  // checks the CRC
+    out.write(plan.entries[i].offset, bytes.data(), bytes.size());
+  });
+  out.close();
+  st.copySeconds = secondsSince(t0);
   return result;
 }
 

@@ -32,12 +32,19 @@ struct MergeStats {
   uint64_t partFileBytes = 0;     // sum of the parts' sizes
   uint64_t copiedChunks = 0, copiedBytes = 0;          // payloads copied verbatim
   uint64_t reencodedChunks = 0, reencodedBytes = 0;    // payloads decoded and encoded again (output bytes)
+  uint64_t joinedChunks = 0;      // of those, chunks of a mip level that several parts hold (joined by union)
+  uint64_t rebuiltChunks = 0, rebuiltBytes = 0;        // chunks of the levels rebuilt from the seam voxels
+  uint64_t seamVoxels = 0;        // voxels of the seam level, from the parts' metadata
   uint64_t flagsFromParts = 0;    // the world's channel flags (OR of the parts')
-  double checkSeconds = 0, copySeconds = 0, reencodeSeconds = 0, serializeSeconds = 0;
+  double checkSeconds = 0;     // metadata, checkRegionParts, settings, the chunks' places
+  double reencodeSeconds = 0;  // decoding and encoding
+  double mipsSeconds = 0;      // the seam level joined, coarser levels reduced and packed
+  double writeSeconds = 0;     // index, metadata, the file's layout and its first bytes
+  double copySeconds = 0;      // every payload written at its offset (copies CRC-checked on the way)
 };
 
 struct MergeResult {
-  std::vector<uint8_t> bytes;  // the whole file
+  uint64_t fileBytes = 0;  // of the file written
   struct Level {
     int level = 0;
     uint64_t chunks = 0, fullChunks = 0, voxels = 0, payloadBytes = 0;
@@ -52,7 +59,13 @@ struct MergeResult {
 /// metadata); parts of different bakes, repeated, overlapping or missing tiles
 /// (checkRegionParts); parts with different chunk side, layout, alignment,
 /// level count or mip occupancy; a chunk outside its part's tile; a payload
-/// whose CRC32C or structure is wrong. Nothing is returned on error.
-MergeResult mergePageFiles(std::span<const pagefile::Reader* const> parts, const MergeSettings& settings);
+/// whose CRC32C or structure is wrong. Checks and re-encoding come before the
+/// output is created; a payload's CRC is checked as it is copied, so on error
+/// `outputPath` may hold a partial file: write to a temporary file
+/// (formats/core/file_util.h AtomicOutput) and commit it on success.
+/// Writes the file at `outputPath` with pwrite (zero bytes between payloads
+/// come from extending the file); throws vox::Error (Io) when it cannot.
+MergeResult mergePageFiles(std::span<const pagefile::Reader* const> parts, const MergeSettings& settings,
+                           const std::string& outputPath);
 
 }  // namespace vox

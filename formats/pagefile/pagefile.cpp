@@ -105,7 +105,7 @@ std::array<uint32_t, 3> Header::levelChunks(int level) const {
 
 std::array<uint32_t, 3> IndexEntry::chunk() const { return mortonDecode(key); }
 
-std::vector<uint8_t> serialize(Header h, const std::string& metaJson, const std::vector<ChunkBlob>& chunks) {
+FilePlan planFile(Header h, const std::string& metaJson, std::span<const ChunkSlot> chunks) {
   const uint64_t align = uint64_t(1) << h.alignLog2;
   const LayoutCodec& codec = codecOf(h.layout);
   h.chunkCount = chunks.size();
@@ -113,32 +113,46 @@ std::vector<uint8_t> serialize(Header h, const std::string& metaJson, const std:
   h.metaOffset = h.indexOffset + kIndexEntryBytes * h.chunkCount;
   h.metaBytes = metaJson.size();
   h.payloadOffset = alignUp(h.metaOffset + h.metaBytes, align);
-  std::vector<IndexEntry> entries(chunks.size());
+  FilePlan plan;
+  plan.entries.resize(chunks.size());
   uint64_t at = h.payloadOffset;
   for (size_t i = 0; i < chunks.size(); ++i) {
-    const ChunkBlob& c = chunks[i];
+    const ChunkSlot& c = chunks[i];
     if (i > 0 && std::make_pair(chunks[i - 1].level, chunks[i - 1].key) >= std::make_pair(c.level, c.key))
       throw Error(ErrorKind::Internal, "page file: chunks not sorted by (level, key)");
     const IndexEntry sizing{c.level, uint8_t(c.full ? kChunkFull : 0), c.occupied, c.key, 0, 0, 0};
-    if (codec.sizeFromIndex && c.bytes.size() != codec.sizeFromIndex(h, sizing))
+    if (codec.sizeFromIndex && c.size != codec.sizeFromIndex(h, sizing))
       throw Error(ErrorKind::Internal, "page file: chunk payload size mismatch");
-    if (c.bytes.size() > 0xFFFFFFFFu || c.occupied == 0 || c.full != (c.occupied == h.chunkVoxels()))
+    if (c.size > 0xFFFFFFFFu || c.occupied == 0 || c.full != (c.occupied == h.chunkVoxels()))
       throw Error(ErrorKind::Internal, "page file: bad chunk (empty, full bit or size)");
     at = alignUp(at, align);
-    entries[i] = {c.level, uint8_t(c.full ? kChunkFull : 0), c.occupied, c.key, at, uint32_t(c.bytes.size()),
-                  crc32c(c.bytes.data(), c.bytes.size())};
-    at += c.bytes.size();
+    plan.entries[i] = {c.level, uint8_t(c.full ? kChunkFull : 0), c.occupied, c.key, at, uint32_t(c.size), c.crc};
+    at += c.size;
   }
   h.fileBytes = chunks.empty() ? h.payloadOffset : at;
-  std::vector<uint8_t> out(h.fileBytes, 0);
-  for (size_t i = 0; i < entries.size(); ++i) {
-    encodeEntry(entries[i], out.data() + h.indexOffset + kIndexEntryBytes * i);
-    if (!chunks[i].bytes.empty()) std::memcpy(out.data() + entries[i].offset, chunks[i].bytes.data(), chunks[i].bytes.size());
-  }
-  std::memcpy(out.data() + h.metaOffset, metaJson.data(), metaJson.size());
-  h.indexCrc = crc32c(out.data() + h.indexOffset, kIndexEntryBytes * h.chunkCount);
+  plan.prefix.assign(h.payloadOffset, 0);
+  for (size_t i = 0; i < plan.entries.size(); ++i)
+    encodeEntry(plan.entries[i], plan.prefix.data() + h.indexOffset + kIndexEntryBytes * i);
+  std::memcpy(plan.prefix.data() + h.metaOffset, metaJson.data(), metaJson.size());
+  h.indexCrc = crc32c(plan.prefix.data() + h.indexOffset, kIndexEntryBytes * h.chunkCount);
   h.metaCrc = crc32c(metaJson.data(), metaJson.size());
-  encodeHeader(h, out.data());
+  encodeHeader(h, plan.prefix.data());
+  plan.header = h;
+  return plan;
+}
+
+std::vector<uint8_t> serialize(Header h, const std::string& metaJson, const std::vector<ChunkBlob>& chunks) {
+  std::vector<ChunkSlot> slots(chunks.size());
+  for (size_t i = 0; i < chunks.size(); ++i) {
+    const ChunkBlob& c = chunks[i];
+    slots[i] = {c.level, c.key, c.occupied, c.full, c.bytes.size(), crc32c(c.bytes.data(), c.bytes.size())};
+  }
+  const FilePlan plan = planFile(h, metaJson, slots);
+  std::vector<uint8_t> out(plan.header.fileBytes, 0);
+  std::memcpy(out.data(), plan.prefix.data(), plan.prefix.size());
+  for (size_t i = 0; i < chunks.size(); ++i)
+    if (!chunks[i].bytes.empty())
+      std::memcpy(out.data() + plan.entries[i].offset, chunks[i].bytes.data(), chunks[i].bytes.size());
   return out;
 }
 

@@ -123,6 +123,30 @@ struct ChunkBlob {
   std::vector<uint8_t> bytes;
 };
 
+/// One chunk of a file being laid out: its index entry but the offset.
+struct ChunkSlot {
+  uint8_t level = 0;
+  uint64_t key = 0;
+  uint32_t occupied = 0;
+  bool full = false;
+  uint64_t size = 0;  // payload bytes
+  uint32_t crc = 0;   // CRC32C of the payload
+};
+
+/// A page file laid out before its payloads are written: the header with
+/// every offset, size and CRC; the index entries with their offsets; and the
+/// file's first header.payloadOffset bytes (header, index, metadata, zero
+/// padding). Payload i goes at entries[i].offset, zero bytes between payloads,
+/// the file ends with the last payload (header.fileBytes). serialize() is this
+/// plan plus the payloads; a writer that streams payloads (the merge of region
+/// parts) uses it directly. Same checks as serialize().
+struct FilePlan {
+  Header header;
+  std::vector<IndexEntry> entries;
+  std::vector<uint8_t> prefix;
+};
+FilePlan planFile(Header header, const std::string& metaJson, std::span<const ChunkSlot> chunks);
+
 /// Serializes a whole page file: header, index, metadata (JSON text, see
 /// PAGEFILE.md), payloads at aligned offsets. `header` gives layout, chunkLog2,
 /// levelCount, alignLog2, flags, dims, voxelSize, origin; the rest is computed.

@@ -28,6 +28,31 @@ struct LevelMeta {
   bool operator==(const LevelMeta&) const = default;
 };
 
+/// The mip level whose voxels a region part stores in full (votes, linear
+/// colour) for a merge: level-n voxels of n <= 5 lie in one 32-voxel tile cell,
+/// and the svo mip bricks of level-n chunks below it reach level n + 2 <= 5, so
+/// every chunk of the levels below it joins from the parts' decoded chunks;
+/// this level and the coarser ones are rebuilt from these voxels
+/// (PAGEFILE.md, "Merging the parts of a region bake").
+inline constexpr uint32_t kRegionSeamLevel = 4;
+
+/// One voxel of a part's seam level, as the pyramid holds it.
+struct SeamVoxel {
+  std::array<uint32_t, 3> at{};                 // index coordinates at the seam level
+  bool surface = false;
+  std::vector<ClassVotes> votes;                // by class id, each >= 1
+  std::optional<std::array<float, 3>> color;    // linear
+  bool operator==(const SeamVoxel&) const = default;
+};
+
+/// What a part packed with mips records for a merge (key `region_mips`).
+struct RegionMips {
+  uint32_t levelsAsked = 0;        // `--levels` of the pack (0: automatic)
+  uint32_t seamLevel = 0;          // level of `voxels`; 0: none (the part stores every level the world can have)
+  std::vector<SeamVoxel> voxels;   // the part's voxels at seamLevel, in the scene's voxel order
+  bool operator==(const RegionMips&) const = default;
+};
+
 struct PageMeta {
   std::string toolVersion;              // of the vox that wrote the file
   ClassTable classes;                   // as the scene's `vox:classes`
@@ -36,6 +61,7 @@ struct PageMeta {
   std::string mipOccupancy;             // "any", "majority" or "from FILE"; empty: no mips, key absent
   std::optional<BlockWorldPlacement> blockWorld;
   std::optional<SceneRegion> region;    // as the scene's `vox:region`: the file is a part of a region bake
+  std::optional<RegionMips> regionMips; // parts packed with mips only
   bool operator==(const PageMeta&) const = default;
 };
 

@@ -108,6 +108,10 @@ std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSett
   vox::MipSettings ms;
   ms.occupancy = o.occupancy;
   ms.levels = o.levels;
+  // A region part gets its levels up to the seam level whatever it holds;
+  // the merge decides the world's levels and rebuilds the coarser ones.
+  ms.levels = vox::mipLevelsToBuild(levels[0].header(), o.levels);
+  pack.mipLevelsAsked = uint32_t(o.levels);
   ms.threads = run.threads();
   for (vox::Scene& l : vox::buildMipPyramid(levels[0], ms)) levels.push_back(std::move(l));
   pack.mipOccupancy = vox::mipOccupancyName(o.occupancy);
@@ -182,14 +186,10 @@ int runMerge(const PackOptions& o) {
   std::vector<const vox::pagefile::Reader*> ptrs;
   for (const auto& r : readers) ptrs.push_back(&r);
   run.checkWorkMemory("merging " + std::to_string(o.merge.size()) + " parts", 1.0);
-  run.phase("merge");
+  run.phase("merge");  // checks, re-encoding, mips, then the file written in place
   vox::MergeSettings ms;
   ms.threads = run.threads();
-  const vox::MergeResult res = vox::mergePageFiles(ptrs, ms);
-  run.phase("write");
-  const auto w0 = std::chrono::steady_clock::now();
-  writeBytes(res.bytes, temp, o.output);
-  const double writeSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  const vox::MergeResult res = vox::mergePageFiles(ptrs, ms, temp);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   uint64_t voxels = 0, chunks = 0;
   nlohmann::json lv = nlohmann::json::array();
@@ -209,21 +209,27 @@ int runMerge(const PackOptions& o) {
                   {"copied_bytes", st.copiedBytes},
                   {"reencoded_chunks", st.reencodedChunks},
                   {"reencoded_bytes", st.reencodedBytes},
-                  {"file_bytes", res.bytes.size()},
+                  {"joined_chunks", st.joinedChunks},
+                  {"rebuilt_chunks", st.rebuiltChunks},
+                  {"rebuilt_bytes", st.rebuiltBytes},
+                  {"seam_voxels", st.seamVoxels},
+                  {"file_bytes", res.fileBytes},
+                  // copy: every payload written at its offset (copied ones CRC-checked);
+                  // write: layout, index, metadata; the final fsync and rename come after
                   {"seconds",
                    {{"read", readSecs},
                     {"check", st.checkSeconds},
-                    {"copy", st.copySeconds},
                     {"reencode", st.reencodeSeconds},
-                    {"mips", 0.0},
-                    {"assemble", st.serializeSeconds},
-                    {"write", writeSecs},
+                    {"mips", st.mipsSeconds},
+                    {"write", st.writeSeconds},
+                    {"copy", st.copySeconds},
                     {"total", total}}},
-                  {"merge_mb_per_s", total > 0 ? double(res.bytes.size()) / 1e6 / total : 0.0}};
+                  {"merge_mb_per_s", total > 0 ? double(res.fileBytes) / 1e6 / total : 0.0}};
   run.note("merged " + std::to_string(o.merge.size()) + " parts into " + o.output + ": " +
            std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) + " chunks (" +
-           std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded), " +
-           std::to_string(res.bytes.size()) + " bytes");
+           std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded, " +
+           std::to_string(st.rebuiltChunks) + " rebuilt from the seam level), " +
+           std::to_string(res.fileBytes) + " bytes");
   return run.finish();
 }
 
