@@ -121,6 +121,10 @@ cluster)
   for i in 0 1 2; do
     [ "$(cat "task-$i.txt" 2>/dev/null)" = "$i" ] || fail "array task $i did not run (task-$i.txt: $(cat "task-$i.txt" 2>&1))"
   done
+  # sbatch refuses a job (no such partition): exit 4, nothing left queued.
+  expect_exit 4 "$bake_slurm" --regions 2 --out o --vox "$vox" --partition nosuch -- demo:hamlet --res 16
+  expect_stderr "sbatch refused the region array"
+  [ -z "$(squeue -h -o %A)" ] || fail "jobs queued after a refused submission: $(squeue 2>&1)"
   stop_slurm_cluster
   for p in $pids; do
     [ -e /proc/$p ] && fail "daemon pid $p still alive after stop_slurm_cluster ($(cat /proc/$p/comm))"
