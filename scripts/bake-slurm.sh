@@ -11,7 +11,9 @@
 # and the merge job (sbatch --dependency=afterok:<array job>) runs
 #   vox merge DIR/part-0.vdb ... -o DIR/world.vdb
 #   vox pack-chunks --merge DIR/part-0.vpk ... -o DIR/world.vpk
-# DIR must be visible at the same path from every node (a shared filesystem).
+# DIR must be visible at the same path from every node (a shared filesystem);
+# the jobs start in the directory this script runs in (sbatch's default), so
+# relative paths in VOXELIZE-ARGS (a mesh, a block map) must be visible too.
 # The batch scripts and the jobs' logs go to DIR/slurm/.
 #
 # Options:
@@ -43,7 +45,7 @@
 set -u
 
 usage() {
-  sed -n '2,/^set -u/{/^#/s/^# \{0,1\}//p}' "$0" >&2
+  sed -n '2,/^set -u/{/^#/s/^# \{0,1\}//p}' "$0"
 }
 die() { echo "bake-slurm: $2" >&2; exit "$1"; }
 
@@ -111,7 +113,7 @@ common=(--requeue)
 
 # The batch scripts hold their arguments quoted (printf %q), so any path or
 # argument survives; Slurm copies a batch script when it is submitted.
-q() { printf ' %q' "$@"; }
+q() { [ $# = 0 ] || printf ' %q' "$@"; }
 # shellcheck disable=SC2206
 pack=($pack_args)
 # shellcheck disable=SC2016  # the single-quoted lines are the job's own code

@@ -121,6 +121,10 @@ cluster)
   for i in 0 1 2; do
     [ "$(cat "task-$i.txt" 2>/dev/null)" = "$i" ] || fail "array task $i did not run (task-$i.txt: $(cat "task-$i.txt" 2>&1))"
   done
+  # sbatch refuses a job (no such partition): exit 4, nothing left queued.
+  expect_exit 4 "$bake_slurm" --regions 2 --out o --vox "$vox" --partition nosuch -- demo:hamlet --res 16
+  expect_stderr "sbatch refused the region array"
+  [ -z "$(squeue -h -o %A)" ] || fail "jobs queued after a refused submission: $(squeue 2>&1)"
   stop_slurm_cluster
   for p in $pids; do
     [ -e /proc/$p ] && fail "daemon pid $p still alive after stop_slurm_cluster ($(cat /proc/$p/comm))"
@@ -167,6 +171,7 @@ bake)
   grep -q '^regions job [0-9]' out.txt && grep -q '^merge job [0-9]' out.txt ||
     fail "bake-slurm.sh did not print its job ids: $(head -c 300 out.txt)"
   same_as_reference o1 "slurm bake"
+  echo "slurm bake at N=$N: matches (${SECONDS} s into the test)"
 
   # A task that fails once (exit 4, as an I/O error) is requeued by Slurm.
   cat >flaky-vox <<EOF
@@ -187,6 +192,7 @@ EOF
   [ "$restarts" = 1 ] || fail "requeue: region task 1 restarted '${restarts}' times, expected 1"
   grep -q "requeued" o2/slurm/region-1.log || fail "requeue: region-1.log does not say requeued: $(head -c 300 o2/slurm/region-1.log)"
   same_as_reference o2 "slurm bake with a requeued task"
+  echo "slurm bake with region 1 requeued once: matches (${SECONDS} s into the test)"
 
   # A task that keeps failing: retried, then failed; the merge never runs.
   cat >broken-vox <<EOF
@@ -197,7 +203,8 @@ esac
 exec "$vox" "\$@"
 EOF
   chmod +x broken-vox
-  expect_exit 1 "$bake_slurm" --regions $N --out o3 --vox "$work/broken-vox" --retries 1 --pack-args "$PACK_ARGS" --wait -- "${SOURCE[@]}"
+  # (No --pack-args: the default pack of the parts that do complete.)
+  expect_exit 1 "$bake_slurm" --regions $N --out o3 --vox "$work/broken-vox" --retries 1 --wait -- "${SOURCE[@]}"
   expect_stderr "did not run"
   expect_stderr " 2 (FAILED)"
   job=$(sed -n 's/^regions job \([0-9]*\).*/\1/p' out.txt)
@@ -209,7 +216,9 @@ EOF
   [ -e o3/world.vpk ] && fail "permanent failure: o3/world.vpk was written"
   [ -e o3/world.vdb ] && fail "permanent failure: o3/world.vdb was written"
   [ -e o3/part-2.vpk ] && fail "permanent failure: o3/part-2.vpk exists"
+  [ -s o3/part-0.vpk ] && [ -s o3/part-1.vpk ] || fail "permanent failure: regions 0 and 1 left no page files: $(tail -n 3 o3/slurm/region-0.log)"
   [ -s o3/slurm/merge.log ] && fail "permanent failure: the merge job ran: $(head -c 300 o3/slurm/merge.log)"
+  echo "slurm bake with region 2 failing for good: merge cancelled (${SECONDS} s into the test)"
   ;;
 
 make)
@@ -220,6 +229,7 @@ make)
 
   expect_exit 0 "${mk[@]}" -j2 OUT=m1
   same_as_reference m1 "make -j2"
+  echo "make -j2 at N=$N: matches"
   expect_exit 0 "${mk[@]}" -j2 OUT=m1 --question  # up to date: nothing to do
 
   # Ctrl-C mid-run: SIGINT to make's process group, as a terminal sends it,
@@ -263,6 +273,7 @@ make)
       [ "$p:$(stat -c %.9Y "$p")" = "$k" ] || fail "make rerun: $p was rebaked (it was whole)"
     done
     same_as_reference m2 "make -j2 after SIGINT and a rerun"
+    echo "make -j2 interrupted, then rerun: matches"
   fi
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
