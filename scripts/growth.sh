@@ -69,7 +69,9 @@ s = sys.argv[1]
 json.dump({'views': [{'depth': 'o%s_%03d.depth.exr' % (s, i), 'label': 'o%s_%03d.class.png' % (s, i)} for i in range(8)]},
           open('views%s.json' % s, 'w'))
 PY
-    run "fuse 8 views of 512x512 ($name)" "$r" f$s.vdb fuse views$s.json -o f$s.vdb
+    # The bunny's classes are its materials, not the block palette the views
+    # file maps label colours with: fuse the hamlet's renders only.
+    [ $scene = h ] && run "fuse 8 views of 512x512 ($name)" "$r" f$s.vdb fuse views$s.json -o f$s.vdb
     run "export .glb, culled ($name)" "$r" $s.vdb export $s.vdb -o $s.glb
     run "export .glb --greedy ($name)" "$r" $s.vdb export $s.vdb -o g$s.glb --greedy
     rm -rf atlas$s occ$s ./*.glb ./*.exr ./*.png m$s.vdb p$s.vpk f$s.vdb
