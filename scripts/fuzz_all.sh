@@ -28,8 +28,9 @@ mkdir -p "$out"
 # The instrumented sources of a target (beside tests/fuzz/fuzz_NAME.cpp).
 sources_of() {
   case $1 in
-    obj|ply|stl) echo formats/mesh/${1}_reader.cpp formats/mesh/mesh_input.cpp ;;
-    gltf) echo formats/mesh/gltf_reader.cpp formats/mesh/gltf_json_check.cpp formats/mesh/gltf_draco.cpp formats/mesh/gltf_meshopt.cpp formats/mesh/gltf_images.cpp tests/fuzz/tinygltf_impl.cpp ;;
+    obj) echo formats/mesh/obj_reader.cpp formats/mesh/mesh_input.cpp formats/mesh/texture_image.cpp ;;
+    ply|stl) echo formats/mesh/${1}_reader.cpp formats/mesh/mesh_input.cpp ;;
+    gltf) echo formats/mesh/gltf_reader.cpp formats/mesh/gltf_json_check.cpp formats/mesh/gltf_draco.cpp formats/mesh/gltf_meshopt.cpp formats/mesh/gltf_images.cpp formats/mesh/texture_image.cpp tests/fuzz/tinygltf_impl.cpp ;;
     blockmap) echo formats/vdb/blockmap_json.cpp ;;
     classes) echo formats/mesh/classes_json.cpp formats/scene/class_table_json.cpp ;;
     camera) echo formats/core/camera_json.cpp ;;

@@ -10,7 +10,8 @@
 #                                  for the fuzzers, gnuplot for the study plot; numpy,
 #                                  node and Chromium for the export checks; Draco's
 #                                  draco_transcoder and WebP's cwebp for the glTF
-#                                  extension tests)
+#                                  extension tests; Slurm and MUNGE for the
+#                                  one-node cluster of tests/slurm/)
 set -eu
 [ "${VOX_SKIP_INSTALL:-0}" = 1 ] && exit 0
 profile=${1:-all}
@@ -19,10 +20,14 @@ profile=${1:-all}
 BUILD="build-essential cmake pkg-config ccache ninja-build make
 libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1g-dev
 libopenexr-dev libimath-dev libpng-dev
-libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev libmeshoptimizer-dev libwebp-dev"
+libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev libmeshoptimizer-dev libwebp-dev libjpeg62-turbo-dev"
 # The test suite (scripts/test.sh) and the benchmark scripts.
 TEST="libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy
 libopenvdb-tools openimageio-tools hyperfine gnuplot-nox clang chromium draco webp"
+# The region bake on Slurm (tests/slurm/): slurmctld, slurmd, the client
+# commands and munged. The tests do not use the packages' services: their
+# cluster runs from a generated configuration in a temporary directory.
+TEST="$TEST slurm-wlm munge"
 # clang's sanitizer and libFuzzer runtimes are only a recommendation of clang:
 # without them -fsanitize=fuzzer,address does not link (tests/fuzz/smoke.sh).
 TEST="$TEST libclang-rt-dev"

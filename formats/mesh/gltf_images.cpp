@@ -1,12 +1,11 @@
 #include "formats/mesh/gltf_images.h"
 
-#include <stb/stb_image.h>
 #include <tbb/parallel_for.h>
 #include <tiny_gltf.h>
-#include <webp/decode.h>
 
 #include <cstring>
 
+#include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -28,33 +27,10 @@ bool keepEncoded(tinygltf::Image* image, const int index, std::string*, std::str
 }
 
 struct Decoded {
-  std::vector<unsigned char> rgba;
-  int width = 0, height = 0;
+  TextureImage image;
+  std::string why;
   bool ok = false;
 };
-
-bool isWebp(const std::string& b) { return b.size() >= 12 && b.compare(0, 4, "RIFF") == 0 && b.compare(8, 4, "WEBP") == 0; }
-
-Decoded decode(const std::string& bytes) {
-  Decoded d;
-  int n = 0;
-  if (bytes.empty() || bytes.size() > size_t(std::numeric_limits<int>::max())) return d;
-  if (isWebp(bytes)) {  // EXT_texture_webp
-    uint8_t* px = WebPDecodeRGBA(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &d.width, &d.height);
-    if (!px) return d;
-    d.rgba.assign(px, px + size_t(d.width) * size_t(d.height) * 4);
-    WebPFree(px);
-    d.ok = d.width > 0 && d.height > 0;
-    return d;
-  }
-  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &d.width,
-                                      &d.height, &n, 4);
-  if (!px) return d;
-  d.rgba.assign(px, px + size_t(d.width) * size_t(d.height) * 4);
-  stbi_image_free(px);
-  d.ok = d.width > 0 && d.height > 0;
-  return d;
-}
 
 }  // namespace
 
@@ -69,26 +45,28 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
     if (needed[i] && images.received[i]) todo.push_back(i);
   // One task per image: a large texture is decoded on one thread, several in parallel.
   std::vector<Decoded> out(todo.size());
-  tbb::parallel_for(size_t(0), todo.size(), [&](size_t k) { out[k] = decode(images.bytes[todo[k]]); },
-                    tbb::simple_partitioner());
+  tbb::parallel_for(
+      size_t(0), todo.size(),
+      [&](size_t k) { out[k].ok = decodeTextureImage(images.bytes[todo[k]], out[k].image, out[k].why); },
+      tbb::simple_partitioner());
   for (size_t k = 0; k < todo.size(); ++k) {
     tinygltf::Image& im = model.images[todo[k]];
     images.bytes[todo[k]] = std::string();
     if (!out[k].ok) {
       const std::string what = path + ": image " + std::to_string(todo[k]) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'") +
-                               " cannot be decoded (not a PNG or JPEG that stb_image reads, nor a WebP)";
+                               " cannot be decoded (" + out[k].why + ")";
       if (options.ignoreMissingMaterials) {
         warnings.push_back(what + "; its textures are left out");
         continue;
       }
       throwBadInput(what + "; re-export it, or leave its textures out", Setting::IgnoreMissingMaterials);
     }
-    im.width = out[k].width;
-    im.height = out[k].height;
+    im.width = int(out[k].image.width);
+    im.height = int(out[k].image.height);
     im.component = 4;
     im.bits = 8;
     im.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    im.image = std::move(out[k].rgba);
+    im.image = std::move(out[k].image.rgba);
   }
 }
 

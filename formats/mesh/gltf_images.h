@@ -2,8 +2,8 @@
 // them: tinygltf is told to keep each image's encoded bytes instead of decoding
 // it while it parses (one after the other, every image, normal and
 // metallic-roughness maps too); afterwards the images that materials' colour
-// textures use are decoded by stb_image (PNG, JPEG, and the other formats stb
-// reads) or libwebp (WebP, EXT_texture_webp) to 8-bit RGBA on TBB's threads.
+// textures use are decoded (formats/mesh/texture_image.h: JPEG by
+// libjpeg-turbo, WebP by libwebp, PNG by stb_image) to 8-bit RGBA on TBB's threads.
 // The result does not depend on the thread count: each image is decoded on its own.
 #pragma once
 

@@ -10,9 +10,9 @@
 #include "formats/core/file_util.h"
 #include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
+#include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
 
-#include <stb/stb_image.h>
 
 namespace vox {
 
@@ -74,15 +74,14 @@ MeshTexture loadTexture(const std::string& path, const std::string& mtlName, siz
     throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path +
                   ": the texture file is missing; restore it or remove the map_Kd line");
   const std::string bytes = readFileBytes(path);
-  int w = 0, h = 0, n = 0;
-  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &w, &h, &n, 4);
-  if (!px) throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path + ": cannot decode the image (" +
-                         stbi_failure_reason() + ")");
+  TextureImage image;
+  std::string why;
+  if (!decodeTextureImage(bytes, image, why))
+    throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path + ": cannot decode the image (" + why + ")");
   MeshTexture t;
-  t.width = uint32_t(w);
-  t.height = uint32_t(h);
-  t.rgba.assign(px, px + size_t(w) * h * 4);
-  stbi_image_free(px);
+  t.width = image.width;
+  t.height = image.height;
+  t.rgba = std::move(image.rgba);
   t.source = path;
   return t;
 }

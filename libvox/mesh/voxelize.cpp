@@ -247,8 +247,12 @@ namespace {
 struct VoxelBox {
   int32_t lo[3], hi[3];
   int32_t ext[3];  // hi - lo + 1, kept: the hot loops index with it
+  // Where the rays start along each axis: lo, or (a region bake's box) the
+  // whole bake's box: crossings below lo keep their own start, so their order
+  // along the ray (which decides the enclosing class) is the whole bake's.
+  int32_t rayFrom[3];
   VoxelBox(const int32_t l[3], const int32_t h[3]) {
-    for (int i = 0; i < 3; ++i) lo[i] = l[i], hi[i] = h[i], ext[i] = h[i] - l[i] + 1;
+    for (int i = 0; i < 3; ++i) lo[i] = l[i], hi[i] = h[i], ext[i] = h[i] - l[i] + 1, rayFrom[i] = l[i];
   }
   uint64_t extent(int axis) const { return uint64_t(ext[axis]); }
   /// Box-local number of voxel (x, y, z): x-major, z fastest.
@@ -326,30 +330,45 @@ std::vector<Vec3i> snapToGridLattice(const Mesh& mesh, const SceneHeader& header
 }
 
 /// The solid fill's box: the voxels the mesh's triangles touch, clamped to
-/// the domain; nullopt when that is empty. Its bit sets (one for the winding
-/// rule, four for parity) are checked against the process's memory limit
-/// (libvox/core/memory_budget.h) before they are allocated; the CLI has
-/// already checked the whole bake, this catches library callers (mip --source).
-std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>& lattice, Dims dims, SolidRule rule) {
+/// the domain; nullopt when that is empty.
+std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>& lattice, Dims dims) {
   const int32_t dimv[3] = {int32_t(dims.x), int32_t(dims.y), int32_t(dims.z)};
   int32_t lo[3], hi[3];
-  bool empty = false;
-  uint64_t volume = 1;
   for (int i = 0; i < 3; ++i) {
     i64 mn = lattice[mesh.triangles[0][0]][i], mx = mn;
     for (const auto& tri : mesh.triangles)
       for (uint32_t vi : tri) mn = std::min(mn, lattice[vi][i]), mx = std::max(mx, lattice[vi][i]);
     voxelsTouching(mn, mx, dimv[i], lo[i], hi[i]);
-    if (lo[i] > hi[i]) empty = true;
-    else volume *= uint64_t(hi[i] - lo[i] + 1);
+    if (lo[i] > hi[i]) return std::nullopt;
   }
-  if (empty) return std::nullopt;
+  return VoxelBox(lo, hi);
+}
+
+/// The solid fill's bit sets (one for the winding rule, four for parity) are
+/// checked against the process's memory limit (libvox/core/memory_budget.h)
+/// before they are allocated; the CLI has already checked the whole bake, this
+/// catches library callers (mip --source).
+void checkSolidFillMemory(const VoxelBox& box, SolidRule rule) {
+  const uint64_t volume = box.extent(0) * box.extent(1) * box.extent(2);
   MemoryEstimate bits;
   bits.add("resident", residentBytesNow());
   bits.add("solid-fill bits", double(volume) / 8 * (rule == SolidRule::Parity ? 4 : 1));
   checkProcessMemory(bits, "a solid fill of a " + std::to_string(volume) + "-voxel box",
                      "fill only the surface, or use fewer, larger voxels");
-  return VoxelBox(lo, hi);
+}
+
+/// `box` cut to the region (inclusive), its rays starting where box's do;
+/// nullopt when they do not meet.
+std::optional<VoxelBox> cutToRegion(const VoxelBox& box, const IndexBox& region) {
+  const int32_t rlo[3] = {region.min.u, region.min.v, region.min.w}, rhi[3] = {region.max.u, region.max.v, region.max.w};
+  int32_t lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = std::max(box.lo[i], rlo[i]), hi[i] = std::min(box.hi[i], rhi[i]);
+    if (lo[i] > hi[i]) return std::nullopt;
+  }
+  VoxelBox cut(lo, hi);
+  for (int i = 0; i < 3; ++i) cut.rayFrom[i] = box.rayFrom[i];
+  return cut;
 }
 
 /// Progress of one voxelization: fractions clamped to 1, from any worker.
@@ -368,6 +387,7 @@ struct SurfaceWork {
   const std::vector<Vec3i>& lattice;  // the vertices in lattice units
   Dims dims;
   bool color;
+  const IndexBox* region;  // a region bake's box (inclusive), or null: the whole domain
   BoxBits* surfaceBits;  // solid fill: marks surface voxels inside the box
 };
 
@@ -470,6 +490,11 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
   const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
   for (int i = 0; i < 3; ++i) {
     voxelsTouching(latticeLo[i], latticeHi[i], dimv[i], first[i], last[i]);
+    if (W.region) {  // the pieces below depend on the voxel only, so the box's voxels come out as in the whole bake
+      const int32_t rlo[3] = {W.region->min.u, W.region->min.v, W.region->min.w};
+      const int32_t rhi[3] = {W.region->max.u, W.region->max.v, W.region->max.w};
+      first[i] = std::max(first[i], rlo[i]), last[i] = std::min(last[i], rhi[i]);
+    }
     if (first[i] > last[i]) return;
   }
   const uint8_t cls = W.triClass[t];
@@ -629,7 +654,7 @@ i64 ceilDiv(i128 a, i128 b) { return -floorDiv(-a, b); }
       // Height along a at Q, as num / area2 (barycentric weights E / area2).
       const i128 num = E[1] * V[0][a] + E[2] * V[1][a] + E[0] * V[2][a];
       i64 start = floorDiv(num - i128(kS) * area2, i128(2 * kS) * area2) + 1;
-      start = std::clamp<i64>(start, lo[a], i64(hi[a]) + 1);
+      start = std::clamp<i64>(start, box.rayFrom[a], i64(hi[a]) + 1);
       out.push_back({uint64_t((kb - lo[b]) * extentC + (kc - lo[c])), int32_t(start), delta, cls});
     }
 }
@@ -701,15 +726,16 @@ std::vector<Crossing> collectCrossings(const std::vector<std::array<uint32_t, 3>
       winding += all[i].delta;
       const int32_t to = (i + 1 < all.size() && all[i + 1].column == column) ? all[i + 1].start : hi[a] + 1;
       if (winding == 0) continue;
+      const int32_t from = std::max(all[i].start, lo[a]);  // a region's rays start below its box
       if (a == 2) {  // contiguous along z
-        if (to > all[i].start) {
-          xyz[2] = all[i].start;
+        if (to > from) {
+          xyz[2] = from;
           const uint64_t first = box.localIndex(xyz[0], xyz[1], xyz[2]);
-          bits->setRange(first, first + uint64_t(to - all[i].start));
+          bits->setRange(first, first + uint64_t(to - from));
         }
         continue;
       }
-      for (int32_t k = all[i].start; k < to; ++k) {
+      for (int32_t k = from; k < to; ++k) {
         xyz[a] = k;
         bits->set(box.localIndex(xyz[0], xyz[1], xyz[2]));
       }
@@ -1114,6 +1140,40 @@ void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector
 
 }  // namespace
 
+std::array<bool, 256> classesTouchingDomain(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                                            const SceneHeader& header) {
+  std::array<bool, 256> used{};
+  const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
+  const i64 dimLattice[3] = {i64(header.dims.x) * kS, i64(header.dims.y) * kS, i64(header.dims.z) * kS};
+  const int32_t dimv[3] = {int32_t(header.dims.x), int32_t(header.dims.y), int32_t(header.dims.z)};
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uint8_t cls = triangleClass[t];
+    if (used[cls]) continue;
+    std::array<int64_t, 3> q[3];
+    for (int k = 0; k < 3; ++k) q[k] = lattice[mesh.triangles[t][k]];
+    bool within = true, apart = false;
+    int32_t first[3], last[3];
+    for (int i = 0; i < 3; ++i) {
+      const i64 mn = std::min({q[0][i], q[1][i], q[2][i]}), mx = std::max({q[0][i], q[1][i], q[2][i]});
+      within = within && mn >= 0 && mx <= dimLattice[i];
+      apart = apart || mx < 0 || mn > dimLattice[i];
+      voxelsTouching(mn, mx, dimv[i], first[i], last[i]);
+    }
+    if (apart) continue;
+    if (within) {
+      used[cls] = true;
+      continue;
+    }
+    // Straddles the domain's boundary (--bounds): the exact test on its voxels
+    // there until one touches (rare: only cropped scenes have such triangles).
+    for (int32_t u = first[0]; u <= last[0] && !used[cls]; ++u)
+      for (int32_t v = first[1]; v <= last[1] && !used[cls]; ++v)
+        for (int32_t w = first[2]; w <= last[2] && !used[cls]; ++w)
+          if (triangleTouchesVoxel(q, u, v, w)) used[cls] = true;
+  }
+  return used;
+}
+
 VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
                                const SceneHeader& header, const VoxelizeSettings& settings) {
   if (triangleClass.size() != mesh.triangles.size())
@@ -1125,7 +1185,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
   std::optional<VoxelBox> box;
   std::vector<CapTriangle> caps;
   if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) {
-    box = solidFillBox(mesh, lattice, header.dims, settings.solidRule);
+    box = solidFillBox(mesh, lattice, header.dims);
     if (box && settings.solidRule == SolidRule::Winding) {
       caps = capBoundaryLoops(mesh.triangles, lattice);
       // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the
@@ -1141,11 +1201,15 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
         box = VoxelBox(lo, hi);
       }
     }
+    // A region works on its part of the box; its rays start where the whole box's do.
+    if (box && settings.region) box = cutToRegion(*box, *settings.region);
+    if (box) checkSolidFillMemory(*box, settings.solidRule);
   }
   std::unique_ptr<BoxBits> surfaceBits = box ? std::make_unique<BoxBits>(*box) : nullptr;
 
   const double surfaceShare = box ? 0.5 : 1.0;
-  const SurfaceWork work{mesh, triangleClass, lattice, header.dims, mesh.hasColor(), surfaceBits.get()};
+  const IndexBox* region = settings.region ? &*settings.region : nullptr;
+  const SurfaceWork work{mesh, triangleClass, lattice, header.dims, mesh.hasColor(), region, surfaceBits.get()};
   VoxelBlocks blocks = voxelizeSurface(work, threads, progress, surfaceShare);
   if (box && settings.solidRule == SolidRule::Parity) {
     const SolidRays rays = castRays(mesh, triangleClass, lattice, *box, threads);

@@ -88,6 +88,16 @@ struct VoxelizeSettings {
   /// renumbered as ClassIds says. voxelizeMeshBlocks ignores it: its caller
   /// owns the table (leaveOutClassesWithoutVotes in class_compaction.h).
   std::optional<ClassIds> leaveOutClassesWithoutVotes;
+  /// A region bake (libvox/core/regions.h): only the voxels inside this
+  /// inclusive index box, each exactly as the whole bake makes it. The surface
+  /// pass visits only the voxels of the box (a triangle straddling regions is
+  /// voxelized by each region it touches, its per-voxel pieces clipped the same
+  /// way); a solid fill works on the box only, with every triangle's crossings
+  /// counted along whole rays (the winding number W of a column below the box
+  /// is the sum of the crossings there, kept in their order), and the caps'
+  /// solid angle of every cap: both rules are exact on a region. Memory and
+  /// time: the box's, plus a pass over every triangle.
+  std::optional<IndexBox> region;
 };
 
 /// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,
@@ -103,6 +113,14 @@ struct VoxelizeSettings {
 /// against the header: VoxelBlocks::validate() or SceneBuilder::build() does it.
 VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
                                const SceneHeader& header, const VoxelizeSettings& settings);
+
+/// Which class ids of `triangleClass` have a triangle touching the grid's
+/// closed domain [0, dims] (index space): exactly the classes a surface bake
+/// of the whole mesh gives a vote (every touching triangle gives each voxel it
+/// touches at least one vote). A region bake keeps the whole bake's class
+/// table with it without seeing the other regions.
+std::array<bool, 256> classesTouchingDomain(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
+                                            const SceneHeader& header);
 
 /// Exact closed-box / triangle intersection on snapped grid coordinates (in
 /// units of 2^-kSubvoxelBits voxel), exposed for tests and the brute-force

@@ -8,6 +8,7 @@
 
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
 
@@ -116,12 +117,16 @@ struct Sampler {
   }
 };
 
-void fillSlab(const Sampler& s, int32_t w0, int32_t w1, SceneBuilder& out, const std::function<void()>& sliceDone) {
+/// Slices w0..w1-1 of the box [lo, hi] (inclusive u, v; the surface test reads
+/// the neighbours through the sampler, so a box gives exactly the world's voxels
+/// inside it).
+void fillSlab(const Sampler& s, const int32_t lo[3], const int32_t hi[3], int32_t w0, int32_t w1, VoxelBlocks& out,
+              const std::function<void()>& sliceDone) {
   // Nothing in the design reaches above y = 72, so rows above are skipped.
-  const int32_t vMax = std::min<int32_t>(int32_t(s.res), int32_t(std::ceil(72.0 / s.scale)) + 1);
+  const int32_t vMax = std::min<int32_t>(hi[1] + 1, int32_t(std::ceil(72.0 / s.scale)) + 1);
   for (int32_t w = w0; w < w1; ++w) {
-    for (int32_t v = 0; v < vMax; ++v)
-      for (int32_t u = 0; u < int32_t(s.res); ++u) {
+    for (int32_t v = lo[1]; v < vMax; ++v)
+      for (int32_t u = lo[0]; u <= hi[0]; ++u) {
         const Cls c = s.at(u, v, w);
         if (c == kEmpty) continue;
         const bool surface = s.at(u - 1, v, w) == kEmpty || s.at(u + 1, v, w) == kEmpty ||
@@ -159,10 +164,10 @@ void fillSlab(const Sampler& s, int32_t w0, int32_t w1, SceneBuilder& out, const
 
 }  // namespace
 
-Scene buildHamlet(const HamletOptions& options) {
+VoxelBlocks buildHamletBlocks(const HamletOptions& options, SceneHeader& header) {
   if (options.resolution < 1) throwUsage("demo:hamlet: resolution must be >= 1");
   if (options.resolution > 4096) throwUsage("demo:hamlet: resolution must be <= 4096");
-  SceneHeader header;
+  header = SceneHeader{};
   const uint32_t r = options.resolution;
   header.dims = {r, r, r};
   header.voxelSize = 25.6 / r;
@@ -170,21 +175,34 @@ Scene buildHamlet(const HamletOptions& options) {
   header.classes = blockPalette();
   header.sources.push_back({kHamletName, "demo", "", 0});
   const Sampler sampler{r, 256.0 / r};
+  int32_t lo[3] = {0, 0, 0}, hi[3] = {int32_t(r) - 1, int32_t(r) - 1, int32_t(r) - 1};
+  if (options.box) {
+    const IndexBox& b = *options.box;
+    const int32_t bl[3] = {b.min.u, b.min.v, b.min.w}, bh[3] = {b.max.u, b.max.v, b.max.w};
+    for (int k = 0; k < 3; ++k) lo[k] = std::max(lo[k], bl[k]), hi[k] = std::min(hi[k], bh[k]);
+  }
+  if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) return VoxelBlocks();
 
-  // One slab of w-slices per thread, each into its own builder.
-  const unsigned slabs = std::max(1u, std::min<unsigned>(options.threads, r));
-  std::vector<SceneBuilder> parts;
-  for (unsigned t = 0; t < slabs; ++t) parts.emplace_back(header);
+  // One slab of w-slices per thread, each into its own blocks.
+  const uint32_t slices = uint32_t(hi[2] - lo[2] + 1);
+  const unsigned slabs = std::max(1u, std::min<unsigned>(options.threads, slices));
+  std::vector<VoxelBlocks> parts(slabs);
   std::atomic<uint32_t> slicesDone{0};
   std::function<void()> sliceDone;
-  if (options.progress) sliceDone = [&] { options.progress(double(++slicesDone) / r); };
-  parallelPieces(r, slabs, slabs, [&](size_t w0, size_t w1, size_t slab) {
-    fillSlab(sampler, int32_t(w0), int32_t(w1), parts[slab], sliceDone);
+  if (options.progress) sliceDone = [&] { options.progress(double(++slicesDone) / slices); };
+  parallelPieces(slices, slabs, slabs, [&](size_t w0, size_t w1, size_t slab) {
+    fillSlab(sampler, lo, hi, lo[2] + int32_t(w0), lo[2] + int32_t(w1), parts[slab], sliceDone);
   });
-  // Votes add and surface flags OR, so the merged scene does not depend on how
+  // Votes add and surface flags OR, so the merged blocks do not depend on how
   // the slabs were split.
   for (unsigned t = 1; t < slabs; ++t) parts[0].merge(std::move(parts[t]));
-  return std::move(parts[0]).build();
+  return std::move(parts[0]);
+}
+
+Scene buildHamlet(const HamletOptions& options) {
+  SceneHeader header;
+  VoxelBlocks blocks = buildHamletBlocks(options, header);
+  return SceneBuilder(std::move(blocks), std::move(header)).build();
 }
 
 }  // namespace vox

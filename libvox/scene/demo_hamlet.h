@@ -12,8 +12,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "libvox/core/progress.h"
+#include "libvox/mesh/voxel_blocks.h"
 #include "libvox/scene/scene.h"
 
 namespace vox {
@@ -25,11 +27,20 @@ struct HamletOptions {
   uint32_t resolution = 256;  // voxels per axis; the scene is resolution^3, >= 1
   unsigned threads = 1;       // 1 = serial; the result does not depend on it
   ProgressFn progress;        // optional, called with the fraction of slices done
+  /// Only the voxels inside this inclusive index box (a region bake's tile):
+  /// exactly the whole hamlet's voxels there (the surface test reads the
+  /// neighbours from the design, not from the voxels made), in time and memory
+  /// of the box. Absent: the whole hamlet.
+  std::optional<IndexBox> box;
 };
 
 /// Builds the hamlet. World placement: voxel size 1 / resolution * 25.6, so the
 /// hamlet is 25.6 world units (metres) across at any resolution, origin at
 /// (-12.8, 0, -12.8) (centred on x and z, ground at y = 0).
 Scene buildHamlet(const HamletOptions& options);
+
+/// The same hamlet as voxel blocks and its header (what the direct scene
+/// writer takes), without building OpenVDB trees.
+VoxelBlocks buildHamletBlocks(const HamletOptions& options, SceneHeader& header);
 
 }  // namespace vox

@@ -163,6 +163,14 @@ Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
   h.dims = mipDims(fd, 1);
   h.voxelSize = fh.voxelSize * 2;
   h.mipLevel = fh.mipLevel + 1;
+  if (h.region && !h.region->box.empty()) {
+    // A region bake's part: the coarse voxels its box's voxels reduce into. Past
+    // the tiling's 32-voxel cells, parts share coarse voxels: such levels of a
+    // part are partial (docs/scale.md).
+    IndexBox& b = h.region->box;
+    b.min = {b.min.u >> 1, b.min.v >> 1, b.min.w >> 1};
+    b.max = {b.max.u >> 1, b.max.v >> 1, b.max.w >> 1};
+  }
   SceneGrids& g = coarse.grids();
   std::vector<openvdb::Int32Grid::Ptr> voteGrids(nClasses);
   for (size_t c = 0; c < nClasses; ++c) voteGrids[c] = openvdb::Int32Grid::create(0);

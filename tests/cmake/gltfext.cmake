@@ -7,3 +7,6 @@ set_tests_properties(gltfext.extensions PROPERTIES TIMEOUT 600)
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_gltf_ext.cpp)
 # The meshopt tests compress with the same library's encoder.
 target_link_libraries(vox_unit_tests PRIVATE meshoptimizer::meshoptimizer)
+# The texture decoder both mesh readers use; its tests write JPEG and WebP files.
+target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_texture_image.cpp)
+target_link_libraries(vox_unit_tests PRIVATE JPEG::JPEG ${WEBP_LIBRARY})

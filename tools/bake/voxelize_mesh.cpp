@@ -21,6 +21,7 @@
 #include "libvox/mesh/class_mapping.h"
 #include "libvox/core/error.h"
 #include "libvox/mesh/placement.h"
+#include "libvox/core/regions.h"
 #include "libvox/core/sha256.h"
 #include "libvox/mesh/voxelize.h"
 #include "libvox/mesh/voxelize_memory.h"
@@ -162,7 +163,7 @@ void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
     const int64_t size = vox::fileSizeOrMinusOne(in);
     p.bytesRead += uint64_t(size);
     vox::Mesh m = vox::readMeshFile(in, ro, p.warnings);
-    for (const std::string& f : m.filesRead) run.input(f);
+    for (const std::string& f : m.filesRead) run.input(f), p.filesRead.push_back(f);
     if (o.inputs.size() == 1) p.mesh = std::move(m);
     else p.mesh.append(m);
   }
@@ -206,16 +207,23 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->footer(
       "Inputs:\n"
       "  demo:hamlet   the built-in procedural hamlet (resolution^3 voxels, --res, default " + res + ")\n"
+      "  demo:city     the built-in procedural city, 0.5 m voxels, --extent X,Y,Z voxels (default " +
+      formatTriple(vox::kCityDefaultExtent) + ";\n"
+      "                x, z up to " + std::to_string(vox::kCityMaxHorizontal) + ", y up to " +
+      std::to_string(vox::kCityMaxHeight) + ")\n"
       "  MAP.json      a block map (map.json): one voxel per block, dims = largest position + 1,\n"
       "                world placement from worldScale and --grid-size\n"
       "  MESH...       " + meshExtensions() + " (several combine into one scene), --res N on the\n"
       "                longest side (default " + res + "), --fill surface|solid, --classes FILE.json\n"
       "  GRID.vdb      an OpenVDB level set (inside: value <= 0) or fog volume (--threshold T:\n"
       "                inside where value >= T), resampled at --res (default " + res + ") or --voxel-size\n"
-      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb");
-  cmd->add_option("inputs", o.inputs, "Meshes (" + meshExtensions() + "), demo:hamlet, a map.json or a grid .vdb")->required();
+      "Example: vox voxelize demo:hamlet --res 128 -o hamlet.vdb\n"
+      "         vox voxelize demo:city --extent 4096,512,4096 -o city.vdb");
+  cmd->add_option("inputs", o.inputs, "Meshes (" + meshExtensions() + "), demo:hamlet, demo:city, a map.json or a grid .vdb")->required();
   cmd->add_option("-o,--output", o.output, "Scene file to write (*.vdb)")->required();
   cmd->add_option("--res", o.resolution, "Voxels on the longest axis (default " + res + ")")->check(CLI::Range(1u, 4096u));
+  cmd->add_option("--extent", o.extent,
+                  "demo:city: voxels along x, y, z (default " + formatTriple(vox::kCityDefaultExtent) + ")");
   cmd->add_option("--grid-size", o.gridSize, "Block maps: the world grid X,Y,Z")->capture_default_str();
   cmd->add_option("--voxel-size", o.voxelSize, "World units per voxel (instead of --res)")->check(FinitePositive);
   cmd->add_option("--grid", o.gridName, ".vdb input: the grid to read (default: the first float grid)");
@@ -234,6 +242,11 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->add_flag("--ignore-missing-materials", o.ignoreMissingMaterials,
                 "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
   cmd->add_flag("--check", o.check, "Meshes: measure the error against exact references (into --report)");
+  cmd->add_option("--region", o.region,
+                  "Bake only tile I of N (0-based) of the world's x-z tiling into a part (docs/scale.md); join the "
+                  "parts with vox merge");
+  cmd->add_option("--region-box", o.regionBox,
+                  "Bake only the index box umin,vmin,wmin,umax,vmax,wmax (inclusive, on 32-voxel cells) into a part");
   addCommonOptions(*cmd, o.common);
   return cmd;
 }
@@ -243,19 +256,153 @@ bool allInputsAreMeshes(const VoxelizeOptions& o) {
                      [](const std::string& i) { return vox::fileKindOf(i) == vox::FileKind::Mesh; });
 }
 
+std::array<uint32_t, 3> VoxelizeOptions::cityExtent() const {
+  if (!extent) return vox::kCityDefaultExtent;
+  const std::array<uint32_t, 3> e = parseTriple(*extent, "--extent");
+  const std::string problem = vox::cityExtentProblem(e);
+  if (!problem.empty()) throw vox::Error(vox::ErrorKind::Usage, "--extent " + *extent + ": " + problem);
+  return e;
+}
+
 void checkVoxelizeOptions(const VoxelizeOptions& o) {
+  const bool city = o.inputs.size() == 1 && o.inputs[0] == vox::kCityName;
+  if (o.extent && !city)
+    throw vox::Error(vox::ErrorKind::Usage, "--extent applies to demo:city only (block maps take --grid-size, "
+                                            "the other inputs --res or --voxel-size)");
+  if (city && (o.resolution || o.voxelSize > 0))
+    throw vox::Error(vox::ErrorKind::Usage, std::string(o.resolution ? "--res" : "--voxel-size") +
+                                                " does not apply to demo:city: its voxels are 0.5 m; size the city "
+                                                "with --extent X,Y,Z (voxels)");
+  if (city) o.cityExtent();  // refuses a bad --extent before any work
   if (o.voxelSize > 0 && o.resolution)
     throw vox::Error(vox::ErrorKind::Usage, "give --res or --voxel-size, not both");
   if (!vox::hasExtension(o.output, ".vdb"))
     throw vox::Error(vox::ErrorKind::Usage, "-o " + o.output + ": the scene is written as OpenVDB; name it *.vdb");
+  if (!o.region.empty() && !o.regionBox.empty())
+    throw vox::Error(vox::ErrorKind::Usage, "give --region or --region-box, not both");
+  if (!o.region.empty()) (void)vox::parseRegionSpec(o.region);
+  if (o.isRegionBake() && o.check)
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "--check measures a whole bake; run it without --region (or check the merged scene)");
+  if (o.isRegionBake() && o.method == VoxelizeMethod::Sdf)
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "--method sdf is a comparison of whole bakes and has no region bake; use --method exact");
   if (o.inputs.size() != 1 && !allInputsAreMeshes(o))
     throw vox::Error(vox::ErrorKind::Usage,
-                     "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, "
+                     "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, demo:city, "
                      "map.json and .vdb inputs go one at a time");
 }
 
 bool isLightBake(const VoxelizeOptions& o) {
   return allInputsAreMeshes(o) && o.method == VoxelizeMethod::Exact && !o.check;
+}
+
+namespace {
+
+/// "umin,vmin,wmin,umax,vmax,wmax" -> an inclusive box.
+vox::IndexBox parseRegionBox(const std::string& text) {
+  int64_t v[6];
+  size_t pos = 0;
+  for (int i = 0; i < 6; ++i) {
+    const size_t end = text.find(',', pos);
+    if ((i < 5) != (end != std::string::npos))
+      throw vox::Error(vox::ErrorKind::Usage, "--region-box expects umin,vmin,wmin,umax,vmax,wmax, got '" + text + "'");
+    const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+    char* stop = nullptr;
+    v[i] = std::strtoll(part.c_str(), &stop, 10);
+    if (part.empty() || *stop != '\0' || v[i] < 0 || v[i] > (int64_t(1) << 30))
+      throw vox::Error(vox::ErrorKind::Usage,
+                       "--region-box expects six non-negative integers (voxel indices), got '" + text + "'");
+    pos = end + 1;
+  }
+  for (int i = 0; i < 3; ++i)
+    if (v[i] > v[i + 3])
+      throw vox::Error(vox::ErrorKind::Usage, "--region-box " + text + ": each min must be <= its max");
+  return {{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])}, {int32_t(v[3]), int32_t(v[4]), int32_t(v[5])}};
+}
+
+std::string boxText(const vox::IndexBox& b) {
+  return std::to_string(b.min.u) + "," + std::to_string(b.min.v) + "," + std::to_string(b.min.w) + "," +
+         std::to_string(b.max.u) + "," + std::to_string(b.max.v) + "," + std::to_string(b.max.w);
+}
+
+}  // namespace
+
+std::optional<vox::SceneRegion> regionRecord(const VoxelizeOptions& o, const vox::SceneHeader& header,
+                                             const std::string& settings) {
+  if (!o.isRegionBake()) return std::nullopt;
+  vox::SceneRegion r;
+  const vox::Dims d = header.dims;
+  if (!o.region.empty()) {
+    const vox::RegionSpec spec = vox::parseRegionSpec(o.region);
+    r.index = spec.index;
+    r.count = spec.count;
+    r.box = vox::regionTile(d, spec.index, spec.count);
+  } else {
+    const vox::IndexBox b = parseRegionBox(o.regionBox);
+    const uint32_t dv[3] = {d.x, d.y, d.z};
+    const int32_t hi[3] = {b.max.u, b.max.v, b.max.w};
+    for (int i = 0; i < 3; ++i)
+      if (uint32_t(hi[i]) >= dv[i])
+        throw vox::Error(vox::ErrorKind::Usage, "--region-box " + o.regionBox + " reaches past the world's dims " +
+                                                    vox::toString(d) + "; keep each max below its axis's size");
+    if (!vox::isRegionAligned(b, d)) {
+      // The nearest aligned box that holds it: mins down, ends up to 32-voxel cells (or the domain's end).
+      const int32_t lo[3] = {b.min.u, b.min.v, b.min.w};
+      int32_t nlo[3], nhi[3];
+      const int32_t a = int32_t(vox::kRegionAlignVoxels);
+      for (int i = 0; i < 3; ++i) {
+        nlo[i] = lo[i] / a * a;
+        nhi[i] = std::min<int32_t>(int32_t(dv[i]) - 1, (hi[i] / a + 1) * a - 1);
+      }
+      const vox::IndexBox near{{nlo[0], nlo[1], nlo[2]}, {nhi[0], nhi[1], nhi[2]}};
+      throw vox::Error(vox::ErrorKind::Usage, "--region-box " + o.regionBox +
+                                                  " is not on the tiling's 32-voxel cells (each min a multiple of 32, "
+                                                  "each max + 1 a multiple of 32 or the axis's size); the nearest "
+                                                  "aligned box holding it is --region-box " + boxText(near));
+    }
+    r.index = 0;
+    r.count = 1;
+    r.box = b;
+  }
+  vox::SceneHeader world = header;
+  world.region.reset();
+  r.worldKey = vox::regionWorldKey(world, settings);
+  return r;
+}
+
+std::string voxelSettingsText(const VoxelizeOptions& o, const std::vector<std::string>& filesRead) {
+  // Every option that can change a voxel, in a fixed order; placement options
+  // too (the header records their result, this records how it was asked).
+  std::string t = "voxelize-1";
+  auto add = [&t](const std::string& key, const std::string& value) { t += " " + key + "=" + value; };
+  add("res", std::to_string(o.resolutionOrDefault()));
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", o.voxelSize);
+  add("voxel-size", buf);
+  add("pad", std::to_string(o.pad));
+  add("bounds", o.bounds);
+  add("grid-size", o.gridSize);
+  add("grid", o.gridName);
+  if (o.threshold) std::snprintf(buf, sizeof buf, "%.17g", *o.threshold);
+  add("threshold", o.threshold ? std::string(buf) : "-");
+  add("fill", nameOf(fillModeNames(), o.fill));
+  add("solid-rule", nameOf(solidRuleNames(), o.solidRule));
+  add("method", nameOf(methodNames(), o.method));
+  add("drop-invalid", o.dropInvalid ? "1" : "0");
+  add("ignore-missing-materials", o.ignoreMissingMaterials ? "1" : "0");
+  add("classes", o.classes.empty() ? "-" : vox::sha256File(o.classes));
+  for (const std::string& f : filesRead) {
+    uint64_t bytes = 0;
+    std::string digest;
+    try {
+      digest = vox::sha256File(f, &bytes);
+    } catch (const vox::Error&) {
+      digest = "unreadable";
+    }
+    add("file", digest);
+  }
+  return t;
 }
 
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
@@ -290,6 +437,42 @@ std::string voxelSizeText(double size) {
 
 }  // namespace
 
+namespace {
+
+/// A region bake's share of the whole bake's footprint: the surface terms by
+/// the share of triangles whose box meets the region (a bound on what the
+/// region's surface pass touches), the solid-fill box and enclosed volume
+/// clamped to the region's volume.
+void scaleToRegion(vox::SurfaceFootprint& f, const PreparedMeshes& p, const vox::SceneHeader& header) {
+  const vox::IndexBox& b = header.region->box;
+  if (b.empty() || p.mesh.triangles.empty()) {
+    f = vox::SurfaceFootprint{};
+    return;
+  }
+  const double lo[3] = {header.origin[0] + b.min.u * header.voxelSize, header.origin[1] + b.min.v * header.voxelSize,
+                        header.origin[2] + b.min.w * header.voxelSize};
+  const double hi[3] = {header.origin[0] + (b.max.u + 1.0) * header.voxelSize,
+                        header.origin[1] + (b.max.v + 1.0) * header.voxelSize,
+                        header.origin[2] + (b.max.w + 1.0) * header.voxelSize};
+  size_t meeting = 0;
+  for (const auto& tri : p.mesh.triangles) {
+    bool meets = true;
+    for (int k = 0; k < 3 && meets; ++k) {
+      const double a = p.mesh.positions[tri[0]][k], c = p.mesh.positions[tri[1]][k], d = p.mesh.positions[tri[2]][k];
+      meets = std::max({a, c, d}) >= lo[k] - header.voxelSize && std::min({a, c, d}) <= hi[k] + header.voxelSize;
+    }
+    meeting += meets;
+  }
+  const double share = double(meeting) / double(p.mesh.triangles.size());
+  f.blocks *= share, f.blockClasses *= share, f.surfaceVoxels *= share, f.area *= share;
+  for (double& c : f.crossings) c *= share;
+  const double volume = double(b.max.u - b.min.u + 1) * double(b.max.v - b.min.v + 1) * double(b.max.w - b.min.w + 1);
+  f.boxVoxels = std::min(f.boxVoxels, volume);
+  f.enclosedVoxels = std::min(f.enclosedVoxels, f.boxVoxels);
+}
+
+}  // namespace
+
 void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb) {
   const uint64_t resident = vox::residentBytesNow();
   vox::VoxelizeSettings settings;
@@ -297,7 +480,8 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   settings.solidRule = o.solidRule;
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
-    const vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
+    vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
+    if (header.region) scaleToRegion(f, p, header);
     vox::MemoryEstimate e;
     e.add("resident before the bake", resident);
     if (sdf) {
@@ -373,6 +557,12 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
                   {"classes_present", classesPresent}, {"method", nameOf(methodNames(), o.method)},
                   {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", p.warnings}};
   if (o.fill == vox::FillMode::Solid) run.counts()["solid_rule"] = nameOf(solidRuleNames(), o.solidRule);
+  if (p.header.region) {
+    const vox::IndexBox& b = p.header.region->box;
+    run.counts()["region"] = {{"index", p.header.region->index}, {"count", p.header.region->count},
+                              {"box", b.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
+  }
   run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) + " occupied voxels from " +
            std::to_string(p.mesh.triangles.size()) + " triangles");
   return run.finish();
@@ -380,13 +570,34 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
   PreparedMeshes p = prepareMeshes(o, run);
+  std::optional<vox::SceneRegion> region;
+  if (o.isRegionBake()) {
+    // The whole bake's class table, without the other regions: the classes
+    // with a triangle touching the domain are exactly those the whole bake
+    // keeps (leaveOutClassesWithoutVotes below, on the whole world's blocks).
+    const std::array<bool, 256> used = vox::classesTouchingDomain(p.mesh, p.triangleClass, p.header);
+    if (o.fill == vox::FillMode::Solid)
+      for (const vox::ClassInfo& c : p.header.classes.classes())
+        if (!used[c.id])
+          throw vox::Error(vox::ErrorKind::Usage,
+                           "--region with --fill solid: every triangle of class '" + c.name +
+                               "' lies outside the grid (--bounds), so whether the whole bake keeps the class "
+                               "depends on its interior; bake without --region, or widen --bounds");
+    vox::remapTriangleClasses(p.triangleClass, vox::compactClassTable(p.header.classes, used, classIdPolicy(o)));
+    region = regionRecord(o, p.header, voxelSettingsText(o, p.filesRead));
+    p.header.region = region;
+  }
   checkMeshBakeMemory(o, run, p, false);
   run.phase("voxelize");
   auto bar = run.progress("voxelize");
-  vox::VoxelBlocks blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, voxelizeSettings(o, run, *bar));
+  vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
+  if (region) settings.region = region->box;
+  vox::VoxelBlocks blocks;
+  if (!region || !region->box.empty()) blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
   bar->done();
-  // Classes whose triangles left no vote (outside --bounds, zero area) are left out too.
-  vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
+  // Classes whose triangles left no vote (outside --bounds, zero area) are left
+  // out too (a region's table was made the whole bake's above).
+  if (!region) vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
   run.phase("write");
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
   return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size());

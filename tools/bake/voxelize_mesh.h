@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "libvox/core/city_extent.h"
 #include "libvox/mesh/mesh.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/voxelize.h"
@@ -38,6 +39,7 @@ struct VoxelizeOptions {
   std::string output;
   uint32_t resolution = 0;  // voxels on the longest side; 0 = not given (kDefaultResolution)
   std::string gridSize = voxcli::formatTriple(vox::kDefaultBlockWorldGrid);  // block maps: the world grid X,Y,Z
+  std::optional<std::string> extent;  // demo:city: voxels X,Y,Z; none = vox::kCityDefaultExtent
   double voxelSize = 0;               // world units per voxel; 0 = not given (use the resolution)
   std::string gridName;
   std::optional<double> threshold;
@@ -50,13 +52,19 @@ struct VoxelizeOptions {
   bool dropInvalid = false;
   bool ignoreMissingMaterials = false;
   bool check = false;
+  std::string region;     // --region I/N: tile I of N of the world (libvox/core/regions.h)
+  std::string regionBox;  // --region-box umin,vmin,wmin,umax,vmax,wmax: an aligned index box
   CommonOptions common;
+
+  bool isRegionBake() const { return !region.empty() || !regionBox.empty(); }
 
   /// Voxels on the longest side: the given resolution, else the default.
   uint32_t resolutionOrDefault() const { return resolution ? resolution : kDefaultResolution; }
   /// For inputs placed by resolution or voxel size: the resolution, or 0 when
   /// a voxel size is given.
   uint32_t resolutionUnlessVoxelSize() const { return voxelSize > 0 ? 0 : resolutionOrDefault(); }
+  /// demo:city's extent: --extent parsed and checked (vox::Error Usage), else the default.
+  std::array<uint32_t, 3> cityExtent() const;
 };
 
 /// Adds the `voxelize` subcommand and every option to `root`, filling `opts`.
@@ -70,6 +78,21 @@ bool allInputsAreMeshes(const VoxelizeOptions& o);
 /// exact method, no --check.
 bool isLightBake(const VoxelizeOptions& o);
 
+/// The region record of a region bake (--region or --region-box) of a world
+/// with `header` (dims, placement, classes, sources: the whole bake's) and the
+/// settings text (voxelSettingsText); nullopt without those options. Throws
+/// vox::Error (Usage) for a box that is not aligned (naming the nearest aligned
+/// box) or does not fit in the dims.
+std::optional<vox::SceneRegion> regionRecord(const VoxelizeOptions& o, const vox::SceneHeader& header,
+                                             const std::string& settings);
+
+/// The canonical text of every option that changes a bake's voxels beyond
+/// what the scene header records (fill, solid rule, method, class rules'
+/// digest, files a mesh names, grid name, threshold, block-world grid,
+/// resolution...), for the region bake's world key: the one place it is made.
+/// `filesRead`: files the inputs named (OBJ mtllib, textures, glTF buffers).
+std::string voxelSettingsText(const VoxelizeOptions& o, const std::vector<std::string>& filesRead = {});
+
 /// The meshes read, classes assigned and the scene placed: the "parse" and
 /// "prepare" phases of a mesh bake.
 struct PreparedMeshes {
@@ -77,6 +100,7 @@ struct PreparedMeshes {
   std::vector<uint8_t> triangleClass;
   vox::SceneHeader header;
   std::vector<std::string> warnings;
+  std::vector<std::string> filesRead;  // files the inputs named (mtllib, textures, buffers)
   uint64_t bytesRead = 0;
 };
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run);

@@ -33,5 +33,6 @@ Command registerPackChunks(CLI::App& root);
 Command registerRenderCanonical(CLI::App& root);
 Command registerExport(CLI::App& root);
 Command registerFuse(CLI::App& root);
+Command registerMerge(CLI::App& root);
 
 }  // namespace voxcli

@@ -23,5 +23,6 @@ extern "C" __attribute__((visibility("default"))) int vox_cli_main(int argc, cha
   commands.push_back(voxcli::registerRenderCanonical(app));
   commands.push_back(voxcli::registerExport(app));
   commands.push_back(voxcli::registerFuse(app));
+  commands.push_back(voxcli::registerMerge(app));
   return voxcli::parseAndRun(app, commands, argc, argv);
 }

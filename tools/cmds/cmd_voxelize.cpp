@@ -9,9 +9,13 @@
 #include "formats/vdb/blockmap_json.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_grid_input.h"
+#include "formats/scene/scene_vdb_direct.h"
+#include "libvox/scene/scene_parts.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "libvox/scene/voxelize_check.h"
 #include "libvox/scene/voxelize_sdf.h"
+#include "formats/scene/scene_vdb_direct.h"
+#include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/core/error.h"
 #include "libvox/core/memory_budget.h"
@@ -61,34 +65,113 @@ int runMeshes(const VoxelizeOptions& o, Run& run, const std::string& outputTemp)
   return finishMeshBake(o, run, p, scene.occupiedCount(), scene.surfaceCount(), scene.classesPresent().size());
 }
 
-/// demo:hamlet at the resolution given (or the default).
-vox::Scene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
-  if (input != "demo:hamlet")
-    throw vox::Error(vox::ErrorKind::Usage, "unknown demo scene '" + input + "'; the built-in scene is demo:hamlet");
-  // The memory guard: the hamlet fills a fixed share of its cube (ground,
-  // buildings, trees), so its scene grows as res^3 plus a res^2 term (surfaces
-  // and the builder's partly filled blocks), measured at 64..1024
-  // (docs/reliability.md "Memory").
-  const uint64_t resident = vox::residentBytesNow();
-  auto hamletAt = [resident](uint64_t res) {
-    const double r = double(res);
-    vox::MemoryEstimate e;
-    e.add("resident before the bake", resident);
-    e.add("hamlet scene", 1.11 * r * r * r + 355 * r * r);
-    return e;
-  };
+/// A scene as the direct writer takes it: header and voxel blocks.
+struct BakedScene {
+  vox::SceneHeader header;
+  vox::VoxelBlocks blocks;
+};
+
+/// demo:hamlet at the resolution given (or the default); a region bake
+/// generates only its box (the surface test reads the design's neighbours).
+BakedScene generateDemo(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  if (input != vox::kHamletName)
+    throw vox::Error(vox::ErrorKind::Usage,
+                     "unknown demo scene '" + input + "'; the built-in scenes are demo:hamlet and demo:city");
   const uint32_t res = o.resolutionOrDefault();
-  run.checkMemory(hamletAt(res), "demo:hamlet at --res " + std::to_string(res),
-                  suggestSetting("--res", 1, res, run.memoryLimit(), [&](uint64_t r) { return hamletAt(r).bytes(); }));
-  run.phase("generate");
   vox::HamletOptions h;
   h.resolution = res;
   h.threads = run.threads();
+  BakedScene out;
+  h.box = vox::IndexBox{};  // empty: the header only
+  (void)vox::buildHamletBlocks(h, out.header);
+  out.header.region = regionRecord(o, out.header, voxelSettingsText(o));
+  h.box.reset();
+  double share = 1;  // of the world's x-z area
+  if (out.header.region) {
+    const vox::IndexBox& b = out.header.region->box;
+    h.box = b;
+    share = b.empty() ? 0.0
+                      : double(b.max.u - b.min.u + 1) * double(b.max.v - b.min.v + 1) * double(b.max.w - b.min.w + 1) /
+                            (double(res) * res * res);
+  }
+  // The memory guard: the hamlet fills a fixed share of its cube (ground,
+  // buildings, trees), so its scene grows as res^3 plus a res^2 term (surfaces
+  // and the builder's partly filled blocks), measured at 64..1024
+  // (docs/reliability.md "Memory"); a region holds its share of the volume.
+  const uint64_t resident = vox::residentBytesNow();
+  auto hamletAt = [resident, share](uint64_t r) {
+    const double x = double(r);
+    vox::MemoryEstimate e;
+    e.add("resident before the bake", resident);
+    e.add("hamlet scene", (1.11 * x * x * x + 355 * x * x) * share);
+    return e;
+  };
+  run.checkMemory(hamletAt(res), "demo:hamlet at --res " + std::to_string(res),
+                  suggestSetting("--res", 1, res, run.memoryLimit(), [&](uint64_t r) { return hamletAt(r).bytes(); }));
+  run.phase("generate");
   auto bar = run.progress("hamlet");
   h.progress = [&bar](double f) { bar->update(f); };
-  vox::Scene scene = vox::buildHamlet(h);
+  vox::SceneHeader header;
+  out.blocks = vox::buildHamletBlocks(h, header);
   bar->done();
-  return scene;
+  return out;
+}
+
+/// demo:city at --extent: generated into blocks and written straight to the
+/// .vdb (formats/scene/scene_vdb_direct.h), never as OpenVDB trees.
+int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
+  vox::CityOptions c;
+  c.extent = o.cityExtent();
+  c.threads = run.threads();
+  run.phase("estimate");
+  const uint64_t resident = vox::residentBytesNow();
+  const vox::CityFootprint footprint = vox::estimateCityFootprint(c);
+  vox::MemoryEstimate estimate;
+  estimate.add("resident before the bake", resident);
+  for (vox::MemoryPart& part : vox::cityBakeMemory(footprint).parts) estimate.parts.push_back(std::move(part));
+  const std::string extentText = formatTriple(c.extent);
+  std::string suggestion;
+  if (!run.memoryLimit().unlimited() && estimate.bytes() > run.memoryLimit().bytes) {
+    // The largest city with the same height and proportions that fits: the
+    // horizontal sides scaled by k / 1024.
+    auto scaled = [&](uint64_t k) {
+      std::array<uint32_t, 3> e = c.extent;
+      e[0] = uint32_t(std::max<uint64_t>(1, uint64_t(e[0]) * k / 1024));
+      e[2] = uint32_t(std::max<uint64_t>(1, uint64_t(e[2]) * k / 1024));
+      return e;
+    };
+    auto bytesAt = [&](uint64_t k) {
+      vox::CityOptions s = c;
+      s.extent = scaled(k);
+      return resident + vox::cityBakeMemory(vox::estimateCityFootprint(s, 512)).bytes();
+    };
+    suggestion = suggestSetting("--extent", 1, 1023, run.memoryLimit(), bytesAt,
+                                [&](uint64_t k) { return formatTriple(scaled(k)); });
+  }
+  run.checkMemory(estimate, "demo:city at --extent " + extentText, suggestion);
+
+  run.phase("generate");
+  auto bar = run.progress("city");
+  c.progress = [&bar](double f) { bar->update(f); };
+  vox::VoxelBlocks blocks = vox::buildCityBlocks(c);
+  bar->done();
+  const uint64_t blockCount = blocks.blockCount();
+  run.phase("write");
+  const vox::SceneHeader header = vox::cityHeader(c.extent);
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(header, blocks, outputTemp, run.threads());
+  const vox::Dims d = header.dims;
+  run.counts()["dims"] = {d.x, d.y, d.z};
+  run.counts()["voxel_size"] = header.voxelSize;
+  run.counts()["occupied_voxels"] = s.occupied;
+  run.counts()["surface_voxels"] = s.surface;
+  run.counts()["classes_present"] = s.classesPresent.size();
+  run.counts()["blocks"] = blockCount;
+  run.counts()["file_bytes"] = s.fileBytes;
+  run.counts()["estimated_occupied_voxels"] = uint64_t(footprint.occupied);
+  run.counts()["estimated_blocks"] = uint64_t(footprint.blocks);
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
+           std::to_string(s.classesPresent.size()) + " classes");
+  return run.finish();
 }
 
 /// A block map: one block is one voxel, placed in the world grid --grid-size.
@@ -132,14 +215,26 @@ vox::Scene resampleGrid(const VoxelizeOptions& o, Run& run, const std::string& i
 
 /// The scene of one input that is not a mesh, by its kind.
 vox::Scene sceneOfInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
-  if (vox::isDemoName(input)) return generateDemo(o, run, input);
   const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
   if (kind == vox::FileKind::BlockMap) return readBlockMapInput(o, run, input);
   if (kind == vox::FileKind::Vdb) return resampleGrid(o, run, input);
   vox::requireRegularFile(input);
   throw vox::Error(vox::ErrorKind::BadInput,
                    input + ": unsupported input; vox voxelize reads " + vox::describe(vox::FileKind::Mesh) + ", " +
-                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb) or demo:hamlet");
+                       vox::describe(vox::FileKind::BlockMap) + ", an OpenVDB grid (.vdb), demo:hamlet or demo:city");
+}
+
+/// A non-mesh input as blocks: the demo generated (its region only), block
+/// maps and grids read whole and cropped to the region (block maps: the
+/// surface flag comes from the map's neighbours, so the crop is exact).
+BakedScene bakeInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
+  if (vox::isDemoName(input)) return generateDemo(o, run, input);
+  const vox::Scene scene = sceneOfInput(o, run, input);
+  BakedScene out;
+  out.header = scene.header();
+  out.header.region = regionRecord(o, out.header, voxelSettingsText(o));
+  out.blocks = out.header.region ? vox::sceneBlocks(scene, &out.header.region->box) : vox::sceneBlocks(scene);
+  return out;
 }
 
 int runVoxelize(const VoxelizeOptions& o) {
@@ -147,17 +242,25 @@ int runVoxelize(const VoxelizeOptions& o) {
   Run run("voxelize", o.common);
   const std::string outputTemp = run.output(o.output);  // checks the destination before the work
   if (allInputsAreMeshes(o)) return runMeshes(o, run, outputTemp);
-  const vox::Scene scene = sceneOfInput(o, run, o.inputs[0]);
+  if (o.inputs[0] == vox::kCityName) return runCity(o, run, outputTemp);
+  BakedScene baked = bakeInput(o, run, o.inputs[0]);
   run.phase("write");
-  vox::writeSceneVdb(scene, outputTemp);
-  const uint64_t occupied = scene.occupiedCount();
-  const vox::Dims d = scene.header().dims;
+  // The direct writer (the mesh bake's): the same bytes as OpenVDB's writer but
+  // a UUID from the content, so a bake and a merge of its parts are byte-identical.
+  const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(baked.header, baked.blocks, outputTemp, run.threads());
+  const vox::Dims d = baked.header.dims;
   run.counts()["dims"] = {d.x, d.y, d.z};
-  run.counts()["occupied_voxels"] = occupied;
-  run.counts()["surface_voxels"] = scene.surfaceCount();
-  run.counts()["classes_present"] = scene.classesPresent().size();
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(occupied) +
-           " occupied voxels, " + std::to_string(scene.classesPresent().size()) + " classes");
+  run.counts()["occupied_voxels"] = s.occupied;
+  run.counts()["surface_voxels"] = s.surface;
+  run.counts()["classes_present"] = s.classesPresent.size();
+  if (baked.header.region) {
+    const vox::IndexBox& b = baked.header.region->box;
+    run.counts()["region"] = {{"index", baked.header.region->index}, {"count", baked.header.region->count},
+                              {"box", b.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
+  }
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
+           std::to_string(s.classesPresent.size()) + " classes");
   return run.finish();
 }
 

@@ -1,0 +1,141 @@
+// Texture decoding for meshes (formats/mesh/texture_image.h): JPEGs written
+// here with libjpeg decode back to their pixels within JPEG's loss, the same
+// bytes on every call; CMYK, corrupt and oversized JPEGs are refused with a
+// reason before pixel memory is taken; PNG and WebP still decode.
+#include <gtest/gtest.h>
+
+#include <jpeglib.h>
+#include <webp/encode.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "formats/mesh/texture_image.h"
+
+using namespace vox;
+
+namespace {
+
+// A smooth RGB gradient with a few hard edges, w x h.
+std::vector<uint8_t> testPattern(int w, int h) {
+  std::vector<uint8_t> rgb(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t* p = &rgb[(size_t(y) * w + x) * 3];
+      p[0] = uint8_t(x * 255 / (w - 1));
+      p[1] = uint8_t(y * 255 / (h - 1));
+      p[2] = (x / 16 + y / 16) % 2 ? 200 : 40;
+    }
+  return rgb;
+}
+
+std::string encodeJpeg(const std::vector<uint8_t>& pixels, int w, int h, int components, J_COLOR_SPACE space,
+                       int quality) {
+  jpeg_compress_struct c{};
+  jpeg_error_mgr err{};
+  c.err = jpeg_std_error(&err);
+  jpeg_create_compress(&c);
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  jpeg_mem_dest(&c, &out, &size);
+  c.image_width = JDIMENSION(w);
+  c.image_height = JDIMENSION(h);
+  c.input_components = components;
+  c.in_color_space = space;
+  jpeg_set_defaults(&c);
+  jpeg_set_quality(&c, quality, TRUE);
+  c.comp_info[0].h_samp_factor = c.comp_info[0].v_samp_factor = 1;  // 4:4:4: the loss is the quantisation only
+  jpeg_start_compress(&c, TRUE);
+  while (c.next_scanline < c.image_height) {
+    JSAMPROW row = const_cast<uint8_t*>(&pixels[size_t(c.next_scanline) * w * components]);
+    jpeg_write_scanlines(&c, &row, 1);
+  }
+  jpeg_finish_compress(&c);
+  jpeg_destroy_compress(&c);
+  std::string bytes(reinterpret_cast<char*>(out), size);
+  free(out);
+  return bytes;
+}
+
+}  // namespace
+
+TEST(TextureImage, JpegDecodesToItsPixelsWithinTheLoss) {
+  const int w = 96, h = 64;
+  const std::vector<uint8_t> rgb = testPattern(w, h);
+  const std::string jpeg = encodeJpeg(rgb, w, h, 3, JCS_RGB, 95);
+  TextureImage image;
+  std::string why;
+  ASSERT_TRUE(decodeTextureImage(jpeg, image, why)) << why;
+  ASSERT_EQ(image.width, uint32_t(w));
+  ASSERT_EQ(image.height, uint32_t(h));
+  ASSERT_EQ(image.rgba.size(), size_t(w) * h * 4);
+  double sumError = 0;
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    EXPECT_EQ(image.rgba[i * 4 + 3], 255);
+    for (int c = 0; c < 3; ++c) sumError += std::abs(int(image.rgba[i * 4 + c]) - int(rgb[i * 3 + c]));
+  }
+  EXPECT_LT(sumError / (double(w) * h * 3), 3.0);  // quality 95: a few levels on average
+  // Row 0 is the top row: the green channel grows downwards.
+  EXPECT_LT(image.rgba[1], 20);
+  EXPECT_GT(image.rgba[(size_t(h - 1) * w) * 4 + 1], 235);
+  TextureImage again;
+  ASSERT_TRUE(decodeTextureImage(jpeg, again, why));
+  EXPECT_EQ(again.rgba, image.rgba);
+}
+
+TEST(TextureImage, GrayscaleJpegBecomesGrayRgba) {
+  const int w = 32, h = 16;
+  std::vector<uint8_t> gray(size_t(w) * h);
+  for (size_t i = 0; i < gray.size(); ++i) gray[i] = uint8_t(i % w * 8);
+  TextureImage image;
+  std::string why;
+  ASSERT_TRUE(decodeTextureImage(encodeJpeg(gray, w, h, 1, JCS_GRAYSCALE, 100), image, why)) << why;
+  for (size_t i = 0; i < gray.size(); ++i) {
+    EXPECT_EQ(image.rgba[i * 4], image.rgba[i * 4 + 1]);
+    EXPECT_EQ(image.rgba[i * 4], image.rgba[i * 4 + 2]);
+    EXPECT_LE(std::abs(int(image.rgba[i * 4]) - int(gray[i])), 3);
+  }
+}
+
+TEST(TextureImage, CmykCorruptAndOversizedJpegsAreRefused) {
+  TextureImage image;
+  std::string why;
+  std::vector<uint8_t> cmyk(16 * 16 * 4, 100);
+  EXPECT_FALSE(decodeTextureImage(encodeJpeg(cmyk, 16, 16, 4, JCS_CMYK, 90), image, why));
+  EXPECT_NE(why.find("CMYK"), std::string::npos) << why;
+
+  const std::string garbage = std::string("\xFF\xD8\xFF", 3) + std::string(200, '\x42');
+  EXPECT_FALSE(decodeTextureImage(garbage, image, why));
+  EXPECT_EQ(why.rfind("JPEG:", 0), 0u) << why;
+
+  // A valid JPEG whose frame header claims 65500 x 65500 pixels (4.3 G pixels).
+  std::string huge = encodeJpeg(testPattern(16, 16), 16, 16, 3, JCS_RGB, 90);
+  const size_t sof = huge.find("\xFF\xC0", 0, 2);
+  ASSERT_NE(sof, std::string::npos);
+  huge[sof + 5] = huge[sof + 7] = char(0xFF);
+  huge[sof + 6] = huge[sof + 8] = char(0xDC);
+  EXPECT_FALSE(decodeTextureImage(huge, image, why));
+  EXPECT_NE(why.find("2^28"), std::string::npos) << why;
+
+  EXPECT_FALSE(decodeTextureImage("", image, why));
+  EXPECT_FALSE(decodeTextureImage("not an image at all", image, why));
+  EXPECT_NE(why.find("not a PNG, JPEG or WebP"), std::string::npos) << why;
+}
+
+TEST(TextureImage, WebpStillDecodes) {
+  const int w = 20, h = 12;
+  std::vector<uint8_t> rgba(size_t(w) * h * 4);
+  for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t(i * 7);
+  for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
+  uint8_t* out = nullptr;
+  const size_t size = WebPEncodeLosslessRGBA(rgba.data(), w, h, w * 4, &out);
+  ASSERT_GT(size, 0u);
+  const std::string webp(reinterpret_cast<char*>(out), size);
+  WebPFree(out);
+  TextureImage image;
+  std::string why;
+  ASSERT_TRUE(decodeTextureImage(webp, image, why)) << why;
+  EXPECT_EQ(image.rgba, rgba);  // lossless
+}
