@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -246,6 +247,45 @@ TEST(PageMerge, AutomaticPyramidThatStopsEarly) {
     expectMergeIsWhole(s, std::to_string(pts.size()) + " voxels", kAnyAuto);
     expectMergeIsWhole(s, std::to_string(pts.size()) + " voxels", kMajorityAuto);
   }
+}
+
+// `--region-box` parts (tile 0 of 1 with their own box, y cut too) merge into
+// the file of their union.
+TEST(PageMerge, RegionBoxPartsMergeToTheirUnion) {
+  const vox::Scene world = colouredScene();  // 150 x 40 x 97
+  const std::vector<vox::IndexBox> boxes = {{{0, 0, 0}, {63, 31, 96}}, {{64, 0, 0}, {127, 39, 63}}, {{0, 32, 0}, {31, 39, 31}}};
+  auto inside = [](const vox::IndexBox& b, const vox::Coord3& c) {
+    return c.u >= b.min.u && c.u <= b.max.u && c.v >= b.min.v && c.v <= b.max.v && c.w >= b.min.w && c.w <= b.max.w;
+  };
+  // crop(world, boxes, region): the voxels inside any of the boxes.
+  auto crop = [&](const std::vector<vox::IndexBox>& in, std::optional<vox::SceneRegion> region) {
+    vox::SceneHeader h = world.header();
+    h.region = region;
+    vox::SceneBuilder b(h);
+    world.forEachVoxel([&](const vox::VoxelView& v) {
+      if (std::none_of(in.begin(), in.end(), [&](const vox::IndexBox& x) { return inside(x, v.at); })) return;
+      for (const vox::ClassVotes& cv : v.votes) b.addVotes(v.at, cv.classId, cv.votes, v.surface);
+      if (v.color) b.setColor(v.at, *v.color);
+    });
+    return std::move(b).build();
+  };
+  const std::string key = vox::regionWorldKey(world.header(), "test");
+  const vox::Scene unionScene = crop(boxes, std::nullopt);
+  for (const Mips& mips : {Mips{}, Mips{true, vox::MipOccupancy::Any, 0}})
+    for (const auto& layout : vox::pagefile::layoutTable()) {
+      vox::PackSettings ps;
+      ps.layout = layout.id;
+      ps.chunkSide = 16;
+      ps.alignment = 64;
+      std::vector<std::vector<uint8_t>> bytes;
+      for (const vox::IndexBox& b : boxes) bytes.push_back(pack(crop({b}, vox::SceneRegion{0, 1, b, key}), ps, mips));
+      std::vector<Reader> readers;
+      for (size_t i = 0; i < bytes.size(); ++i)
+        readers.push_back(Reader::fromMemory(bytes[i].data(), bytes[i].size(), "box" + std::to_string(i) + ".vpk"));
+      std::vector<const Reader*> ptrs;
+      for (const Reader& r : readers) ptrs.push_back(&r);
+      EXPECT_TRUE(merge(ptrs) == pack(unionScene, ps, mips)) << layout.name << ", " << mips.name();
+    }
 }
 
 TEST(PageMerge, IdenticalBytesAtAnyThreadCount) {
