@@ -74,6 +74,14 @@ VoxelBlock& VoxelBlocks::block(int32_t x, int32_t y, int32_t z) {
   return *last_;
 }
 
+VoxelBlock* VoxelBlocks::blockAt(Coord3 c) {
+  if (!representable(c)) {
+    outOfRange_ = true;
+    return nullptr;
+  }
+  return &block(c.u, c.v, c.w);
+}
+
 void VoxelBlocks::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
   if (votes == 0) return;
   if (!representable(c)) {

@@ -86,6 +86,12 @@ class VoxelBlocks {
   void addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface);
   void addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface);
   void setColor(Coord3 c, RgbLinear color);
+  /// The block holding voxel `c`, created empty when absent (for copying
+  /// whole 8^3 leaves in, e.g. from a scene's trees); null when `c` is beyond
+  /// +-2^23 (outOfRange() then says so). Masks and values written to it must
+  /// keep the blocks' invariants: votes only where occupied, colours only where
+  /// `colored`, `color` allocated when any bit of `colored` is set.
+  VoxelBlock* blockAt(Coord3 c);
   /// Moves `other`'s content into this one; where both have a colour for a voxel, this one's wins.
   void merge(VoxelBlocks&& other);
 
