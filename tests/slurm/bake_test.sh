@@ -233,7 +233,8 @@ make)
   expect_exit 0 "${mk[@]}" -j2 OUT=m1 --question  # up to date: nothing to do
 
   # Ctrl-C mid-run: SIGINT to make's process group, as a terminal sends it,
-  # as soon as the first part exists. Job control (set -m) gives make its own
+  # as soon as the first part's page file exists (its scene part is then
+  # done, its page file may be mid-rename). Job control (set -m) gives make its own
   # process group and leaves SIGINT handled (a script's background jobs
   # otherwise ignore it).
   shopt -s nullglob
@@ -243,7 +244,7 @@ make)
   set +m
   parts=()
   while kill -0 $pgid 2>/dev/null; do
-    parts=(m2/part-*.vdb)
+    parts=(m2/part-*.vpk)
     [ ${#parts[@]} -gt 0 ] && break
   done
   kill -INT -- -$pgid 2>/dev/null
@@ -267,6 +268,7 @@ make)
     done
     echo "after SIGINT: ${#kept[@]} part files kept (rc $rc)"
     [ ${#kept[@]} -lt $((2 * N)) ] || echo "note: every part was done when SIGINT came; only the merge was interrupted"
+    [ ${#kept[@]} -gt 0 ] || fail "make: no part survived SIGINT, so resuming is not tested"
     expect_exit 0 "${mk[@]}" -j2 OUT=m2
     for k in "${kept[@]}"; do
       p=${k%%:*}
