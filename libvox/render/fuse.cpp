@@ -12,11 +12,6 @@
 
 namespace vox {
 
-void FuseCounts::addVote(Coord3 c, uint8_t classId, uint32_t weight) {
-  uint64_t& v = votes_[(voxelKey(c) << 8) | classId];
-  v += weight;
-}
-
 FuseCounts::Brick* FuseCounts::brickFor(int64_t bu, int64_t bv, int64_t bw, uint64_t key) {
   const uint64_t blockKey = brickKey(bu >> 4, bv >> 4, bw >> 4);
   if (blockKey != lastBlockKey_) {
@@ -74,7 +69,8 @@ void FuseCounts::merge(FuseCounts&& other) {
       (*mine)[i] = uint32_t(std::min<uint64_t>(s, UINT32_MAX));
     }
   }
-  for (const auto& [key, n] : other.votes_) votes_[key] += n;
+  if (votes_.empty()) std::swap(votes_, other.votes_);
+  else votes_.merge(other.votes_);
   for (const auto& [key, c] : other.colors_) {
     ColorSum& m = colors_[key];
     m.r += c.r;
@@ -143,11 +139,10 @@ std::vector<std::pair<Coord3, uint32_t>> FuseCounts::freeVoxels() const {
 }
 
 std::vector<FuseCounts::Vote> FuseCounts::votes() const {
-  std::vector<std::pair<uint64_t, uint64_t>> all(votes_.begin(), votes_.end());
-  std::sort(all.begin(), all.end());
+  const std::vector<VoteTable::Entry> all = votes_.sorted();
   std::vector<Vote> out;
   out.reserve(all.size());
-  for (const auto& [key, n] : all) out.push_back({voxelOfKey(key >> 8), uint8_t(key & 0xFF), n});
+  for (const VoteTable::Entry& e : all) out.push_back({voxelOfKey(e.voxel), e.classId, e.votes});
   return out;
 }
 
@@ -497,7 +492,10 @@ void Fuser::track(const std::vector<Coord3>& voxels) {
 void Fuser::buildTracked() {
   tracked_ = std::make_unique<RayGrid>(dims_);
   for (const FuseCounts& p : pieces_)
-    for (const FuseCounts::Vote& v : p.votes()) tracked_->addVoxel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+    p.voteTable().forEach([&](const VoteTable::Entry& e) {
+      const Coord3 at = FuseCounts::voxelOfKey(e.voxel);
+      tracked_->addVoxel(uint32_t(at.u), uint32_t(at.v), uint32_t(at.w));
+    });
   for (const Coord3& c : extraTracked_)
     if (c.u >= 0 && c.v >= 0 && c.w >= 0 && uint32_t(c.u) < dims_.x && uint32_t(c.v) < dims_.y && uint32_t(c.w) < dims_.z)
       tracked_->addVoxel(uint32_t(c.u), uint32_t(c.v), uint32_t(c.w));
