@@ -15,12 +15,12 @@ void VoteTable::reserve(size_t entries) {
   std::vector<Entry> old(cap);
   old.swap(slots_);
   shift_ = 64 - bits;
+  mask_ = cap - 1;
   last_ = ~size_t(0);
-  const size_t mask = cap - 1;
   for (const Entry& e : old) {
     if (e.voxel == kEmpty) continue;
     size_t i = hash(e.voxel, e.classId);
-    while (slots_[i].voxel != kEmpty) i = (i + 1) & mask;
+    while (slots_[i].voxel != kEmpty) i = (i + 1) & mask_;
     slots_[i] = e;
   }
 }

@@ -34,8 +34,7 @@ class VoteTable {
       return;
     }
     if ((size_ + 1) * 2 > slots_.size()) grow();
-    const size_t mask = slots_.size() - 1;
-    for (size_t i = hash(voxel, classId);; i = (i + 1) & mask) {
+    for (size_t i = hash(voxel, classId);; i = (i + 1) & mask_) {
       Entry& e = slots_[i];
       if (e.voxel == voxel && e.classId == classId) {
         e.votes += votes;
@@ -77,9 +76,15 @@ class VoteTable {
   std::vector<Entry> sorted() const;
 
  private:
+  // The slot of (voxel, class): a hashed 4^3 group of voxels plus the voxel's
+  // index in it, so a group's entries lie in 64 consecutive slots (1.5 KB):
+  // the neighbouring voxels that a tile of pixels votes for share cache lines
+  // and pages instead of one miss each across the whole table.
   size_t hash(uint64_t voxel, uint8_t classId) const {
-    const uint64_t x = (voxel ^ (uint64_t(classId) << 56)) * 0x9E3779B97F4A7C15ull;
-    return size_t(x >> shift_);
+    constexpr uint64_t kGroup = ~((uint64_t(3) << 42) | (uint64_t(3) << 21) | uint64_t(3));
+    const uint64_t x = ((voxel & kGroup) ^ (uint64_t(classId) << 56)) * 0x9E3779B97F4A7C15ull;
+    const size_t local = size_t(((voxel >> 38) & 0x30) | ((voxel >> 19) & 0xC) | (voxel & 3));
+    return (size_t(x >> shift_) + local) & mask_;
   }
   void reserve(size_t entries);
   void grow() { reserve(size_ < 128 ? 256 : size_ * 2); }
@@ -87,6 +92,7 @@ class VoteTable {
   size_t size_ = 0;
   size_t last_ = ~size_t(0);
   int shift_ = 64;
+  size_t mask_ = 0;
 };
 
 }  // namespace vox
