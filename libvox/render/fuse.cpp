@@ -411,7 +411,10 @@ FuseViewStats Fuser::add(const FuseView& view) {
   FuseViewStats stats;
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
-  std::vector<uint64_t> voted(N, ~uint64_t(0));
+  // The voxels voted, gathered per task (runs of one voxel collapsed) and
+  // sorted at the end: the order tasks finish in does not matter.
+  std::vector<uint64_t> voted;
+  std::mutex votedMutex;
   std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, zeroWeight{0}, outside{0}, steps{0}, freeCounts{0};
   CountsPool pool(pieces_);
   // Tiles of 16 x 16 pixels: their rays cross a narrow cone of bricks that
@@ -422,6 +425,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
     const size_t slot = pool.take();
     FuseCounts& counts = pool[slot];
     uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
+    std::vector<uint64_t> keys;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     for (size_t y = y0; y < y1; ++y)
@@ -455,8 +459,13 @@ FuseViewStats Fuser::add(const FuseView& view) {
         amb += r.ambiguous ? 1 : 0;
         counts.addVote(r.voxel, cls, w);
         if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
-        voted[i] = FuseCounts::voxelKey(r.voxel);
+        const uint64_t k = FuseCounts::voxelKey(r.voxel);
+        if (keys.empty() || keys.back() != k) keys.push_back(k);
       }
+    if (!keys.empty()) {
+      std::lock_guard<std::mutex> lock(votedMutex);
+      voted.insert(voted.end(), keys.begin(), keys.end());
+    }
     used += u;
     ambiguous += amb;
     noDepth += nd;
@@ -475,7 +484,6 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.outside = outside;
   stats.steps = steps;
   stats.freeCounts = freeCounts;
-  voted.erase(std::remove(voted.begin(), voted.end(), ~uint64_t(0)), voted.end());  // pixels that voted only
   std::sort(voted.begin(), voted.end());
   voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
   voted.shrink_to_fit();

@@ -3,10 +3,11 @@
 // libvox/render/fuse.h, the carve rule libvox/scene/fuse_scene.h, the views
 // file formats/image/fuse_views.h, the `free` grid formats/vdb/fuse_vdb.h.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iterator>
 #include <optional>
-#include <unordered_set>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
@@ -125,8 +126,11 @@ int runFuse(const FuseOptions& o) {
   frame.origin = header.origin;
   frame.voxelSize = header.voxelSize;
   vox::Fuser fuser(header.dims, frame, settings);
-  std::unordered_set<uint64_t> seen;  // voxels occupied in the input or voted by an earlier view
-  if (base) base->forEachVoxel([&](const vox::VoxelView& v) { seen.insert(vox::FuseCounts::voxelKey(v.at)); });
+  // Voxels occupied in the input or voted by an earlier view: voxel keys,
+  // sorted (each view's sorted keys are merged in: linear, no hashing).
+  std::vector<uint64_t> seen, merged;
+  if (base) base->forEachVoxel([&](const vox::VoxelView& v) { seen.push_back(vox::FuseCounts::voxelKey(v.at)); });
+  std::sort(seen.begin(), seen.end());
   nlohmann::json perView = nlohmann::json::array();
   vox::FuseViewStats total;
   double fuseSeconds = 0;
@@ -144,8 +148,10 @@ int runFuse(const FuseOptions& o) {
     const vox::FuseViewStats s = fuser.add(loaded.view);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     fuseSeconds += secs;
-    uint64_t newVoxels = 0;
-    for (uint64_t k : s.votedKeys) newVoxels += seen.insert(k).second ? 1 : 0;
+    merged.clear();
+    std::set_union(seen.begin(), seen.end(), s.votedKeys.begin(), s.votedKeys.end(), std::back_inserter(merged));
+    const uint64_t newVoxels = merged.size() - seen.size();
+    seen.swap(merged);
     perView.push_back({{"view", i},
                        {"depth", spec.depthPath},
                        {"label", spec.labelPath},
