@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <iterator>
 #include <optional>
 
@@ -15,6 +16,8 @@
 #include "formats/vdb/fuse_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
+#include "libvox/core/parallel.h"
 #include "libvox/render/fuse.h"
 #include "libvox/scene/fuse_scene.h"
 #include "tools/cli/cli.h"
@@ -64,6 +67,64 @@ std::string placementText(const vox::FuseGridSpec& g) {
 bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
   return a.dims == b.dims && a.voxelSize == b.voxelSize && a.origin == b.origin;
 }
+
+/// Bytes of one decoded view kept for the second pass (its per-pixel arrays but colour).
+uint64_t keptViewBytes(const vox::FuseView& v) {
+  return v.depth.size() * sizeof(double) + v.classes.size() + v.faceAxis.size() + v.weight.size() * sizeof(uint16_t);
+}
+
+/// What the second pass may keep decoded: a quarter of the run's memory
+/// limit, at most 2 GiB (above that, reading the images again costs less than
+/// the memory).
+uint64_t keptViewBudget(const vox::MemoryLimit& limit) {
+  const uint64_t cap = uint64_t(2) << 30;
+  return limit.unlimited() ? cap : std::min(cap, limit.bytes / 4);
+}
+
+/// Decodes views ahead, `batch` at a time in parallel (one image decode is
+/// serial: PNG inflate, EXR zip), and hands them out in view order. A view
+/// that fails to load throws when its turn comes, after the views before it:
+/// the same error, at the same point, as loading one by one.
+class ViewLoader {
+ public:
+  ViewLoader(const vox::FuseViewsFile& views, const vox::ClassTable& classes, std::optional<vox::DepthKind> kind,
+             unsigned batch)
+      : views_(views), classes_(classes), kind_(kind), batch_(std::max(1u, batch)), slots_(views.views.size()) {}
+  /// View i (taken out: call once per i and pass); `ready` is a view already loaded.
+  vox::LoadedFuseView take(size_t i) {
+    if (!slots_[i].view && !slots_[i].error) {
+      const size_t end = std::min(slots_.size(), i + batch_);
+      vox::parallelForEach(end - i, batch_, 1, [&](size_t k) {
+        Slot& s = slots_[i + k];
+        if (s.view || s.error) return;
+        try {
+          s.view = vox::loadFuseView(views_.views[i + k], classes_, kind_);
+        } catch (...) {
+          s.error = std::current_exception();
+        }
+      });
+    }
+    Slot& s = slots_[i];
+    if (s.error) std::rethrow_exception(s.error);
+    vox::LoadedFuseView out = std::move(*s.view);
+    s.view.reset();
+    return out;
+  }
+  void put(size_t i, vox::LoadedFuseView&& v) { slots_[i].view = std::move(v); }
+  /// Forget every view (before a second pass that loads them again).
+  void reset() { slots_.assign(slots_.size(), Slot{}); }
+
+ private:
+  struct Slot {
+    std::optional<vox::LoadedFuseView> view;
+    std::exception_ptr error;
+  };
+  const vox::FuseViewsFile& views_;
+  const vox::ClassTable& classes_;
+  std::optional<vox::DepthKind> kind_;
+  unsigned batch_;
+  std::vector<Slot> slots_;
+};
 
 int runFuse(const FuseOptions& o) {
   if (!vox::hasExtension(o.output, ".vdb")) vox::throwUsage("-o " + o.output + ": the fused scene is written as OpenVDB; name it *.vdb");
@@ -135,10 +196,18 @@ int runFuse(const FuseOptions& o) {
   vox::FuseViewStats total;
   double fuseSeconds = 0;
   auto bar = run.progress("fuse");
+  ViewLoader loader(views, header.classes, kindOverride, run.threads());
+  if (first) loader.put(0, std::move(*first));
+  first.reset();
+  // The second pass reads every view again unless the first pass's decoded
+  // views fit the memory kept for them (keptViewBudget): then it reuses them.
+  const uint64_t keepBudget = secondPass ? keptViewBudget(run.memoryLimit()) : 0;
+  uint64_t keptBytes = 0;
+  bool keepViews = secondPass;
+  std::vector<vox::FuseView> kept;
   for (size_t i = 0; i < views.views.size(); ++i) {
     const vox::FuseViewSpec& spec = views.views[i];
-    vox::LoadedFuseView loaded = (i == 0 && first) ? std::move(*first) : vox::loadFuseView(spec, header.classes, kindOverride);
-    first.reset();
+    vox::LoadedFuseView loaded = loader.take(i);
     for (const std::string& f : loaded.files) run.input(f);
     if (loaded.imageGrid && !views.grid && !samePlacement(*loaded.imageGrid, {header.dims, header.voxelSize, header.origin}))
       run.note("warning: " + spec.where + ": " + spec.depthPath + " was rendered from a grid of " +
@@ -174,6 +243,16 @@ int runFuse(const FuseOptions& o) {
     total.outside += s.outside;
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
+    if (keepViews) {
+      keptBytes += keptViewBytes(loaded.view);
+      keepViews = keptBytes <= keepBudget;
+      if (keepViews) {
+        loaded.view.color = {};  // the second pass needs no colour
+        kept.push_back(std::move(loaded.view));
+      } else {
+        kept = {};
+      }
+    }
     if (bar) bar->update(double(i + 1) / double(views.views.size()) * (secondPass ? 0.5 : 1.0));
   }
   if (secondPass) {
@@ -184,10 +263,12 @@ int runFuse(const FuseOptions& o) {
     for (const auto& [c, n] : baseFree.freeVoxels()) extra.push_back(c);
     fuser.track(extra);
     extra = {};
+    loader.reset();
     for (size_t i = 0; i < views.views.size(); ++i) {
-      const vox::LoadedFuseView loaded = vox::loadFuseView(views.views[i], header.classes, kindOverride);
+      vox::FuseView view = keepViews ? std::move(kept[i]) : std::move(loader.take(i).view);
       const auto t0 = std::chrono::steady_clock::now();
-      const vox::FuseViewStats s = fuser.addFree(loaded.view);
+      const vox::FuseViewStats s = fuser.addFree(view);
+      view = {};
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fuseSeconds += secs;
       nlohmann::json& v = perView[i];
