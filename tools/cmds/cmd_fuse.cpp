@@ -19,6 +19,7 @@
 #include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
 #include "libvox/render/fuse.h"
+#include "libvox/render/fuse_memory.h"
 #include "libvox/scene/fuse_scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
@@ -197,11 +198,48 @@ int runFuse(const FuseOptions& o) {
   double fuseSeconds = 0;
   auto bar = run.progress("fuse");
   ViewLoader loader(views, header.classes, kindOverride, run.threads());
-  if (first) loader.put(0, std::move(*first));
-  first.reset();
+  if (!first) first = vox::loadFuseView(views.views[0], header.classes, kindOverride);
   // The second pass reads every view again unless the first pass's decoded
   // views fit the memory kept for them (keptViewBudget): then it reuses them.
   const uint64_t keepBudget = secondPass ? keptViewBudget(run.memoryLimit()) : 0;
+  {
+    // The memory guard, before the work: the first view's size stands for every view's.
+    vox::FuseMemoryInputs mi;
+    mi.dims = header.dims;
+    mi.views = views.views.size();
+    mi.pixelsPerView = uint64_t(first->view.camera.width) * first->view.camera.height;
+    mi.threads = run.threads();
+    mi.countFree = settings.countFree;
+    mi.freeScope = settings.freeScope;
+    mi.keptBudget = keepBudget;
+    auto estimateWith = [&](const vox::FuseMemoryInputs& in) {
+      vox::MemoryEstimate e;
+      e.add("resident after reading", vox::residentBytesNow());
+      for (const vox::MemoryPart& p : vox::estimateFuseMemory(in).parts) e.parts.push_back(p);
+      return e;
+    };
+    const vox::MemoryEstimate estimate = estimateWith(mi);
+    std::string suggestion;
+    const vox::MemoryLimit& limit = run.memoryLimit();
+    if (!limit.unlimited() && estimate.bytes() > limit.bytes) {
+      vox::FuseMemoryInputs less = mi;
+      less.threads = 1;
+      if (mi.threads > 1 && estimateWith(less).bytes() <= limit.bytes) {
+        suggestion = "--threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
+      } else if (mi.countFree && mi.freeScope == vox::FreeScope::All) {
+        less.freeScope = vox::FreeScope::Voted;
+        suggestion = "--free voted --threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
+      } else {
+        suggestion = "fuse fewer views per run (votes add up across runs with -i)";
+      }
+    }
+    run.checkMemory(estimate,
+                    "fusing " + std::to_string(mi.views) + " views of " + std::to_string(first->view.camera.width) + "x" +
+                        std::to_string(first->view.camera.height) + " into a " + vox::toString(header.dims) + " grid",
+                    suggestion);
+  }
+  loader.put(0, std::move(*first));
+  first.reset();
   uint64_t keptBytes = 0;
   bool keepViews = secondPass;
   std::vector<vox::FuseView> kept;
@@ -317,6 +355,7 @@ int runFuse(const FuseOptions& o) {
                             {"carve", nameOf(carveNames(), o.carve)},
                             {"free", nameOf(freeNames(), o.free)},
                             {"weight", settings.weight}};
+  if (secondPass) run.counts()["totals"]["second_pass_views"] = keepViews ? "kept" : "read again";
   char line[400];
   std::snprintf(line, sizeof line,
                 "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "
