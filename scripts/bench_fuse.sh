@@ -8,7 +8,10 @@
 #
 # Usage: scripts/bench_fuse.sh
 # Env: BUILD_DIR (default build), RES (grid side, default 256), VIEWS (default 16),
-#      SIZE (default 512x512), THREADS (default: all cores), RUNS (default 3).
+#      SIZE (default 512x512), THREADS (default: all cores), RUNS (default 3),
+#      OLD_VOX (another vox binary, e.g. one built from an earlier commit: its
+#      `fuse` and `fuse --threads 1` run in the same hyperfine run, and the
+#      scenes must be byte-identical but the file UUID).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -37,7 +40,12 @@ n = int(sys.argv[1])
 json.dump({'views': [{'depth': 'o_%03d.depth.exr' % i, 'label': 'o_%03d.class.png' % i,
                       'normal': 'o_%03d.normal.png' % i} for i in range(n)]}, open('views.json', 'w'))
 PY
-hyperfine --warmup 1 --runs "$runs" --export-json times.json \
+old=()
+if [ -n "${OLD_VOX:-}" ]; then
+  old=(-n "fuse (old binary)" "$OLD_VOX fuse views.json -o fo.vdb --threads $threads --quiet"
+       -n "fuse --threads 1 (old binary)" "$OLD_VOX fuse views.json -o fo1.vdb --threads 1 --quiet")
+fi
+hyperfine --warmup 1 --runs "$runs" --export-json times.json "${old[@]}" \
   -n "render-canonical (depth)" "$vox render-canonical h.vdb -o r.exr --orbit $views --size $size --mode depth --threads $threads --quiet" \
   -n "fuse" "$vox fuse views.json -o f.vdb --threads $threads --quiet" \
   -n "fuse --free all" "$vox fuse views.json -o fa.vdb --free all --threads $threads --quiet" \
@@ -46,11 +54,19 @@ hyperfine --warmup 1 --runs "$runs" --export-json times.json \
 "$vox" fuse views.json -o f.vdb --threads "$threads" --quiet --report report.json
 "$vox" fuse views.json -o fa.vdb --free all --threads "$threads" --quiet --report report_all.json
 "$vox" diff f.vdb fa.vdb >/dev/null || { echo "bench_fuse.sh: --free voted and --free all gave different scenes" >&2; exit 1; }
+if [ -n "${OLD_VOX:-}" ]; then
+  "$OLD_VOX" fuse views.json -o fo.vdb --threads "$threads" --quiet --report report_old.json
+  # Byte for byte but the OpenVDB file's UUID (bytes 22-57).
+  cmp -i 57 f.vdb fo.vdb || { echo "bench_fuse.sh: the old binary's scene differs" >&2; exit 1; }
+  cmp -i 57 fa.vdb fo.vdb || { echo "bench_fuse.sh: the old binary's scene differs (--free all)" >&2; exit 1; }
+fi
 rss=$( (command -v /usr/bin/time >/dev/null && /usr/bin/time -f %M "$vox" fuse views.json -o f.vdb --threads "$threads" --quiet 2>&1 >/dev/null | tail -1) || echo "")
 load=$(cut -d' ' -f1-3 /proc/loadavg)
-python3 - "$res" "$views" "$size" "$threads" "$rss" "$load" "$out" <<'PY'
-import json, sys
-res, views, size, threads, rss, load, out = sys.argv[1:8]
+oldrss=""
+[ -n "${OLD_VOX:-}" ] && oldrss=$( (command -v /usr/bin/time >/dev/null && /usr/bin/time -f %M "$OLD_VOX" fuse views.json -o fo.vdb --threads "$threads" --quiet 2>&1 >/dev/null | tail -1) || echo "")
+python3 - "$res" "$views" "$size" "$threads" "$rss" "$load" "$out" "$oldrss" <<'PY'
+import json, os, sys
+res, views, size, threads, rss, load, out, oldrss = sys.argv[1:9]
 t = json.load(open('times.json'))['results']
 mean = {r['command']: r['mean'] for r in t}
 sd = {r['command']: r['stddev'] or 0 for r in t}
@@ -88,7 +104,18 @@ lines.append('* phases (s): ' + ', '.join('%s %.3f' % (k, v) for k, v in phases.
 lines.append('* the fused scene: %d voxels = the %d voxels the renders touched; ambiguous pixels: %d'
              % (tot['occupied_after'], touched, tot['ambiguous']))
 if rss:
-    lines.append('* peak memory (max RSS, `/usr/bin/time -f %%M`): %.0f MB' % (int(rss) / 1024))
+    lines.append('* peak memory (max RSS, `/usr/bin/time -f %%M`): %.0f MB' % (int(rss) / 1024)
+                 + (' (old binary: %.0f MB)' % (int(oldrss) / 1024) if oldrss else ''))
+if 'fuse (old binary)' in mean:
+    o = json.load(open('report_old.json'))['counts']['totals']
+    lines.append('* against the old binary (same hyperfine run; byte-identical scenes): `fuse` %.2fx faster in wall time '
+                 '(%.3f s -> %.3f s), %.2fx in CPU time; `--threads 1` %.2fx wall, %.2fx CPU; rays per second in the fuse phase '
+                 '%.2f M -> %.2f M (%.2fx; one run each, wall clock)'
+                 % (mean['fuse (old binary)'] / mean['fuse'], mean['fuse (old binary)'], mean['fuse'],
+                    cpu['fuse (old binary)'] / cpu['fuse'],
+                    mean['fuse --threads 1 (old binary)'] / mean['fuse --threads 1'],
+                    cpu['fuse --threads 1 (old binary)'] / cpu['fuse --threads 1'],
+                    o['rays_per_second'] / 1e6, tot['rays_per_second'] / 1e6, tot['rays_per_second'] / o['rays_per_second']))
 open(out, 'w').write('\n'.join(lines) + '\n')
 print('\n'.join(lines))
 PY

@@ -12,11 +12,6 @@
 
 namespace vox {
 
-void FuseCounts::addVote(Coord3 c, uint8_t classId, uint32_t weight) {
-  uint64_t& v = votes_[(voxelKey(c) << 8) | classId];
-  v += weight;
-}
-
 FuseCounts::Brick* FuseCounts::brickFor(int64_t bu, int64_t bv, int64_t bw, uint64_t key) {
   const uint64_t blockKey = brickKey(bu >> 4, bv >> 4, bw >> 4);
   if (blockKey != lastBlockKey_) {
@@ -74,7 +69,8 @@ void FuseCounts::merge(FuseCounts&& other) {
       (*mine)[i] = uint32_t(std::min<uint64_t>(s, UINT32_MAX));
     }
   }
-  for (const auto& [key, n] : other.votes_) votes_[key] += n;
+  if (votes_.empty()) std::swap(votes_, other.votes_);
+  else votes_.merge(other.votes_);
   for (const auto& [key, c] : other.colors_) {
     ColorSum& m = colors_[key];
     m.r += c.r;
@@ -143,11 +139,10 @@ std::vector<std::pair<Coord3, uint32_t>> FuseCounts::freeVoxels() const {
 }
 
 std::vector<FuseCounts::Vote> FuseCounts::votes() const {
-  std::vector<std::pair<uint64_t, uint64_t>> all(votes_.begin(), votes_.end());
-  std::sort(all.begin(), all.end());
+  const std::vector<VoteTable::Entry> all = votes_.sorted();
   std::vector<Vote> out;
   out.reserve(all.size());
-  for (const auto& [key, n] : all) out.push_back({voxelOfKey(key >> 8), uint8_t(key & 0xFF), n});
+  for (const VoteTable::Entry& e : all) out.push_back({voxelOfKey(e.voxel), e.classId, e.votes});
   return out;
 }
 
@@ -416,7 +411,10 @@ FuseViewStats Fuser::add(const FuseView& view) {
   FuseViewStats stats;
   stats.pixels = N;
   const PixelRays rays(cam, frame_);
-  std::vector<uint64_t> voted(N, ~uint64_t(0));
+  // The voxels voted, gathered per task (runs of one voxel collapsed) and
+  // sorted at the end: the order tasks finish in does not matter.
+  std::vector<uint64_t> voted;
+  std::mutex votedMutex;
   std::atomic<uint64_t> used{0}, ambiguous{0}, noDepth{0}, unlabelled{0}, zeroWeight{0}, outside{0}, steps{0}, freeCounts{0};
   CountsPool pool(pieces_);
   // Tiles of 16 x 16 pixels: their rays cross a narrow cone of bricks that
@@ -427,6 +425,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
     const size_t slot = pool.take();
     FuseCounts& counts = pool[slot];
     uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
+    std::vector<uint64_t> keys;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     for (size_t y = y0; y < y1; ++y)
@@ -460,8 +459,13 @@ FuseViewStats Fuser::add(const FuseView& view) {
         amb += r.ambiguous ? 1 : 0;
         counts.addVote(r.voxel, cls, w);
         if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
-        voted[i] = FuseCounts::voxelKey(r.voxel);
+        const uint64_t k = FuseCounts::voxelKey(r.voxel);
+        if (keys.empty() || keys.back() != k) keys.push_back(k);
       }
+    if (!keys.empty()) {
+      std::lock_guard<std::mutex> lock(votedMutex);
+      voted.insert(voted.end(), keys.begin(), keys.end());
+    }
     used += u;
     ambiguous += amb;
     noDepth += nd;
@@ -480,7 +484,6 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.outside = outside;
   stats.steps = steps;
   stats.freeCounts = freeCounts;
-  voted.erase(std::remove(voted.begin(), voted.end(), ~uint64_t(0)), voted.end());  // pixels that voted only
   std::sort(voted.begin(), voted.end());
   voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
   voted.shrink_to_fit();
@@ -497,7 +500,10 @@ void Fuser::track(const std::vector<Coord3>& voxels) {
 void Fuser::buildTracked() {
   tracked_ = std::make_unique<RayGrid>(dims_);
   for (const FuseCounts& p : pieces_)
-    for (const FuseCounts::Vote& v : p.votes()) tracked_->addVoxel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
+    p.voteTable().forEach([&](const VoteTable::Entry& e) {
+      const Coord3 at = FuseCounts::voxelOfKey(e.voxel);
+      tracked_->addVoxel(uint32_t(at.u), uint32_t(at.v), uint32_t(at.w));
+    });
   for (const Coord3& c : extraTracked_)
     if (c.u >= 0 && c.v >= 0 && c.w >= 0 && uint32_t(c.u) < dims_.x && uint32_t(c.v) < dims_.y && uint32_t(c.w) < dims_.z)
       tracked_->addVoxel(uint32_t(c.u), uint32_t(c.v), uint32_t(c.w));

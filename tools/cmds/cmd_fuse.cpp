@@ -3,10 +3,12 @@
 // libvox/render/fuse.h, the carve rule libvox/scene/fuse_scene.h, the views
 // file formats/image/fuse_views.h, the `free` grid formats/vdb/fuse_vdb.h.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
+#include <iterator>
 #include <optional>
-#include <unordered_set>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
@@ -14,7 +16,10 @@
 #include "formats/vdb/fuse_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
+#include "libvox/core/parallel.h"
 #include "libvox/render/fuse.h"
+#include "libvox/render/fuse_memory.h"
 #include "libvox/scene/fuse_scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
@@ -63,6 +68,64 @@ std::string placementText(const vox::FuseGridSpec& g) {
 bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
   return a.dims == b.dims && a.voxelSize == b.voxelSize && a.origin == b.origin;
 }
+
+/// Bytes of one decoded view kept for the second pass (its per-pixel arrays but colour).
+uint64_t keptViewBytes(const vox::FuseView& v) {
+  return v.depth.size() * sizeof(double) + v.classes.size() + v.faceAxis.size() + v.weight.size() * sizeof(uint16_t);
+}
+
+/// What the second pass may keep decoded: a quarter of the run's memory
+/// limit, at most 2 GiB (above that, reading the images again costs less than
+/// the memory).
+uint64_t keptViewBudget(const vox::MemoryLimit& limit) {
+  const uint64_t cap = uint64_t(2) << 30;
+  return limit.unlimited() ? cap : std::min(cap, limit.bytes / 4);
+}
+
+/// Decodes views ahead, `batch` at a time in parallel (one image decode is
+/// serial: PNG inflate, EXR zip), and hands them out in view order. A view
+/// that fails to load throws when its turn comes, after the views before it:
+/// the same error, at the same point, as loading one by one.
+class ViewLoader {
+ public:
+  ViewLoader(const vox::FuseViewsFile& views, const vox::ClassTable& classes, std::optional<vox::DepthKind> kind,
+             unsigned batch)
+      : views_(views), classes_(classes), kind_(kind), batch_(std::max(1u, batch)), slots_(views.views.size()) {}
+  /// View i (taken out: call once per i and pass); `ready` is a view already loaded.
+  vox::LoadedFuseView take(size_t i) {
+    if (!slots_[i].view && !slots_[i].error) {
+      const size_t end = std::min(slots_.size(), i + batch_);
+      vox::parallelForEach(end - i, batch_, 1, [&](size_t k) {
+        Slot& s = slots_[i + k];
+        if (s.view || s.error) return;
+        try {
+          s.view = vox::loadFuseView(views_.views[i + k], classes_, kind_);
+        } catch (...) {
+          s.error = std::current_exception();
+        }
+      });
+    }
+    Slot& s = slots_[i];
+    if (s.error) std::rethrow_exception(s.error);
+    vox::LoadedFuseView out = std::move(*s.view);
+    s.view.reset();
+    return out;
+  }
+  void put(size_t i, vox::LoadedFuseView&& v) { slots_[i].view = std::move(v); }
+  /// Forget every view (before a second pass that loads them again).
+  void reset() { slots_.assign(slots_.size(), Slot{}); }
+
+ private:
+  struct Slot {
+    std::optional<vox::LoadedFuseView> view;
+    std::exception_ptr error;
+  };
+  const vox::FuseViewsFile& views_;
+  const vox::ClassTable& classes_;
+  std::optional<vox::DepthKind> kind_;
+  unsigned batch_;
+  std::vector<Slot> slots_;
+};
 
 int runFuse(const FuseOptions& o) {
   if (!vox::hasExtension(o.output, ".vdb")) vox::throwUsage("-o " + o.output + ": the fused scene is written as OpenVDB; name it *.vdb");
@@ -125,16 +188,64 @@ int runFuse(const FuseOptions& o) {
   frame.origin = header.origin;
   frame.voxelSize = header.voxelSize;
   vox::Fuser fuser(header.dims, frame, settings);
-  std::unordered_set<uint64_t> seen;  // voxels occupied in the input or voted by an earlier view
-  if (base) base->forEachVoxel([&](const vox::VoxelView& v) { seen.insert(vox::FuseCounts::voxelKey(v.at)); });
+  // Voxels occupied in the input or voted by an earlier view: voxel keys,
+  // sorted (each view's sorted keys are merged in: linear, no hashing).
+  std::vector<uint64_t> seen, merged;
+  if (base) base->forEachVoxel([&](const vox::VoxelView& v) { seen.push_back(vox::FuseCounts::voxelKey(v.at)); });
+  std::sort(seen.begin(), seen.end());
   nlohmann::json perView = nlohmann::json::array();
   vox::FuseViewStats total;
   double fuseSeconds = 0;
   auto bar = run.progress("fuse");
+  ViewLoader loader(views, header.classes, kindOverride, run.threads());
+  if (!first) first = vox::loadFuseView(views.views[0], header.classes, kindOverride);
+  // The second pass reads every view again unless the first pass's decoded
+  // views fit the memory kept for them (keptViewBudget): then it reuses them.
+  const uint64_t keepBudget = secondPass ? keptViewBudget(run.memoryLimit()) : 0;
+  {
+    // The memory guard, before the work: the first view's size stands for every view's.
+    vox::FuseMemoryInputs mi;
+    mi.dims = header.dims;
+    mi.views = views.views.size();
+    mi.pixelsPerView = uint64_t(first->view.camera.width) * first->view.camera.height;
+    mi.threads = run.threads();
+    mi.countFree = settings.countFree;
+    mi.freeScope = settings.freeScope;
+    mi.keptBudget = keepBudget;
+    auto estimateWith = [&](const vox::FuseMemoryInputs& in) {
+      vox::MemoryEstimate e;
+      e.add("resident after reading", vox::residentBytesNow());
+      for (const vox::MemoryPart& p : vox::estimateFuseMemory(in).parts) e.parts.push_back(p);
+      return e;
+    };
+    const vox::MemoryEstimate estimate = estimateWith(mi);
+    std::string suggestion;
+    const vox::MemoryLimit& limit = run.memoryLimit();
+    if (!limit.unlimited() && estimate.bytes() > limit.bytes) {
+      vox::FuseMemoryInputs less = mi;
+      less.threads = 1;
+      if (mi.threads > 1 && estimateWith(less).bytes() <= limit.bytes) {
+        suggestion = "--threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
+      } else if (mi.countFree && mi.freeScope == vox::FreeScope::All) {
+        less.freeScope = vox::FreeScope::Voted;
+        suggestion = "--free voted --threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
+      } else {
+        suggestion = "fuse fewer views per run (votes add up across runs with -i)";
+      }
+    }
+    run.checkMemory(estimate,
+                    "fusing " + std::to_string(mi.views) + " views of " + std::to_string(first->view.camera.width) + "x" +
+                        std::to_string(first->view.camera.height) + " into a " + vox::toString(header.dims) + " grid",
+                    suggestion);
+  }
+  loader.put(0, std::move(*first));
+  first.reset();
+  uint64_t keptBytes = 0;
+  bool keepViews = secondPass;
+  std::vector<vox::FuseView> kept;
   for (size_t i = 0; i < views.views.size(); ++i) {
     const vox::FuseViewSpec& spec = views.views[i];
-    vox::LoadedFuseView loaded = (i == 0 && first) ? std::move(*first) : vox::loadFuseView(spec, header.classes, kindOverride);
-    first.reset();
+    vox::LoadedFuseView loaded = loader.take(i);
     for (const std::string& f : loaded.files) run.input(f);
     if (loaded.imageGrid && !views.grid && !samePlacement(*loaded.imageGrid, {header.dims, header.voxelSize, header.origin}))
       run.note("warning: " + spec.where + ": " + spec.depthPath + " was rendered from a grid of " +
@@ -144,8 +255,10 @@ int runFuse(const FuseOptions& o) {
     const vox::FuseViewStats s = fuser.add(loaded.view);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     fuseSeconds += secs;
-    uint64_t newVoxels = 0;
-    for (uint64_t k : s.votedKeys) newVoxels += seen.insert(k).second ? 1 : 0;
+    merged.clear();
+    std::set_union(seen.begin(), seen.end(), s.votedKeys.begin(), s.votedKeys.end(), std::back_inserter(merged));
+    const uint64_t newVoxels = merged.size() - seen.size();
+    seen.swap(merged);
     perView.push_back({{"view", i},
                        {"depth", spec.depthPath},
                        {"label", spec.labelPath},
@@ -168,6 +281,16 @@ int runFuse(const FuseOptions& o) {
     total.outside += s.outside;
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
+    if (keepViews) {
+      keptBytes += keptViewBytes(loaded.view);
+      keepViews = keptBytes <= keepBudget;
+      if (keepViews) {
+        loaded.view.color = {};  // the second pass needs no colour
+        kept.push_back(std::move(loaded.view));
+      } else {
+        kept = {};
+      }
+    }
     if (bar) bar->update(double(i + 1) / double(views.views.size()) * (secondPass ? 0.5 : 1.0));
   }
   if (secondPass) {
@@ -178,10 +301,12 @@ int runFuse(const FuseOptions& o) {
     for (const auto& [c, n] : baseFree.freeVoxels()) extra.push_back(c);
     fuser.track(extra);
     extra = {};
+    loader.reset();
     for (size_t i = 0; i < views.views.size(); ++i) {
-      const vox::LoadedFuseView loaded = vox::loadFuseView(views.views[i], header.classes, kindOverride);
+      vox::FuseView view = keepViews ? std::move(kept[i]) : std::move(loader.take(i).view);
       const auto t0 = std::chrono::steady_clock::now();
-      const vox::FuseViewStats s = fuser.addFree(loaded.view);
+      const vox::FuseViewStats s = fuser.addFree(view);
+      view = {};
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fuseSeconds += secs;
       nlohmann::json& v = perView[i];
@@ -230,6 +355,7 @@ int runFuse(const FuseOptions& o) {
                             {"carve", nameOf(carveNames(), o.carve)},
                             {"free", nameOf(freeNames(), o.free)},
                             {"weight", settings.weight}};
+  if (secondPass) run.counts()["totals"]["second_pass_views"] = keepViews ? "kept" : "read again";
   char line[400];
   std::snprintf(line, sizeof line,
                 "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "

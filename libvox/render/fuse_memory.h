@@ -1,0 +1,46 @@
+// The memory a fusion (`vox fuse`, fuse.h) plans for: the estimate the memory
+// guard (libvox/core/memory_budget.h) checks before the work.
+//
+// Known before the work: the grid, the views' count and size, the threads,
+// the free-count scope. Not known: how many voxels the views vote for, which
+// is bounded by the pixels and, for a scene seen from outside, of the order
+// of its surface; the estimate takes min(pixels, XY + YZ + XZ) (three grid
+// cross-sections). Parts, in bytes (calibrated with /usr/bin/time peaks,
+// docs/bench-fuse.md "Memory"):
+//   * decoding: each view being decoded or fused (threads + 1 at a time):
+//     24 bytes per pixel (its arrays: depth 8, class 1, face 1, colour 4,
+//     weight 2, plus the decoded images: float depth 4, label and normal).
+//   * kept views: the decoded views the second pass reuses (FreeScope::Voted),
+//     10 bytes per pixel, up to `keptBudget`.
+//   * votes: per worker piece and once more for the merge and the scene,
+//     64 bytes per voted voxel (the vote table at load <= 1/2 with its growth
+//     copy, and the free bricks of the tracked voxels).
+//   * free counts (FreeScope::All): every voxel a ray crosses may get a count:
+//     4 bytes per voxel of the grid (its 8^3 bricks of uint32), per piece.
+#pragma once
+
+#include <cstdint>
+
+#include "libvox/core/memory_budget.h"
+#include "libvox/core/types.h"
+#include "libvox/render/fuse.h"
+
+namespace vox {
+
+struct FuseMemoryInputs {
+  Dims dims;
+  uint64_t views = 0;
+  uint64_t pixelsPerView = 0;  // width x height of a view (the largest, when they differ)
+  unsigned threads = 1;
+  bool countFree = true;
+  FreeScope freeScope = FreeScope::Voted;
+  uint64_t keptBudget = 0;  // what the second pass may keep decoded (0 = nothing kept)
+};
+
+/// The parts above, without the process's resident memory (the caller adds it).
+MemoryEstimate estimateFuseMemory(const FuseMemoryInputs& in);
+
+/// Bytes per pixel of a decoded view the second pass keeps.
+inline constexpr uint64_t kFuseKeptBytesPerPixel = 10;
+
+}  // namespace vox

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# vox fuse's speed work (docs/bench-fuse.md) end to end: the memory guard
+# refuses a fusion over --max-memory (exit 4, nothing written), the second
+# pass gives the same scene whether it reuses the decoded views or reads the
+# images again, and views decoded ahead in parallel still fail in view order.
+# Usage: fusespeed_test.sh GROUP VOX_BINARY
+set -u
+group=$1 vox=$2
+# shellcheck source=test_lib.sh
+. "$(dirname "$0")/test_lib.sh"
+
+# N orbit views of SIZE of the demo hamlet at 64^3, and views.json for them.
+render_views() {
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb --quiet
+  expect_exit 0 "$vox" render-canonical h.vdb -o o.png --orbit "$1" --size "$2" --mode depth,class,normal --quiet
+  python3 - "$1" <<'PY'
+import json, sys
+n = int(sys.argv[1])
+json.dump({'views': [{'depth': 'o_%03d.depth.exr' % i, 'label': 'o_%03d.class.png' % i,
+                      'normal': 'o_%03d.normal.png' % i} for i in range(n)]}, open('views.json', 'w'))
+PY
+}
+
+case $group in
+memory)
+  render_views 2 64x64
+  expect_exit 4 "$vox" fuse views.json -o f.vdb --max-memory 20M --quiet
+  expect_stderr "fusing 2 views of 64x64 into a 64 x 64 x 64 grid needs about"
+  [ -e f.vdb ] && fail "a refused fusion wrote f.vdb"
+  expect_exit 0 "$vox" fuse views.json -o f.vdb --quiet --report r.json
+  jcheck r.json "c = [x for x in d['memory']['checks'] if x['what'].startswith('fusing 2 views')]; assert c and 'votes' in c[0]['parts'], d['memory']"
+  ;;
+reuse)
+  # 4 views of 1024x1024 keep 40 MiB decoded (10 bytes a pixel); a 150M limit keeps at most 37.5 MiB
+  # (a quarter): the fourth view does not fit and the second pass reads the images again.
+  render_views 4 1024x1024
+  expect_exit 0 "$vox" fuse views.json -o kept.vdb --threads 2 --quiet --report kept.json
+  jcheck kept.json "assert d['counts']['totals']['second_pass_views'] == 'kept'"
+  expect_exit 0 "$vox" fuse views.json -o read.vdb --threads 1 --max-memory 150M --quiet --report read.json
+  jcheck read.json "assert d['counts']['totals']['second_pass_views'] == 'read again'"
+  expect_exit 0 "$vox" diff kept.vdb read.vdb
+  # Byte for byte but the file's UUID (bytes 22-57 of an OpenVDB file).
+  cmp -i 57 kept.vdb read.vdb >/dev/null || fail "kept and re-read views gave different bytes"
+  ;;
+loaderror)
+  render_views 4 32x32
+  python3 - <<'PY'
+import json
+v = json.load(open('views.json'))
+v['views'][2]['label'] = 'missing2.png'
+v['views'][3]['label'] = 'missing3.png'
+json.dump(v, open('bad.json', 'w'))
+PY
+  for t in 1 2 4; do
+    expect_exit 3 "$vox" fuse bad.json -o f.vdb --threads $t --quiet
+    expect_stderr "views[2]"
+    grep -qF "missing3" err.txt && fail "--threads $t: reported view 3 before view 2"
+    [ -e f.vdb ] && fail "--threads $t: a failed fusion wrote f.vdb"
+  done
+  ;;
+*)
+  echo "unknown group $group" >&2
+  exit 2
+  ;;
+esac
+[ "$failures" = 0 ] || { echo "$failures failure(s) in fusespeed.$group" >&2; exit 1; }
+echo "fusespeed.$group: ok"
