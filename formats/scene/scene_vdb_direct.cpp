@@ -1,5 +1,7 @@
 #include "formats/scene/scene_vdb_direct.h"
 
+#include "formats/core/file_util.h"
+
 #include <blosc.h>
 
 #include <algorithm>
@@ -87,7 +89,11 @@ class Sink {
   }
 
  private:
-  [[noreturn]] void fail() { throwIo(path_ + ": cannot write the scene: " + std::strerror(errno)); }
+  // Worded like the OpenVDB writer's check (formats/vdb/vdb_scene_grids.cpp), naming the output, not its temporary.
+  [[noreturn]] void fail() {
+    const std::string reason = std::strerror(errno);  // before anything else can change errno
+    throwIo(outputName(path_) + ": the scene was not written completely (" + reason + ")");
+  }
   void hash(const void* p, size_t n) {
     for (size_t k = 0; k < crc_.size(); ++k) crc_[k] = crc32c(p, n, crc_[k]);
   }
