@@ -26,6 +26,8 @@
 # systemd units are left alone. The cluster runs as root (SlurmUser=root):
 # slurmd must be root to start jobs as their user.
 #
+# The functions also work in shells with set -e.
+#
 # Debian 12: apt-get install slurm-wlm munge (scripts/install-deps.sh has them
 # in the test set). Slurm 22.05.
 
@@ -195,13 +197,13 @@ stop_slurm_cluster() {
     jobs=$(squeue -h -o %A 2>/dev/null | tr '\n' ' ')
     if [ -n "${jobs// /}" ]; then
       # shellcheck disable=SC2086
-      scancel $jobs 2>/dev/null
+      scancel $jobs 2>/dev/null || true
       _slurm_wait 20 test -z "$(squeue -h -o %A 2>/dev/null)" || true
     fi
   fi
   if [ -n "${SLURM_CLUSTER_WATCHER:-}" ]; then
-    kill -TERM "$SLURM_CLUSTER_WATCHER" 2>/dev/null
-    wait "$SLURM_CLUSTER_WATCHER" 2>/dev/null
+    kill -TERM "$SLURM_CLUSTER_WATCHER" 2>/dev/null || true
+    wait "$SLURM_CLUSTER_WATCHER" 2>/dev/null || true
     SLURM_CLUSTER_WATCHER=""
   fi
   # slurmd, then slurmctld, then munged (the reverse of their start).
@@ -212,9 +214,9 @@ stop_slurm_cluster() {
   for pid in $SLURM_CLUSTER_PIDS; do
     while kill -0 "$pid" 2>/dev/null && [ $SECONDS -lt $deadline ]; do sleep 0.1; done
     if kill -0 "$pid" 2>/dev/null; then
-      kill -KILL "$pid" 2>/dev/null
+      kill -KILL "$pid" 2>/dev/null || true
     fi
-    wait "$pid" 2>/dev/null
+    wait "$pid" 2>/dev/null || true
   done
   rm -rf "$SLURM_CLUSTER_DIR"
   SLURM_CLUSTER_DIR=""
