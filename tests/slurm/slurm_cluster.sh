@@ -74,6 +74,8 @@ _slurm_logs() {
 }
 
 start_slurm_cluster() {
+  local -
+  set +e
   local dir sbin=/usr/sbin
   dir=$(mktemp -d "${TMPDIR:-/tmp}/vox-slurm.XXXXXX") || return 4
   SLURM_CLUSTER_DIR=$dir
@@ -190,6 +192,10 @@ EOF
 }
 
 stop_slurm_cluster() {
+  # Options local to this function: a caller's set -e must not end the
+  # shell at the first daemon whose exit status is a signal's.
+  local -
+  set +e
   [ -n "${SLURM_CLUSTER_DIR:-}" ] || return 0
   local pid deadline jobs
   # Cancel what is still queued or running, so no job step outlives slurmd.
