@@ -1,4 +1,5 @@
 # A real one-node Slurm cluster on localhost, for tests and measurements.
+# shellcheck shell=bash
 # Source this file (bash), then:
 #
 #   slurm_cluster_missing     prints why a cluster cannot start here (not root,
