@@ -225,7 +225,7 @@ make)
   pick_source
   need_regions
   reference
-  mk=(make -f "$bake_mk" REGIONS=$N SOURCE="${SOURCE[*]}" PACK_ARGS="$PACK_ARGS" VOX="$vox")
+  mk=(make -f "$bake_mk" REGIONS="$N" SOURCE="${SOURCE[*]}" PACK_ARGS="$PACK_ARGS" VOX="$vox")
 
   expect_exit 0 "${mk[@]}" -j2 OUT=m1
   same_as_reference m1 "make -j2"

@@ -1,4 +1,5 @@
 # A real one-node Slurm cluster on localhost, for tests and measurements.
+# shellcheck shell=bash
 # Source this file (bash), then:
 #
 #   slurm_cluster_missing     prints why a cluster cannot start here (not root,
@@ -25,6 +26,8 @@
 # free when the cluster starts; the machine's /etc/munge, /etc/slurm and
 # systemd units are left alone. The cluster runs as root (SlurmUser=root):
 # slurmd must be root to start jobs as their user.
+#
+# The functions also work in shells with set -e.
 #
 # Debian 12: apt-get install slurm-wlm munge (scripts/install-deps.sh has them
 # in the test set). Slurm 22.05.
@@ -72,6 +75,8 @@ _slurm_logs() {
 }
 
 start_slurm_cluster() {
+  local -
+  set +e
   local dir sbin=/usr/sbin
   dir=$(mktemp -d "${TMPDIR:-/tmp}/vox-slurm.XXXXXX") || return 4
   SLURM_CLUSTER_DIR=$dir
@@ -188,6 +193,10 @@ EOF
 }
 
 stop_slurm_cluster() {
+  # Options local to this function: a caller's set -e must not end the
+  # shell at the first daemon whose exit status is a signal's.
+  local -
+  set +e
   [ -n "${SLURM_CLUSTER_DIR:-}" ] || return 0
   local pid deadline jobs
   # Cancel what is still queued or running, so no job step outlives slurmd.
@@ -195,13 +204,13 @@ stop_slurm_cluster() {
     jobs=$(squeue -h -o %A 2>/dev/null | tr '\n' ' ')
     if [ -n "${jobs// /}" ]; then
       # shellcheck disable=SC2086
-      scancel $jobs 2>/dev/null
+      scancel $jobs 2>/dev/null || true
       _slurm_wait 20 test -z "$(squeue -h -o %A 2>/dev/null)" || true
     fi
   fi
   if [ -n "${SLURM_CLUSTER_WATCHER:-}" ]; then
-    kill -TERM "$SLURM_CLUSTER_WATCHER" 2>/dev/null
-    wait "$SLURM_CLUSTER_WATCHER" 2>/dev/null
+    kill -TERM "$SLURM_CLUSTER_WATCHER" 2>/dev/null || true
+    wait "$SLURM_CLUSTER_WATCHER" 2>/dev/null || true
     SLURM_CLUSTER_WATCHER=""
   fi
   # slurmd, then slurmctld, then munged (the reverse of their start).
@@ -212,9 +221,9 @@ stop_slurm_cluster() {
   for pid in $SLURM_CLUSTER_PIDS; do
     while kill -0 "$pid" 2>/dev/null && [ $SECONDS -lt $deadline ]; do sleep 0.1; done
     if kill -0 "$pid" 2>/dev/null; then
-      kill -KILL "$pid" 2>/dev/null
+      kill -KILL "$pid" 2>/dev/null || true
     fi
-    wait "$pid" 2>/dev/null
+    wait "$pid" 2>/dev/null || true
   done
   rm -rf "$SLURM_CLUSTER_DIR"
   SLURM_CLUSTER_DIR=""
