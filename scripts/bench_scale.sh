@@ -11,7 +11,10 @@
 # Usage: scripts/bench_scale.sh EXTENT "N..." [VOX]
 #   e.g. scripts/bench_scale.sh 4096,512,4096 "1 2 4 8"
 # Env: THREADS (default 2), KEEP=1 keeps the work directory (printed),
-#      WORK=DIR puts it there (default: a temp dir on the disk of /tmp).
+#      WORK=DIR puts it there (default: a temp dir on the disk of /tmp),
+#      ONLY="I..." bakes and packs only those regions of each N (a world too
+#      big for this machine's disk or afternoon: each part is deleted once
+#      measured, nothing is merged) and prints one row per region instead.
 set -u
 extent=${1:?usage: bench_scale.sh EXTENT \"N...\" [VOX]}
 counts=${2:?usage: bench_scale.sh EXTENT \"N...\" [VOX]}
@@ -33,6 +36,34 @@ timed() {
   python3 -c "print($u + $s, $e, $m)" >"$out" 2>/dev/null || echo "0 0 0" >"$out"
   return $rc
 }
+
+if [ -n "${ONLY:-}" ]; then
+  echo "| N | region | box | CPU s | wall s | peak MiB | occupied voxels | .vdb B/voxel | pack CPU s | pack peak MiB | .vpk B/voxel |"
+  echo "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  for n in $counts; do
+    for i in $ONLY; do
+      [ "$i" -lt "$n" ] || continue
+      if ! timed r.txt voxelize demo:city --extent "$extent" --region "$i/$n" -o part.vdb; then
+        echo "| $n | $i | failed: $(head -c 200 err.txt) |"
+        continue
+      fi
+      read -r c w m <r.txt
+      timed p.txt pack-chunks part.vdb -o part.vpk || { echo "| $n | $i | pack failed: $(head -c 200 err.txt) |"; continue; }
+      read -r pc pw pm <p.txt
+      info=$("$vox" info part.vdb --json)
+      occ=$(echo "$info" | python3 -c 'import json,sys; print(json.load(sys.stdin)["occupied"])')
+      box=$(echo "$info" | python3 -c 'import json,sys; b=json.load(sys.stdin)["region"]["box"]; print("empty" if b is None else "%d..%d x %d..%d" % (b[0], b[3], b[2], b[5]))')
+      printf '| %s | %s | %s | %.1f | %.1f | %s | %s | %.2f | %.1f | %s | %.2f |\n' "$n" "$i" "$box" "$c" "$w" \
+        "$(python3 -c "print(f'{$m / 1024:,.0f}')")" "$(python3 -c "print(f'{$occ:,}')")" \
+        "$(python3 -c "print($(stat -c %s part.vdb) / max($occ, 1))")" "$pc" "$(python3 -c "print(f'{$pm / 1024:,.0f}')")" \
+        "$(python3 -c "print($(stat -c %s part.vpk) / max($occ, 1))")"
+      rm -f part.vdb part.vpk
+    done
+  done
+  echo
+  echo "demo:city --extent $extent, --threads $threads, regions $ONLY only, load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
 
 echo "| N | largest region: CPU s / peak MiB | all regions: CPU s | pack parts: CPU s | merge .vdb: s | merge .vpk: s | occupied voxels | part .vdb B/voxel | world .vpk | merge .vpk MB/s |"
 echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
