@@ -1,6 +1,7 @@
 // The containers `vox fuse` counts in, against exact oracles (std::map).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 #include <tuple>
@@ -59,6 +60,26 @@ TEST(FuseVoteTable, LargeCoordinatesAndClassesStayDistinct) {
   EXPECT_EQ(std::make_tuple(v[1].at.u, v[1].classId, v[1].votes), std::make_tuple(8192, uint8_t(1), uint64_t(1)));
   EXPECT_EQ(std::make_tuple(v[2].at.u, v[2].at.w, v[2].classId, v[2].votes),
             std::make_tuple(16384, 7, uint8_t(200), uint64_t(3)));
+}
+
+// The radix sort of voxel keys gives std::sort's order: small and large
+// inputs, keys that vary in few or in all bytes, duplicates.
+TEST(FuseVoteTable, VoxelKeySortEqualsStdSort) {
+  std::mt19937_64 rng(5);
+  for (size_t n : {size_t(0), size_t(1), size_t(255), size_t(256), size_t(5000), size_t(100000)}) {
+    for (int kind = 0; kind < 3; ++kind) {
+      std::vector<uint64_t> keys(n);
+      for (uint64_t& k : keys) {
+        if (kind == 0) k = vox::FuseCounts::voxelKey({int32_t(rng() % 512), int32_t(rng() % 512), int32_t(rng() % 512)});
+        if (kind == 1) k = vox::FuseCounts::voxelKey({7, int32_t(rng() % 3), 100});
+        if (kind == 2) k = rng() >> 1;
+      }
+      std::vector<uint64_t> want = keys;
+      std::sort(want.begin(), want.end());
+      vox::sortVoxelKeys(keys);
+      ASSERT_EQ(keys, want) << n << " keys, kind " << kind;
+    }
+  }
 }
 
 }  // namespace
