@@ -47,18 +47,21 @@ TEST(FuseVoteTable, SumsAndSortedOrderEqualAnOrderedMap) {
   }
 }
 
-// Voxels whose keys differ only above bit 55 (u >= 8192) stay apart from
-// their classes: the key is not packed with the class into one word.
+// Voxels with u >= 16384 stay apart from u - 16384: the key is not packed
+// with the class into one word (voxelKey << 8 | class, the former hash map's
+// key, lost u's bits 14-20 and merged those voxels' votes).
 TEST(FuseVoteTable, LargeCoordinatesAndClassesStayDistinct) {
   vox::FuseCounts counts;
   counts.addVote({8192, 0, 0}, 1, 1);
   counts.addVote({0, 0, 0}, 1, 2);
-  counts.addVote({8192 * 2, 5, 7}, 200, 3);
+  counts.addVote({16384, 0, 0}, 1, 4);
+  counts.addVote({16384, 5, 7}, 200, 3);
   const std::vector<vox::FuseCounts::Vote> v = counts.votes();
-  ASSERT_EQ(v.size(), 3u);
+  ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(std::make_tuple(v[0].at.u, v[0].classId, v[0].votes), std::make_tuple(0, uint8_t(1), uint64_t(2)));
   EXPECT_EQ(std::make_tuple(v[1].at.u, v[1].classId, v[1].votes), std::make_tuple(8192, uint8_t(1), uint64_t(1)));
-  EXPECT_EQ(std::make_tuple(v[2].at.u, v[2].at.w, v[2].classId, v[2].votes),
+  EXPECT_EQ(std::make_tuple(v[2].at.u, v[2].at.v, v[2].classId, v[2].votes), std::make_tuple(16384, 0, uint8_t(1), uint64_t(4)));
+  EXPECT_EQ(std::make_tuple(v[3].at.u, v[3].at.w, v[3].classId, v[3].votes),
             std::make_tuple(16384, 7, uint8_t(200), uint64_t(3)));
 }
 
