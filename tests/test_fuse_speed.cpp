@@ -1,6 +1,7 @@
 // The containers `vox fuse` counts in, against exact oracles (std::map).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 #include <tuple>
@@ -46,19 +47,42 @@ TEST(FuseVoteTable, SumsAndSortedOrderEqualAnOrderedMap) {
   }
 }
 
-// Voxels whose keys differ only above bit 55 (u >= 8192) stay apart from
-// their classes: the key is not packed with the class into one word.
+// Voxels with u >= 16384 stay apart from u - 16384: the key is not packed
+// with the class into one word (voxelKey << 8 | class, the former hash map's
+// key, lost u's bits 14-20 and merged those voxels' votes).
 TEST(FuseVoteTable, LargeCoordinatesAndClassesStayDistinct) {
   vox::FuseCounts counts;
   counts.addVote({8192, 0, 0}, 1, 1);
   counts.addVote({0, 0, 0}, 1, 2);
-  counts.addVote({8192 * 2, 5, 7}, 200, 3);
+  counts.addVote({16384, 0, 0}, 1, 4);
+  counts.addVote({16384, 5, 7}, 200, 3);
   const std::vector<vox::FuseCounts::Vote> v = counts.votes();
-  ASSERT_EQ(v.size(), 3u);
+  ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(std::make_tuple(v[0].at.u, v[0].classId, v[0].votes), std::make_tuple(0, uint8_t(1), uint64_t(2)));
   EXPECT_EQ(std::make_tuple(v[1].at.u, v[1].classId, v[1].votes), std::make_tuple(8192, uint8_t(1), uint64_t(1)));
-  EXPECT_EQ(std::make_tuple(v[2].at.u, v[2].at.w, v[2].classId, v[2].votes),
+  EXPECT_EQ(std::make_tuple(v[2].at.u, v[2].at.v, v[2].classId, v[2].votes), std::make_tuple(16384, 0, uint8_t(1), uint64_t(4)));
+  EXPECT_EQ(std::make_tuple(v[3].at.u, v[3].at.w, v[3].classId, v[3].votes),
             std::make_tuple(16384, 7, uint8_t(200), uint64_t(3)));
+}
+
+// The radix sort of voxel keys gives std::sort's order: small and large
+// inputs, keys that vary in few or in all bytes, duplicates.
+TEST(FuseVoteTable, VoxelKeySortEqualsStdSort) {
+  std::mt19937_64 rng(5);
+  for (size_t n : {size_t(0), size_t(1), size_t(255), size_t(256), size_t(5000), size_t(100000)}) {
+    for (int kind = 0; kind < 3; ++kind) {
+      std::vector<uint64_t> keys(n);
+      for (uint64_t& k : keys) {
+        if (kind == 0) k = vox::FuseCounts::voxelKey({int32_t(rng() % 512), int32_t(rng() % 512), int32_t(rng() % 512)});
+        if (kind == 1) k = vox::FuseCounts::voxelKey({7, int32_t(rng() % 3), 100});
+        if (kind == 2) k = rng() >> 1;
+      }
+      std::vector<uint64_t> want = keys;
+      std::sort(want.begin(), want.end());
+      vox::sortVoxelKeys(keys);
+      ASSERT_EQ(keys, want) << n << " keys, kind " << kind;
+    }
+  }
 }
 
 }  // namespace

@@ -484,7 +484,7 @@ FuseViewStats Fuser::add(const FuseView& view) {
   stats.outside = outside;
   stats.steps = steps;
   stats.freeCounts = freeCounts;
-  std::sort(voted.begin(), voted.end());
+  sortVoxelKeys(voted);
   voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
   voted.shrink_to_fit();
   stats.voxelsVoted = voted.size();

@@ -7,7 +7,7 @@
 // of its surface; the estimate takes min(pixels, XY + YZ + XZ) (three grid
 // cross-sections). Parts, in bytes (calibrated with /usr/bin/time peaks,
 // docs/bench-fuse.md "Memory"):
-//   * decoding: each view being decoded or fused (threads + 1 at a time):
+//   * decoding: the views decoded ahead, one per thread (the one being fused among them):
 //     24 bytes per pixel (its arrays: depth 8, class 1, face 1, colour 4,
 //     weight 2, plus the decoded images: float depth 4, label and normal).
 //   * kept views: the decoded views the second pass reuses (FreeScope::Voted),

@@ -35,4 +35,26 @@ std::vector<VoteTable::Entry> VoteTable::sorted() const {
   return out;
 }
 
+void sortVoxelKeys(std::vector<uint64_t>& keys) {
+  if (keys.size() < 256) {
+    std::sort(keys.begin(), keys.end());
+    return;
+  }
+  uint64_t all = 0, common = ~uint64_t(0);
+  for (uint64_t k : keys) {
+    all |= k;
+    common &= k;
+  }
+  const uint64_t varying = all ^ common;
+  std::vector<uint64_t> tmp(keys.size());
+  for (int shift = 0; shift < 64; shift += 8) {
+    if (((varying >> shift) & 0xFF) == 0) continue;  // every key has the same byte here
+    size_t count[257] = {};
+    for (uint64_t k : keys) ++count[((k >> shift) & 0xFF) + 1];
+    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+    for (uint64_t k : keys) tmp[count[(k >> shift) & 0xFF]++] = k;
+    keys.swap(tmp);
+  }
+}
+
 }  // namespace vox

@@ -95,4 +95,10 @@ class VoteTable {
   size_t mask_ = 0;
 };
 
+/// Sorts voxel keys ascending (the same order as std::sort): an LSD radix
+/// sort over the bytes in which the keys differ (6 passes for grids up to
+/// 2^16 per axis, fewer for smaller ones), linear in the keys. The per-view
+/// voted keys of a fusion are sorted serially between parallel loops.
+void sortVoxelKeys(std::vector<uint64_t>& keys);
+
 }  // namespace vox
