@@ -55,13 +55,14 @@ for layout in $layouts; do
     "$vox" pack-chunks --merge "${parts[@]}" -o "merged-$tag.vpk" -q --report "report-$tag.json"
     cmp "merged-$tag.vpk" "whole-$tag.vpk" || { echo "bench_pagemerge.sh: $tag merged differs from the whole pack" >&2; exit 1; }
     # Each run writes a new file, as a bake does: replacing an existing
-    # 300 MB file would add the file system's freeing of the old one.
+    # 300 MB file would add the file system's freeing of the old one (the
+    # removal is synced before the run starts).
     hyperfine --warmup 1 --runs "$runs" --export-json "$tag.json" -N \
-      --prepare "rm -f merged-$tag.vpk copy-$tag.vpk whole-$tag.vpk" \
+      --prepare "sh -c 'rm -f merged-$tag.vpk copy-$tag.vpk; sync'" \
       -n merge "$vox pack-chunks --merge ${parts[*]} -o merged-$tag.vpk -q" \
       -n copy "dd if=whole-$tag.vpk of=copy-$tag.vpk bs=4M conv=fsync status=none" \
       -n pack "$vox pack-chunks world.vdb -o whole-$tag.vpk --layout $layout $mips -q" >&2
-    bytes=$(stat -c %s "merged-$tag.vpk")
+    bytes=$(stat -c %s "whole-$tag.vpk")  # the merged file is the same bytes (checked above)
     python3 -c "import json,sys; c=json.load(open('report-$tag.json'))['counts']; print('$tag phases (s):', {k: round(v, 3) for k, v in c['seconds'].items()}, 'copied', c['copied_chunks'], 're-encoded', c['reencoded_chunks'], 'rebuilt', c['rebuilt_chunks'], file=sys.stderr)"
     python3 - "$tag.json" "$bytes" "$layout" "${mips:-no}" <<'EOF'
 import json, sys
