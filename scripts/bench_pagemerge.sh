@@ -41,8 +41,8 @@ else
   exit 4
 fi
 
-echo "| layout | mips | merged file | merge (mean +- sd) | MB/s of output | durable copy (dd conv=fsync) | merge / copy | single-process pack | pack / merge |"
-echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+echo "| layout | mips | merged file | merge (mean +- sd) | MB/s of output | merge CPU (user + sys) | MB per CPU second | durable copy (dd conv=fsync) | merge / copy | single-process pack | pack / merge |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 for layout in $layouts; do
   for mips in "" "--mips"; do
     tag=$layout${mips:+-mips}
@@ -54,19 +54,25 @@ for layout in $layouts; do
     done
     "$vox" pack-chunks --merge "${parts[@]}" -o "merged-$tag.vpk" -q --report "report-$tag.json"
     cmp "merged-$tag.vpk" "whole-$tag.vpk" || { echo "bench_pagemerge.sh: $tag merged differs from the whole pack" >&2; exit 1; }
+    # Each run writes a new file, as a bake does: replacing an existing
+    # 300 MB file would add the file system's freeing of the old one (the
+    # removal is synced before the run starts).
     hyperfine --warmup 1 --runs "$runs" --export-json "$tag.json" -N \
+      --prepare "sh -c 'rm -f merged-$tag.vpk copy-$tag.vpk; sync'" \
       -n merge "$vox pack-chunks --merge ${parts[*]} -o merged-$tag.vpk -q" \
       -n copy "dd if=whole-$tag.vpk of=copy-$tag.vpk bs=4M conv=fsync status=none" \
       -n pack "$vox pack-chunks world.vdb -o whole-$tag.vpk --layout $layout $mips -q" >&2
-    bytes=$(stat -c %s "merged-$tag.vpk")
+    bytes=$(stat -c %s "whole-$tag.vpk")  # the merged file is the same bytes (checked above)
     python3 -c "import json,sys; c=json.load(open('report-$tag.json'))['counts']; print('$tag phases (s):', {k: round(v, 3) for k, v in c['seconds'].items()}, 'copied', c['copied_chunks'], 're-encoded', c['reencoded_chunks'], 'rebuilt', c['rebuilt_chunks'], file=sys.stderr)"
     python3 - "$tag.json" "$bytes" "$layout" "${mips:-no}" <<'EOF'
 import json, sys
 r = {x["command"]: x for x in json.load(open(sys.argv[1]))["results"]}
 b = int(sys.argv[2])
 m, c, p = r["merge"], r["copy"], r["pack"]
+cpu = m["user"] + m["system"]
 print(f"| {sys.argv[3]} | {sys.argv[4]} | {b / 1e6:.1f} MB | {m['mean']:.3f} +- {m['stddev']:.3f} s | "
-      f"{b / 1e6 / m['mean']:.0f} | {c['mean']:.3f} s ({b / 1e6 / c['mean']:.0f} MB/s) | {m['mean'] / c['mean']:.2f} | "
+      f"{b / 1e6 / m['mean']:.0f} | {cpu:.3f} s | {b / 1e6 / cpu:.0f} | "
+      f"{c['mean']:.3f} s ({b / 1e6 / c['mean']:.0f} MB/s) | {m['mean'] / c['mean']:.2f} | "
       f"{p['mean']:.2f} s | {p['mean'] / m['mean']:.1f}x |")
 EOF
   done

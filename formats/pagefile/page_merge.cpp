@@ -443,24 +443,53 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   const pagefile::FilePlan plan = pagefile::planFile(h, pagefile::writePageMeta(meta), slots);
   result.fileBytes = plan.header.fileBytes;
 
-  // Write: the file at its final size (zeros between payloads), header, index
-  // and metadata, then every payload at its offset, in parallel; copied ones
-  // straight from the part's mapping once their CRC is checked.
+  // Write: the file at its final size, header, index and metadata, then the
+  // payloads in runs of consecutive chunks of about kRunBytes: each run is
+  // assembled in a buffer (copied payloads straight from the part's mapping
+  // once their CRC is checked, zeros between payloads) and written with one
+  // pwrite, runs in parallel. Few large writes, not one per chunk: buffered
+  // writes to one file serialise on its inode.
   OutputFile out(outputPath, plan.header.fileBytes);
   out.write(0, plan.prefix.data(), plan.prefix.size());
   st.writeSeconds = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
-  std::vector<size_t> all(total);
-  for (size_t i = 0; i < total; ++i) all[i] = i;
-  forChunks(all, settings.threads, [&](size_t i) {
-    if (bytesOf[i]) {
-      out.write(plan.entries[i].offset, bytesOf[i]->data(), bytesOf[i]->size());
-      return;
+  constexpr uint64_t kRunBytes = uint64_t(4) << 20;
+  std::vector<size_t> runStart;  // first chunk of each run
+  for (size_t i = 0; i < total; ++i)
+    if (runStart.empty() ||
+        plan.entries[i].offset + plan.entries[i].size - plan.entries[runStart.back()].offset > kRunBytes)
+      runStart.push_back(i);
+  std::vector<size_t> runs(runStart.size());
+  for (size_t r = 0; r < runs.size(); ++r) runs[r] = r;
+  std::vector<std::exception_ptr> errors(runs.size());
+  parallelForEach(runs.size(), settings.threads, 1, [&](size_t r) {
+    try {
+      const size_t first = runStart[r], last = r + 1 < runStart.size() ? runStart[r + 1] : total;
+      const uint64_t base = plan.entries[first].offset;
+      const uint64_t end = plan.entries[last - 1].offset + plan.entries[last - 1].size;
+      thread_local std::vector<uint8_t> buf;
+      buf.resize(end - base);
+      uint64_t filled = 0;  // bytes of the run set so far
+      for (size_t i = first; i < last; ++i) {
+        const uint64_t at = plan.entries[i].offset - base;
+        std::memset(buf.data() + filled, 0, at - filled);  // the padding before payload i
+        std::span<const uint8_t> bytes;
+        if (bytesOf[i]) {
+          bytes = {bytesOf[i]->data(), bytesOf[i]->size()};
+        } else {
+          const auto [pi, ei] = chunks[i].sources[0];
+          bytes = parts[pi].reader->payload(ei);  // checks the CRC
+        }
+        std::memcpy(buf.data() + at, bytes.data(), bytes.size());
+        filled = at + bytes.size();
+      }
+      out.write(base, buf.data(), buf.size());
+    } catch (...) {
+      errors[r] = std::current_exception();
     }
-    const auto [pi, ei] = chunks[i].sources[0];
-    const std::span<const uint8_t> bytes = parts[pi].reader->payload(ei);  // checks the CRC
-    out.write(plan.entries[i].offset, bytes.data(), bytes.size());
   });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
   out.close();
   st.copySeconds = secondsSince(t0);
   return result;

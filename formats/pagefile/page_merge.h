@@ -63,8 +63,9 @@ struct MergeResult {
 /// output is created; a payload's CRC is checked as it is copied, so on error
 /// `outputPath` may hold a partial file: write to a temporary file
 /// (formats/core/file_util.h AtomicOutput) and commit it on success.
-/// Writes the file at `outputPath` with pwrite (zero bytes between payloads
-/// come from extending the file); throws vox::Error (Io) when it cannot.
+/// Writes the file at `outputPath` (extended to its size, then runs of
+/// consecutive payloads of a few MiB, each assembled in a buffer and written
+/// with one pwrite); throws vox::Error (Io) when it cannot.
 MergeResult mergePageFiles(std::span<const pagefile::Reader* const> parts, const MergeSettings& settings,
                            const std::string& outputPath);
 
