@@ -32,6 +32,7 @@ timed() {
   shift
   /usr/bin/time -f '%U %S %e %M' -o t.txt "$vox" "$@" --threads "$threads" -q 2>err.txt >/dev/null
   local rc=$?
+  local u=0 s=0 e=0 m=0
   read -r u s e m <t.txt 2>/dev/null || true
   python3 -c "print($u + $s, $e, $m)" >"$out" 2>/dev/null || echo "0 0 0" >"$out"
   return $rc
@@ -86,7 +87,7 @@ for n in $counts; do
     packcpu=$(python3 -c "print($packcpu + $c)")
   done
   if [ -n "$failed" ]; then
-    echo "| $n | refused or failed: ${failed//|/\\|} | | | | | | | | |"
+    echo "| $n | refused or failed: $(echo "$failed" | tr '|' '/') | | | | | | | | |"
     continue
   fi
   occ=0 partbytes=0
