@@ -135,17 +135,24 @@ void writeBytes(const std::vector<uint8_t>& bytes, const std::string& temp, cons
   vox::writeFileBytes(temp, bytes.data(), bytes.size(), output);
 }
 
-// The report's counts and the summary line.
-void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
-                Run& run) {
-  uint64_t voxels = 0, chunks = 0;
+// The report's per-level counts (a pack's or a merge's levels) and their totals.
+template <typename Levels>
+nlohmann::json levelsJson(const Levels& levels, uint64_t& voxels, uint64_t& chunks) {
   nlohmann::json lv = nlohmann::json::array();
-  for (const auto& l : res.levels) {
+  for (const auto& l : levels) {
     voxels += l.voxels;
     chunks += l.chunks;
     lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
                   {"payload_bytes", l.payloadBytes}});
   }
+  return lv;
+}
+
+// The report's counts and the summary line.
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
+                Run& run) {
+  uint64_t voxels = 0, chunks = 0;
+  const nlohmann::json lv = levelsJson(res.levels, voxels, chunks);
   const double bytesPerVoxel = voxels ? double(res.bytes.size()) / double(voxels) : 0.0;
   run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
                   {"chunk", pack.chunkSide},
@@ -192,13 +199,7 @@ int runMerge(const PackOptions& o) {
   const vox::MergeResult res = vox::mergePageFiles(ptrs, ms, temp);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   uint64_t voxels = 0, chunks = 0;
-  nlohmann::json lv = nlohmann::json::array();
-  for (const auto& l : res.levels) {
-    voxels += l.voxels;
-    chunks += l.chunks;
-    lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
-                  {"payload_bytes", l.payloadBytes}});
-  }
+  const nlohmann::json lv = levelsJson(res.levels, voxels, chunks);
   const vox::MergeStats& st = res.stats;
   run.counts() = {{"parts", o.merge.size()},
                   {"part_file_bytes", st.partFileBytes},
