@@ -24,6 +24,16 @@ template <typename Fn>
 auto guarded(const std::string& path, const std::string& what, Fn&& fn) -> decltype(fn()) {
   try {
     return fn();
+  } catch (...) {
+    rethrowVdbReadError(path, what);
+  }
+}
+
+}  // namespace
+
+void rethrowVdbReadError(const std::string& path, const std::string& what) {
+  try {
+    throw;
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -33,9 +43,7 @@ auto guarded(const std::string& path, const std::string& what, Fn&& fn) -> declt
   }
 }
 
-}  // namespace
-
-CheckedVdbFile::CheckedVdbFile(const std::string& path, VdbCheck depth) : path_(path) {
+void checkVdbFileOpenable(const std::string& path) {
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
@@ -47,6 +55,10 @@ CheckedVdbFile::CheckedVdbFile(const std::string& path, VdbCheck depth) : path_(
     if (!probe) throwBadInput(path + ": cannot open the file (missing or unreadable)");
   }
   if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
+}
+
+CheckedVdbFile::CheckedVdbFile(const std::string& path, VdbCheck depth) : path_(path) {
+  checkVdbFileOpenable(path);
   frame_ = checkVdbStructure(path, depth);
   ensureOpenVdbInitialized();
   guarded(path_, "the OpenVDB file", [&] {

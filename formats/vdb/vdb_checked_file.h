@@ -1,4 +1,6 @@
-// CheckedVdbFile: the one way voxbake opens a .vdb file for reading.
+// CheckedVdbFile: the way voxbake opens a .vdb file for OpenVDB to read (the
+// one-pass scene reader, vdb_scene_direct_read.h, builds voxbake's own scene
+// files from the same walk without OpenVDB's reader, and falls back to this).
 //
 // OpenVDB's reader trusts every size and count in the file (vdb_structure.h
 // says what goes wrong). This class refuses anything but a regular file,
@@ -21,6 +23,16 @@
 #include "formats/vdb/vdb_structure.h"
 
 namespace vox {
+
+/// The checks CheckedVdbFile makes before walking `path`: it exists, is not a
+/// directory, is a regular file (not a FIFO, socket or device), can be
+/// opened and starts with OpenVDB's magic number. Throws vox::Error (BadInput).
+void checkVdbFileOpenable(const std::string& path);
+
+/// Inside a catch block: rethrows the exception in flight as vox::Error naming
+/// `path` (BadInput "PATH: cannot read WHAT (corrupt?): ..." for OpenVDB's
+/// exceptions, Io for std::bad_alloc); a vox::Error is rethrown unchanged.
+[[noreturn]] void rethrowVdbReadError(const std::string& path, const std::string& what);
 
 class CheckedVdbFile {
  public:

@@ -1,5 +1,7 @@
 #include "formats/vdb/vdb_memory.h"
 
+#include "formats/scene/scene_meta.h"
+#include "libvox/core/memory_budget.h"
 
 namespace vox {
 
@@ -17,6 +19,17 @@ uint64_t vdbLeafBytes(const std::string& type) {
   else if (type.find("vec3") != std::string::npos) valueBytes = 12;
   else if (type.find("double") != std::string::npos || type.find("int64") != std::string::npos) valueBytes = 8;
   return 512 * valueBytes + kMalloc + kLeafHeader + kInternalShare;
+}
+
+void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path) {
+  MemoryEstimate e;
+  e.add("resident before reading", residentBytesNow());
+  double grids = 0;
+  for (const VdbGridFrame& g : frame.grids)
+    if (g.checked && g.instanceParent.empty() && (!occupancyOnly || g.uniqueName == kOccupancyGridName))
+      grids += double(g.leafCount) * double(vdbLeafBytes(g.type));
+  e.add("grids", grids);
+  checkProcessMemory(e, "reading " + path);
 }
 
 }  // namespace vox

@@ -6,14 +6,19 @@
 #include <openvdb/io/File.h>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <vector>
 
 #include "formats/core/file_util.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_checked_file.h"
 #include "formats/vdb/vdb_memory.h"
-#include "libvox/core/memory_budget.h"
+#include "formats/vdb/vdb_scene_direct_read.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -22,6 +27,36 @@ namespace {
 [[noreturn]] void bad(const std::string& where, const std::string& what) { throwBadInput(where + ": " + what); }
 
 Coord3 toCoord3(const openvdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
+
+/// The leaves of `tree` in tree order: the order of its value iterators once
+/// it has no active tiles.
+template <typename TreeT>
+std::vector<const typename TreeT::LeafNodeType*> leavesOf(const TreeT& tree) {
+  std::vector<const typename TreeT::LeafNodeType*> leaves;
+  leaves.reserve(tree.leafCount());
+  tree.getNodes(leaves);
+  return leaves;
+}
+
+/// The first i in [0, n) for which bad(i) holds, else n; checked in parallel
+/// (libvox/core/parallel.h), the same at any thread count.
+size_t firstBad(size_t n, const std::function<bool(size_t)>& bad) {
+  std::atomic<size_t> first{n};
+  parallelForEach(n, 0, 256, [&](size_t i) {
+    if (i > first.load(std::memory_order_relaxed) || !bad(i)) return;
+    size_t now = first.load();
+    while (i < now && !first.compare_exchange_weak(now, i)) {
+    }
+  });
+  return first.load();
+}
+
+/// The first voxel of `mask` in iteration order, as global coordinates of the leaf at `origin`.
+template <typename MaskT>
+openvdb::Coord firstOn(const MaskT& mask, const openvdb::Coord& origin) {
+  const openvdb::Index n = mask.findFirstOn();
+  return origin + openvdb::Coord(int(n >> 6), int((n >> 3) & 7), int(n & 7));
+}
 
 
 }  // namespace
@@ -109,23 +144,15 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
   }
 }
 
-VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly) {
+VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly, VdbSceneReader reader) {
+  if (reader == VdbSceneReader::Auto)
+    if (std::optional<VdbSceneFile> direct = readVdbSceneFileDirect(path, occupancyOnly)) return std::move(*direct);
   CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB trusts their sizes
   VdbSceneFile f;
   const openvdb::MetaMap::Ptr meta = file.metadata();
   f.metadata = metaEntriesOf(*meta);
   f.header = sceneHeaderFromMetadata(f.metadata, path);
-  {
-    // The memory guard (libvox/core/memory_budget.h), before any grid is read.
-    MemoryEstimate e;
-    e.add("resident before reading", residentBytesNow());
-    double grids = 0;
-    for (const VdbGridFrame& g : file.frame().grids)
-      if (g.checked && g.instanceParent.empty() && (!occupancyOnly || g.uniqueName == kOccupancyGridName))
-        grids += double(g.leafCount) * double(vdbLeafBytes(g.type));
-    e.add("grids", grids);
-    checkProcessMemory(e, "reading " + path);
-  }
+  checkSceneReadMemory(file.frame(), occupancyOnly, path);  // before any grid is read
   for (const VdbGridFrame& g : file.frame().grids) {
     // Grids vox could not check (point grids) are never read; the scene's own
     // grids are never of such a type, so one named like them is refused.
@@ -171,10 +198,19 @@ SceneGrids levelGridsFromVdb(const openvdb::GridPtrVec& fileGrids, const std::st
       if (!h.classes.find(*id))
         bad(where, grid + " holds votes for class " + std::to_string(*id) + ", which is not in 'vox:classes'");
       expectType(votes, "int32");
-      for (auto it = votes->cbeginValueOn(); it; ++it)
-        if (*it <= 0)
-          bad(where, grid + " has vote count " + std::to_string(*it) + " at " + toString(toCoord3(it.getCoord())) +
-                         "; counts must be >= 1");
+      // Leaf by leaf in parallel; the voxel named is the first in iteration order.
+      const auto leaves = leavesOf(votes->tree());
+      auto nonPositive = [&](size_t i) {
+        for (auto it = leaves[i]->cbeginValueOn(); it; ++it)
+          if (*it <= 0) return true;
+        return false;
+      };
+      const size_t at = firstBad(leaves.size(), nonPositive);
+      if (at < leaves.size())
+        for (auto it = leaves[at]->cbeginValueOn(); it; ++it)
+          if (*it <= 0)
+            bad(where, grid + " has vote count " + std::to_string(*it) + " at " + toString(toCoord3(it.getCoord())) +
+                           "; counts must be >= 1");
       g.votes.push_back({*id, votes});
     } else if (name == kColorGridName) {
       g.color = openvdb::GridBase::grid<openvdb::Vec3SGrid>(base);
@@ -193,27 +229,38 @@ SceneGrids levelGridsFromVdb(const openvdb::GridPtrVec& fileGrids, const std::st
       bad(where, "two vote grids for class " + std::to_string(g.votes[i].classId));
   if (!checkTopology) return g;
 
-  // Every vote and colour voxel is occupied and every occupied voxel has a vote.
-  auto occ = g.occupancy->getConstAccessor();
+  // Every vote and colour voxel is occupied and every occupied voxel has a
+  // vote: leaf masks against leaf masks, in parallel. Checks and voxels are
+  // named in the order of a voxel-by-voxel walk (vote grids by class, then
+  // colour, then occupancy; voxels in iteration order).
+  const openvdb::BoolTree& occ = g.occupancy->tree();
+  using Mask = openvdb::BoolTree::LeafNodeType::NodeMaskType;
+  auto outside = [&](const auto& leaf) {  // the leaf's active voxels that are not occupied
+    Mask m = leaf.getValueMask();
+    if (const auto* o = occ.probeConstLeaf(leaf.origin())) m -= o->getValueMask();
+    return m;
+  };
+  auto subsetOfOccupancy = [&](const auto& tree, const std::string& message) {
+    const auto leaves = leavesOf(tree);
+    const size_t at = firstBad(leaves.size(), [&](size_t i) { return !outside(*leaves[i]).isOff(); });
+    if (at < leaves.size())
+      bad(where, message + toString(toCoord3(firstOn(outside(*leaves[at]), leaves[at]->origin()))));
+  };
   for (const ClassGrid& cg : g.votes)
-    for (auto it = cg.grid->cbeginValueOn(); it; ++it)
-      if (!occ.isValueOn(it.getCoord()))
-        bad(where, "grid '" + prefix + cg.grid->getName() + "' has a vote at an unoccupied voxel " +
-                       toString(toCoord3(it.getCoord())));
+    subsetOfOccupancy(cg.grid->tree(), "grid '" + prefix + cg.grid->getName() + "' has a vote at an unoccupied voxel ");
   if (g.color)
-    for (auto it = g.color->cbeginValueOn(); it; ++it)
-      if (!occ.isValueOn(it.getCoord()))
-        bad(where, "grid '" + prefix + kColorGridName + "' has a colour at an unoccupied voxel " +
-                       toString(toCoord3(it.getCoord())));
-  std::vector<openvdb::Int32Grid::ConstAccessor> voteAccessors;
-  for (const ClassGrid& cg : g.votes) voteAccessors.push_back(cg.grid->getConstAccessor());
-  for (auto it = g.occupancy->cbeginValueOn(); it; ++it) {
-    bool voted = false;
-    for (auto& a : voteAccessors) voted = voted || a.isValueOn(it.getCoord());
-    if (!voted)
-      bad(where, "occupied voxel " + toString(toCoord3(it.getCoord())) + " has no votes in any '" + prefix +
-                     "votes.<id>' grid");
-  }
+    subsetOfOccupancy(g.color->tree(), "grid '" + prefix + kColorGridName + "' has a colour at an unoccupied voxel ");
+  auto unvoted = [&](const openvdb::BoolTree::LeafNodeType& leaf) {  // occupied voxels without a vote
+    Mask m = leaf.getValueMask();
+    for (const ClassGrid& cg : g.votes)
+      if (const auto* v = cg.grid->tree().probeConstLeaf(leaf.origin())) m -= v->getValueMask();
+    return m;
+  };
+  const auto occLeaves = leavesOf(occ);
+  const size_t at = firstBad(occLeaves.size(), [&](size_t i) { return !unvoted(*occLeaves[i]).isOff(); });
+  if (at < occLeaves.size())
+    bad(where, "occupied voxel " + toString(toCoord3(firstOn(unvoted(*occLeaves[at]), occLeaves[at]->origin()))) +
+                   " has no votes in any '" + prefix + "votes.<id>' grid");
   return g;
 }
 

@@ -42,11 +42,19 @@ struct VdbSceneFile {
   SceneHeader header;
   openvdb::GridPtrVec grids;
 };
+/// Which reader readVdbSceneFile uses. Auto: files of the form voxbake
+/// writes are built in one pass from the structure walk
+/// (vdb_scene_direct_read.h), others are walked and then read by OpenVDB
+/// (CheckedVdbFile). OpenVdb: always the latter (tests compare the two).
+enum class VdbSceneReader { Auto, OpenVdb };
+
 /// Reads `path`, refusing missing, non-VDB and truncated files
 /// (vdb_structure.h) and files without valid scene metadata
 /// (sceneHeaderFromMetadata). With `occupancyOnly`, reads the `occupancy`
-/// grid only. Throws vox::Error (BadInput) naming the file.
-VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly);
+/// grid only. Throws vox::Error (BadInput) naming the file, (Resource) when
+/// the memory guard refuses the grids.
+VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly,
+                              VdbSceneReader reader = VdbSceneReader::Auto);
 
 /// The checked grids of one level with header `h`: the grids of `fileGrids`
 /// named `namePrefix` + a scene grid name ("" for a scene, "mip2." for level 2

@@ -7,17 +7,21 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <exception>
 #include <bit>
 #include <climits>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <tuple>
 
 #include "formats/core/file_util.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -154,12 +158,20 @@ class Reader {
 
 // ---------------------------------------------------------------- compressed blocks
 
+/// One block of values found by the walk, its framing checked, not yet decoded.
+struct Block {
+  enum Kind : uint8_t { Raw, Blosc, Zip };
+  const uint8_t* src = nullptr;  // in the walked bytes
+  uint64_t stored = 0;           // bytes at src
+  uint64_t bytes = 0;            // bytes it decodes to
+  Kind kind = Raw;
+};
+
 /// One block as io::bloscFromStream / io::unzipFromStream / a plain read takes
-/// it, for `bytes` bytes of values. Returns the decoded bytes (in `scratch` or
-/// the file) when `decode`, else nullptr.
-const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool decode, std::vector<uint8_t>& scratch,
-                         const char* what) {
-  if (!(compression & (kBlosc | kZip))) return r.take(bytes, what);  // uncompressed values
+/// it, for `bytes` bytes of values: every size checked against the file and
+/// the mask, Blosc headers against the block; nothing decompressed.
+Block frameBlock(Reader& r, uint32_t compression, uint64_t bytes, const char* what) {
+  if (!(compression & (kBlosc | kZip))) return {r.take(bytes, what), bytes, bytes, Block::Raw};  // uncompressed values
   const int64_t stored = r.get<int64_t>(what, "block size");
   if (stored <= 0) {
     // Stored uncompressed: OpenVDB reads -size bytes into a buffer of `bytes`.
@@ -170,7 +182,7 @@ const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool d
     if (raw > r.left())
       r.where().fail(std::string(what) + ": uncompressed block of " + std::to_string(raw) + " bytes overruns the file (" +
                      std::to_string(r.left()) + " left)");
-    return r.take(raw, what);
+    return {r.take(raw, what), raw, raw, Block::Raw};
   }
   if (uint64_t(stored) > r.left())
     r.where().fail(std::string(what) + ": compressed block of " + std::to_string(stored) + " bytes overruns the file (" +
@@ -189,21 +201,29 @@ const uint8_t* readBlock(Reader& r, uint32_t compression, uint64_t bytes, bool d
     if (nbytes != bytes)
       r.where().fail(std::string(what) + ": compressed block decompresses to " + std::to_string(nbytes) + " bytes where the mask implies " +
                      std::to_string(bytes));
-    if (!decode) return nullptr;
-    scratch.resize(std::max<size_t>(scratch.size(), bytes + 1));
-    const int got = blosc_decompress_ctx(src, scratch.data(), bytes, 1);
-    if (got < 0 || uint64_t(got) != bytes)
-      r.where().fail(std::string(what) + ": compressed block does not decompress (" + std::to_string(got) + " of " +
-                     std::to_string(bytes) + " bytes)");
-    return scratch.data();
+    return {src, uint64_t(stored), bytes, Block::Blosc};
   }
-  if (!decode) return nullptr;
-  scratch.resize(std::max<size_t>(scratch.size(), bytes + 1));
-  uLongf got = uLongf(bytes);
-  const int rc = uncompress(scratch.data(), &got, src, uLong(stored));
-  if (rc != Z_OK || got != bytes)
-    r.where().fail(std::string(what) + ": zip block does not decompress to the " + std::to_string(bytes) + " bytes the mask implies");
-  return scratch.data();
+  return {src, uint64_t(stored), bytes, Block::Zip};
+}
+
+/// The decoded bytes of a framed block (in `scratch`, or in the file when
+/// stored raw), or nullptr with `why` set when it does not decompress to
+/// exactly its size. Safe to call concurrently with distinct scratch buffers.
+const uint8_t* decodeBlock(const Block& b, std::vector<uint8_t>& scratch, const char* what, std::string& why) {
+  if (b.kind == Block::Raw) return b.src;
+  if (scratch.size() < b.bytes + 1) scratch.resize(size_t(b.bytes) + 1);
+  if (b.kind == Block::Blosc) {
+    const int got = blosc_decompress_ctx(b.src, scratch.data(), size_t(b.bytes), 1);
+    if (got >= 0 && uint64_t(got) == b.bytes) return scratch.data();
+    why = std::string(what) + ": compressed block does not decompress (" + std::to_string(got) + " of " +
+          std::to_string(b.bytes) + " bytes)";
+    return nullptr;
+  }
+  uLongf got = uLongf(b.bytes);
+  const int rc = uncompress(scratch.data(), &got, b.src, uLong(b.stored));
+  if (rc == Z_OK && got == b.bytes) return scratch.data();
+  why = std::string(what) + ": zip block does not decompress to the " + std::to_string(b.bytes) + " bytes the mask implies";
+  return nullptr;
 }
 
 // ---------------------------------------------------------------- metadata
@@ -325,15 +345,33 @@ struct Leaf {
   size_t maskAt;  // offset of its value mask in the topology
 };
 
+/// The values io::readCompressedValues reads for one node, framed.
+struct ValueFrame {
+  int8_t meta = 0;                                // compression metadata
+  const uint8_t* inactive[2] = {nullptr, nullptr};  // inactive values stored
+  const uint8_t* selection = nullptr;             // selection mask stored
+  size_t count = 0;                               // values stored
+  bool hasBlock = false;                          // false when HalfReader reads nothing (no values)
+  Block block;
+};
+
+/// A leaf buffer framed by the serial pass, for the parallel decoding.
+struct FramedLeaf {
+  const uint8_t* mask = nullptr;
+  const uint8_t* boolValues = nullptr;
+  ValueFrame values;
+};
+
 class TreeWalk {
  public:
-  TreeWalk(Reader& r, const ValueKind& v, bool half, uint32_t compression, bool decode)
-      : r_(r), v_(v), half_(half && v.halfSize), compression_(compression), decode_(decode) {}
+  TreeWalk(Reader& r, const ValueKind& v, bool half, uint32_t compression)
+      : r_(r), v_(v), half_(half && v.halfSize), compression_(compression) {}
 
   void topology() {
     Where& w = r_.where();
     if (r_.get<int32_t>("buffer count") != 1) w.fail("buffer count is not 1 (multi-buffer trees are not supported)");
     const uint8_t* bg = r_.take(v_.size, "background value");
+    background_ = bg;
     if (v_.isBool && *bg > 1) w.fail("background value is not a bool (0 or 1)");
     // OpenVDB negates the background for inactive values (io::readCompressedValues):
     // the most negative integer has no negation.
@@ -353,6 +391,7 @@ class TreeWalk {
     const uint32_t children = r_.get<uint32_t>("root child count");
     if (uint64_t(tiles) * (13 + v_.size) > r_.left())
       w.fail("root claims " + std::to_string(tiles) + " tiles, more than the file holds");
+    leavesOnly_ = tiles == 0;
     std::set<std::array<int32_t, 3>> tileAt;
     std::array<int32_t, 3> prev{};
     for (uint32_t i = 0; i < tiles; ++i) {
@@ -373,29 +412,46 @@ class TreeWalk {
     w.node = nullptr;
   }
 
-  void buffers() {
+  /// The leaf buffers, framed in file order; with `decode` every block is
+  /// then decompressed and checked in parallel and, with a `sink`, each leaf
+  /// handed to it. The fault named is the first in file order either way.
+  void buffers(bool decode, VdbWalkSink* sink, size_t gridIndex) {
     Where& w = r_.where();
     const size_t maskBytes = kLeafValues / 8;
-    for (const Leaf& leaf : leaves_) {
-      w.node = "leaf";
-      w.origin = leaf.origin;
-      const uint8_t* mask = r_.take(maskBytes, "leaf value mask");
-      if (std::memcmp(mask, topoBytes_ + leaf.maskAt, maskBytes) != 0)
-        w.fail("leaf value mask differs from the one in the topology");
-      if (v_.isBool) {
-        std::array<int32_t, 3> o;
-        std::memcpy(o.data(), r_.take(12, "leaf origin"), 12);
-        if (o != leaf.origin) w.fail("stored leaf origin " + coordText(o) + " is not where the leaf is");
-        if (!v_.isMask) r_.take(maskBytes, "leaf values");  // bool leaves: the values as bits
-        continue;
+    std::vector<FramedLeaf> framed(leaves_.size());
+    size_t walked = 0;
+    try {
+      for (; walked < leaves_.size(); ++walked) {
+        const Leaf& leaf = leaves_[walked];
+        FramedLeaf& b = framed[walked];
+        w.node = "leaf";
+        w.origin = leaf.origin;
+        b.mask = r_.take(maskBytes, "leaf value mask");
+        if (std::memcmp(b.mask, topoBytes_ + leaf.maskAt, maskBytes) != 0)
+          w.fail("leaf value mask differs from the one in the topology");
+        if (v_.isBool) {
+          std::array<int32_t, 3> o;
+          std::memcpy(o.data(), r_.take(12, "leaf origin"), 12);
+          if (o != leaf.origin) w.fail("stored leaf origin " + coordText(o) + " is not where the leaf is");
+          if (!v_.isMask) b.boolValues = r_.take(maskBytes, "leaf values");  // bool leaves: the values as bits
+          continue;
+        }
+        b.values = frameValues(b.mask, kLeafValues, "leaf values");
       }
-      values(mask, kLeafValues, "leaf values");
+    } catch (const Error&) {
+      // A walk that decompressed as it went would have stopped at an earlier
+      // block that does not decompress: that one is named first.
+      if (decode) decodeLeaves(framed, walked, nullptr, 0);
+      throw;
     }
     w.node = nullptr;
+    if (decode) decodeLeaves(framed, leaves_.size(), sink, gridIndex);
   }
 
   void setTopologyBase(const uint8_t* base) { topoBytes_ = base; }
   uint64_t leafCount() const { return leaves_.size(); }
+  const uint8_t* background() const { return background_; }
+  bool leavesOnly() const { return leavesOnly_; }
 
  private:
   std::array<int32_t, 3> rootCoord(const char* what, const std::array<int32_t, 3>* prev) {
@@ -424,13 +480,19 @@ class TreeWalk {
     const size_t maskBytes = count / 8;
     const uint8_t* childMask = r_.take(maskBytes, "child mask");
     const uint8_t* valueMask = r_.take(maskBytes, "value mask");
+    uint64_t anyChild = 0, anyTile = 0;
     for (size_t i = 0; i < maskBytes; i += 8) {
       uint64_t c, v;
       std::memcpy(&c, childMask + i, 8);
       std::memcpy(&v, valueMask + i, 8);
       if (c & v) w.fail("child mask and value mask overlap");
+      anyChild |= c;
+      anyTile |= v;
     }
-    values(valueMask, count, "tile values");
+    const int8_t meta = values(valueMask, count, "tile values");
+    // With active-mask compression, metadata 0 and no active tiles, every
+    // value of the node is the background, as in a node made for its children.
+    if (!anyChild || anyTile || meta != NO_MASK_OR_INACTIVE_VALS || !(compression_ & kActiveMask)) leavesOnly_ = false;
     const int childShift = log2 == 5 ? 7 : 3;  // voxels a child spans, log2
     for (size_t word = 0; word < maskBytes / 8; ++word) {
       uint64_t bits;
@@ -457,17 +519,18 @@ class TreeWalk {
     }
   }
 
-  /// io::readCompressedValues for `count` values selected by `mask`.
-  void values(const uint8_t* mask, size_t count, const char* what) {
-    const int8_t meta = r_.get<int8_t>(what, "compression metadata");
+  /// Frames io::readCompressedValues for `count` values selected by `mask`.
+  ValueFrame frameValues(const uint8_t* mask, size_t count, const char* what) {
+    ValueFrame f;
+    const int8_t meta = f.meta = r_.get<int8_t>(what, "compression metadata");
     if (meta == NO_MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_TWO_INACTIVE_VALS) {
-      for (int k = meta == MASK_AND_TWO_INACTIVE_VALS ? 2 : 1; k > 0; --k) {
-        const uint8_t* v = r_.take(v_.size, "inactive value");
+      for (int k = 0; k < (meta == MASK_AND_TWO_INACTIVE_VALS ? 2 : 1); ++k) {
+        const uint8_t* v = f.inactive[k] = r_.take(v_.size, "inactive value");
         if (v_.isBool && *v > 1) r_.where().fail(std::string(what) + ": inactive value is not a bool (0 or 1)");
       }
     }
     if (meta == MASK_AND_NO_INACTIVE_VALS || meta == MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_TWO_INACTIVE_VALS)
-      r_.take(count / 8, "selection mask");
+      f.selection = r_.take(count / 8, "selection mask");
     size_t n = count;
     if ((compression_ & kActiveMask) && meta != NO_MASK_AND_ALL_VALS) {
       n = 0;
@@ -477,21 +540,86 @@ class TreeWalk {
         n += size_t(std::popcount(bits));
       }
     }
-    if (half_ && n == 0) return;  // HalfReader reads nothing for no values
-    const uint64_t bytes = uint64_t(n) * (half_ ? v_.halfSize : v_.size);
-    const bool decode = decode_ || v_.isBool;  // bool values must be checked byte by byte
-    const uint8_t* data = readBlock(r_, compression_, bytes, decode, scratch_, what);
-    if (v_.isBool && data)
-      for (uint64_t i = 0; i < bytes; ++i)
+    f.count = n;
+    if (half_ && n == 0) return f;  // HalfReader reads nothing for no values
+    f.block = frameBlock(r_, compression_, uint64_t(n) * (half_ ? v_.halfSize : v_.size), what);
+    f.hasBlock = true;
+    return f;
+  }
+
+  /// io::readCompressedValues of an internal node's tile values, decoded and
+  /// checked at once (they are few). Returns the compression metadata.
+  int8_t values(const uint8_t* mask, size_t count, const char* what) {
+    const ValueFrame f = frameValues(mask, count, what);
+    if (!f.hasBlock) return f.meta;
+    std::string why;
+    const uint8_t* data = decodeBlock(f.block, scratch_, what, why);
+    if (!data) r_.where().fail(why);
+    if (v_.isBool)  // bool values must be checked byte by byte
+      for (uint64_t i = 0; i < f.block.bytes; ++i)
         if (data[i] > 1) r_.where().fail(std::string(what) + ": a value is " + std::to_string(data[i]) + ", not a bool (0 or 1)");
+    return f.meta;
+  }
+
+  /// Decompresses the blocks of leaves [0, n) in parallel, handing each leaf
+  /// to `sink` when there is one; throws for the first leaf in file order
+  /// whose block does not decompress or whose sink call throws.
+  void decodeLeaves(const std::vector<FramedLeaf>& framed, size_t n, VdbWalkSink* sink, size_t gridIndex) {
+    constexpr size_t kNone = SIZE_MAX;
+    std::atomic<size_t> first{kNone};
+    std::mutex mutex;
+    std::string firstWhy;
+    std::exception_ptr firstError;
+    auto fault = [&](size_t i, std::string why, std::exception_ptr error) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (i >= first.load()) return;
+      first.store(i);
+      firstWhy = std::move(why);
+      firstError = error;
+    };
+    parallelForEach(n, 0, 64, [&](size_t i) {
+      if (i > first.load(std::memory_order_relaxed)) return;  // an earlier leaf is named anyway
+      try {
+        const FramedLeaf& b = framed[i];
+        VdbLeafValues v;
+        v.origin = leaves_[i].origin;
+        v.valueMask = b.mask;
+        v.boolValues = b.boolValues;
+        if (!v_.isBool) {
+          const ValueFrame& f = b.values;
+          v.compressionMeta = f.meta;
+          v.inactive[0] = f.inactive[0];
+          v.inactive[1] = f.inactive[1];
+          v.selectionMask = f.selection;
+          v.count = f.count;
+          if (f.hasBlock) {
+            thread_local std::vector<uint8_t> scratch;
+            std::string why;
+            v.values = decodeBlock(f.block, scratch, "leaf values", why);
+            if (!v.values) return fault(i, std::move(why), nullptr);
+          }
+        }
+        if (sink) sink->leaf(gridIndex, i, v);
+      } catch (...) {
+        fault(i, {}, std::current_exception());
+      }
+    });
+    const size_t i = first.load();
+    if (i == kNone) return;
+    if (firstError) std::rethrow_exception(firstError);
+    Where& w = r_.where();
+    w.node = "leaf";
+    w.origin = leaves_[i].origin;
+    w.fail(firstWhy);
   }
 
   Reader& r_;
   const ValueKind& v_;
   bool half_;
   uint32_t compression_;
-  bool decode_;
   const uint8_t* topoBytes_ = nullptr;
+  const uint8_t* background_ = nullptr;
+  bool leavesOnly_ = true;
   std::vector<Leaf> leaves_;
   std::vector<uint8_t> scratch_;
 };
@@ -507,14 +635,32 @@ const ValueKind* valueKindOf(const std::string& type, bool& halfSuffix) {
   return nullptr;
 }
 
-void walkGrid(Reader& r, VdbGridFrame& g, const std::vector<VdbGridFrame>& earlier, bool decode) {
+/// A grid walked up to its leaf buffers.
+struct GridWalk {
+  VdbGridLayout layout;
+  std::unique_ptr<TreeWalk> tree;  // null for instances and grids of types the walk cannot check
+};
+
+/// Grid `g`'s compression flags, metadata, transform and topology, up to its
+/// block offset. Marks it checked when its type is one the walk checks (the
+/// caller walks its buffers next, or throws).
+GridWalk walkGridTopology(Reader& r, VdbGridFrame& g, const std::vector<VdbGridFrame>& earlier) {
+  GridWalk out;
   Where& w = r.where();
+  const uint8_t* base = r.here() - r.pos();
   r.seek(size_t(g.gridPos));
   const uint32_t compression = r.get<uint32_t>("grid compression flags");
   if (compression & ~(kZip | kActiveMask | kBlosc))
     w.fail("unknown compression flags " + std::to_string(compression));
+  out.layout.compression = compression;
+  const size_t metaAt = r.pos();
   const MetaInfo meta = readMeta(r, "grid");
+  out.layout.metadata = base + metaAt;
+  out.layout.metadataBytes = r.pos() - metaAt;
+  const size_t mapAt = r.pos();
   readMap(r, 0);
+  out.layout.transform = base + mapAt;
+  out.layout.transformBytes = r.pos() - mapAt;
   bool halfSuffix = false;
   const ValueKind* kind = valueKindOf(g.type, halfSuffix);
   if (!g.instanceParent.empty()) {
@@ -530,33 +676,42 @@ void walkGrid(Reader& r, VdbGridFrame& g, const std::vector<VdbGridFrame>& earli
       w.fail("instance grid holds bytes after its transform");
     g.checked = parent->checked;
     g.uncheckedWhy = parent->uncheckedWhy;
-    return;
+    return out;
   }
   if (!kind) {
     g.uncheckedWhy = "grid type " + printable(g.type) + " is not one vox can check (point grids are not supported)";
-    return;
+    return out;
   }
   // Archive::readGrid stores the descriptor's half flag in the grid metadata,
   // which the grid's own metadata then replaces: both must agree.
   if ((meta.halfFloat == 1) != halfSuffix)
     w.fail("the type " + printable(g.type) + " and metadata 'is_saved_as_half_float' disagree about half-float storage");
-  TreeWalk tree(r, *kind, halfSuffix, compression, decode);
-  tree.setTopologyBase(r.here() - r.pos());
-  tree.topology();
+  out.tree = std::make_unique<TreeWalk>(r, *kind, halfSuffix, compression);
+  out.tree->setTopologyBase(base);
+  out.tree->topology();
   if (r.pos() != size_t(g.blockPos))
     w.fail("the topology ends at byte " + std::to_string(r.pos()) + ", not at the grid's block offset " +
            std::to_string(g.blockPos));
-  tree.buffers();
-  if (r.pos() != size_t(g.endPos))
-    w.fail("the leaf buffers end at byte " + std::to_string(r.pos()) + ", not at the grid's end offset " +
-           std::to_string(g.endPos));
-  g.leafCount = tree.leafCount();
+  g.leafCount = out.tree->leafCount();
   g.checked = true;
+  out.layout.halfFloat = halfSuffix;
+  out.layout.background = out.tree->background();
+  out.layout.valueSize = kind->size;
+  out.layout.leavesOnly = out.tree->leavesOnly();
+  return out;
 }
 
-}  // namespace
+/// Grid `g`'s leaf buffers (TreeWalk::buffers), which must end at its end offset.
+void walkGridBuffers(Reader& r, const VdbGridFrame& g, TreeWalk& tree, bool decode, VdbWalkSink* sink, size_t index) {
+  r.seek(size_t(g.blockPos));
+  tree.buffers(decode, sink, index);
+  if (r.pos() != size_t(g.endPos))
+    r.where().fail("the leaf buffers end at byte " + std::to_string(r.pos()) + ", not at the grid's end offset " +
+                   std::to_string(g.endPos));
+}
 
-VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& name, VdbCheck depth) {
+/// checkVdbStructure, or with a sink walkVdbInto.
+VdbFrame walk(const uint8_t* data, size_t size, const std::string& name, VdbCheck depth, VdbWalkSink* sink) {
   Where where;
   where.file = &name;
   Reader r(data, size, where);
@@ -575,14 +730,18 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
   f.libraryMinor = r.get<uint32_t>("the library minor version");
   const uint8_t hasGridOffsets = r.get<uint8_t>("the grid-offsets flag");
   r.take(36, "the file UUID");
+  const size_t metaAt = r.pos();
   f.metadataNames = readMeta(r, "file").names;
+  const size_t metaEnd = r.pos();
   if (!hasGridOffsets)
     throwBadInput(name + ": the OpenVDB file has no grid offsets (written as a stream); vox reads files written by "
                          "openvdb::io::File");
+  if (sink) sink->fileMetadata(data + metaAt, metaEnd - metaAt);
 
   const int32_t gridCount = r.get<int32_t>("the grid count");
   if (gridCount < 0) throwBadInput(name + ": the grid count is negative; the file is corrupt");
   std::set<std::string> names;
+  std::vector<GridWalk> walks;  // with a sink: every grid's, for the second pass
   for (int32_t i = 0; i < gridCount; ++i) {
     const std::string what = "grid descriptor " + std::to_string(i);
     where.grid.clear();
@@ -603,11 +762,39 @@ VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& 
     if (g.endPos > int64_t(r.size()))
       where.fail("truncated OpenVDB file: the grid ends at byte " + std::to_string(g.endPos) + " but the file has " +
                  std::to_string(r.size()) + " bytes");
-    if (depth == VdbCheck::Full) walkGrid(r, g, f.grids, /*decode=*/true);
+    if (depth == VdbCheck::Full) {
+      GridWalk gw = walkGridTopology(r, g, f.grids);
+      if (sink) walks.push_back(std::move(gw));
+      else if (gw.tree) walkGridBuffers(r, g, *gw.tree, /*decode=*/true, nullptr, 0);
+    }
     r.seek(size_t(g.endPos));
     f.grids.push_back(std::move(g));
   }
+  if (!sink) return f;
+
+  where.grid.clear();
+  std::vector<VdbGridLayout> layouts;
+  for (const GridWalk& gw : walks) layouts.push_back(gw.layout);
+  const std::vector<VdbLeafUse> use = sink->topologyWalked(f, layouts);
+  if (use.size() != f.grids.size()) throw Error(ErrorKind::Internal, "walkVdbInto: the sink answered for another number of grids");
+  for (size_t i = 0; i < f.grids.size(); ++i) {
+    if (!walks[i].tree) continue;
+    where.grid = "grid '" + printable(f.grids[i].uniqueName) + "'";
+    const bool deliver = use[i] == VdbLeafUse::Deliver;
+    walkGridBuffers(r, f.grids[i], *walks[i].tree, deliver, deliver ? sink : nullptr, i);
+    if (deliver) sink->gridDone(i);
+  }
   return f;
+}
+
+}  // namespace
+
+VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& name, VdbCheck depth) {
+  return walk(data, size, name, depth, nullptr);
+}
+
+VdbFrame walkVdbInto(const uint8_t* data, size_t size, const std::string& name, VdbWalkSink& sink) {
+  return walk(data, size, name, VdbCheck::Full, &sink);
 }
 
 namespace {

@@ -38,6 +38,8 @@
 // +-2^30 voxels, so that node bounds never overflow 32-bit arithmetic.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -76,5 +78,80 @@ VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth = VdbCheck::F
 /// Same on bytes in memory.
 VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& nameForMessages,
                            VdbCheck depth = VdbCheck::Full);
+
+// ---------------------------------------------------------------- reading through the walk
+// A reader that builds its trees from the walk's own decoding instead of
+// handing the file to OpenVDB afterwards (the one-pass scene reader,
+// vdb_scene_direct_read.h): every byte it is given has been checked exactly
+// as checkVdbStructure checks it, and every compressed block is decompressed
+// once.
+
+/// What the walk knows of a grid once its topology is walked. Pointers point
+/// into the walked bytes.
+struct VdbGridLayout {
+  uint32_t compression = 0;                    // io::COMPRESS_* flags of the grid
+  bool halfFloat = false;                      // values are stored as half floats
+  const uint8_t* metadata = nullptr;           // the grid metadata as stored (count, entries)
+  size_t metadataBytes = 0;
+  const uint8_t* transform = nullptr;          // the transform as stored (map type, values)
+  size_t transformBytes = 0;
+  const uint8_t* background = nullptr;         // the root's background value
+  uint32_t valueSize = 0;                      // bytes of one value in memory (bool: 1)
+  /// No root tiles, every internal node has children and no tiles, and
+  /// every inactive value of the internal nodes is the background: the tree
+  /// is its leaves (adding them to an empty tree gives the tree OpenVDB reads).
+  bool leavesOnly = false;
+};
+
+/// One leaf's buffer as io::readCompressedValues / LeafNode<bool>::readBuffers
+/// take it; pointers are valid during the call only.
+struct VdbLeafValues {
+  std::array<int32_t, 3> origin{};
+  const uint8_t* valueMask = nullptr;  // 64 bytes: the active voxels
+  const uint8_t* boolValues = nullptr;  // bool grids: 64 bytes of value bits; else nullptr
+  // Other grids: the compression metadata byte (io/Compression.h), the
+  // inactive values it stores (nullptr when it stores none), the selection
+  // mask (nullptr when none), and `count` decoded values of the grid's value
+  // size: all 512, or the active ones in voxel order.
+  int8_t compressionMeta = 0;
+  const uint8_t* inactive[2] = {nullptr, nullptr};
+  const uint8_t* selectionMask = nullptr;
+  const uint8_t* values = nullptr;
+  size_t count = 0;
+};
+
+/// What the walk does with a grid's leaf buffers.
+enum class VdbLeafUse {
+  Deliver,  // decompress and check every block and hand each leaf to VdbWalkSink::leaf
+  Frame,    // check the framing and Blosc headers only, decompress nothing (the grid is not read)
+};
+
+/// Receives a walk (walkVdbInto). Calls come from the walking thread except
+/// leaf(), which runs concurrently for distinct leaves. An exception thrown by
+/// a call ends the walk and reaches walkVdbInto's caller (from leaf(): the one
+/// of the first leaf in file order that threw).
+class VdbWalkSink {
+ public:
+  virtual ~VdbWalkSink() = default;
+  /// The file metadata as stored (count, entries), after the header.
+  virtual void fileMetadata(const uint8_t* bytes, size_t size) = 0;
+  /// Once every grid's framing and topology are walked (frame.grids have
+  /// their leaf counts; `grids` is parallel to them; instances and grids of
+  /// types the walk cannot check have default layouts), before any leaf
+  /// buffer: what to do with each grid's leaves.
+  virtual std::vector<VdbLeafUse> topologyWalked(const VdbFrame& frame, const std::vector<VdbGridLayout>& grids) = 0;
+  /// Leaf `index` (file order) of grid `grid`, for grids given Deliver.
+  virtual void leaf(size_t grid, size_t index, const VdbLeafValues& values) = 0;
+  /// Every leaf of a Deliver grid has been handed over and its bytes checked.
+  virtual void gridDone(size_t grid) = 0;
+};
+
+/// A Full walk of `data` that hands the grids to `sink`. The checks and
+/// messages are checkVdbStructure's; the order differs in one way: the
+/// topology of every grid is walked before the first leaf buffer, so of two
+/// faults in one file the one in a later grid's topology may be named first.
+/// Leaf blocks are decompressed in parallel (libvox/core/parallel.h); what
+/// is delivered and which fault is named do not depend on the thread count.
+VdbFrame walkVdbInto(const uint8_t* data, size_t size, const std::string& nameForMessages, VdbWalkSink& sink);
 
 }  // namespace vox

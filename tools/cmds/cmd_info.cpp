@@ -234,9 +234,12 @@ int runInfo(const InfoOptions& o) {
   if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
   if (!vox::looksLikeVdb(o.file))
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not a file vox info reads; it reads " + kindsRead());
-  // A .vdb without voxbake metadata (a level set, a fog volume): list its grids.
-  const vox::VdbFrame frame = vox::checkVdbStructure(o.file);
+  // A .vdb without voxbake metadata (a level set, a fog volume): list its
+  // grids, walked whole. A scene is walked while it is read (readSceneVdb):
+  // here only its framing.
+  vox::VdbFrame frame = vox::checkVdbStructure(o.file, vox::VdbCheck::Framing);
   if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {
+    frame = vox::checkVdbStructure(o.file);
     nlohmann::json j = {{"file", o.file},
                         {"kind", "openvdb"},
                         {"file_bytes", vox::fileSizeOrMinusOne(o.file)},
@@ -259,7 +262,9 @@ int runInfo(const InfoOptions& o) {
   const vox::Scene scene = vox::readSceneVdb(o.file);
   nlohmann::json j = sceneJson(o.file, scene);
   for (const vox::VdbGridFrame& g : frame.grids)
-    if (g.uniqueName == vox::kFreeGridName) j["free_grid"] = {{"type", g.type}, {"leaves", g.leafCount}};  // a `vox fuse` output
+    if (g.uniqueName == vox::kFreeGridName)  // a `vox fuse` output: its leaves need the whole walk
+      for (const vox::VdbGridFrame& full : vox::checkVdbStructure(o.file).grids)
+        if (full.uniqueName == vox::kFreeGridName) j["free_grid"] = {{"type", full.type}, {"leaves", full.leafCount}};
   const nlohmann::json pyramid = pyramidInfoJson(o.file);  // `vox mip` files: the levels above 0
   if (!pyramid.is_null()) j["pyramid"] = pyramid;
   if (o.json)

@@ -1,0 +1,307 @@
+// The one-pass scene reader (formats/vdb/vdb_scene_direct_read.h) against
+// OpenVDB's: every scene is read both ways (readVdbSceneFile with
+// VdbSceneReader::Auto and ::OpenVdb), and the two results must hold the same
+// metadata, header and grids: type, name, half-float flag, metadata entries,
+// transform, background, node counts and, leaf by leaf, the value mask and
+// all 512 values. Scenes: written by the direct writer (hamlet at several
+// resolutions, a city box, colour with several classes and saturated counts,
+// solid interior runs, an empty scene) and by OpenVDB's writer (the same
+// scenes, a pyramid). Files not of voxbake's form (tiles, half floats, other
+// grid types) must fall back and read as before. With VOX_DIRECT_READ_DIR
+// set (tests/cli/direct_read_test.sh: scenes made by `vox voxelize` from a
+// coloured mesh, a solid fill, a block map, region parts, the city and more),
+// every .vdb file there is compared too.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <random>
+
+#include "formats/scene/scene_vdb_direct.h"
+#include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_scene_direct_read.h"
+#include "formats/vdb/vdb_scene_grids.h"
+#include "libvox/mesh/voxel_blocks.h"
+#include "libvox/scene/demo_city.h"
+#include "libvox/scene/demo_hamlet.h"
+#include "libvox/scene/mip.h"
+#include "libvox/scene/scene_grids.h"
+#include "test_util.h"
+
+using namespace vox;
+using voxtest::TempDir;
+
+namespace {
+
+std::string text(const openvdb::Coord& c) { return toString(Coord3{c.x(), c.y(), c.z()}); }
+
+/// Empty when `a` and `b` hold the same tree, else what differs.
+template <typename GridT>
+std::string treeDifference(const GridT& a, const GridT& b) {
+  if (a.background() != b.background()) return "background";
+  if (a.tree().nodeCount() != b.tree().nodeCount()) return "node counts";
+  if (a.tree().activeTileCount() != b.tree().activeTileCount()) return "active tile counts";
+  for (auto it = a.tree().cbeginLeaf(); it; ++it) {
+    const auto* other = b.tree().probeConstLeaf(it->origin());
+    const std::string at = " of the leaf at " + text(it->origin());
+    if (!other) return "no leaf" + at;
+    if (it->getValueMask() != other->getValueMask()) return "value mask" + at;
+    for (openvdb::Index i = 0; i < GridT::TreeType::LeafNodeType::SIZE; ++i)
+      if (it->getValue(i) != other->getValue(i)) return "value " + std::to_string(i) + at;
+  }
+  // Tiles and inactive values of the internal nodes, in iteration order.
+  auto x = a.tree().cbeginValueAll();
+  auto y = b.tree().cbeginValueAll();
+  for (; x && y; ++x, ++y)
+    if (x.getLevel() > 0 || y.getLevel() > 0)
+      if (x.getLevel() != y.getLevel() || x.getCoord() != y.getCoord() || *x != *y || x.isValueOn() != y.isValueOn())
+        return "tile or internal value at " + text(x.getCoord());
+  if (bool(x) != bool(y)) return "value counts";
+  return "";
+}
+
+std::string gridDifference(const openvdb::GridBase::Ptr& a, const openvdb::GridBase::Ptr& b) {
+  if (a->type() != b->type()) return "type " + a->type() + " vs " + b->type();
+  if (a->getName() != b->getName()) return "name";
+  if (a->saveFloatAsHalf() != b->saveFloatAsHalf()) return "half-float flag";
+  if (a->str() != b->str()) return "metadata: " + a->str() + " vs " + b->str();
+  if (a->transform() != b->transform()) return "transform";
+  if (auto t = openvdb::GridBase::grid<openvdb::BoolGrid>(a)) return treeDifference(*t, *openvdb::GridBase::grid<openvdb::BoolGrid>(b));
+  if (auto t = openvdb::GridBase::grid<openvdb::Int32Grid>(a)) return treeDifference(*t, *openvdb::GridBase::grid<openvdb::Int32Grid>(b));
+  if (auto t = openvdb::GridBase::grid<openvdb::Vec3SGrid>(a)) return treeDifference(*t, *openvdb::GridBase::grid<openvdb::Vec3SGrid>(b));
+  if (auto t = openvdb::GridBase::grid<openvdb::FloatGrid>(a)) return treeDifference(*t, *openvdb::GridBase::grid<openvdb::FloatGrid>(b));
+  return "grid type not compared: " + a->type();
+}
+
+/// Reads `path` both ways (whole and occupancy only) and compares. With
+/// `direct`, the one-pass reader must take the file; without, it must
+/// leave it to OpenVDB.
+void expectSameBothWays(const std::string& path, bool direct = true) {
+  SCOPED_TRACE(path);
+  ASSERT_EQ(readVdbSceneFileDirect(path, false).has_value(), direct);
+  for (bool occupancyOnly : {false, true}) {
+    const VdbSceneFile a = readVdbSceneFile(path, occupancyOnly, VdbSceneReader::Auto);
+    const VdbSceneFile b = readVdbSceneFile(path, occupancyOnly, VdbSceneReader::OpenVdb);
+    EXPECT_TRUE(a.metadata == b.metadata);
+    EXPECT_TRUE(sceneFileMetadata(a.header) == sceneFileMetadata(b.header));
+    ASSERT_EQ(a.grids.size(), b.grids.size());
+    for (size_t i = 0; i < a.grids.size(); ++i)
+      EXPECT_EQ(gridDifference(a.grids[i], b.grids[i]), "") << "grid " << b.grids[i]->getName();
+  }
+  // The checked scene, as every command gets it.
+  const VdbSceneFile b = readVdbSceneFile(path, false, VdbSceneReader::OpenVdb);
+  Scene want;
+  want.header() = b.header;
+  want.grids() = levelGridsFromVdb(b.grids, "", b.header, path, true);
+  const SceneDifference diff = compareScenes(readSceneVdb(path), want);
+  EXPECT_TRUE(diff.same()) << diff.headerNote << " " << diff.firstNote;
+}
+
+SceneHeader testHeader(Dims dims) {
+  SceneHeader h;
+  h.dims = dims;
+  h.voxelSize = 0.05;
+  h.origin = {-2.0, 0.5, 1.0};
+  h.classes.add({1, "stone", {120, 120, 120}, std::nullopt});
+  h.classes.add({3, "moss", {80, 170, 90}, std::nullopt});
+  h.classes.add({9, "glass", {40, 80, 200}, std::nullopt});
+  h.sources.push_back({"x.obj", "mesh", std::string(64, 'b'), 99});
+  return h;
+}
+
+/// Random surface voxels of three classes with colour on some and
+/// saturated counts, and solid interior runs (whole blocks of one count).
+VoxelBlocks mixedBlocks(const Dims& d, uint32_t seed) {
+  VoxelBlocks b;
+  std::mt19937 rng(seed);
+  const uint8_t ids[3] = {1, 3, 9};
+  for (int i = 0; i < 4000; ++i) {
+    const Coord3 c{int32_t(rng() % d.x), int32_t(rng() % d.y), int32_t(rng() % d.z)};
+    b.addVotes(c, ids[rng() % 3], i % 97 == 0 ? kMaxVotesPerClass : 1 + rng() % 1000, rng() % 3 != 0);
+    if (rng() % 2) b.setColor(c, {float(rng() % 256) / 255.0f, 0.25f, float(rng() % 5) / 4.0f});
+  }
+  for (int32_t w = 0; w < 16; ++w)  // two solid blocks of interior runs
+    for (int32_t v = 40; v < 48; ++v) b.addRun({40, v, 40 + w}, 8, w < 8 ? 3 : 9, 7, false);
+  return b;
+}
+
+std::string writeDirect(const TempDir& dir, const std::string& name, const SceneHeader& h, VoxelBlocks blocks) {
+  const std::string path = dir.file(name);
+  writeSceneVdbDirect(h, blocks, path, 2);
+  return path;
+}
+
+std::string writeThroughOpenVdb(const TempDir& dir, const std::string& name, const Scene& scene) {
+  const std::string path = dir.file(name);
+  writeSceneVdb(scene, path);
+  return path;
+}
+
+}  // namespace
+
+TEST(DirectRead, HamletAtSeveralResolutionsBothWriters) {
+  TempDir dir;
+  for (uint32_t res : {8u, 40u, 96u}) {
+    HamletOptions o;
+    o.resolution = res;
+    SceneHeader h;
+    VoxelBlocks blocks = buildHamletBlocks(o, h);
+    expectSameBothWays(writeDirect(dir, "h" + std::to_string(res) + ".vdb", h, std::move(blocks)));
+    expectSameBothWays(writeThroughOpenVdb(dir, "hv" + std::to_string(res) + ".vdb", buildHamlet(o)));
+  }
+}
+
+TEST(DirectRead, ColourClassesRunsCityEmptyAndPyramid) {
+  TempDir dir;
+  const SceneHeader h = testHeader({300, 90, 5000});  // several root children along z
+  expectSameBothWays(writeDirect(dir, "mixed.vdb", h, mixedBlocks(h.dims, 5)));
+  expectSameBothWays(writeThroughOpenVdb(dir, "mixedv.vdb", SceneBuilder(mixedBlocks(h.dims, 5), h).build()));
+  expectSameBothWays(writeDirect(dir, "empty.vdb", testHeader({16, 16, 16}), VoxelBlocks()));
+
+  CityOptions city;
+  city.extent = {256, 96, 256};
+  city.box = {{40, 0, 40}, {200, 95, 170}};
+  expectSameBothWays(writeDirect(dir, "city.vdb", cityHeader(city.extent), buildCityBlocks(city)));
+
+  HamletOptions o;
+  o.resolution = 24;
+  const std::vector<Scene> levels = buildMipPyramid(buildHamlet(o), MipSettings{});
+  std::vector<const Scene*> ptrs;
+  for (const Scene& s : levels) ptrs.push_back(&s);
+  const std::string pyramid = dir.file("pyramid.vdb");
+  writePyramidVdb(ptrs, MipOccupancy::Any, pyramid);
+  expectSameBothWays(pyramid);
+  const std::vector<Scene> back = readPyramidVdb(pyramid);
+  ASSERT_EQ(back.size(), levels.size());
+  for (size_t i = 0; i < back.size(); ++i) EXPECT_TRUE(compareScenes(back[i], levels[i]).same()) << "level " << i;
+}
+
+TEST(DirectRead, SameGridsAtAnyThreadCount) {
+  TempDir dir;
+  HamletOptions o;
+  o.resolution = 64;
+  SceneHeader h;
+  VoxelBlocks blocks = buildHamletBlocks(o, h);
+  const std::string path = writeDirect(dir, "h.vdb", h, std::move(blocks));
+  const Scene want = readSceneVdb(path);
+  for (size_t threads : {1, 2, 3}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    EXPECT_TRUE(compareScenes(readSceneVdb(path), want).same()) << threads << " threads";
+  }
+}
+
+TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
+  ensureOpenVdbInitialized();
+  TempDir dir;
+  HamletOptions o;
+  o.resolution = 16;
+  const Scene scene = buildHamlet(o);
+  auto withGrids = [&](const std::string& name, const std::function<void(openvdb::GridPtrVec&)>& change) {
+    openvdb::GridPtrVec grids;
+    appendSceneGrids(scene, "", {}, grids);
+    change(grids);
+    openvdb::MetaMap meta;
+    insertVdbMetadata(meta, sceneFileMetadata(scene.header()));
+    writeVdbFile(dir.file(name), grids, meta, "scene");
+    return dir.file(name);
+  };
+  // Occupancy and votes of one 8^3 block stored as active tiles (other writers do).
+  const std::string tiles = withGrids("tiles.vdb", [&](openvdb::GridPtrVec& grids) {
+    for (auto& g : grids) {
+      auto copy = g->deepCopyGrid();
+      if (auto b = openvdb::GridBase::grid<openvdb::BoolGrid>(copy)) b->tree().addTile(1, openvdb::Coord(0), true, true);
+      if (auto v = openvdb::GridBase::grid<openvdb::Int32Grid>(copy)) v->tree().addTile(1, openvdb::Coord(0), 3, true);
+      if (auto c = openvdb::GridBase::grid<openvdb::Vec3SGrid>(copy)) c->tree().addTile(1, openvdb::Coord(0), openvdb::Vec3s(0.5f), true);
+      g = copy;
+    }
+  });
+  expectSameBothWays(tiles, /*direct=*/false);
+  // A user's float grid beside the scene's grids.
+  const std::string extra = withGrids("extra.vdb", [&](openvdb::GridPtrVec& grids) {
+    auto f = openvdb::FloatGrid::create(0.0f);
+    f->setName("density");
+    f->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
+    grids.push_back(f);
+  });
+  expectSameBothWays(extra, /*direct=*/false);
+  // Colour stored as half floats.
+  const std::string half = withGrids("half.vdb", [&](openvdb::GridPtrVec& grids) {
+    for (auto& g : grids)
+      if (g->getName() == kOccupancyGridName) {
+        auto c = openvdb::Vec3SGrid::create();
+        c->setName(kColorGridName);
+        c->setSaveFloatAsHalf(true);
+        grids.push_back(c);
+        break;
+      }
+  });
+  EXPECT_FALSE(readVdbSceneFileDirect(half, false).has_value());
+}
+
+TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
+  ensureOpenVdbInitialized();
+  TempDir dir;
+  HamletOptions o;
+  o.resolution = 16;
+  const Scene scene = buildHamlet(o);
+  openvdb::GridPtrVec grids;
+  appendSceneGrids(scene, "", {}, grids);
+  // Zero counts in two leaves (after a deep copy: the scene stays intact).
+  openvdb::Coord first, second;
+  bool changed = false;
+  for (auto& g : grids)
+    if (auto v = openvdb::GridBase::grid<openvdb::Int32Grid>(g); v && !changed) {
+      changed = true;
+      auto copy = v->deepCopy();
+      std::vector<openvdb::Coord> on;
+      for (auto it = copy->cbeginValueOn(); it; ++it) on.push_back(it.getCoord());
+      ASSERT_GT(on.size(), 40u);
+      first = on[on.size() / 3], second = on[on.size() - 1];
+      copy->tree().setValue(second, 0);
+      copy->tree().setValue(first, -4);
+      g = copy;
+    }
+  openvdb::MetaMap meta;
+  insertVdbMetadata(meta, sceneFileMetadata(scene.header()));
+  const std::string path = dir.file("zero.vdb");
+  writeVdbFile(path, grids, meta, "scene");
+  const std::string at = toString(Coord3{first.x(), first.y(), first.z()});
+  for (size_t threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(path); }, ErrorKind::BadInput,
+                                        {path, "vote count -4 at " + at, "counts must be >= 1"}));
+  }
+  // A vote at an unoccupied voxel and an occupied voxel without votes.
+  openvdb::GridPtrVec grids2;
+  appendSceneGrids(scene, "", {}, grids2);
+  auto occ = openvdb::GridBase::grid<openvdb::BoolGrid>(grids2[0])->deepCopy();
+  occ->setName(kOccupancyGridName);
+  const openvdb::Coord lone(15, 15, 15);
+  ASSERT_FALSE(occ->tree().isValueOn(lone));
+  occ->tree().setValueOn(lone, true);
+  grids2[0] = occ;
+  const std::string path2 = dir.file("unvoted.vdb");
+  writeVdbFile(path2, grids2, meta, "scene");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(path2); }, ErrorKind::BadInput,
+                                      {path2, "occupied voxel (15, 15, 15) has no votes"}));
+}
+
+TEST(DirectRead, ScenesMadeByTheCommandLine) {
+  const char* dir = std::getenv("VOX_DIRECT_READ_DIR");
+  if (!dir) GTEST_SKIP() << "VOX_DIRECT_READ_DIR not set (tests/cli/direct_read_test.sh sets it)";
+  int files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".vdb") {
+      expectSameBothWays(e.path().string());
+      ++files;
+    }
+  EXPECT_GE(files, 8);
+  std::cout << "[ compared ] " << files << " scenes made by vox\n";
+}
