@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -201,8 +202,11 @@ SceneGrids levelGridsFromVdb(const openvdb::GridPtrVec& fileGrids, const std::st
       // Leaf by leaf in parallel; the voxel named is the first in iteration order.
       const auto leaves = leavesOf(votes->tree());
       auto nonPositive = [&](size_t i) {
-        for (auto it = leaves[i]->cbeginValueOn(); it; ++it)
-          if (*it <= 0) return true;
+        const auto& leaf = *leaves[i];
+        const int32_t* value = leaf.buffer().data();
+        for (openvdb::Index w = 0; w < openvdb::Int32Tree::LeafNodeType::NodeMaskType::WORD_COUNT; ++w)
+          for (uint64_t bits = leaf.getValueMask().template getWord<openvdb::Index64>(w); bits; bits &= bits - 1)
+            if (value[w * 64 + openvdb::Index(std::countr_zero(bits))] <= 0) return true;
         return false;
       };
       const size_t at = firstBad(leaves.size(), nonPositive);
