@@ -197,23 +197,33 @@ TEST(DirectRead, SameGridsAtAnyThreadCount) {
   }
 }
 
-TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
-  ensureOpenVdbInitialized();
-  TempDir dir;
+namespace {
+
+Scene hamlet16() {
   HamletOptions o;
   o.resolution = 16;
-  const Scene scene = buildHamlet(o);
-  auto withGrids = [&](const std::string& name, const std::function<void(openvdb::GridPtrVec&)>& change) {
-    openvdb::GridPtrVec grids;
-    appendSceneGrids(scene, "", {}, grids);
-    change(grids);
-    openvdb::MetaMap meta;
-    insertVdbMetadata(meta, sceneFileMetadata(scene.header()));
-    writeVdbFile(dir.file(name), grids, meta, "scene");
-    return dir.file(name);
-  };
+  return buildHamlet(o);
+}
+
+/// `scene`'s grids (shallow copies), changed by `change`, written through OpenVDB as a scene file at `path`.
+std::string writeChanged(const std::string& path, const Scene& scene, const std::function<void(openvdb::GridPtrVec&)>& change) {
+  ensureOpenVdbInitialized();
+  openvdb::GridPtrVec grids;
+  appendSceneGrids(scene, "", {}, grids);
+  change(grids);
+  openvdb::MetaMap meta;
+  insertVdbMetadata(meta, sceneFileMetadata(scene.header()));
+  writeVdbFile(path, grids, meta, "scene");
+  return path;
+}
+
+}  // namespace
+
+TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
+  TempDir dir;
+  const Scene scene = hamlet16();
   // Occupancy and votes of one 8^3 block stored as active tiles (other writers do).
-  const std::string tiles = withGrids("tiles.vdb", [&](openvdb::GridPtrVec& grids) {
+  const std::string tiles = writeChanged(dir.file("tiles.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
     for (auto& g : grids) {
       auto copy = g->deepCopyGrid();
       if (auto b = openvdb::GridBase::grid<openvdb::BoolGrid>(copy)) b->tree().addTile(1, openvdb::Coord(0), true, true);
@@ -224,7 +234,7 @@ TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
   });
   expectSameBothWays(tiles, /*direct=*/false);
   // A user's float grid beside the scene's grids.
-  const std::string extra = withGrids("extra.vdb", [&](openvdb::GridPtrVec& grids) {
+  const std::string extra = writeChanged(dir.file("extra.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
     auto f = openvdb::FloatGrid::create(0.0f);
     f->setName("density");
     f->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
@@ -232,65 +242,53 @@ TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
   });
   expectSameBothWays(extra, /*direct=*/false);
   // Colour stored as half floats.
-  const std::string half = withGrids("half.vdb", [&](openvdb::GridPtrVec& grids) {
-    for (auto& g : grids)
-      if (g->getName() == kOccupancyGridName) {
-        auto c = openvdb::Vec3SGrid::create();
-        c->setName(kColorGridName);
-        c->setSaveFloatAsHalf(true);
-        grids.push_back(c);
-        break;
-      }
+  const std::string half = writeChanged(dir.file("half.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
+    auto c = openvdb::Vec3SGrid::create();
+    c->setName(kColorGridName);
+    c->setSaveFloatAsHalf(true);
+    grids.push_back(c);
   });
   EXPECT_FALSE(readVdbSceneFileDirect(half, false).has_value());
 }
 
 TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
-  ensureOpenVdbInitialized();
   TempDir dir;
-  HamletOptions o;
-  o.resolution = 16;
-  const Scene scene = buildHamlet(o);
-  openvdb::GridPtrVec grids;
-  appendSceneGrids(scene, "", {}, grids);
-  // Zero counts in two leaves (after a deep copy: the scene stays intact).
-  openvdb::Coord first, second;
-  bool changed = false;
-  for (auto& g : grids)
-    if (auto v = openvdb::GridBase::grid<openvdb::Int32Grid>(g); v && !changed) {
-      changed = true;
-      auto copy = v->deepCopy();
-      std::vector<openvdb::Coord> on;
-      for (auto it = copy->cbeginValueOn(); it; ++it) on.push_back(it.getCoord());
-      ASSERT_GT(on.size(), 40u);
-      first = on[on.size() / 3], second = on[on.size() - 1];
-      copy->tree().setValue(second, 0);
-      copy->tree().setValue(first, -4);
-      g = copy;
-    }
-  openvdb::MetaMap meta;
-  insertVdbMetadata(meta, sceneFileMetadata(scene.header()));
-  const std::string path = dir.file("zero.vdb");
-  writeVdbFile(path, grids, meta, "scene");
+  const Scene scene = hamlet16();
+  // Counts of 0 and -4 in two leaves of the first vote grid (deep copies: the scene stays intact).
+  openvdb::Coord first;
+  const std::string path = writeChanged(dir.file("zero.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
+    auto votes = openvdb::GridBase::grid<openvdb::Int32Grid>(grids[1])->deepCopy();
+    std::vector<openvdb::Coord> on;
+    for (auto it = votes->cbeginValueOn(); it; ++it) on.push_back(it.getCoord());
+    ASSERT_GT(on.size(), 40u);
+    first = on[on.size() / 3];
+    votes->tree().setValue(on.back(), 0);
+    votes->tree().setValue(first, -4);
+    grids[1] = votes;
+  });
   const std::string at = toString(Coord3{first.x(), first.y(), first.z()});
   for (size_t threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(path); }, ErrorKind::BadInput,
                                         {path, "vote count -4 at " + at, "counts must be >= 1"}));
   }
-  // A vote at an unoccupied voxel and an occupied voxel without votes.
-  openvdb::GridPtrVec grids2;
-  appendSceneGrids(scene, "", {}, grids2);
-  auto occ = openvdb::GridBase::grid<openvdb::BoolGrid>(grids2[0])->deepCopy();
-  occ->setName(kOccupancyGridName);
+  // An occupied voxel without votes; a vote at an unoccupied voxel.
   const openvdb::Coord lone(15, 15, 15);
-  ASSERT_FALSE(occ->tree().isValueOn(lone));
-  occ->tree().setValueOn(lone, true);
-  grids2[0] = occ;
-  const std::string path2 = dir.file("unvoted.vdb");
-  writeVdbFile(path2, grids2, meta, "scene");
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(path2); }, ErrorKind::BadInput,
-                                      {path2, "occupied voxel (15, 15, 15) has no votes"}));
+  ASSERT_FALSE(scene.grids().occupancy->tree().isValueOn(lone));
+  const std::string unvoted = writeChanged(dir.file("unvoted.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
+    auto occ = openvdb::GridBase::grid<openvdb::BoolGrid>(grids[0])->deepCopy();
+    occ->tree().setValueOn(lone, true);
+    grids[0] = occ;
+  });
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(unvoted); }, ErrorKind::BadInput,
+                                      {unvoted, "occupied voxel (15, 15, 15) has no votes"}));
+  const std::string stray = writeChanged(dir.file("stray.vdb"), scene, [&](openvdb::GridPtrVec& grids) {
+    auto votes = openvdb::GridBase::grid<openvdb::Int32Grid>(grids[1])->deepCopy();
+    votes->tree().setValueOn(lone, 2);
+    grids[1] = votes;
+  });
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(stray); }, ErrorKind::BadInput,
+                                      {stray, "grid '" + voteGridName(scene.grids().votes[0].classId) + "' has a vote at an unoccupied voxel (15, 15, 15)"}));
 }
 
 TEST(DirectRead, ScenesMadeByTheCommandLine) {
