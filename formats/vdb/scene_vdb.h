@@ -22,7 +22,9 @@ Scene readSceneVdb(const std::string& path);
 /// grid and leaves the vote and colour grids in the file (the returned scene
 /// has no vote grids, so it breaks the "every occupied voxel has a vote"
 /// invariant: for renderers and tools that need where voxels are, not what
-/// they are). It is checked like a full read otherwise.
+/// they are). It is checked like a full read otherwise, except that the
+/// other grids' blocks of a file voxbake wrote are framed (sizes, Blosc
+/// headers) but not decompressed (vdb_scene_direct_read.h).
 enum class SceneParts { All, OccupancyOnly };
 Scene readSceneVdb(const std::string& path, SceneParts parts);
 
