@@ -15,6 +15,9 @@
 #      ONLY="I..." bakes and packs only those regions of each N (a world too
 #      big for this machine's disk or afternoon: each part is deleted once
 #      measured, nothing is merged) and prints one row per region instead.
+#      SCENE_MERGE=0 skips `vox merge` (a world whose scene does not fit one
+#      process: its page file is merged, its scene stays in parts), and then
+#      each part's .vdb is deleted once packed and counted (disk).
 set -u
 extent=${1:?usage: bench_scale.sh EXTENT \"N...\" [VOX]}
 counts=${2:?usage: bench_scale.sh EXTENT \"N...\" [VOX]}
@@ -69,7 +72,7 @@ fi
 echo "| N | largest region: CPU s / peak MiB | all regions: CPU s | pack parts: CPU s | merge .vdb: s | merge .vpk: s | occupied voxels | part .vdb B/voxel | world .vpk | merge .vpk MB/s |"
 echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for n in $counts; do
-  rm -f part-*.vdb part-*.vpk world.vdb world.vpk
+  rm -f part-*.vdb part-*.vpk part-*.count world.vdb world.vpk
   maxcpu=0 maxrss=0 totcpu=0 packcpu=0 failed=""
   for ((i = 0; i < n; i++)); do
     region=(--region "$i/$n")
@@ -85,6 +88,10 @@ for n in $counts; do
     timed p.txt pack-chunks part-$i.vdb -o part-$i.vpk || { failed=$(head -c 300 err.txt); break; }
     read -r c w m <p.txt
     packcpu=$(python3 -c "print($packcpu + $c)")
+    if [ "${SCENE_MERGE:-1}" = 0 ]; then
+      echo "$("$vox" info part-$i.vdb --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["occupied"])') $(stat -c %s part-$i.vdb)" >part-$i.count
+      rm -f part-$i.vdb
+    fi
   done
   if [ -n "$failed" ]; then
     echo "| $n | refused or failed: $(echo "$failed" | tr '|' '/') | | | | | | | | |"
@@ -92,14 +99,24 @@ for n in $counts; do
   fi
   occ=0 partbytes=0
   for ((i = 0; i < n; i++)); do
-    occ=$((occ + $("$vox" info part-$i.vdb --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["occupied"])')))
-    partbytes=$((partbytes + $(stat -c %s part-$i.vdb)))
+    if [ -f part-$i.count ]; then
+      read -r o b <part-$i.count
+    else
+      o=$("$vox" info part-$i.vdb --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["occupied"])')
+      b=$(stat -c %s part-$i.vdb)
+    fi
+    occ=$((occ + o))
+    partbytes=$((partbytes + b))
   done
   if [ "$n" = 1 ]; then
     mv part-0.vpk world.vpk
     mergevdb=- mergevpk=- mbs=-
   else
-    timed mv.txt merge part-*.vdb -o world.vdb || { echo "| $n | merge failed: $(head -c 200 err.txt) |"; continue; }
+    if [ "${SCENE_MERGE:-1}" = 0 ]; then
+      echo "- skipped" >mv.txt
+    else
+      timed mv.txt merge part-*.vdb -o world.vdb || { echo "| $n | merge failed: $(head -c 200 err.txt) |"; continue; }
+    fi
     timed mp.txt pack-chunks --merge part-*.vpk -o world.vpk || { echo "| $n | page merge failed: $(head -c 200 err.txt) |"; continue; }
     mergevdb=$(cut -d' ' -f2 mv.txt)
     mergevpk=$(cut -d' ' -f2 mp.txt)

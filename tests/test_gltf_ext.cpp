@@ -2,8 +2,11 @@
 // same model without the extension (the oracle): EXT_meshopt_compression
 // (compressed with libmeshoptimizer's encoder; the shared sample against its
 // own fallback buffer), and the malformed variants refused by name.
-// Draco and the voxel-level comparisons are in tests/cli/gltfext_test.sh. Images:
+// Draco's voxel-level comparisons are in tests/cli/gltfext_test.sh; a Draco face
+// index out of range is here (it needs Draco's encoder). Images:
 // decoded once, for base colour only (gltf_images.h).
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
@@ -283,4 +286,64 @@ TEST(GltfFuzzFindings, HugeFloatIndexAndImageViewPastItsBuffer) {
   doc["bufferViews"][1]["byteLength"] = 40;
   voxtest::writeText(dir.file("v.gltf"), doc.dump());
   EXPECT_TRUE(rejects(dir.file("v.gltf"), {"bufferViews[1]", "past the end of buffer 0 (48 bytes)"}));
+}
+
+namespace {
+
+/// The box as KHR_draco_mesh_compression data: sequential connectivity with raw
+/// 8-bit indices (Draco's choice for fewer than 256 points when connectivity
+/// compression is off), so that a face index can be patched in place.
+std::string dracoBox() {
+  draco::Mesh mesh;
+  mesh.set_num_points(8);
+  draco::GeometryAttribute ga;
+  ga.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, sizeof(float) * 3, 0);
+  const int att = mesh.AddAttribute(ga, /*identity_mapping=*/true, 8);
+  for (int i = 0; i < 8; ++i)
+    mesh.attribute(att)->SetAttributeValue(draco::AttributeValueIndex(i), &kBoxPositions[size_t(3 * i)]);
+  for (size_t t = 0; t < kBoxIndices.size(); t += 3)
+    mesh.AddFace({draco::PointIndex(kBoxIndices[t]), draco::PointIndex(kBoxIndices[t + 1]),
+                  draco::PointIndex(kBoxIndices[t + 2])});
+  draco::Encoder encoder;
+  encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+  draco::EncoderBuffer out;
+  const draco::Status s = encoder.EncodeMeshToBuffer(mesh, &out);
+  EXPECT_TRUE(s.ok()) << s.error_msg_string();
+  return std::string(out.data(), out.size());
+}
+
+json dracoBoxDoc(size_t bytes) {
+  json doc = json::parse(R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+    "meshes":[{"name":"box","primitives":[{"attributes":{"POSITION":0},"indices":1,
+      "extensions":{"KHR_draco_mesh_compression":{"bufferView":0,"attributes":{"POSITION":0}}}}]}],
+    "extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],
+    "accessors":[{"componentType":5126,"count":8,"type":"VEC3","min":[0,0,0],"max":[2,3,5]},
+                 {"componentType":5125,"count":36,"type":"SCALAR"}]})");
+  doc["buffers"] = {{{"byteLength", bytes}}};
+  doc["bufferViews"] = {{{"buffer", 0}, {"byteLength", bytes}}};
+  return doc;
+}
+
+}  // namespace
+
+// A face index past the decoded points (what a corrupt or hostile encoder can
+// store in raw sequential connectivity) is refused naming the primitive and the
+// face, before any triangle reaches the voxelizer.
+TEST(GltfDraco, FaceIndexOutOfRangeIsRefusedByName) {
+  voxtest::TempDir dir;
+  std::string draco = dracoBox();
+  ASSERT_FALSE(draco.empty());
+  writeGlb(dir.file("box.glb"), dracoBoxDoc(draco.size()), draco);
+  const Mesh good = read(dir.file("box.glb"));
+  ASSERT_EQ(good.triangleCount(), 12u) << "the uncorrupted file decodes";
+
+  std::string raw;
+  for (uint32_t i : kBoxIndices) raw += char(uint8_t(i));
+  const size_t at = draco.find(raw);
+  ASSERT_NE(at, std::string::npos) << "raw 8-bit indices not found in the Draco stream";
+  ASSERT_EQ(draco.find(raw, at + 1), std::string::npos);
+  draco[at + 3 * 5 + 1] = char(200);  // face 5, second corner: point 200 of 8
+  writeGlb(dir.file("oob.glb"), dracoBoxDoc(draco.size()), draco);
+  EXPECT_TRUE(rejects(dir.file("oob.glb"),
+                      {"oob.glb", "mesh 'box' primitive 0 (KHR_draco_mesh_compression)", "face 5", "point 200 of 8"}));
 }

@@ -10,3 +10,6 @@ target_link_libraries(vox_unit_tests PRIVATE meshoptimizer::meshoptimizer)
 # The texture decoder both mesh readers use; its tests write JPEG and WebP files.
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_texture_image.cpp)
 target_link_libraries(vox_unit_tests PRIVATE JPEG::JPEG ${WEBP_LIBRARY})
+# The Draco index test encodes its file with Draco's own encoder (the same
+# archive the reader links).
+target_link_libraries(vox_unit_tests PRIVATE voxdraco)
