@@ -87,27 +87,38 @@ struct Poly {
   double p[12][3];  // a triangle clipped by 6 planes has at most 9 vertices
 };
 
-void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
-  Poly tmp;
-  // Clip against lo (keep >= lo), then hi (keep <= hi).
-  auto clip = [axis](const Poly& src, Poly& dst, double bound, bool keepAbove) {
-    dst.n = 0;
-    for (int i = 0; i < src.n; ++i) {
-      const double* a = src.p[i];
-      const double* b = src.p[(i + 1) % src.n];
-      const double da = keepAbove ? a[axis] - bound : bound - a[axis];
-      const double db = keepAbove ? b[axis] - bound : bound - b[axis];
-      if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
-      if ((da >= 0) != (db >= 0)) {
-        const double t = da / (da - db);
-        double* q = dst.p[dst.n++];
-        for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
-        q[axis] = bound;
-      }
+/// One side of a slab: the part of `src` with x[axis] >= bound (keepAbove) or
+/// <= bound, vertices in order from vertex 0, crossings interpolated along the
+/// edges (the clipping every vote's area comes from: any change to the
+/// arithmetic here changes scenes).
+void clipSide(const Poly& src, Poly& dst, int axis, double bound, bool keepAbove) {
+  double d[12];
+  for (int i = 0; i < src.n; ++i) d[i] = keepAbove ? src.p[i][axis] - bound : bound - src.p[i][axis];
+  dst.n = 0;
+  for (int i = 0; i < src.n; ++i) {
+    const int j = i + 1 == src.n ? 0 : i + 1;
+    const double* a = src.p[i];
+    const double* b = src.p[j];
+    const double da = d[i], db = d[j];
+    if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
+    if ((da >= 0) != (db >= 0)) {
+      const double t = da / (da - db);
+      double* q = dst.p[dst.n++];
+      for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
+      q[axis] = bound;
     }
-  };
-  clip(in, tmp, lo, true);
-  clip(tmp, out, hi, false);
+  }
+}
+
+/// `in` clipped to [lo, hi] along `axis` into `out` (against lo, then hi), its
+/// extent along the axis being [mn, mx]. A side that `in` does not cross
+/// would copy every vertex unchanged, so it is skipped.
+void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi, double mn, double mx) {
+  if (mn >= lo) return clipSide(in, out, axis, hi, false);
+  if (mx <= hi) return clipSide(in, out, axis, lo, true);
+  Poly tmp;
+  clipSide(in, tmp, axis, lo, true);
+  clipSide(tmp, out, axis, hi, false);
 }
 
 /// `in` clipped to [lo, hi] along `axis`: `in` itself when it already lies
@@ -115,12 +126,18 @@ void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
 /// clipped polygon in `out`. Most triangle pieces at the usual resolutions sit
 /// inside one slab, so this skips most of the clipping work.
 const Poly& clipAxisView(const Poly& in, Poly& out, int axis, double lo, double hi) {
-  if (in.n > 0) {
-    double mn = in.p[0][axis], mx = mn;
-    for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
-    if (mn >= lo && mx <= hi) return in;
+  if (in.n == 0) {
+    out.n = 0;
+    return out;
   }
-  clipAxis(in, out, axis, lo, hi);
+  double mn = in.p[0][axis], mx = mn;
+  for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
+  if (mn >= lo && mx <= hi) return in;
+  if (mn > hi || mx < lo) {  // wholly outside: clipping keeps nothing
+    out.n = 0;
+    return out;
+  }
+  clipAxis(in, out, axis, lo, hi, mn, mx);
   return out;
 }
 
@@ -474,10 +491,10 @@ void barycentric(const Poly& P, const double a[3], const double b[3], const doub
   l0 = 1.0 - l1 - l2;
 }
 
-/// Triangle t's voxels: the votes (area) and colour sums of each voxel its
-/// closed box touches, into `out`. P and the pieces below are in grid space
-/// (doubles), q in lattice units.
-void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
+/// Triangle t's voxels with x in [uFrom, uTo]: the votes (area) and colour
+/// sums of each voxel its closed box touches, into `out`. P and the pieces
+/// below are in grid space (doubles), q in lattice units.
+void surfaceTriangle(const SurfaceWork& W, size_t t, int32_t uFrom, int32_t uTo, SurfaceOut& out) {
   const auto& tri = W.mesh.triangles[t];
   std::array<int64_t, 3> q[3];
   for (int k = 0; k < 3; ++k) q[k] = W.lattice[tri[k]];
@@ -495,6 +512,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
       const int32_t rhi[3] = {W.region->max.u, W.region->max.v, W.region->max.w};
       first[i] = std::max(first[i], rlo[i]), last[i] = std::min(last[i], rhi[i]);
     }
+    if (i == 0) first[0] = std::max(first[0], uFrom), last[0] = std::min(last[0], uTo);
     if (first[i] > last[i]) return;
   }
   const uint8_t cls = W.triClass[t];
@@ -557,21 +575,97 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
 }
 
 
-/// The surface pass: every triangle's voxels, triangles split into `threads`
-/// pieces whose integer sums merge exactly, in piece order; colours are the
-/// vote-weighted averages of the merged sums.
+/// Slabs of the surface pass: x ranges [from, to] of whole 8^3 blocks, so the
+/// slabs' blocks are disjoint (no block is built twice and merged), each with
+/// the triangles whose candidate voxels reach into it.
+struct Slab {
+  int32_t from, to;
+  std::vector<uint32_t> triangles;
+};
+
+/// About `pieces` slabs of the domain along x with similar work: every
+/// triangle counts its candidate rows (y x z extent) in each x column it
+/// spans. Where the slabs end does not change the result (a voxel's pieces do
+/// not depend on who clips them), only the balance.
+std::vector<Slab> surfaceSlabs(const SurfaceWork& W, size_t pieces) {
+  const int32_t dimx = int32_t(W.dims.x);
+  const int32_t blocksX = (dimx + kBlockDim - 1) / kBlockDim;
+  std::vector<double> work(size_t(blocksX), 0.0);  // per block column
+  const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
+  const size_t nTri = W.mesh.triangles.size();
+  std::vector<std::array<int32_t, 2>> xRange(nTri, {1, 0});  // empty unless it touches the domain
+  for (size_t t = 0; t < nTri; ++t) {
+    const auto& tri = W.mesh.triangles[t];
+    int32_t first[3], last[3];
+    bool empty = false;
+    for (int i = 0; i < 3; ++i) {
+      const i64 a = W.lattice[tri[0]][i], b = W.lattice[tri[1]][i], c = W.lattice[tri[2]][i];
+      voxelsTouching(std::min({a, b, c}), std::max({a, b, c}), dimv[i], first[i], last[i]);
+      if (W.region) {
+        const int32_t rlo[3] = {W.region->min.u, W.region->min.v, W.region->min.w};
+        const int32_t rhi[3] = {W.region->max.u, W.region->max.v, W.region->max.w};
+        first[i] = std::max(first[i], rlo[i]), last[i] = std::min(last[i], rhi[i]);
+      }
+      empty = empty || first[i] > last[i];
+    }
+    if (empty) continue;
+    xRange[t] = {first[0], last[0]};
+    const double perColumn = double(last[1] - first[1] + 1) * double(last[2] - first[2] + 1) + 4;
+    for (int32_t u = first[0]; u <= last[0];) {  // by the columns in each block
+      const int32_t end = std::min(last[0], u | (kBlockDim - 1));
+      work[size_t(u >> kBlockLog2)] += perColumn * double(end - u + 1);
+      u = end + 1;
+    }
+  }
+  double total = 0;
+  for (double w : work) total += w;
+  std::vector<Slab> slabs;
+  double acc = 0;
+  int32_t from = 0;
+  for (int32_t b = 0; b < blocksX; ++b) {
+    acc += work[size_t(b)];
+    const bool lastBlock = b + 1 == blocksX;
+    if (lastBlock || acc >= total * double(slabs.size() + 1) / double(pieces))
+      slabs.push_back({from, lastBlock ? dimx - 1 : (b + 1) * kBlockDim - 1, {}}), from = (b + 1) * kBlockDim;
+  }
+  for (size_t t = 0; t < nTri; ++t) {
+    const auto [a, b] = xRange[t];
+    if (a > b) continue;
+    // The first slab ending at or after a, then on while they start at or before b.
+    auto s = std::lower_bound(slabs.begin(), slabs.end(), a, [](const Slab& x, int32_t v) { return x.to < v; });
+    for (; s != slabs.end() && s->from <= b; ++s) s->triangles.push_back(uint32_t(t));
+  }
+  return slabs;
+}
+
+/// The surface pass: every triangle's voxels, the domain split along x into
+/// slabs of whole blocks (a few per thread, taken as threads come free), each
+/// slab's blocks its own, so merging them only moves blocks; colours are the
+/// vote-weighted averages of the integer sums.
 VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Progress& progress, double share) {
   const size_t nTri = work.mesh.triangles.size();
-  std::vector<std::unique_ptr<SurfaceOut>> parts(threads);
+  std::vector<Slab> slabs;
+  if (threads > 1) {
+    slabs = surfaceSlabs(work, size_t(threads) * 4);
+  } else {  // one slab: the whole domain, every triangle
+    slabs.push_back({INT32_MIN, INT32_MAX, std::vector<uint32_t>(nTri)});
+    for (size_t t = 0; t < nTri; ++t) slabs[0].triangles[t] = uint32_t(t);
+  }
+  std::vector<std::unique_ptr<SurfaceOut>> parts(slabs.size());
   for (auto& p : parts) p = std::make_unique<SurfaceOut>();
   std::atomic<size_t> done{0};
-  parallelPieces(nTri, threads, threads, [&](size_t b, size_t e, size_t piece) {
-    for (size_t i = b; i < e; ++i) {
-      surfaceTriangle(work, i, *parts[piece]);
-      if ((i - b) % 4096 == 4095) progress(share * double(done += 4096) / double(nTri));
+  size_t steps = 0;
+  for (const Slab& s : slabs) steps += s.triangles.size();
+  parallelPieces(slabs.size(), threads, slabs.size(), [&](size_t b, size_t e, size_t) {
+    for (size_t s = b; s < e; ++s) {
+      const Slab& slab = slabs[s];
+      for (size_t i = 0; i < slab.triangles.size(); ++i) {
+        surfaceTriangle(work, slab.triangles[i], slab.from, slab.to, *parts[s]);
+        if (i % 4096 == 4095) progress(share * double(done += 4096) / double(std::max<size_t>(1, steps)));
+      }
     }
   });
-  for (unsigned t = 1; t < threads; ++t) {
+  for (size_t t = 1; t < parts.size(); ++t) {
     parts[0]->blocks.merge(std::move(parts[t]->blocks));
     for (const auto& [k, c] : parts[t]->colors) {
       ColorSum& s = parts[0]->colors[k];
