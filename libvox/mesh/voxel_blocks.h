@@ -36,6 +36,15 @@ inline uint32_t saturatingVotes(uint32_t a, uint32_t b) {
   return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
 }
 
+/// Set bits of `x`, inline (the build targets baseline x86-64, without the
+/// POPCNT instruction, where __builtin_popcountll is a library call).
+inline int bitCount(uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return int((x * 0x0101010101010101ull) >> 56);
+}
+
 /// Votes of one class in one block: the voxels with votes (bit i of `voted`,
 /// voxel i in the block's order) and their counts; every other voxel has 0.
 /// Counts are never 0. Up to kCompactCounts voted voxels the counts are kept
@@ -56,7 +65,7 @@ struct ClassBlock {
   /// Where voxel i's count is (or goes) in `counts`.
   size_t slot(int i) const {
     if (dense) return size_t(i);
-    return size_t(before[size_t(i >> 6)]) + size_t(__builtin_popcountll(voted[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
+    return size_t(before[size_t(i >> 6)]) + size_t(bitCount(voted[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
   }
   /// The votes of voxel i (0 when it has none).
   uint32_t at(int i) const { return has(i) ? counts[slot(i)] : 0; }

@@ -87,57 +87,63 @@ struct Poly {
   double p[12][3];  // a triangle clipped by 6 planes has at most 9 vertices
 };
 
-/// One side of a slab: the part of `src` with x[axis] >= bound (keepAbove) or
+/// One side of a slab: the part of `src` with x[Axis] >= bound (KeepAbove) or
 /// <= bound, vertices in order from vertex 0, crossings interpolated along the
-/// edges (the clipping every vote's area comes from: any change to the
-/// arithmetic here changes scenes).
-void clipSide(const Poly& src, Poly& dst, int axis, double bound, bool keepAbove) {
+/// edges. Every vote's area comes from this clipping, so any change to its
+/// arithmetic changes scenes; the templates only fix the axis and side.
+template <int Axis, bool KeepAbove>
+void clipSide(const Poly& src, Poly& dst, double bound) {
   double d[12];
-  for (int i = 0; i < src.n; ++i) d[i] = keepAbove ? src.p[i][axis] - bound : bound - src.p[i][axis];
-  dst.n = 0;
-  for (int i = 0; i < src.n; ++i) {
-    const int j = i + 1 == src.n ? 0 : i + 1;
+  const int n = src.n;
+  for (int i = 0; i < n; ++i) d[i] = KeepAbove ? src.p[i][Axis] - bound : bound - src.p[i][Axis];
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 == n ? 0 : i + 1;
     const double* a = src.p[i];
     const double* b = src.p[j];
     const double da = d[i], db = d[j];
-    if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
+    if (da >= 0) {
+      double* q = dst.p[m++];
+      q[0] = a[0], q[1] = a[1], q[2] = a[2];
+    }
     if ((da >= 0) != (db >= 0)) {
       const double t = da / (da - db);
-      double* q = dst.p[dst.n++];
+      double* q = dst.p[m++];
       for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
-      q[axis] = bound;
+      q[Axis] = bound;
     }
   }
+  dst.n = m;
 }
 
-/// `in` clipped to [lo, hi] along `axis` into `out` (against lo, then hi), its
-/// extent along the axis being [mn, mx]. A side that `in` does not cross
-/// would copy every vertex unchanged, so it is skipped.
-void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi, double mn, double mx) {
-  if (mn >= lo) return clipSide(in, out, axis, hi, false);
-  if (mx <= hi) return clipSide(in, out, axis, lo, true);
-  Poly tmp;
-  clipSide(in, tmp, axis, lo, true);
-  clipSide(tmp, out, axis, hi, false);
+/// The extent [mn, mx] of `P` along `axis` (P not empty).
+void polyRange(const Poly& P, int axis, double& lo, double& hi) {
+  lo = hi = P.p[0][axis];
+  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
 }
 
-/// `in` clipped to [lo, hi] along `axis`: `in` itself when it already lies
-/// inside (clipAxis would copy it unchanged, vertex for vertex), else the
-/// clipped polygon in `out`. Most triangle pieces at the usual resolutions sit
-/// inside one slab, so this skips most of the clipping work.
-const Poly& clipAxisView(const Poly& in, Poly& out, int axis, double lo, double hi) {
-  if (in.n == 0) {
+/// `in` clipped to [lo, hi] along Axis (against lo, then hi), its extent along
+/// the axis being [mn, mx]: `in` itself when it lies inside (clipping would
+/// copy it vertex for vertex; most triangle pieces at the usual resolutions
+/// sit inside one slab), an empty `out` when it lies outside, else the
+/// clipped polygon in `out`, skipping a side that `in` does not cross (it
+/// would copy every vertex unchanged).
+template <int Axis>
+const Poly& clipRange(const Poly& in, Poly& out, double lo, double hi, double mn, double mx) {
+  if (in.n == 0 || mn > hi || mx < lo) {
     out.n = 0;
     return out;
   }
-  double mn = in.p[0][axis], mx = mn;
-  for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
   if (mn >= lo && mx <= hi) return in;
-  if (mn > hi || mx < lo) {  // wholly outside: clipping keeps nothing
-    out.n = 0;
-    return out;
+  if (mn >= lo) {
+    clipSide<Axis, false>(in, out, hi);
+  } else if (mx <= hi) {
+    clipSide<Axis, true>(in, out, lo);
+  } else {
+    Poly tmp;
+    clipSide<Axis, true>(in, tmp, lo);
+    clipSide<Axis, false>(tmp, out, hi);
   }
-  clipAxis(in, out, axis, lo, hi, mn, mx);
   return out;
 }
 
@@ -155,11 +161,6 @@ double polyArea(const Poly& P) {
     s[2] += u[0] * v[1] - u[1] * v[0];
   }
   return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-}
-
-void polyRange(const Poly& P, int axis, double& lo, double& hi) {
-  lo = hi = P.p[0][axis];
-  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
 }
 
 // ---------------------------------------------------------------- helpers
@@ -491,6 +492,16 @@ void barycentric(const Poly& P, const double a[3], const double b[3], const doub
   l0 = 1.0 - l1 - l2;
 }
 
+/// Votes for an area of `units` 2^-16 voxel faces (>= 0): rounded to the
+/// nearest (halves up, as std::round), at least 1, at most 2e9. Truncation and
+/// an exact fraction instead of std::round, which is a libm call here.
+uint32_t areaVotes(double units) {
+  if (!(units < 2e9)) return 2000000000u;
+  const int64_t whole = int64_t(units);  // units >= 0: truncation is floor
+  const int64_t rounded = whole + (units - double(whole) >= 0.5 ? 1 : 0);  // the fraction is exact
+  return rounded < 1 ? 1u : uint32_t(rounded);
+}
+
 /// Triangle t's voxels with x in [uFrom, uTo]: the votes (area) and colour
 /// sums of each voxel its closed box touches, into `out`. P and the pieces
 /// below are in grid space (doubles), q in lattice units.
@@ -523,16 +534,16 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, int32_t uFrom, int32_t uTo,
     for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
 
-  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
+  // Puv's extent along z, [zMin, zMax], measured once per column.
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin, double zMax) {
     Poly pieceStorage;
-    const Poly& piece = clipAxisView(*exactUV, pieceStorage, 2, w, w + 1.0);  // the part inside the voxel
+    const Poly& piece = clipRange<2>(Puv, pieceStorage, w, w + 1.0, zMin, zMax);  // the part inside the voxel
     const double area = polyArea(piece);
     // A piece of clearly positive area proves the intersection (double rounding
     // cannot make 1e-9 voxel^2 out of nothing); touching or missing voxels, where
     // the area is ~0, are decided by the exact test.
     if (!(area > 1e-9) && !triangleTouchesVoxel(q, u, v, w)) return;
-    const double units = std::round(area * double(kS));
-    const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
+    const uint32_t votes = areaVotes(area * double(kS));
     out.blocks.addVotes({u, v, w}, cls, votes, true);
     if (W.surfaceBits) W.surfaceBits->set(W.surfaceBits->box.localIndex(u, v, w));
     if (W.color) {
@@ -549,27 +560,31 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, int32_t uFrom, int32_t uTo,
     }
   };
 
+  double xMin, xMax;
+  polyRange(P, 0, xMin, xMax);
   for (int32_t u = first[0]; u <= last[0]; ++u) {
     Poly PuStorage, PueStorage;
-    const Poly& Pue = clipAxisView(P, PueStorage, 0, u - eps, u + 1 + eps);
+    const Poly& Pue = clipRange<0>(P, PueStorage, u - eps, u + 1 + eps, xMin, xMax);
     if (Pue.n == 0) continue;
-    const Poly& Pu = clipAxisView(P, PuStorage, 0, u, u + 1.0);
-    double ylo, yhi;
+    const Poly& Pu = clipRange<0>(P, PuStorage, u, u + 1.0, xMin, xMax);
+    double ylo, yhi, puYMin = 0, puYMax = 0;
     polyRange(Pue, 1, ylo, yhi);
+    if (Pu.n > 0) polyRange(Pu, 1, puYMin, puYMax);
     // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
     // (a piece starting inside a voxel does not touch the one below).
     const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
     const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
     for (int32_t v = v0; v <= v1; ++v) {
       Poly PuveStorage, PuvStorage;
-      const Poly& Puve = clipAxisView(Pue, PuveStorage, 1, v - eps, v + 1 + eps);
+      const Poly& Puve = clipRange<1>(Pue, PuveStorage, v - eps, v + 1 + eps, ylo, yhi);
       if (Puve.n == 0) continue;
-      const Poly& Puv = clipAxisView(Pu, PuvStorage, 1, v, v + 1.0);
-      double zlo, zhi;
+      const Poly& Puv = clipRange<1>(Pu, PuvStorage, v, v + 1.0, puYMin, puYMax);
+      double zlo, zhi, puvZMin = 0, puvZMax = 0;
       polyRange(Puve, 2, zlo, zhi);
+      if (Puv.n > 0) polyRange(Puv, 2, puvZMin, puvZMax);
       const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
       const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
-      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, &Puv);
+      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
     }
   }
 }
