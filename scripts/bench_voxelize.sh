@@ -11,6 +11,11 @@
 #   the last: only the solid fill by the winding number on MESH (default the
 #   bunny, open) against vdb_tool mesh2ls, 256 and 512, one hyperfine run each
 #   (parity rule alongside), and peak memory at 512 (/usr/bin/time -v).
+#        scripts/bench_voxelize.sh [BUILD_DIR] [MESH] against OLD_VOX
+#   the last: this build's surface bake (votes, 2 threads) against another
+#   build's vox (e.g. an older commit's) on MESH at 256, both in one hyperfine
+#   run (10 runs, with user and system CPU), the scenes compared byte for
+#   byte, and both peaks at 512 (/usr/bin/time -v).
 set -eu
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -19,6 +24,27 @@ BUNNY=${2:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
+
+if [ "${3:-}" = against ]; then
+  OLD=${4:?usage: bench_voxelize.sh BUILD_DIR MESH against OLD_VOX}
+  [ -f "$BUNNY" ] || { echo "MESH $BUNNY not found"; exit 2; }
+  echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  hyperfine -N --warmup 2 --runs 10 --export-markdown ab.md --export-json ab.json \
+    -n "old vox 256" "$OLD voxelize $BUNNY --res 256 -o a.vdb" \
+    -n "new vox 256" "$VOX voxelize $BUNNY --res 256 -o b.vdb" >/dev/null
+  echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  cat ab.md
+  python3 -c "
+import json
+for r in json.load(open('ab.json'))['results']:
+    print(f\"{r['command']}: wall {r['mean']*1e3:.1f} ms, user {r['user']*1e3:.1f} ms, system {r['system']*1e3:.1f} ms\")"
+  cmp -s a.vdb b.vdb && echo "scenes identical" || echo "scenes differ (byte compare)"
+  for v in "$OLD" "$VOX"; do
+    /usr/bin/time -v "$v" voxelize "$BUNNY" --res 512 -o m.vdb -q 2> mem.txt > /dev/null || true
+    echo "peak RSS $(sed -n 's/.*Maximum resident set size (kbytes): //p' mem.txt) KB at 512: $v"
+  done
+  exit 0
+fi
 
 if [ "${3:-}" = winding ]; then
   [ -f "$BUNNY" ] || { echo "MESH $BUNNY not found"; exit 2; }

@@ -207,8 +207,7 @@ std::array<uint64_t, kBlockWords> activeMask(const GridPlan& g, size_t i) {
       const ClassBlock* cb = g.votes[i];
       const bool runs = b.hasRuns() && b.runClass == g.classId;
       for (int k = 0; k < kBlockWords; ++k) {
-        if (cb)
-          for (int bit = 0; bit < 64; ++bit) m[size_t(k)] |= uint64_t(cb->votes[size_t(k * 64 + bit)] != 0) << bit;
+        if (cb) m[size_t(k)] |= cb->voted[size_t(k)];
         if (runs && b.runVotes) m[size_t(k)] |= b.runMask[size_t(k)];
       }
       break;
@@ -256,11 +255,17 @@ void leafBuffer(const GridPlan& g, size_t i, const std::array<uint64_t, kBlockWo
       out += cached;
       return;
     }
+    // The active voxels in order, the class block's counts in the same order.
     std::array<int32_t, kBlockVoxels> vals;
-    size_t n = 0;
+    size_t n = 0, slot = 0;
+    const bool runs = b.hasRuns() && b.runClass == g.classId;
     for (int k = 0; k < kBlockWords; ++k)
-      for (uint64_t bits = mask[size_t(k)]; bits; bits &= bits - 1)
-        vals[n++] = int32_t(b.votesAt(g.classId, cb, k * 64 + std::countr_zero(bits)));
+      for (uint64_t bits = mask[size_t(k)]; bits; bits &= bits - 1) {
+        const int i = k * 64 + std::countr_zero(bits);
+        uint32_t v = cb && cb->has(i) ? cb->counts[cb->dense ? size_t(i) : slot++] : 0;
+        if (runs && ((b.runMask[size_t(k)] >> (i & 63)) & 1)) v = saturatingVotes(v, b.runVotes);
+        vals[n++] = int32_t(v);
+      }
     appendBlosc(out, vals.data(), n * sizeof(int32_t));
   } else {
     std::array<std::array<float, 3>, kBlockVoxels> vals;

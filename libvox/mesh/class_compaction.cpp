@@ -39,7 +39,7 @@ std::array<bool, 256> classesWithVotes(VoxelBlocks& blocks, const ClassTable& ta
   for (const VoxelBlock* b : blocks.sortedBlocks()) {
     if (missing == 0) break;
     for (const auto& cb : b->classes)
-      if (!used[cb->classId] && std::any_of(cb->votes.begin(), cb->votes.end(), [](uint32_t v) { return v != 0; }))
+      if (!used[cb->classId] && !cb->empty())
         mark(cb->classId);
     if (b->runVotes != 0 && b->hasRuns()) mark(b->runClass);
   }

@@ -26,6 +26,58 @@ ClassBlock& classOf(VoxelBlock& b, uint8_t classId) {
 
 }  // namespace
 
+void ClassBlock::add(int i, uint32_t votes) {
+  if (votes == 0) return;
+  if (has(i)) {
+    uint32_t& c = counts[slot(i)];
+    c = saturatingVotes(c, votes);
+    return;
+  }
+  if (!dense && counts.size() >= kCompactCounts) makeDense();
+  voted[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+  if (dense) {
+    counts[size_t(i)] = std::min(votes, kMaxVotesPerClass);
+    return;
+  }
+  if (counts.capacity() == counts.size()) counts.reserve(std::max<size_t>(16, counts.size() * 2));
+  counts.insert(counts.begin() + ptrdiff_t(slot(i)), std::min(votes, kMaxVotesPerClass));
+  for (int k = (i >> 6) + 1; k < kBlockWords; ++k) ++before[size_t(k)];
+}
+
+void ClassBlock::makeDense() {
+  if (dense) return;
+  std::vector<uint32_t> all(kBlockVoxels, 0);
+  forEach([&](int i, uint32_t c) { all[size_t(i)] = c; });
+  counts = std::move(all);
+  dense = true;
+}
+
+void ClassBlock::addAll(const ClassBlock& other) {
+  if (dense || other.dense || counts.size() + other.counts.size() > kCompactCounts) {
+    makeDense();
+    other.forEach([&](int i, uint32_t c) { counts[size_t(i)] = saturatingVotes(counts[size_t(i)], c); });
+    for (int k = 0; k < kBlockWords; ++k) voted[size_t(k)] |= other.voted[size_t(k)];
+    return;
+  }
+  // Both compact, in voxel order: one merge pass.
+  std::vector<uint32_t> merged;
+  merged.reserve(counts.size() + other.counts.size());
+  size_t a = 0, b = 0;
+  uint16_t seen = 0;
+  for (int k = 0; k < kBlockWords; ++k) {
+    before[size_t(k)] = seen;
+    const uint64_t mine = voted[size_t(k)], theirs = other.voted[size_t(k)];
+    for (uint64_t bits = mine | theirs; bits; bits &= bits - 1) {
+      const uint64_t bit = bits & (~bits + 1);
+      const uint32_t x = (mine & bit) ? counts[a++] : 0, y = (theirs & bit) ? other.counts[b++] : 0;
+      merged.push_back(saturatingVotes(x, y));
+      ++seen;
+    }
+    voted[size_t(k)] = mine | theirs;
+  }
+  counts = std::move(merged);
+}
+
 ClassBlock& classBlock(VoxelBlock& block, uint8_t classId) {
   auto at = std::lower_bound(block.classes.begin(), block.classes.end(), classId,
                              [](const std::unique_ptr<ClassBlock>& c, uint8_t id) { return c->classId < id; });
@@ -46,11 +98,16 @@ const ClassBlock* findClassBlock(const VoxelBlock& block, uint8_t classId) {
 void materializeRuns(VoxelBlock& b) {
   if (!b.hasRuns()) return;
   ClassBlock& cb = classBlock(b, b.runClass);
-  for (int k = 0; k < kBlockWords; ++k)
-    for (uint64_t bits = b.runMask[size_t(k)]; bits; bits &= bits - 1) {
-      const size_t i = size_t(k * 64 + __builtin_ctzll(bits));
-      cb.votes[i] = saturatingVotes(cb.votes[i], b.runVotes);
-    }
+  ClassBlock runs;
+  runs.classId = b.runClass;
+  uint16_t seen = 0;
+  for (int k = 0; k < kBlockWords; ++k) {
+    runs.before[size_t(k)] = seen;
+    seen = uint16_t(seen + __builtin_popcountll(b.runMask[size_t(k)]));
+  }
+  runs.voted = b.runMask;
+  runs.counts.assign(seen, std::min(b.runVotes, kMaxVotesPerClass));
+  if (b.runVotes) cb.addAll(runs);
   b.runMask = {};
   b.runClass = 0;
   b.runVotes = 0;
@@ -92,8 +149,7 @@ void VoxelBlocks::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surfa
   const int i = blockOffset(c.u, c.v, c.w);
   b.occupied[i >> 6] |= uint64_t(1) << (i & 63);
   if (surface) b.surface[i >> 6] |= uint64_t(1) << (i & 63);
-  ClassBlock& cb = classOf(b, classId);
-  cb.votes[i] = saturatingVotes(cb.votes[i], votes);
+  classOf(b, classId).add(i, votes);
 }
 
 void VoxelBlocks::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface) {
@@ -128,7 +184,7 @@ void VoxelBlocks::addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_
       const int i = blockOffset(start.u, start.v, z);
       b.occupied[i >> 6] |= uint64_t(1) << (i & 63);
       if (surface) b.surface[i >> 6] |= uint64_t(1) << (i & 63);
-      cb.votes[i] = saturatingVotes(cb.votes[i], votes);
+      cb.add(i, votes);
     }
     w = blockEnd + 1;
   }
@@ -174,7 +230,10 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
     }
     for (auto& cb : theirs->classes) {
       ClassBlock& dst = classBlock(mine, cb->classId);
-      for (int i = 0; i < kBlockVoxels; ++i) dst.votes[i] = saturatingVotes(dst.votes[i], cb->votes[i]);
+      if (dst.empty())
+        std::swap(dst, *cb);
+      else
+        dst.addAll(*cb);
     }
 
     if (theirs->color) {

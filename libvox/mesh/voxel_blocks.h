@@ -14,6 +14,7 @@
 // Thread-safety: none; fill one VoxelBlocks per thread and merge().
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -35,10 +36,55 @@ inline uint32_t saturatingVotes(uint32_t a, uint32_t b) {
   return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
 }
 
-/// Votes of one class in one block, one count per voxel (0 = no vote).
+/// Set bits of `x`, inline (the build targets baseline x86-64, without the
+/// POPCNT instruction, where __builtin_popcountll is a library call).
+inline int bitCount(uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return int((x * 0x0101010101010101ull) >> 56);
+}
+
+/// Votes of one class in one block: the voxels with votes (bit i of `voted`,
+/// voxel i in the block's order) and their counts; every other voxel has 0.
+/// Counts are never 0. Up to kCompactCounts voted voxels the counts are kept
+/// compactly, one per set bit in voxel order (a surface block holds a few
+/// dozen voted voxels: a few hundred bytes where a count per voxel takes 2 KB,
+/// which was the bulk of a surface bake's memory); beyond that, one per voxel
+/// (`dense`), so filling a whole block costs no repeated insertions.
 struct ClassBlock {
+  static constexpr size_t kCompactCounts = 128;
   uint8_t classId = 0;
-  std::array<uint32_t, kBlockVoxels> votes{};
+  bool dense = false;
+  std::array<uint64_t, kBlockWords> voted{};
+  std::array<uint16_t, kBlockWords> before{};  // compact: voted voxels in the words before word k
+  std::vector<uint32_t> counts;                // compact: one per voted voxel; dense: kBlockVoxels
+
+  bool has(int i) const { return (voted[size_t(i >> 6)] >> (i & 63)) & 1; }
+  bool empty() const { return std::none_of(voted.begin(), voted.end(), [](uint64_t w) { return w != 0; }); }
+  /// Where voxel i's count is (or goes) in `counts`.
+  size_t slot(int i) const {
+    if (dense) return size_t(i);
+    return size_t(before[size_t(i >> 6)]) + size_t(bitCount(voted[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
+  }
+  /// The votes of voxel i (0 when it has none).
+  uint32_t at(int i) const { return has(i) ? counts[slot(i)] : 0; }
+  /// Adds `votes` to voxel i, saturating at kMaxVotesPerClass; 0 adds nothing.
+  void add(int i, uint32_t votes);
+  /// Calls fn(i, count) for every voted voxel, in voxel order.
+  template <typename Fn>
+  void forEach(Fn&& fn) const {
+    size_t s = 0;
+    for (int k = 0; k < kBlockWords; ++k)
+      for (uint64_t bits = voted[size_t(k)]; bits; bits &= bits - 1) {
+        const int i = k * 64 + __builtin_ctzll(bits);
+        fn(i, counts[dense ? size_t(i) : s++]);
+      }
+  }
+  /// Adds every count of `other` (same class) to this one's.
+  void addAll(const ClassBlock& other);
+  /// Switches to one count per voxel.
+  void makeDense();
 };
 
 /// One 8^3 block. Bit i of a mask is voxel i in OpenVDB's order:
@@ -64,7 +110,7 @@ struct VoxelBlock {
   }
   /// The votes of class `classId` at voxel i (class block plus runs).
   uint32_t votesAt(uint8_t classId, const ClassBlock* cb, int i) const {
-    const uint32_t base = cb ? cb->votes[size_t(i)] : 0;
+    const uint32_t base = cb ? cb->at(i) : 0;
     return ((runMask[size_t(i >> 6)] >> (i & 63)) & 1) && runClass == classId ? saturatingVotes(base, runVotes) : base;
   }
 };

@@ -87,40 +87,63 @@ struct Poly {
   double p[12][3];  // a triangle clipped by 6 planes has at most 9 vertices
 };
 
-void clipAxis(const Poly& in, Poly& out, int axis, double lo, double hi) {
-  Poly tmp;
-  // Clip against lo (keep >= lo), then hi (keep <= hi).
-  auto clip = [axis](const Poly& src, Poly& dst, double bound, bool keepAbove) {
-    dst.n = 0;
-    for (int i = 0; i < src.n; ++i) {
-      const double* a = src.p[i];
-      const double* b = src.p[(i + 1) % src.n];
-      const double da = keepAbove ? a[axis] - bound : bound - a[axis];
-      const double db = keepAbove ? b[axis] - bound : bound - b[axis];
-      if (da >= 0) std::memcpy(dst.p[dst.n++], a, sizeof(double) * 3);
-      if ((da >= 0) != (db >= 0)) {
-        const double t = da / (da - db);
-        double* q = dst.p[dst.n++];
-        for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
-        q[axis] = bound;
-      }
+/// One side of a slab: the part of `src` with x[Axis] >= bound (KeepAbove) or
+/// <= bound, vertices in order from vertex 0, crossings interpolated along the
+/// edges. Every vote's area comes from this clipping, so any change to its
+/// arithmetic changes scenes; the templates only fix the axis and side.
+template <int Axis, bool KeepAbove>
+void clipSide(const Poly& src, Poly& dst, double bound) {
+  double d[12];
+  const int n = src.n;
+  for (int i = 0; i < n; ++i) d[i] = KeepAbove ? src.p[i][Axis] - bound : bound - src.p[i][Axis];
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    const double* a = src.p[i];
+    const double* b = src.p[j];
+    const double da = d[i], db = d[j];
+    if (da >= 0) {
+      double* q = dst.p[m++];
+      q[0] = a[0], q[1] = a[1], q[2] = a[2];
     }
-  };
-  clip(in, tmp, lo, true);
-  clip(tmp, out, hi, false);
+    if ((da >= 0) != (db >= 0)) {
+      const double t = da / (da - db);
+      double* q = dst.p[m++];
+      for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
+      q[Axis] = bound;
+    }
+  }
+  dst.n = m;
 }
 
-/// `in` clipped to [lo, hi] along `axis`: `in` itself when it already lies
-/// inside (clipAxis would copy it unchanged, vertex for vertex), else the
-/// clipped polygon in `out`. Most triangle pieces at the usual resolutions sit
-/// inside one slab, so this skips most of the clipping work.
-const Poly& clipAxisView(const Poly& in, Poly& out, int axis, double lo, double hi) {
-  if (in.n > 0) {
-    double mn = in.p[0][axis], mx = mn;
-    for (int i = 1; i < in.n; ++i) mn = std::min(mn, in.p[i][axis]), mx = std::max(mx, in.p[i][axis]);
-    if (mn >= lo && mx <= hi) return in;
+/// The extent [mn, mx] of `P` along `axis` (P not empty).
+void polyRange(const Poly& P, int axis, double& lo, double& hi) {
+  lo = hi = P.p[0][axis];
+  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
+}
+
+/// `in` clipped to [lo, hi] along Axis (against lo, then hi), its extent along
+/// the axis being [mn, mx]: `in` itself when it lies inside (clipping would
+/// copy it vertex for vertex; most triangle pieces at the usual resolutions
+/// sit inside one slab), an empty `out` when it lies outside, else the
+/// clipped polygon in `out`, skipping a side that `in` does not cross (it
+/// would copy every vertex unchanged).
+template <int Axis>
+const Poly& clipRange(const Poly& in, Poly& out, double lo, double hi, double mn, double mx) {
+  if (in.n == 0 || mn > hi || mx < lo) {
+    out.n = 0;
+    return out;
   }
-  clipAxis(in, out, axis, lo, hi);
+  if (mn >= lo && mx <= hi) return in;
+  if (mn >= lo) {
+    clipSide<Axis, false>(in, out, hi);
+  } else if (mx <= hi) {
+    clipSide<Axis, true>(in, out, lo);
+  } else {
+    Poly tmp;
+    clipSide<Axis, true>(in, tmp, lo);
+    clipSide<Axis, false>(tmp, out, hi);
+  }
   return out;
 }
 
@@ -138,11 +161,6 @@ double polyArea(const Poly& P) {
     s[2] += u[0] * v[1] - u[1] * v[0];
   }
   return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-}
-
-void polyRange(const Poly& P, int axis, double& lo, double& hi) {
-  lo = hi = P.p[0][axis];
-  for (int i = 1; i < P.n; ++i) lo = std::min(lo, P.p[i][axis]), hi = std::max(hi, P.p[i][axis]);
 }
 
 // ---------------------------------------------------------------- helpers
@@ -474,10 +492,20 @@ void barycentric(const Poly& P, const double a[3], const double b[3], const doub
   l0 = 1.0 - l1 - l2;
 }
 
-/// Triangle t's voxels: the votes (area) and colour sums of each voxel its
-/// closed box touches, into `out`. P and the pieces below are in grid space
-/// (doubles), q in lattice units.
-void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
+/// Votes for an area of `units` 2^-16 voxel faces (>= 0): rounded to the
+/// nearest (halves up, as std::round), at least 1, at most 2e9. Truncation and
+/// an exact fraction instead of std::round, which is a libm call here.
+uint32_t areaVotes(double units) {
+  if (!(units < 2e9)) return 2000000000u;
+  const int64_t whole = int64_t(units);  // units >= 0: truncation is floor
+  const int64_t rounded = whole + (units - double(whole) >= 0.5 ? 1 : 0);  // the fraction is exact
+  return rounded < 1 ? 1u : uint32_t(rounded);
+}
+
+/// Triangle t's voxels with x in [uFrom, uTo]: the votes (area) and colour
+/// sums of each voxel its closed box touches, into `out`. P and the pieces
+/// below are in grid space (doubles), q in lattice units.
+void surfaceTriangle(const SurfaceWork& W, size_t t, int32_t uFrom, int32_t uTo, SurfaceOut& out) {
   const auto& tri = W.mesh.triangles[t];
   std::array<int64_t, 3> q[3];
   for (int k = 0; k < 3; ++k) q[k] = W.lattice[tri[k]];
@@ -495,6 +523,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
       const int32_t rhi[3] = {W.region->max.u, W.region->max.v, W.region->max.w};
       first[i] = std::max(first[i], rlo[i]), last[i] = std::min(last[i], rhi[i]);
     }
+    if (i == 0) first[0] = std::max(first[0], uFrom), last[0] = std::min(last[0], uTo);
     if (first[i] > last[i]) return;
   }
   const uint8_t cls = W.triClass[t];
@@ -505,16 +534,16 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
 
-  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly* exactUV) {
+  // Puv's extent along z, [zMin, zMax], measured once per column.
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin, double zMax) {
     Poly pieceStorage;
-    const Poly& piece = clipAxisView(*exactUV, pieceStorage, 2, w, w + 1.0);  // the part inside the voxel
+    const Poly& piece = clipRange<2>(Puv, pieceStorage, w, w + 1.0, zMin, zMax);  // the part inside the voxel
     const double area = polyArea(piece);
     // A piece of clearly positive area proves the intersection (double rounding
     // cannot make 1e-9 voxel^2 out of nothing); touching or missing voxels, where
     // the area is ~0, are decided by the exact test.
     if (!(area > 1e-9) && !triangleTouchesVoxel(q, u, v, w)) return;
-    const double units = std::round(area * double(kS));
-    const uint32_t votes = units < 1 ? 1u : units > 2e9 ? 2000000000u : uint32_t(units);
+    const uint32_t votes = areaVotes(area * double(kS));
     out.blocks.addVotes({u, v, w}, cls, votes, true);
     if (W.surfaceBits) W.surfaceBits->set(W.surfaceBits->box.localIndex(u, v, w));
     if (W.color) {
@@ -531,47 +560,127 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, SurfaceOut& out) {
     }
   };
 
+  double xMin, xMax;
+  polyRange(P, 0, xMin, xMax);
   for (int32_t u = first[0]; u <= last[0]; ++u) {
     Poly PuStorage, PueStorage;
-    const Poly& Pue = clipAxisView(P, PueStorage, 0, u - eps, u + 1 + eps);
+    const Poly& Pue = clipRange<0>(P, PueStorage, u - eps, u + 1 + eps, xMin, xMax);
     if (Pue.n == 0) continue;
-    const Poly& Pu = clipAxisView(P, PuStorage, 0, u, u + 1.0);
-    double ylo, yhi;
+    const Poly& Pu = clipRange<0>(P, PuStorage, u, u + 1.0, xMin, xMax);
+    double ylo, yhi, puYMin = 0, puYMax = 0;
     polyRange(Pue, 1, ylo, yhi);
+    if (Pu.n > 0) polyRange(Pu, 1, puYMin, puYMax);
     // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
     // (a piece starting inside a voxel does not touch the one below).
     const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
     const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
     for (int32_t v = v0; v <= v1; ++v) {
       Poly PuveStorage, PuvStorage;
-      const Poly& Puve = clipAxisView(Pue, PuveStorage, 1, v - eps, v + 1 + eps);
+      const Poly& Puve = clipRange<1>(Pue, PuveStorage, v - eps, v + 1 + eps, ylo, yhi);
       if (Puve.n == 0) continue;
-      const Poly& Puv = clipAxisView(Pu, PuvStorage, 1, v, v + 1.0);
-      double zlo, zhi;
+      const Poly& Puv = clipRange<1>(Pu, PuvStorage, v, v + 1.0, puYMin, puYMax);
+      double zlo, zhi, puvZMin = 0, puvZMax = 0;
       polyRange(Puve, 2, zlo, zhi);
+      if (Puv.n > 0) polyRange(Puv, 2, puvZMin, puvZMax);
       const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
       const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
-      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, &Puv);
+      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
     }
   }
 }
 
 
-/// The surface pass: every triangle's voxels, triangles split into `threads`
-/// pieces whose integer sums merge exactly, in piece order; colours are the
-/// vote-weighted averages of the merged sums.
+/// Slabs of the surface pass: x ranges [from, to] of whole 8^3 blocks, so the
+/// slabs' blocks are disjoint (no block is built twice and merged), each with
+/// the triangles whose candidate voxels reach into it.
+struct Slab {
+  int32_t from, to;
+  std::vector<uint32_t> triangles;
+};
+
+/// About `pieces` slabs of the domain along x with similar work: every
+/// triangle counts its candidate rows (y x z extent) in each x column it
+/// spans. Where the slabs end does not change the result (a voxel's pieces do
+/// not depend on who clips them), only the balance.
+std::vector<Slab> surfaceSlabs(const SurfaceWork& W, size_t pieces) {
+  const int32_t dimx = int32_t(W.dims.x);
+  const int32_t blocksX = (dimx + kBlockDim - 1) / kBlockDim;
+  std::vector<double> work(size_t(blocksX), 0.0);  // per block column
+  const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
+  const size_t nTri = W.mesh.triangles.size();
+  std::vector<std::array<int32_t, 2>> xRange(nTri, {1, 0});  // empty unless it touches the domain
+  for (size_t t = 0; t < nTri; ++t) {
+    const auto& tri = W.mesh.triangles[t];
+    int32_t first[3], last[3];
+    bool empty = false;
+    for (int i = 0; i < 3; ++i) {
+      const i64 a = W.lattice[tri[0]][i], b = W.lattice[tri[1]][i], c = W.lattice[tri[2]][i];
+      voxelsTouching(std::min({a, b, c}), std::max({a, b, c}), dimv[i], first[i], last[i]);
+      if (W.region) {
+        const int32_t rlo[3] = {W.region->min.u, W.region->min.v, W.region->min.w};
+        const int32_t rhi[3] = {W.region->max.u, W.region->max.v, W.region->max.w};
+        first[i] = std::max(first[i], rlo[i]), last[i] = std::min(last[i], rhi[i]);
+      }
+      empty = empty || first[i] > last[i];
+    }
+    if (empty) continue;
+    xRange[t] = {first[0], last[0]};
+    const double perColumn = double(last[1] - first[1] + 1) * double(last[2] - first[2] + 1) + 4;
+    for (int32_t u = first[0]; u <= last[0];) {  // by the columns in each block
+      const int32_t end = std::min(last[0], u | (kBlockDim - 1));
+      work[size_t(u >> kBlockLog2)] += perColumn * double(end - u + 1);
+      u = end + 1;
+    }
+  }
+  double total = 0;
+  for (double w : work) total += w;
+  std::vector<Slab> slabs;
+  double acc = 0;
+  int32_t from = 0;
+  for (int32_t b = 0; b < blocksX; ++b) {
+    acc += work[size_t(b)];
+    const bool lastBlock = b + 1 == blocksX;
+    if (lastBlock || acc >= total * double(slabs.size() + 1) / double(pieces))
+      slabs.push_back({from, lastBlock ? dimx - 1 : (b + 1) * kBlockDim - 1, {}}), from = (b + 1) * kBlockDim;
+  }
+  for (size_t t = 0; t < nTri; ++t) {
+    const auto [a, b] = xRange[t];
+    if (a > b) continue;
+    // The first slab ending at or after a, then on while they start at or before b.
+    auto s = std::lower_bound(slabs.begin(), slabs.end(), a, [](const Slab& x, int32_t v) { return x.to < v; });
+    for (; s != slabs.end() && s->from <= b; ++s) s->triangles.push_back(uint32_t(t));
+  }
+  return slabs;
+}
+
+/// The surface pass: every triangle's voxels, the domain split along x into
+/// slabs of whole blocks (a few per thread, taken as threads come free), each
+/// slab's blocks its own, so merging them only moves blocks; colours are the
+/// vote-weighted averages of the integer sums.
 VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Progress& progress, double share) {
   const size_t nTri = work.mesh.triangles.size();
-  std::vector<std::unique_ptr<SurfaceOut>> parts(threads);
+  std::vector<Slab> slabs;
+  if (threads > 1) {
+    slabs = surfaceSlabs(work, size_t(threads) * 4);
+  } else {  // one slab: the whole domain, every triangle
+    slabs.push_back({INT32_MIN, INT32_MAX, std::vector<uint32_t>(nTri)});
+    for (size_t t = 0; t < nTri; ++t) slabs[0].triangles[t] = uint32_t(t);
+  }
+  std::vector<std::unique_ptr<SurfaceOut>> parts(slabs.size());
   for (auto& p : parts) p = std::make_unique<SurfaceOut>();
   std::atomic<size_t> done{0};
-  parallelPieces(nTri, threads, threads, [&](size_t b, size_t e, size_t piece) {
-    for (size_t i = b; i < e; ++i) {
-      surfaceTriangle(work, i, *parts[piece]);
-      if ((i - b) % 4096 == 4095) progress(share * double(done += 4096) / double(nTri));
+  size_t steps = 0;
+  for (const Slab& s : slabs) steps += s.triangles.size();
+  parallelPieces(slabs.size(), threads, slabs.size(), [&](size_t b, size_t e, size_t) {
+    for (size_t s = b; s < e; ++s) {
+      const Slab& slab = slabs[s];
+      for (size_t i = 0; i < slab.triangles.size(); ++i) {
+        surfaceTriangle(work, slab.triangles[i], slab.from, slab.to, *parts[s]);
+        if (i % 4096 == 4095) progress(share * double(done += 4096) / double(std::max<size_t>(1, steps)));
+      }
     }
   });
-  for (unsigned t = 1; t < threads; ++t) {
+  for (size_t t = 1; t < parts.size(); ++t) {
     parts[0]->blocks.merge(std::move(parts[t]->blocks));
     for (const auto& [k, c] : parts[t]->colors) {
       ColorSum& s = parts[0]->colors[k];

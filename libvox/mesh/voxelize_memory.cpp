@@ -171,7 +171,10 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   // writer's compression buffers come on top: +20% (measured, docs/reliability.md).
   constexpr double kMalloc = 16, kMapEntry = 48 + 8, kShared = 1.20;
   e.add("surface blocks", f.blocks * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * kShared);
-  e.add("vote blocks", f.blockClasses * (sizeof(ClassBlock) + kMalloc + sizeof(void*)) * kShared);
+  // A class block keeps a count per voted voxel (grown in doublings from 16:
+  // about 1.4x the counts on average, and 16 at least).
+  e.add("vote blocks", (f.blockClasses * (sizeof(ClassBlock) + 2 * kMalloc + sizeof(void*) + 16 * sizeof(uint32_t)) +
+                        f.surfaceVoxels * 1.4 * sizeof(uint32_t)) * kShared);
   if (mesh.hasColor()) e.add("colour blocks", f.blocks * (kBlockVoxels * 3 * sizeof(float) + kMalloc) * kShared);
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
   if (settings.fill == FillMode::Solid) {

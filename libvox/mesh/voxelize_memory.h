@@ -2,8 +2,9 @@
 // memory, estimated before the work from the mesh and the placement.
 //
 // The model follows the data structures: surface voxels live in 8^3 VoxelBlocks
-// (voxel_blocks.h), each with one 2 KB vote block per class present and a 6 KB
-// colour block when the mesh has colour, so the surface costs memory in the
+// (voxel_blocks.h), each with one vote block per class present (a count per
+// voted voxel: ~100 bytes plus 4 per voxel) and a 6 KB colour block when the
+// mesh has colour, so the surface costs memory in the
 // number of 8^3 blocks the triangles touch (proportional to the surface area,
 // not to the grid's volume). That count is estimated by splitting every
 // triangle into pieces no longer than a cell side and counting the distinct

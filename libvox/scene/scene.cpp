@@ -227,15 +227,10 @@ Scene SceneBuilder::build() && {
       }
       auto* vLeaf = it->second.touchLeaf(o);
       int32_t* values = vLeaf->buffer().data();
-      for (int k = 0; k < kBlockWords; ++k) {
-        uint64_t on = 0;
-        for (int b = 0; b < 64; ++b) {
-          const uint32_t n = cb->votes[k * 64 + b];
-          on |= uint64_t(n != 0) << b;
-          values[k * 64 + b] = int32_t(n);
-        }
-        vLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = on;
-      }
+      std::fill(values, values + kBlockVoxels, 0);
+      cb->forEach([&](int i, uint32_t n) { values[i] = int32_t(n); });
+      for (int k = 0; k < kBlockWords; ++k)
+        vLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = cb->voted[size_t(k)];
     }
     if (leaf->color) {
       if (!grids->color) {

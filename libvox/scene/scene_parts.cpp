@@ -70,7 +70,7 @@ std::optional<Coord3> addLeaves(const Scene& scene, const IndexBox* box, VoxelBl
              bits; bits &= bits - 1) {
           const int i = k * 64 + __builtin_ctzll(bits);
           if (!cb) cb = &classBlock(*b, cg.classId);
-          cb->votes[size_t(i)] = saturatingVotes(cb->votes[size_t(i)], uint32_t(values[i]));
+          cb->add(i, uint32_t(values[i]));
         }
     }
     if (g.color)
