@@ -132,6 +132,55 @@ TEST(GltfWriter, GlbReadsBackAsTheRenderersVertexStream) {
   EXPECT_EQ(m.materials[0].pbrMetallicRoughness.metallicFactor, 0.0);
 }
 
+// Over many batches (the writer expands 32768 quads at a time, the next batch
+// on a second thread with threads > 1): the same bytes at any thread count,
+// and POSITION's bounds (taken from the quads' integer corners, not from the
+// vertices) equal to those of every vertex, with rectangles of several
+// extents, an origin off zero and a voxel size that is not a power of two.
+TEST(GltfWriter, ManyBatchesGiveTheSameBytesAtAnyThreadCountAndExactBounds) {
+  voxtest::TempDir dir;
+  vox::BlockMesh mesh;
+  uint32_t h = 12345;
+  auto next = [&h] { h = h * 1664525u + 1013904223u; return h >> 8; };
+  for (int i = 0; i < 100000; ++i) {
+    vox::BlockQuad q;
+    q.block = {int32_t(next() % 3000) - 1000, int32_t(next() % 700), int32_t(next() % 2000) - 1500};
+    q.face = vox::BlockFace(next() % 6);
+    q.extent = {1 + next() % 9, 1 + next() % 5};
+    q.classId = 1;
+    q.color = {0.25f, 0.5f, float(next() % 100) / 100.0f};
+    mesh.quads.push_back(q);
+  }
+  for (bool indexed : {false, true}) {
+    vox::GltfScene scene = sceneOf(mesh, indexed);
+    scene.frame = {{-3.7, 1e3, 0.123}, 0.3};
+    std::string bytes;
+    for (unsigned threads : {1u, 2u, 3u}) {
+      scene.threads = threads;
+      const std::string file = dir.file("m" + std::to_string(threads) + ".glb");
+      vox::writeGlb(scene, file);
+      const std::string got = vox::readFileBytes(file);
+      if (threads == 1) bytes = got;
+      else EXPECT_TRUE(got == bytes) << "threads " << threads << (indexed ? ", indexed" : "");
+    }
+    std::array<float, 3> lo, hi;
+    lo.fill(INFINITY);
+    hi.fill(-INFINITY);
+    for (const vox::BlockQuad& q : mesh.quads)
+      for (const vox::BlockVertex& v : vox::quadVertices(q, scene.frame))
+        for (size_t a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], v.position[a]);
+          hi[a] = std::max(hi[a], v.position[a]);
+        }
+    const tinygltf::Model m = load(dir.file("m1.glb"));
+    const tinygltf::Accessor& pa = m.accessors[size_t(m.meshes[0].primitives[0].attributes.at("POSITION"))];
+    for (size_t a = 0; a < 3; ++a) {
+      EXPECT_EQ(float(pa.minValues[a]), lo[a]) << "axis " << a;
+      EXPECT_EQ(float(pa.maxValues[a]), hi[a]) << "axis " << a;
+    }
+  }
+}
+
 TEST(GltfWriter, IndexedGltfSharesTheQuadCorners) {
   voxtest::TempDir dir;
   const vox::BlockMesh mesh = smallMesh();

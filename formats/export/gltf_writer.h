@@ -46,6 +46,10 @@ struct GltfScene {
   std::vector<GltfMaterial> materials;
   std::vector<GltfPrimitive> primitives;  // empty primitives are skipped
   bool indexed = false;
+  /// Threads for writing: with more than one, quads are expanded into
+  /// vertices on a second thread while the previous batch is written. The
+  /// bytes do not depend on it.
+  unsigned threads = 1;
 };
 
 struct GltfWriteResult {

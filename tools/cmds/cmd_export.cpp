@@ -212,6 +212,7 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   scene.generator = "voxbake " + vox::versionString() + " vox export";
   scene.frame = in.frame;
   scene.indexed = o.dedup;
+  scene.threads = run.threads();
   std::vector<std::vector<vox::BlockQuad>> groups;
   if (o.split == Split::Classes) {
     groups = vox::quadsByClass(mesh);
