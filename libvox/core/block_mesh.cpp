@@ -1,6 +1,7 @@
 #include "libvox/core/block_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <tuple>
 
@@ -212,20 +213,36 @@ BlockMesh meshVisibleFaces(const ClassVolume& volume, const ClassTable& classes,
 }
 
 BlockMesh mergeCoplanarFaces(const BlockMesh& culled, unsigned threads) {
-  // Bucket by (direction, plane), rows by (second axis, first axis).
-  std::vector<BlockQuad> faces = culled.quads;
-  auto key = [](const BlockQuad& q) {
+  // Bucket by (direction, plane), rows by (second axis, first axis). The sort
+  // keys are computed once per quad (not in every comparison) and each
+  // direction is sorted on its own, in parallel: this sort was most of a
+  // large greedy export. A culled mesh has one face per block and direction,
+  // so the keys are unique and the order is the lexicographic one; the index
+  // only makes the order total.
+  struct SortKey {
+    int32_t plane, row, col;
+    uint32_t index;
+    bool operator<(const SortKey& o) const {
+      return std::tie(plane, row, col, index) < std::tie(o.plane, o.row, o.col, o.index);
+    }
+  };
+  std::array<std::vector<SortKey>, 6> byFace;
+  for (uint32_t i = 0; i < culled.quads.size(); ++i) {
+    const BlockQuad& q = culled.quads[i];
     const int n = kBlockFaces[size_t(q.face)].axis();
     const auto [a, b] = inPlaneAxes(q.face);
     const int32_t c[3] = {q.block.u, q.block.v, q.block.w};
-    return std::tuple(uint8_t(q.face), c[n], c[b], c[a]);
-  };
-  std::sort(faces.begin(), faces.end(), [&](const BlockQuad& p, const BlockQuad& q) { return key(p) < key(q); });
+    byFace[size_t(q.face)].push_back({c[n], c[b], c[a], i});
+  }
+  parallelForEach(6, threads, 1, [&](size_t f) { std::sort(byFace[f].begin(), byFace[f].end()); });
+  std::vector<BlockQuad> faces;
+  faces.reserve(culled.quads.size());
   std::vector<size_t> starts;
-  for (size_t i = 0; i < faces.size(); ++i)
-    if (i == 0 || std::get<0>(key(faces[i])) != std::get<0>(key(faces[i - 1])) ||
-        std::get<1>(key(faces[i])) != std::get<1>(key(faces[i - 1])))
-      starts.push_back(i);
+  for (const std::vector<SortKey>& keys : byFace)
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (k == 0 || keys[k].plane != keys[k - 1].plane) starts.push_back(faces.size());
+      faces.push_back(culled.quads[keys[k].index]);
+    }
   starts.push_back(faces.size());
   const size_t buckets = starts.size() - 1;
   std::vector<std::vector<BlockQuad>> merged(buckets);
