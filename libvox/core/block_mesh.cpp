@@ -221,13 +221,13 @@ BlockMesh mergeCoplanarFaces(const BlockMesh& culled, unsigned threads) {
   // only makes the order total.
   struct SortKey {
     int32_t plane, row, col;
-    uint32_t index;
+    size_t index;
     bool operator<(const SortKey& o) const {
       return std::tie(plane, row, col, index) < std::tie(o.plane, o.row, o.col, o.index);
     }
   };
   std::array<std::vector<SortKey>, 6> byFace;
-  for (uint32_t i = 0; i < culled.quads.size(); ++i) {
+  for (size_t i = 0; i < culled.quads.size(); ++i) {
     const BlockQuad& q = culled.quads[i];
     const int n = kBlockFaces[size_t(q.face)].axis();
     const auto [a, b] = inPlaneAxes(q.face);
