@@ -44,11 +44,13 @@ struct BufferPlan {
 // coordinate g (quadVertices: g = block + corner * extent, in double), a
 // non-decreasing function of g when voxelSize > 0 (each step is a correctly
 // rounded operation on a positive scale). So the smallest and largest
-// coordinates are those of the smallest and largest g, and these come from
-// the quads' integer corners: exactly what a pass over every vertex finds, at
-// a fraction of its cost (that pass was a tenth of a large export's time).
+// coordinates are those of the smallest and largest g, and the quads that
+// reach them are found from their integer corners: exactly what a pass over
+// every vertex finds, at a fraction of its cost (that pass was a tenth of a
+// large export's time).
 struct GridBounds {
   std::array<double, 3> lo, hi;
+  std::array<size_t, 3> loQuad{}, hiQuad{};  // a quad that reaches lo / hi on each axis
 };
 
 GridBounds quadGridBounds(std::span<const BlockQuad> quads) {
@@ -67,7 +69,8 @@ GridBounds quadGridBounds(std::span<const BlockQuad> quads) {
   GridBounds b;
   b.lo.fill(std::numeric_limits<double>::infinity());
   b.hi.fill(-std::numeric_limits<double>::infinity());
-  for (const BlockQuad& q : quads) {
+  for (size_t k = 0; k < quads.size(); ++k) {
+    const BlockQuad& q = quads[k];
     const auto [pa, pb] = inPlaneAxes(q.face);
     std::array<uint32_t, 3> extent{1, 1, 1};
     extent[size_t(pa)] = q.extent[0];
@@ -75,16 +78,15 @@ GridBounds quadGridBounds(std::span<const BlockQuad> quads) {
     const int32_t base[3] = {q.block.u, q.block.v, q.block.w};
     for (size_t i = 0; i < 3; ++i) {
       const auto [clo, chi] = cornerRange[size_t(q.face)][i];
-      b.lo[i] = std::min(b.lo[i], double(base[i]) + double(clo) * double(extent[i]));
-      b.hi[i] = std::max(b.hi[i], double(base[i]) + double(chi) * double(extent[i]));
+      const double lo = double(base[i]) + double(clo) * double(extent[i]);
+      const double hi = double(base[i]) + double(chi) * double(extent[i]);
+      if (lo < b.lo[i]) b.lo[i] = lo, b.loQuad[i] = k;
+      if (hi > b.hi[i]) b.hi[i] = hi, b.hiQuad[i] = k;
     }
   }
   return b;
 }
 
-float gridToWorld(double grid, const GridFrame& frame, size_t axis) {
-  return float(grid * frame.voxelSize + frame.origin[axis]);  // as quadVertices
-}
 
 BufferPlan planBuffer(const GltfScene& scene) {
   BufferPlan plan;
@@ -100,10 +102,16 @@ BufferPlan planBuffer(const GltfScene& scene) {
       l.indexBytes = l.indices * (l.indexType == kUnsignedShort ? 2 : 4);
     }
     if (scene.frame.voxelSize > 0) {
+      // The floats themselves come from quadVertices of the quads that reach
+      // the extremes, so they are the written vertices' own values.
       const GridBounds bounds = quadGridBounds(p.quads);
+      l.min.fill(std::numeric_limits<float>::infinity());
+      l.max.fill(-std::numeric_limits<float>::infinity());
       for (size_t a = 0; a < 3; ++a) {
-        l.min[a] = gridToWorld(bounds.lo[a], scene.frame, a);
-        l.max[a] = gridToWorld(bounds.hi[a], scene.frame, a);
+        for (const BlockVertex& v : quadVertices(p.quads[bounds.loQuad[a]], scene.frame))
+          l.min[a] = std::min(l.min[a], v.position[a]);
+        for (const BlockVertex& v : quadVertices(p.quads[bounds.hiQuad[a]], scene.frame))
+          l.max[a] = std::max(l.max[a], v.position[a]);
       }
     } else {  // not monotonic: every vertex (scenes always have a positive voxel size)
       l.min.fill(std::numeric_limits<float>::infinity());
