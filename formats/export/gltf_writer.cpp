@@ -87,8 +87,9 @@ GridBounds quadGridBounds(std::span<const BlockQuad> quads) {
   return b;
 }
 
-
 BufferPlan planBuffer(const GltfScene& scene) {
+  if (!(scene.frame.voxelSize > 0))  // quadGridBounds relies on it; every scene has one
+    throw Error(ErrorKind::Internal, "glTF export of a grid whose voxel size is not positive");
   BufferPlan plan;
   for (const GltfPrimitive& p : scene.primitives) {
     if (p.quads.empty()) continue;
@@ -101,27 +102,16 @@ BufferPlan planBuffer(const GltfScene& scene) {
       l.indexType = l.vertices <= 65535 ? kUnsignedShort : kUnsignedInt;
       l.indexBytes = l.indices * (l.indexType == kUnsignedShort ? 2 : 4);
     }
-    if (scene.frame.voxelSize > 0) {
-      // The floats themselves come from quadVertices of the quads that reach
-      // the extremes, so they are the written vertices' own values.
-      const GridBounds bounds = quadGridBounds(p.quads);
-      l.min.fill(std::numeric_limits<float>::infinity());
-      l.max.fill(-std::numeric_limits<float>::infinity());
-      for (size_t a = 0; a < 3; ++a) {
-        for (const BlockVertex& v : quadVertices(p.quads[bounds.loQuad[a]], scene.frame))
-          l.min[a] = std::min(l.min[a], v.position[a]);
-        for (const BlockVertex& v : quadVertices(p.quads[bounds.hiQuad[a]], scene.frame))
-          l.max[a] = std::max(l.max[a], v.position[a]);
-      }
-    } else {  // not monotonic: every vertex (scenes always have a positive voxel size)
-      l.min.fill(std::numeric_limits<float>::infinity());
-      l.max.fill(-std::numeric_limits<float>::infinity());
-      for (const BlockQuad& q : p.quads)
-        for (const BlockVertex& v : quadVertices(q, scene.frame))
-          for (size_t a = 0; a < 3; ++a) {
-            l.min[a] = std::min(l.min[a], v.position[a]);
-            l.max[a] = std::max(l.max[a], v.position[a]);
-          }
+    // The floats themselves come from quadVertices of the quads that reach
+    // the extremes, so they are the written vertices' own values.
+    const GridBounds bounds = quadGridBounds(p.quads);
+    l.min.fill(std::numeric_limits<float>::infinity());
+    l.max.fill(-std::numeric_limits<float>::infinity());
+    for (size_t a = 0; a < 3; ++a) {
+      for (const BlockVertex& v : quadVertices(p.quads[bounds.loQuad[a]], scene.frame))
+        l.min[a] = std::min(l.min[a], v.position[a]);
+      for (const BlockVertex& v : quadVertices(p.quads[bounds.hiQuad[a]], scene.frame))
+        l.max[a] = std::max(l.max[a], v.position[a]);
     }
     l.vertexOffset = plan.bytes;
     plan.bytes += l.vertices * sizeof(BlockVertex);
@@ -226,31 +216,27 @@ void writeBuffer(const GltfScene& scene, const BufferPlan& plan, OutputFile& out
     const size_t batches = (quads.size() + kBatchQuads - 1) / kBatchQuads;
     auto batchAt = [&](size_t k) { return quads.subspan(k * kBatchQuads, std::min(kBatchQuads, quads.size() - k * kBatchQuads)); };
     std::array<Batch, 2> slots;
-    if (scene.threads <= 1 || batches <= 1) {
-      for (size_t k = 0; k < batches; ++k) {
-        slots[0].quads = batchAt(k);
-        expand(slots[0]);
-        out.write(slots[0].vertices.data(), slots[0].vertices.size() * sizeof(BlockVertex));
-      }
-    } else {
+    const bool overlap = scene.threads > 1;
+    if (batches) {
       slots[0].quads = batchAt(0);
       expand(slots[0]);
-      for (size_t k = 0; k < batches; ++k) {
-        Batch& now = slots[k % 2];
-        std::future<void> next;
-        if (k + 1 < batches) {
-          Batch& ahead = slots[(k + 1) % 2];
-          ahead.quads = batchAt(k + 1);
-          next = std::async(std::launch::async, [&expand, &ahead] { expand(ahead); });
-        }
-        try {
-          out.write(now.vertices.data(), now.vertices.size() * sizeof(BlockVertex));
-        } catch (...) {
-          if (next.valid()) next.wait();  // the worker writes into `slots`
-          throw;
-        }
-        if (next.valid()) next.get();
+    }
+    for (size_t k = 0; k < batches; ++k) {
+      Batch& now = slots[k % 2];
+      Batch& ahead = slots[(k + 1) % 2];
+      std::future<void> next;
+      if (k + 1 < batches) {
+        ahead.quads = batchAt(k + 1);
+        if (overlap) next = std::async(std::launch::async, [&expand, &ahead] { expand(ahead); });
       }
+      try {
+        out.write(now.vertices.data(), now.vertices.size() * sizeof(BlockVertex));
+      } catch (...) {
+        if (next.valid()) next.wait();  // the worker writes into `slots`
+        throw;
+      }
+      if (next.valid()) next.get();
+      else if (k + 1 < batches) expand(ahead);
     }
     if (!l.indexType) continue;
     const size_t width = l.indexType == kUnsignedShort ? 2 : 4;

@@ -42,7 +42,7 @@ struct GltfPrimitive {
 struct GltfScene {
   std::string name;       // of the mesh and its node
   std::string generator;  // asset.generator
-  GridFrame frame;        // world placement of index space
+  GridFrame frame;        // world placement of index space (voxelSize > 0)
   std::vector<GltfMaterial> materials;
   std::vector<GltfPrimitive> primitives;  // empty primitives are skipped
   bool indexed = false;
