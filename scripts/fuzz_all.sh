@@ -11,7 +11,9 @@
 # fuzzer does not instrument. Seeds: tests/fuzz/seeds/NAME/ plus small files of
 # tests/cli, tests/golden and ../shared/data of that kind.
 # Usage: scripts/fuzz_all.sh [SECONDS_PER_TARGET=60] [TARGET...]
-# Env: FUZZ_DIR (default build-fuzz), BUILD_DIR (default build).
+# Env: FUZZ_DIR (default build-fuzz), BUILD_DIR (default build), FUZZ_SEED
+# (libFuzzer's -seed: a fixed seed replays the same mutations on the same
+# corpus, as the ctest smoke does; unset, each run draws its own).
 # Exit: 0 every target clean, 1 a target failed, 4 no clang++ or no build.
 set -u
 cd "$(dirname "$0")/.."
@@ -94,7 +96,7 @@ run_target() {
   local name=$1
   mkdir -p "$out/artifacts-$name"
   nice -n 10 "$out/fuzz_$name" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
-    -artifact_prefix="$out/artifacts-$name/" "$out/corpus-$name" >"$out/log-$name.txt" 2>&1
+    ${FUZZ_SEED:+-seed="$FUZZ_SEED"} -artifact_prefix="$out/artifacts-$name/" "$out/corpus-$name" >"$out/log-$name.txt" 2>&1
 }
 
 table=""

@@ -1,6 +1,7 @@
 // PNG and EXR round trips for every sample type the tool writes, text metadata,
 // determinism, and refusal of corrupt files.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -125,6 +126,56 @@ TEST(ImageIo, CorruptFilesAreBadInput) {
         << n;
   }
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readPng(dir.file("none.png")); }, ErrorKind::BadInput, {"none.png"}));
+}
+
+namespace {
+uint64_t virtualMemoryBytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;
+  return 0;
+}
+}  // namespace
+
+// OpenEXR allocates an attribute at the size the file claims before reading
+// it, and reads a box2i as 16 bytes whatever size is declared: a 1 KB file
+// whose displayWindow declared 126 bytes led OpenEXR's header parse into an
+// attribute of 1.6 GB. It must be refused without that allocation. The reader runs in a child process whose address space is capped at 256 MB
+// above what it already uses, where a 1.6 GB allocation fails (bad_alloc)
+// instead of being refused by its size.
+TEST(ImageIo, ExrHeaderOpenExrWouldReadAsAHugeAttributeIsRefusedWithoutAllocatingIt) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "an address-space cap does not work under AddressSanitizer's shadow memory";
+#else
+  // Found by the fuzzer (from an atlas written by vox).
+  const std::string path =
+      std::string(VOX_SOURCE_DIR) + "/tests/fuzz/regressions/exr/box2i_declared_126_bytes_then_1_6GB_attribute.exr";
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlim_t cap = virtualMemoryBytes() + (rlim_t(256) << 20);
+    const rlimit limit{cap, cap};
+    setrlimit(RLIMIT_AS, &limit);
+    try {
+      readExr(path);
+      _exit(3);  // read as an image: wrong
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      if (e.kind == ErrorKind::BadInput && what.find("bad_alloc") == std::string::npos) _exit(0);
+      std::fprintf(stderr, "refused with: %s\n", what.c_str());
+      _exit(4);
+    } catch (...) {
+      _exit(5);
+    }
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "the reader was killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: read as an image, 4: not a clean refusal (or bad_alloc), 5: other exception";
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readExr(path); }, ErrorKind::BadInput,
+                                      {"box2i_declared_126_bytes_then_1_6GB_attribute.exr", "corrupt or truncated EXR",
+                                       "'displayWindow' (box2i) at byte 237 declares 126 bytes; a box2i has 16"}));
+#endif
 }
 
 TEST(FileUtil, UncommittedTemporariesAreRemovedOnRequest) {

@@ -1,10 +1,11 @@
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
+#include <cstring>
+#include <stdexcept>
 #include <mutex>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
@@ -69,53 +70,139 @@ void writeExr(const Image& image, const std::string& path, ExrCompression compre
   }
 }
 
-/// The first header attribute whose size runs past the end of the file, as a
-/// message ("" when the header's attributes fit). OpenEXR allocates an
-/// attribute at the size the file gives before reading it: a 1 KB render
-/// whose string attribute claimed 1.8 GB took 1.8 GB and 3.4 s before "Early
-/// end of file". Walks every header of a multi-part file; anything else
-/// malformed is left for OpenEXR to report.
-static std::string attributePastEnd(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  const uint64_t total = std::filesystem::file_size(path);
-  char version[8];
-  if (!in.read(version, 8)) return {};
-  const bool multipart = (uint8_t(version[5]) & 0x10) != 0;  // version flags bit 12
-  auto cstring = [&](std::string& out) {
+/// The bytes OpenEXR 3.1 reads for an attribute of a fixed-size type (0 for
+/// the others). It reads these whatever size the file declares, so a wrong
+/// size puts its parse and any walk that trusts sizes at different places.
+static uint32_t fixedAttributeBytes(const std::string& type) {
+  static const std::pair<const char*, uint32_t> kSizes[] = {
+      {"box2i", 16},  {"box2f", 16},  {"compression", 1}, {"lineOrder", 1}, {"envmap", 1},
+      {"deepImageState", 1}, {"float", 4}, {"double", 8}, {"int", 4}, {"v2i", 8}, {"v2f", 8}, {"v2d", 16},
+      {"v3i", 12},    {"v3f", 12},    {"v3d", 24},      {"m33f", 36},    {"m33d", 72}, {"m44f", 64},
+      {"m44d", 128},  {"chromaticities", 32}, {"keycode", 28}, {"timecode", 8}, {"rational", 8},
+      {"tiledesc", 9}};
+  for (const auto& [name, bytes] : kSizes)
+    if (type == name) return bytes;
+  return 0;
+}
+
+/// Why a header cannot be handed to OpenEXR, as a message ("" when it can).
+/// OpenEXR allocates what a header claims before reading it: an attribute at
+/// its declared size (a 1 KB render whose string attribute claimed 1.8 GB
+/// took 1.8 GB and 3.4 s before "Early end of file"), each string of a
+/// stringvector, a preview at width x height. So every header of the file is
+/// walked the way OpenEXR reads it, and refused when an attribute runs past the
+/// end of the file, a fixed-size attribute declares another size (OpenEXR
+/// would read it at its own size and parse the rest of the header from a
+/// different place: how a fuzzer reached a 1.6 GB allocation), a channel list
+/// or stringvector does not fill its attribute exactly, or a preview's
+/// pixels are not its size. Valid files never do either.
+static std::string headerProblem(const char* bytes, uint64_t total) {
+  if (total < 8) return {};
+  const bool multipart = (uint8_t(bytes[5]) & 0x10) != 0;  // version flags bit 12
+  uint64_t at = 8;
+  auto cstring = [&](std::string& out, uint64_t end) {
     out.clear();
-    for (char c; in.get(c);) {
+    while (at < end) {
+      const char c = bytes[at++];
       if (c == 0) return true;
       if (out.size() >= 255) return false;
       out += c;
     }
     return false;
   };
-  std::string name, type;
+  auto int32At = [&](uint64_t where) {
+    int32_t v = 0;
+    std::memcpy(&v, bytes + where, 4);
+    return v;
+  };
+  std::string name, type, channel;
   for (;;) {
-    if (!cstring(name)) return {};
+    if (!cstring(name, total)) return {};
     if (name.empty()) {  // end of a header; a multi-part file's list ends with an empty header
-      if (!multipart || in.peek() == 0) return {};
+      if (!multipart || at >= total || bytes[at] == 0) return {};
       continue;
     }
-    int32_t size = 0;
-    if (!cstring(type) || !in.read(reinterpret_cast<char*>(&size), 4)) return {};
-    const uint64_t at = uint64_t(in.tellg());
-    if (size < 0 || uint64_t(size) > total - std::min(total, at))
-      return "header attribute '" + name + "' (" + type + ") at byte " + std::to_string(at) + " claims " +
-             std::to_string(size) + " bytes, more than the " + std::to_string(total - std::min(total, at)) +
+    if (!cstring(type, total) || total - at < 4) return {};
+    const int32_t size = int32At(at);
+    at += 4;
+    const std::string where = "header attribute '" + name + "' (" + type + ") at byte " + std::to_string(at);
+    if (size < 0 || uint64_t(size) > total - at)
+      return where + " claims " + std::to_string(size) + " bytes, more than the " + std::to_string(total - at) +
              " left in the file";
-    if (!in.seekg(std::streamoff(at + uint64_t(size)))) return {};
+    const uint64_t end = at + uint64_t(size);
+    const uint32_t fixed = fixedAttributeBytes(type);
+    if (fixed != 0 && uint32_t(size) != fixed)
+      return where + " declares " + std::to_string(size) + " bytes; a " + type + " has " + std::to_string(fixed);
+    if (type == "chlist") {  // entries (name, 16 bytes) up to an empty name, which must be the last byte
+      for (;;) {
+        if (!cstring(channel, end)) return where + " is not a channel list that ends with its attribute";
+        if (channel.empty()) break;
+        if (end - at < 16) return where + ": channel '" + channel + "' runs past the attribute";
+        at += 16;
+      }
+      if (at != end) return where + " has bytes after its channel list";
+    } else if (type == "stringvector") {  // (int32 length, bytes) up to the attribute's end
+      while (at < end) {
+        if (end - at < 4) return where + " ends inside a string length";
+        const int32_t length = int32At(at);
+        at += 4;
+        if (length < 0 || uint64_t(length) > end - at)
+          return where + " holds a string of " + std::to_string(length) + " bytes, more than the attribute's " +
+                 std::to_string(end - at) + " left";
+        at += uint64_t(length);
+      }
+    } else if (type == "preview") {  // uint32 width, height, then width x height RGBA bytes
+      const uint64_t pixels =
+          size >= 8 ? uint64_t(uint32_t(int32At(at))) * uint64_t(uint32_t(int32At(at + 4))) : ~uint64_t(0);
+      if (size < 8 || pixels > (uint64_t(size) - 8) / 4 || 8 + 4 * pixels != uint64_t(size))
+        return where + ": its preview's width x height does not match its " + std::to_string(size) + " bytes";
+    }
+    at = end;
   }
 }
+
+/// The file as OpenEXR's memory-mapped input stream. Why not OpenEXR's own
+/// file stream: OpenEXR allocates each chunk at the size the file claims
+/// before reading it (a 1 KB file claiming a 1.6 GB chunk asked for 1.6 GB);
+/// from a memory-mapped stream it takes a pointer into the mapping instead,
+/// and a claim past the end of the file throws here. Also saves a copy.
+class MappedExrStream final : public Imf::IStream {
+ public:
+  MappedExrStream(const FileView& view, const std::string& path)
+      : Imf::IStream(path.c_str()), bytes_(view.data()), size_(view.size()) {}
+  bool isMemoryMapped() const override { return true; }
+  bool read(char c[], int n) override {
+    std::memcpy(c, take(n), size_t(n));
+    return position_ < size_;
+  }
+  char* readMemoryMapped(int n) override { return const_cast<char*>(take(n)); }
+  uint64_t tellg() override { return position_; }
+  void seekg(uint64_t position) override { position_ = position; }
+
+ private:
+  const char* take(int n) {
+    if (n < 0 || position_ > size_ || uint64_t(n) > size_ - position_)
+      throw std::runtime_error("Early end of file: " + std::to_string(n) + " bytes wanted at byte " +
+                               std::to_string(position_) + " of " + std::to_string(size_));
+    const char* at = bytes_ + position_;
+    position_ += uint64_t(n);
+    return at;
+  }
+  const char* bytes_;
+  uint64_t size_;
+  uint64_t position_ = 0;
+};
 
 Image readExr(const std::string& path) {
   requireRegularFile(path);
   if (!isExrFile(path)) throwBadInput(path + ": not an OpenEXR file (wrong magic number or unreadable)");
-  if (const std::string why = attributePastEnd(path); !why.empty())
+  const FileView view(path);
+  if (const std::string why = headerProblem(view.data(), view.size()); !why.empty())
     throwBadInput(path + ": corrupt or truncated EXR: " + why);
   Image image;
   try {
-    Imf::InputFile in(path.c_str());
+    MappedExrStream stream(view, path);
+    Imf::InputFile in(stream);
     const Imf::Header& h = in.header();
     const Imath::Box2i dw = h.dataWindow();
     image.width = uint32_t(dw.max.x - dw.min.x + 1);
@@ -137,7 +224,7 @@ Image readExr(const std::string& path) {
     // than 2^17:1 (deflate 1032:1, RLE 64:1, PIZ's run codes about 300:1,
     // DWA's run-length then deflate stages below 2^17 together).
     const uint64_t decoded = uint64_t(image.rowBytes()) * image.height;
-    const uint64_t fileBytes = std::filesystem::file_size(path);
+    const uint64_t fileBytes = view.size();
     if (decoded > (fileBytes + 1) << 17)
       throwBadInput(path + ": corrupt or truncated EXR: its data window is " + std::to_string(image.width) + " x " +
                     std::to_string(image.height) + " pixels (" + std::to_string(decoded) + " bytes), more than its " +
