@@ -87,6 +87,15 @@ struct ClassBlock {
   void makeDense();
 };
 
+/// The memory a class block holds, for memory estimates that measure a sample:
+/// the block and its counts as heap allocations (about 16 bytes of malloc
+/// header each) and the owning pointer in its VoxelBlock.
+inline size_t classBlockHeapBytes(const ClassBlock& block) {
+  constexpr size_t kMallocHeader = 16;
+  const size_t counts = block.counts.capacity() * sizeof(uint32_t);
+  return sizeof(ClassBlock) + kMallocHeader + (counts ? counts + kMallocHeader : 0) + sizeof(void*);
+}
+
 /// One 8^3 block. Bit i of a mask is voxel i in OpenVDB's order:
 /// i = (x & 7) << 6 | (y & 7) << 3 | (z & 7).
 struct VoxelBlock {

@@ -631,7 +631,7 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
   const uint64_t samples = std::max<uint64_t>(1, std::min(f.tiles, maxSampledTiles));
   f.sampledTiles = samples;
   struct Counts {
-    uint64_t blocks = 0, classBlocks = 0, occupied = 0;
+    uint64_t blocks = 0, classBlocks = 0, classBytes = 0, occupied = 0;
   };
   std::vector<Counts> counts(samples);
   parallelForEach(size_t(samples), options.threads, 16, [&](size_t k) {
@@ -647,13 +647,16 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
     for (const VoxelBlock* b : scratch.sortedBlocks()) {
       ++counts[k].blocks;
       counts[k].classBlocks += b->classes.size();
+      for (const auto& c : b->classes) counts[k].classBytes += classBlockHeapBytes(*c);
     }
   });
   Counts sum;
-  for (const Counts& c : counts) sum.blocks += c.blocks, sum.classBlocks += c.classBlocks, sum.occupied += c.occupied;
+  for (const Counts& c : counts)
+    sum.blocks += c.blocks, sum.classBlocks += c.classBlocks, sum.classBytes += c.classBytes, sum.occupied += c.occupied;
   const double scale = double(f.tiles) / double(samples);
   f.blocks = double(sum.blocks) * scale;
   f.classBlocks = double(sum.classBlocks) * scale;
+  f.classBytes = double(sum.classBytes) * scale;
   f.occupied = double(sum.occupied) * scale;
   return f;
 }
@@ -661,8 +664,10 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
 MemoryEstimate cityBakeMemory(const CityFootprint& f) {
   MemoryEstimate e;
   e.add("voxel blocks", f.blocks * 420.0);
-  e.add("class vote blocks", f.classBlocks * 2100.0);
-  e.add("writer", f.blocks * 120.0 + f.classBlocks * 24.0);
+  e.add("class vote blocks", f.classBytes);
+  // The direct writer's per-leaf tables and buffers: fitted to the peaks
+  // measured once vote blocks were compact (docs/city.md "Memory guard").
+  e.add("writer", f.blocks * 400.0 + f.classBlocks * 24.0);
   return e;
 }
 

@@ -83,7 +83,8 @@ struct CityFootprint {
   uint64_t tiles = 0;          // 8x8-column tiles the box touches
   uint64_t sampledTiles = 0;   // tiles generated to measure
   double blocks = 0;           // 8^3 blocks with voxels (extrapolated)
-  double classBlocks = 0;      // per-class vote blocks (2 KB each)
+  double classBlocks = 0;      // per-class vote blocks
+  double classBytes = 0;       // their heap bytes as generated (classBlockHeapBytes)
   double occupied = 0;         // occupied voxels
 };
 CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSampledTiles = 2048);
@@ -91,8 +92,9 @@ CityFootprint estimateCityFootprint(const CityOptions& options, uint64_t maxSamp
 /// The peak memory of generating a footprint into blocks and writing them
 /// with the direct scene writer (formats/scene/scene_vdb_direct.h), without
 /// what the process held before: a VoxelBlock with its hash-map entry per
-/// 8^3 block, a 2 KB vote block per class in it, both held until the writer
-/// is done, and the writer's per-leaf tables. Calibrated against measured
+/// 8^3 block, the vote blocks in it as the sample measured them (a count per
+/// voted voxel, or per voxel once a block is dense), both held until the
+/// writer is done, and the writer's per-leaf tables. Calibrated against measured
 /// peaks at 1024^2, 2048^2 and 4096^2 (docs/city.md "Memory guard").
 MemoryEstimate cityBakeMemory(const CityFootprint& footprint);
 
