@@ -693,7 +693,9 @@ void addPerBlock(std::vector<double>& work, int32_t first, int32_t last, double 
 
 /// Cuts the blocks [firstBlock, lastBlock] along one axis into up to `pieces`
 /// ranges of whole blocks with similar work (`work` per block, indexed from
-/// firstBlock), as voxel ranges [from, to] ending at `lastVoxel`.
+/// firstBlock), as voxel ranges [from, to] ending at `lastVoxel`. Blocks
+/// without work before or after the rest join the first or last range (no
+/// empty tiles).
 std::vector<std::array<int32_t, 2>> cutByWork(const std::vector<double>& work, int32_t firstBlock, int32_t lastVoxel,
                                               size_t pieces) {
   double total = 0;
@@ -705,7 +707,7 @@ std::vector<std::array<int32_t, 2>> cutByWork(const std::vector<double>& work, i
   for (int32_t b = 0; b < n; ++b) {
     acc += work[size_t(b)];
     const bool lastBlock = b + 1 == n;
-    if (lastBlock || acc >= total * double(ranges.size() + 1) / double(pieces)) {
+    if (lastBlock || (acc >= total * double(ranges.size() + 1) / double(pieces) && acc < total)) {
       ranges.push_back({from, lastBlock ? lastVoxel : (firstBlock + b + 1) * kBlockDim - 1});
       from = (firstBlock + b + 1) * kBlockDim;
     }
