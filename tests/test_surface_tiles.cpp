@@ -13,33 +13,18 @@
 #include "libvox/scene/scene_diff.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "test_util.h"
+#include "voxelize_test_meshes.h"
 
 using namespace vox;
 
 namespace {
 
-SceneHeader tileHeader(Dims dims) {
-  SceneHeader h;
-  h.dims = dims;
-  h.voxelSize = 1.0;
-  h.origin = {0, 0, 0};
-  h.classes.add({1, "a", {255, 0, 0}, std::nullopt});
-  h.classes.add({2, "b", {0, 255, 0}, std::nullopt});
-  return h;
-}
-
-/// A mesh of triangles with a colour per vertex (rgb from the position).
+/// `meshOf` with a colour per vertex (rgb from the position).
 Mesh colouredMesh(const std::vector<std::array<double, 3>>& pos, const std::vector<std::array<uint32_t, 3>>& tris) {
-  Mesh m;
-  m.positions = pos;
+  Mesh m = voxtest::meshOf(pos, tris);
   for (const auto& p : pos)
     m.colors.push_back({float(std::fmod(p[0] * 0.37, 1.0)), float(std::fmod(p[1] * 0.23, 1.0)),
                         float(std::fmod(p[2] * 0.11, 1.0)), 1.0f});
-  m.triangles = tris;
-  m.triangleMaterial.assign(tris.size(), 0);
-  m.trianglePart.assign(tris.size(), 0);
-  m.materials.push_back({});
-  m.parts.push_back({"part", "mesh"});
   return m;
 }
 
@@ -85,7 +70,7 @@ TEST(SurfaceTiles, LargeColouredTrianglesAtAnyThreadCount) {
   const Mesh m = colouredMesh(p, t);
   std::vector<uint8_t> cls(t.size(), 1);
   for (size_t i = 0; i < cls.size(); i += 3) cls[i] = 2;  // two classes, sharing voxels along edges
-  expectSameAtAnyThreadCount(m, cls, tileHeader({61, 47, 55}), "coloured box");
+  expectSameAtAnyThreadCount(m, cls, voxtest::twoClassHeader({61, 47, 55}), "coloured box");
 }
 
 TEST(SurfaceTiles, TrianglesOnBlockBoundariesAtAnyThreadCount) {
@@ -113,11 +98,11 @@ TEST(SurfaceTiles, TrianglesOnBlockBoundariesAtAnyThreadCount) {
   const Mesh m = colouredMesh(p, t);
   std::vector<uint8_t> cls(t.size(), 1);
   for (size_t i = 0; i < cls.size(); i += 2) cls[i] = 2;
-  expectSameAtAnyThreadCount(m, cls, tileHeader({44, 42, 45}), "triangles on block boundaries");
+  expectSameAtAnyThreadCount(m, cls, voxtest::twoClassHeader({44, 42, 45}), "triangles on block boundaries");
   // Without colour (one tile on one thread, tiles on more).
   Mesh plain = m;
   plain.colors.clear();
-  expectSameAtAnyThreadCount(plain, cls, tileHeader({44, 42, 45}), "uncoloured, on block boundaries");
+  expectSameAtAnyThreadCount(plain, cls, voxtest::twoClassHeader({44, 42, 45}), "uncoloured, on block boundaries");
 }
 
 TEST(SurfaceTiles, TexturedTrianglesAtAnyThreadCount) {
@@ -134,7 +119,7 @@ TEST(SurfaceTiles, TexturedTrianglesAtAnyThreadCount) {
   m.textures.push_back(tex);
   m.materials[0].texture = 0;
   m.uv0 = {{0, 0}, {3.5, 0}, {3.5, 2.5}, {0, 2.5}, {0.1, 0.1}, {0.9, 0.2}, {0.4, 0.8}};
-  expectSameAtAnyThreadCount(m, std::vector<uint8_t>(m.triangles.size(), 1), tileHeader({62, 40, 52}), "textured");
+  expectSameAtAnyThreadCount(m, std::vector<uint8_t>(m.triangles.size(), 1), voxtest::twoClassHeader({62, 40, 52}), "textured");
 }
 
 TEST(SurfaceTiles, WallInOneBlockColumnKeepsItsArea) {
@@ -146,7 +131,7 @@ TEST(SurfaceTiles, WallInOneBlockColumnKeepsItsArea) {
   const Mesh m = colouredMesh({{20.5, 0.5, 0.5}, {20.5, 40.5, 0.5}, {20.5, 40.5, 40.5}, {20.5, 0.5, 40.5}},
                               {{0, 1, 2}, {0, 2, 3}});
   const std::vector<uint8_t> cls(2, 1);
-  const SceneHeader h = tileHeader({64, 48, 48});
+  const SceneHeader h = voxtest::twoClassHeader({64, 48, 48});
   for (unsigned threads : {1u, 2u, 3u}) {
     const Scene s = bake(m, cls, h, threads);
     EXPECT_EQ(s.occupiedCount(), 41u * 41u) << "threads " << threads;

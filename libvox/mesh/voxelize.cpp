@@ -438,7 +438,9 @@ class ColorSums {
   /// holds the tile's votes, so every such block exists), then frees the sums.
   void writeColors(VoxelBlocks& blocks) {
     for (const Block& cb : blocks_) {
-      VoxelBlock& b = *blocks.blockAt({cb.origin[0], cb.origin[1], cb.origin[2]});
+      VoxelBlock* block = blocks.blockAt({cb.origin[0], cb.origin[1], cb.origin[2]});
+      if (!block) continue;  // beyond +-2^23: blocks.outOfRange() says so, as for its votes
+      VoxelBlock& b = *block;
       for (int i = 0; i < kBlockVoxels; ++i) {
         const uint32_t slot = (*cb.slots)[size_t(i)];
         if (slot == 0) continue;
@@ -727,10 +729,11 @@ std::vector<std::array<int32_t, 2>> cutByWork(const std::vector<double>& work, i
 std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces) {
   const int32_t dimx = int32_t(W.dims.x), dimy = int32_t(W.dims.y);
   const size_t nTri = W.mesh.triangles.size();
-  std::vector<CandidateBox> boxes(nTri);
+  // Candidate boxes are recomputed in each pass rather than kept (24 bytes a
+  // triangle would outweigh the index lists for a large scan).
   std::vector<double> work(size_t((dimx + kBlockDim - 1) / kBlockDim), 0.0);  // per block column
   for (size_t t = 0; t < nTri; ++t) {
-    const CandidateBox& c = boxes[t] = candidateBox(W, t);
+    const CandidateBox c = candidateBox(W, t);
     if (c.empty()) continue;
     addPerBlock(work, c.first[0], c.last[0], double(c.last[1] - c.first[1] + 1) * double(c.last[2] - c.first[2] + 1) + 4);
   }
@@ -741,7 +744,7 @@ std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces) {
   // Each slab's triangles, then its cuts along y when it holds more than its share.
   std::vector<std::vector<uint32_t>> slabTriangles(slabs.size());
   for (size_t t = 0; t < nTri; ++t) {
-    const CandidateBox& c = boxes[t];
+    const CandidateBox c = candidateBox(W, t);
     if (c.empty()) continue;
     // The first slab ending at or after first[0], then on while they start at or before last[0].
     auto s = std::lower_bound(slabs.begin(), slabs.end(), c.first[0],
@@ -761,15 +764,17 @@ std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces) {
     }
     std::vector<double> rows(size_t(blocksY), 0.0);  // the slab's work per block row along y
     for (uint32_t t : slabTriangles[s]) {
-      const CandidateBox& c = boxes[t];
+      const CandidateBox c = candidateBox(W, t);
       const double columns = double(std::min(x1, c.last[0]) - std::max(x0, c.first[0]) + 1);
       addPerBlock(rows, c.first[1], c.last[1], columns * double(c.last[2] - c.first[2] + 1));
     }
     const size_t firstTile = tiles.size();
     for (const auto& [y0, y1] : cutByWork(rows, 0, dimy - 1, cuts)) tiles.push_back({{x0, y0}, {x1, y1}, {}});
-    for (uint32_t t : slabTriangles[s])
+    for (uint32_t t : slabTriangles[s]) {
+      const CandidateBox c = candidateBox(W, t);
       for (size_t k = firstTile; k < tiles.size(); ++k)
-        if (tiles[k].from[1] <= boxes[t].last[1] && tiles[k].to[1] >= boxes[t].first[1]) tiles[k].triangles.push_back(t);
+        if (tiles[k].from[1] <= c.last[1] && tiles[k].to[1] >= c.first[1]) tiles[k].triangles.push_back(t);
+    }
   }
   return tiles;
 }
@@ -781,7 +786,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
   const size_t nTri = work.mesh.triangles.size();
   // A few tiles per thread, taken as threads come free. A coloured mesh is
   // tiled on one thread too: a tile's colour sums live only until its colours
-  // are written, so tiles bound them (box12 at 512: 298 -> 227 MB peak, and
+  // are written, so tiles bound them (box12 at 512: 298 -> 222 MB peak, and
   // less fresh memory to fault in); without colour one tile saves the clipping
   // of triangles that straddle tiles (stanford-bunny 256: 2.5% instructions).
   const size_t pieces = threads > 1 || work.color ? size_t(4) * std::max(threads, 2u) : 1;
