@@ -181,7 +181,9 @@ uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
 
 /// The voxels in [0, dim) whose closed interval [k, k+1] touches the lattice
 /// interval [latticeLo, latticeHi]: [first, last], empty when first > last.
-void voxelsTouching(i64 latticeLo, i64 latticeHi, int32_t dim, int32_t& first, int32_t& last) {
+/// Inlined: called per triangle and axis by the surface pass, out of line it
+/// cost the bunny at 256 0.6% more instructions (callgrind).
+[[gnu::always_inline]] inline void voxelsTouching(i64 latticeLo, i64 latticeHi, int32_t dim, int32_t& first, int32_t& last) {
   // Voxel k touches iff k*S <= latticeHi and (k+1)*S >= latticeLo.
   const i64 f = floorDiv(i128(latticeLo) - 1, kS) + 0;  // largest k with (k+1)*S < lo is floor((lo-1)/S) - 1
   first = int32_t(std::max<i64>(0, f));
