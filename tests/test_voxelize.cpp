@@ -12,30 +12,16 @@
 #include "libvox/scene/voxelize_check.h"
 #include "libvox/scene/voxelize_sdf.h"
 #include "test_util.h"
+#include "voxelize_test_meshes.h"
 
 using namespace vox;
 
 namespace {
 
-SceneHeader gridHeader(uint32_t n, double voxelSize = 1.0, std::array<double, 3> origin = {0, 0, 0}) {
-  SceneHeader h;
-  h.dims = {n, n, n};
-  h.voxelSize = voxelSize;
-  h.origin = origin;
-  h.classes.add({1, "a", {255, 0, 0}, std::nullopt});
-  h.classes.add({2, "b", {0, 255, 0}, std::nullopt});
-  return h;
-}
+using voxtest::meshOf;
 
-Mesh meshOf(const std::vector<std::array<double, 3>>& pos, const std::vector<std::array<uint32_t, 3>>& tris) {
-  Mesh m;
-  m.positions = pos;
-  m.triangles = tris;
-  m.triangleMaterial.assign(tris.size(), 0);
-  m.trianglePart.assign(tris.size(), 0);
-  m.materials.push_back({});
-  m.parts.push_back({"part", "mesh"});
-  return m;
+SceneHeader gridHeader(uint32_t n, double voxelSize = 1.0, std::array<double, 3> origin = {0, 0, 0}) {
+  return voxtest::twoClassHeader({n, n, n}, voxelSize, origin);
 }
 
 std::set<std::tuple<int, int, int>> occupied(const Scene& s) {
