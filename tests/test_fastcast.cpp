@@ -75,9 +75,12 @@ TEST(RayBundle, CertifiedStretchPrecedesEveryOccupiedVoxelTheRaysTouch) {
   std::mt19937_64 rng(1411);
   std::uniform_real_distribution<double> unit(0, 1);
   uint64_t bundles = 0, advanced = 0, missedAll = 0, rays = 0;
-  for (int sceneIndex = 0; sceneIndex < 12; ++sceneIndex) {
-    std::uniform_int_distribution<uint32_t> side(20, 170);
-    const vox::Dims dims{side(rng), side(rng), side(rng)};
+  for (int sceneIndex = 0; sceneIndex < 16; ++sceneIndex) {
+    // Every fourth domain is smaller than a brick or two on some axis: the
+    // content box (whole bricks clipped to the domain) then ends inside a brick.
+    std::uniform_int_distribution<uint32_t> side(20, 170), small(1, 12);
+    const vox::Dims dims = sceneIndex % 4 == 3 ? vox::Dims{small(rng), small(rng), small(rng)}
+                                               : vox::Dims{side(rng), side(rng), side(rng)};
     const SparseScene s = sparseScene(rng, dims, 3 + sceneIndex % 5, sceneIndex % 3 == 0);
     const double ext[3] = {double(dims.x), double(dims.y), double(dims.z)};
     RayGrid::Cursor cursor(*s.grid);
@@ -135,6 +138,28 @@ TEST(RayBundle, CertifiedStretchPrecedesEveryOccupiedVoxelTheRaysTouch) {
   EXPECT_GT(advanced, bundles / 2);
   EXPECT_GT(missedAll, bundles / 20);
   EXPECT_LT(missedAll, bundles * 3 / 4);
+}
+
+// Two voxels in a 2 x 1 x 1 domain seen from z = 10: the content box ends at
+// x = 2, inside its only brick; the march must use that brick's distance (0).
+TEST(RayBundle, ContentBoxEndingInsideABrick) {
+  RayGrid g(vox::Dims{2, 1, 1});
+  g.addVoxel(0, 0, 0);
+  g.addVoxel(1, 0, 0);
+  g.finish();
+  const std::array<Vec, 2> dirs{Vec{-1.0 / 18, 0, -1}, Vec{1.0 / 18, 0, -1}};
+  const double T = vox::bundleEmptyUntil(g, {1, 0.5, 10}, dirs);
+  EXPECT_FALSE(std::isinf(T));
+  EXPECT_LE(T, 9.0);  // the rays reach the voxels' +z face at t = 9
+  RayGrid::Cursor cursor(g);
+  for (const Vec& d : dirs) {
+    Ray r;
+    r.origin = {1, 0.5, 10};
+    r.dir = d;
+    const vox::RayHit h = vox::castRay(g, r, cursor, T);
+    EXPECT_TRUE(h.hit);
+    EXPECT_EQ(h.t, 9.0);
+  }
 }
 
 TEST(RayBundle, EmptyGridMissesAndDegenerateBundlesCertifyNothing) {

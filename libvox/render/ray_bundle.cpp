@@ -30,7 +30,8 @@ double emptyRadius(const RayGrid& grid, const std::array<double, 3>& p) {
     const double l = double(lo[size_t(a)]), h = double(hi[size_t(a)]);
     gap = std::max(gap, std::max(l - p[size_t(a)], p[size_t(a)] - h));
     clamped[a] = std::clamp(p[size_t(a)], l, h);
-    b[a] = std::clamp<int64_t>(int64_t(clamped[a]) >> 3, lo[size_t(a)] >> 3, (hi[size_t(a)] >> 3) - 1);
+    // The box is whole bricks clipped to the domain: its end need not be a multiple of 8.
+    b[a] = std::clamp<int64_t>(int64_t(clamped[a]) >> 3, lo[size_t(a)] >> 3, (hi[size_t(a)] - 1) >> 3);
   }
   // Bricks b - (k - 1) .. b + (k - 1) are empty: the open box of voxels
   // [8 (b - k + 1), 8 (b + k)) on every axis, which holds p'.
