@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "libvox/render/camera.h"
 #include "libvox/render/ray_bundle.h"
@@ -28,13 +29,10 @@ struct SparseScene {
 // A few small blobs far apart (so the brick distance field has room to
 // certify long stretches) and, in some scenes, a thin floor slab.
 SparseScene sparseScene(std::mt19937_64& rng, vox::Dims dims, int blobs, bool floor) {
-  SparseScene s;
-  s.grid = std::make_unique<RayGrid>(dims);
-  std::vector<uint8_t> occ(size_t(dims.count()), 0);
+  std::set<std::array<int64_t, 3>> occupied;  // (w, v, u): the brute force's voxels in a fixed order
   std::uniform_real_distribution<double> unit(0, 1);
   auto set = [&](int64_t u, int64_t v, int64_t w) {
-    if (u < 0 || v < 0 || w < 0 || u >= dims.x || v >= dims.y || w >= dims.z) return;
-    occ[size_t((w * dims.y + v) * dims.x + u)] = 1;
+    if (u >= 0 && v >= 0 && w >= 0 && u < dims.x && v < dims.y && w < dims.z) occupied.insert({w, v, u});
   };
   for (int b = 0; b < blobs; ++b) {
     const int64_t cu = int64_t(unit(rng) * dims.x), cv = int64_t(unit(rng) * dims.y), cw = int64_t(unit(rng) * dims.z);
@@ -48,13 +46,12 @@ SparseScene sparseScene(std::mt19937_64& rng, vox::Dims dims, int blobs, bool fl
     for (int64_t w = 0; w < dims.z; ++w)
       for (int64_t u = 0; u < dims.x; ++u)
         if (unit(rng) < 0.3) set(u, 2, w);
-  for (uint32_t w = 0; w < dims.z; ++w)
-    for (uint32_t v = 0; v < dims.y; ++v)
-      for (uint32_t u = 0; u < dims.x; ++u)
-        if (occ[size_t((uint64_t(w) * dims.y + v) * dims.x + u)]) {
-          s.voxels.push_back({int32_t(u), int32_t(v), int32_t(w)});
-          s.grid->addVoxel(u, v, w);
-        }
+  SparseScene s;
+  s.grid = std::make_unique<RayGrid>(dims);
+  for (const auto& [w, v, u] : occupied) {
+    s.voxels.push_back({int32_t(u), int32_t(v), int32_t(w)});
+    s.grid->addVoxel(uint32_t(u), uint32_t(v), uint32_t(w));
+  }
   s.grid->finish();
   return s;
 }

@@ -70,7 +70,7 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   // Tiles of kTile x kTile pixels share one march through empty space
   // (ray_bundle.h); a task is a band of kTile rows. The tiling does not depend
   // on the thread count, and neither does any pixel.
-  constexpr uint32_t kTile = 8;
+  constexpr uint32_t kTile = 8;  // 16 measured the same, 4 slower (more marches)
   const uint32_t bands = (camera.height + kTile - 1) / kTile;
   parallelForEach(bands, threads, 1, [&](size_t band) {
     const uint32_t y0 = uint32_t(band) * kTile, y1 = std::min(y0 + kTile, camera.height);
