@@ -159,6 +159,27 @@ TEST(RayBundle, ContentBoxEndingInsideABrick) {
   }
 }
 
+// Domains of more than 2^24 bricks have no distance field (every brick reads
+// 1, occupied or not): the march must not take an occupied brick for empty.
+TEST(RayBundle, DomainsWithoutADistanceFieldStayConservative) {
+  RayGrid g(vox::Dims{8192, 8192, 136});  // 1024 x 1024 x 17 bricks
+  g.addVoxel(4005, 4004, 60);
+  g.finish();
+  ASSERT_EQ(g.emptyBricksAround(500, 500, 7), 1u);  // the premise: no field
+  const Vec origin{4004.5, 4004.5, 60.5};          // the middle of the occupied voxel's brick
+  const std::array<Vec, 1> along{Vec{1, 0, 0}};
+  const double T = vox::bundleEmptyUntil(g, origin, along);
+  Ray r;
+  r.origin = origin;
+  r.dir = along[0];
+  const std::vector<Coord3> voxels{{4005, 4004, 60}};
+  const vox::RayHit truth = vox::castRayBruteForce(voxels, r);
+  ASSERT_TRUE(truth.hit);
+  EXPECT_LE(T, truth.t);
+  RayGrid::Cursor cursor(g);
+  EXPECT_TRUE(sameHit(vox::castRay(g, r, cursor, T), truth));
+}
+
 TEST(RayBundle, EmptyGridMissesAndDegenerateBundlesCertifyNothing) {
   RayGrid empty(vox::Dims{16, 16, 16});
   empty.finish();

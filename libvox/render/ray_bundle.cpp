@@ -35,7 +35,10 @@ double emptyRadius(const RayGrid& grid, const std::array<double, 3>& p) {
   }
   // Bricks b - (k - 1) .. b + (k - 1) are empty: the open box of voxels
   // [8 (b - k + 1), 8 (b + k)) on every axis, which holds p'.
-  const int64_t k = grid.emptyBricksAround(b[0], b[1], b[2]);
+  int64_t k = grid.emptyBricksAround(b[0], b[1], b[2]);
+  // Without a distance field (very large domains) every brick reads 1: ask the tree.
+  const RayGrid::Mask512* mask;
+  if (k == 1 && grid.probe(8 * b[0], 8 * b[1], 8 * b[2], &mask) == 0) k = 0;
   if (k == 0) return gap;
   double inside = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a)

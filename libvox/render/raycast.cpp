@@ -22,6 +22,11 @@
 // voxel is min key, and the voxels found there are exactly the occupied voxels
 // with that key (voxels touched at T whose key is below T were tested at an
 // earlier event and are empty). The tie rule is applied to those candidates.
+//
+// Starting at tStart > 0 (castRay's last argument) changes nothing in this:
+// the caller guarantees that every voxel touched before tStart is empty, so
+// the stretch [0, tStart) is one more jump over empty voxels, and tStart is
+// the start time.
 #include "libvox/render/raycast.h"
 
 #include <algorithm>
@@ -43,9 +48,9 @@ bool winsTie(double exitA, const Coord3& a, double exitB, const Coord3& b) {
   return a.u < b.u;
 }
 
-// The axis of the smallest of t[0..2], ties to the lower axis, written so that
-// it compiles to conditional moves: the DDA's next axis follows the ray's
-// direction, not a pattern a branch predictor learns.
+// The axis of the smallest of t[0..2], ties to the lower axis (as the nested
+// comparison it replaces), written as selects so that the compiler need not
+// branch on it: the DDA's next axis is hard for a branch predictor.
 inline int argMin3(const double* t) {
   const int a01 = int(t[1] < t[0]);
   const double m = t[1] < t[0] ? t[1] : t[0];
