@@ -9,7 +9,9 @@
 # Writes docs/bench-render.md (or $OUT).
 #
 # Usage: scripts/bench_render.sh [MESH]   (default: the Stanford bunny of ../shared/data)
-# Env: THREADS (default: all cores), RUNS (default 10), SIZE (default 1920x1080).
+# Env: THREADS (default: all cores), RUNS (default 10), SIZE (default 1920x1080),
+#      BASE_VOX (another build's vox, e.g. main's copied aside: run in the same
+#      hyperfine rounds as "vox-base", for a before/after in one run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -40,6 +42,8 @@ else
   echo "bench_render.sh: $mesh not found; benchmarking the demo only" >&2
 fi
 W=${size%x*} H=${size#*x}
+base_vox=${BASE_VOX:-}
+load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 
 {
   echo "# render-canonical vs vdb_render"
@@ -54,8 +58,16 @@ W=${size%x*} H=${size#*x}
   echo "Times are the mean over all runs (in brackets the fastest run: this VM's second core comes and goes,"
   echo "so both are given); the speedup is the ratio of the means (of the fastest runs)."
   echo
-  echo "| scene | occupied voxels | vox (s) | vdb_render (s) | vox speedup | vox Mrays/s (cast) | steps/ray | hit pixels vox / vdb_render |"
-  echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+  echo "CPU is user + sys (mean per run), beside the wall time."
+  [ -n "$base_vox" ] && echo "vox-base is \`$base_vox\`, run in the same rounds (the before of a before/after)."
+  echo
+  if [ -n "$base_vox" ]; then
+    echo "| scene | occupied voxels | vox (s) | vox CPU (s) | vox-base (s) | vox-base CPU (s) | vdb_render (s) | vdb_render CPU (s) | vox speedup | vox-base speedup | vox Mrays/s (cast) | steps/ray | hit pixels vox / vdb_render |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  else
+    echo "| scene | occupied voxels | vox (s) | vox CPU (s) | vdb_render (s) | vdb_render CPU (s) | vox speedup | vox Mrays/s (cast) | steps/ray | hit pixels vox / vdb_render |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  fi
 } > table.md
 
 for s in $scenes; do
@@ -82,8 +94,11 @@ PY
   # hits both tools alike; all runs are pooled below.
   rounds=$(( (runs + 1) / 2 ))
   for r in $(seq 1 $rounds); do
+    base_cmd=()
+    [ -n "$base_vox" ] && base_cmd=(-n vox-base "$base_vox render-canonical $s.vdb -o base.png --eye $eye --target $target --fov $vfov --size $size --threads $threads --quiet")
     hyperfine --runs 2 --warmup $([ $r = 1 ] && echo 1 || echo 0) --export-json $s.round$r.json \
       -n vox "$vox render-canonical $s.vdb -o vox.png --eye $eye --target $target --fov $vfov --size $size --threads $threads --quiet" \
+      "${base_cmd[@]}" \
       -n vdb_render "vdb_render ${s}_ls.vdb vdb.png -translate $eye -lookat $target -fov 60 -res $size -cpus $threads" >&2
   done
   "$vox" render-canonical $s.vdb -o vox.png --eye $eye --target $target --fov $vfov --size $size --threads $threads --report r.json --quiet
@@ -92,19 +107,23 @@ PY
 import json, sys
 s, occ = sys.argv[1], int(sys.argv[2])
 import glob, statistics
-times = {}
+times, cpu = {}, {}
 for f in sorted(glob.glob(s + ".round*.json")):
     for r in json.load(open(f))["results"]:
         times.setdefault(r["command"], []).extend(r["times"])
+        cpu.setdefault(r["command"], []).append(r["user"] + r["system"])  # hyperfine gives the round's means
 t = {k: statistics.mean(v) for k, v in times.items()}
 m = {k: min(v) for k, v in times.items()}
+c = {k: statistics.mean(v) for k, v in cpu.items()}
 rep = json.load(open("r.json"))["counts"]
 d = open("vdb.ppm", "rb").read().split(b"\n", 3)
 w, h = map(int, d[1].split()); px = d[3]
 vdb_hits = sum(1 for i in range(w * h) if px[3 * i] or px[3 * i + 1] or px[3 * i + 2])
-print("| %s | %d | %.3f (%.3f) | %.3f (%.3f) | %.2fx (%.2fx) | %.1f | %.1f | %d / %d |" % (
-      s, occ, t["vox"], m["vox"], t["vdb_render"], m["vdb_render"], t["vdb_render"] / t["vox"],
-      m["vdb_render"] / m["vox"], rep["mrays_per_second"], rep["mean_steps_per_ray"], rep["hits"], vdb_hits))
+sp = lambda k: "%.2fx (%.2fx)" % (t["vdb_render"] / t[k], m["vdb_render"] / m[k])
+cols = ["%.3f (%.3f) | %.3f" % (t[k], m[k], c[k]) for k in ("vox", "vox-base", "vdb_render") if k in t]
+speed = [sp(k) for k in ("vox", "vox-base") if k in t]
+print("| %s | %d | %s | %s | %.1f | %.1f | %d / %d |" % (
+      s, occ, " | ".join(cols), " | ".join(speed), rep["mrays_per_second"], rep["mean_steps_per_ray"], rep["hits"], vdb_hits))
 PY
 done
 
@@ -124,6 +143,8 @@ for b in d["benchmarks"]:
           ", ".join("%.3g %s" % (b[k], k) for k in rate)))
 PY
 {
+  echo
+  echo "Load average (1/5/15 min) before: $load_before; after: $(cut -d' ' -f1-3 /proc/loadavg)."
   echo
   echo "Target (issue 6): vox at least 2x faster than vdb_render at 1920x1080 on the 256^3 demo and on a"
   echo "1024^3 voxelized mesh, same thread count. Hit pixels differ a little because vdb_render's level set"

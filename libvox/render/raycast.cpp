@@ -22,6 +22,11 @@
 // voxel is min key, and the voxels found there are exactly the occupied voxels
 // with that key (voxels touched at T whose key is below T were tested at an
 // earlier event and are empty). The tie rule is applied to those candidates.
+//
+// Starting at tStart > 0 (castRay's last argument) changes nothing in this:
+// the caller guarantees that every voxel touched before tStart is empty, so
+// the stretch [0, tStart) is one more jump over empty voxels, and tStart is
+// the start time.
 #include "libvox/render/raycast.h"
 
 #include <algorithm>
@@ -41,6 +46,15 @@ bool winsTie(double exitA, const Coord3& a, double exitB, const Coord3& b) {
   if (a.w != b.w) return a.w < b.w;
   if (a.v != b.v) return a.v < b.v;
   return a.u < b.u;
+}
+
+// The axis of the smallest of t[0..2], ties to the lower axis (as the nested
+// comparison it replaces), written as selects so that the compiler need not
+// branch on it: the DDA's next axis is hard for a branch predictor.
+inline int argMin3(const double* t) {
+  const int a01 = int(t[1] < t[0]);
+  const double m = t[1] < t[0] ? t[1] : t[0];
+  return t[2] < m ? 2 : a01;
 }
 
 int component(const Coord3& c, int axis) { return axis == 0 ? c.u : axis == 1 ? c.v : c.w; }
@@ -158,9 +172,10 @@ bool makeFrame(const RayGrid& grid, const Ray& ray, MirroredFrame& frame, Event&
 }
 
 // The first event: where the ray enters the content box (or its origin, when
-// inside). False when the ray misses the box.
-bool enterContentBox(const MirroredFrame& frame, Event& event) {
-  double tEnter = 0, tLeave = kInf;
+// inside), or tStart when later (everything before it is known empty). False
+// when the ray misses the box (or leaves it before tStart).
+bool enterContentBox(const MirroredFrame& frame, double tStart, Event& event) {
+  double tEnter = tStart, tLeave = kInf;
   for (int a = 0; a < 3; ++a) {
     if (!frame.moving[a]) continue;
     tEnter = std::max(tEnter, frame.planeTime(a, frame.domainBegin[a]));
@@ -241,7 +256,7 @@ WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& eve
   cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
   const RayGrid::Mask512* brickMask = cursor.lastBrick();
   for (;;) {
-    const int axis = tLeave[0] <= tLeave[1] ? (tLeave[0] <= tLeave[2] ? 0 : 2) : (tLeave[1] <= tLeave[2] ? 1 : 2);
+    const int axis = argMin3(tLeave);
     const double tCross = tLeave[axis];
     const int64_t entered = mirrored[axis] + 1;
     const double tLeaveEntered = frame.planeTime(axis, entered + 1);
@@ -341,7 +356,7 @@ WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int leve
         tFar[a] = frame.planeTime(a, farPlane[a]);
       }
     }
-    const int axis = tFar[0] <= tFar[1] ? (tFar[0] <= tFar[2] ? 0 : 2) : (tFar[1] <= tFar[2] ? 1 : 2);
+    const int axis = argMin3(tFar);
     const double tCross = tFar[axis];
     const int64_t plane = farPlane[axis];  // the plane crossed at tCross
     const int planesCrossed = int(tFar[0] == tCross) + int(tFar[1] == tCross) + int(tFar[2] == tCross);
@@ -496,12 +511,16 @@ RayHit castRay(const RayGrid& grid, const Ray& rayIn) {
 }
 
 RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor) {
+  return castRay(grid, rayIn, cursor, 0.0);
+}
+
+RayHit castRay(const RayGrid& grid, const Ray& rayIn, RayGrid::Cursor& cursor, double tStart) {
   const Ray ray = sanitized(rayIn);
   RayHit result;
   if (grid.occupiedCount() == 0) return result;
   MirroredFrame frame;
   Event event;
-  if (!makeFrame(grid, ray, frame, event) || !enterContentBox(frame, event)) return result;
+  if (!makeFrame(grid, ray, frame, event) || !enterContentBox(frame, tStart, event)) return result;
   for (;;) {
     ++result.steps;
     if (pastContentBox(frame, event.first)) return result;

@@ -57,6 +57,11 @@ RayHit castRay(const RayGrid& grid, const Ray& ray);
 /// The same, reusing `cursor` (of the same grid) across rays: neighbouring
 /// rays then find their first cells in cache. One cursor per thread.
 RayHit castRay(const RayGrid& grid, const Ray& ray, RayGrid::Cursor& cursor);
+/// The same, starting the walk at time `tStart` (>= 0): the caller guarantees
+/// that the ray touches no occupied voxel at any t < tStart (ray_bundle.h
+/// certifies such times for a pixel tile). The hit is the same as from 0; only
+/// `steps` is smaller.
+RayHit castRay(const RayGrid& grid, const Ray& ray, RayGrid::Cursor& cursor, double tStart);
 
 /// The same answer by testing every voxel in `occupied` (any order).
 RayHit castRayBruteForce(std::span<const Coord3> occupied, const Ray& ray);

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "libvox/core/parallel.h"
+#include "libvox/render/ray_bundle.h"
 
 namespace vox {
 
@@ -65,30 +67,45 @@ ViewHits castView(const RayGrid& grid, const GridFrame& frame, const Camera& cam
   std::atomic<uint32_t> rowsDone{0};
   MonotoneProgress monotone(progress);
   const PixelRays rays(camera, frame);
-  parallelForEach(camera.height, threads, 1, [&](size_t rowIndex) {
-    const uint32_t y = uint32_t(rowIndex);
-    uint64_t rowHits = 0, rowSteps = 0;
-    PixelHit* row = out.pixels.data() + size_t(y) * camera.width;
+  // Tiles of kTile x kTile pixels share one march through empty space
+  // (ray_bundle.h); a task is a band of kTile rows. The tiling does not depend
+  // on the thread count, and neither does any pixel.
+  constexpr uint32_t kTile = 8;  // 16 measured the same, 4 slower (more marches)
+  const uint32_t bands = (camera.height + kTile - 1) / kTile;
+  parallelForEach(bands, threads, 1, [&](size_t band) {
+    const uint32_t y0 = uint32_t(band) * kTile, y1 = std::min(y0 + kTile, camera.height);
+    uint64_t bandHits = 0, bandSteps = 0;
     RayGrid::Cursor cursor(grid);
-    for (uint32_t x = 0; x < camera.width; ++x) {
-      const Ray ray = rays.ray(x, y);
-      const RayHit h = castRay(grid, ray, cursor);
-      rowSteps += h.steps;
-      PixelHit& p = row[x];
-      if (!h.hit) continue;
-      ++rowHits;
-      p.hit = true;
-      p.u = h.voxel.u;
-      p.v = h.voxel.v;
-      p.w = h.voxel.w;
-      p.depth = float(rays.worldDistance(ray, h.t));
-      p.faceAxis = int8_t(h.faceAxis);
-      p.faceSign = int8_t(h.faceSign);
+    for (uint32_t x0 = 0; x0 < camera.width; x0 += kTile) {
+      const uint32_t x1 = std::min(x0 + kTile, camera.width);
+      // The pixel directions are affine in (x, y): the tile's four corner rays span them all.
+      const std::array<std::array<double, 3>, 4> corners{rays.ray(x0, y0).dir, rays.ray(x1 - 1, y0).dir,
+                                                         rays.ray(x0, y1 - 1).dir, rays.ray(x1 - 1, y1 - 1).dir};
+      const double tStart = bundleEmptyUntil(grid, rays.ray(x0, y0).origin, corners);
+      if (tStart == std::numeric_limits<double>::infinity()) continue;  // every ray of the tile misses
+      for (uint32_t y = y0; y < y1; ++y) {
+        PixelHit* row = out.pixels.data() + size_t(y) * camera.width;
+        for (uint32_t x = x0; x < x1; ++x) {
+          const Ray ray = rays.ray(x, y);
+          const RayHit h = castRay(grid, ray, cursor, tStart);
+          bandSteps += h.steps;
+          PixelHit& p = row[x];
+          if (!h.hit) continue;
+          ++bandHits;
+          p.hit = true;
+          p.u = h.voxel.u;
+          p.v = h.voxel.v;
+          p.w = h.voxel.w;
+          p.depth = float(rays.worldDistance(ray, h.t));
+          p.faceAxis = int8_t(h.faceAxis);
+          p.faceSign = int8_t(h.faceSign);
+        }
+      }
     }
-    hits += rowHits;
-    steps += rowSteps;
-    const uint32_t done = ++rowsDone;
-    if ((done & 15) == 0) monotone.report(done, camera.height);
+    hits += bandHits;
+    steps += bandSteps;
+    const uint32_t done = rowsDone += y1 - y0;
+    if ((band & 1) == 0 || done == camera.height) monotone.report(done, camera.height);
   });
   out.hitCount = hits;
   out.steps = steps;
