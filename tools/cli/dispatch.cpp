@@ -1,6 +1,7 @@
 #include "tools/cli/dispatch.h"
 #include "tools/cli/signal_cleanup.h"
 
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,21 @@
 namespace voxcli {
 
 namespace {
+
+/// Joins TBB's worker threads when a command ends, however it ends, so that
+/// the process reaches exit() with one thread. Without it the workers were
+/// still shutting down while exit-time code ran; LeakSanitizer's exit check,
+/// which stops every thread to scan its stack, then intermittently died on one
+/// of them ("Tracer caught signal 11", a sanitizer CI run failed on it), and
+/// static destructors race the same way.
+class WorkerThreadsJoinedAtEnd {
+ public:
+  ~WorkerThreadsJoinedAtEnd() { tbb::finalize(handle_, std::nothrow); }
+
+ private:
+  tbb::task_scheduler_handle handle_{tbb::attach{}};
+};
+
 int exitCodeFor(vox::ErrorKind kind) {
   switch (kind) {
     case vox::ErrorKind::Usage: return kExitUsage;
@@ -139,6 +155,7 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
     installSignalCleanup(("vox " + name).c_str());
     std::strncpy(gTerminateCommand, ("vox " + name).c_str(), sizeof gTerminateCommand - 1);
     std::set_terminate(onTerminate);
+    WorkerThreadsJoinedAtEnd joinWorkers;
     try {
       return c.run();
     } catch (const vox::Error& e) {
