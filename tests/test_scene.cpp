@@ -10,6 +10,7 @@
 #include "formats/vdb/vdb_scene_grids.h"
 #include "libvox/scene/scene.h"
 #include "libvox/scene/scene_grids.h"
+#include "libvox/scene/scene_pieces.h"
 #include "test_util.h"
 
 using namespace vox;
@@ -99,6 +100,52 @@ TEST(Scene, MergeIsOrderIndependent) {
   const SceneDifference d = compareScenes(s1, s2);
   EXPECT_TRUE(d.same()) << d.headerNote << " " << d.firstNote;
   EXPECT_GT(d.voxelsCompared, 50u);
+}
+
+TEST(Scene, PiecesVisitTheSerialOrderAndStatsDoNotDependOnThreads) {
+  // Voxels over many leaves (the domain is 5 x 3 x 70: nine leaves along w),
+  // some with colour, votes for three classes and ties.
+  SceneBuilder b(smallHeader());
+  for (int i = 0; i < 1000; ++i) {
+    const Coord3 c{i % 5, (i / 5) % 3, i / 15};  // 1000 distinct voxels, w up to 66
+    b.addVotes(c, uint8_t(i % 3 == 0 ? 1 : i % 3 == 1 ? 7 : 255), uint32_t(i % 4 + 1), i % 2 == 0);
+    if (i % 5 == 0) b.setColor(c, {0.5f, 0.25f, 0.125f});
+  }
+  const Scene s = std::move(b).build();
+  std::vector<Coord3> serial;
+  s.forEachVoxel([&](const VoxelView& v) { serial.push_back(v.at); });
+  ASSERT_GT(serial.size(), 100u);
+  for (unsigned threads : {1u, 2u, 4u})
+    for (size_t pieces : {size_t(1), size_t(3), size_t(64)}) {
+      std::vector<std::vector<Coord3>> perPiece(pieces);
+      forEachVoxelInPieces(s, threads, pieces, [&](const VoxelView& v, size_t p) { perPiece[p].push_back(v.at); });
+      std::vector<Coord3> joined;
+      for (const auto& part : perPiece) joined.insert(joined.end(), part.begin(), part.end());
+      EXPECT_EQ(joined, serial) << threads << " threads, " << pieces << " pieces";
+    }
+  // stats() splits the voxels by the number of workers: compare with counts
+  // taken serially.
+  const SceneStats st = s.stats();
+  uint64_t occupied = 0, surface = 0, colored = 0, votes7 = 0, wins7 = 0;
+  s.forEachVoxel([&](const VoxelView& v) {
+    ++occupied, surface += v.surface, colored += bool(v.color);
+    uint32_t best = 0;
+    uint8_t bestId = 0;
+    for (const ClassVotes& c : v.votes) {
+      if (c.classId == 7) votes7 += c.votes;
+      if (c.votes > best) best = c.votes, bestId = c.classId;
+    }
+    wins7 += bestId == 7;
+  });
+  EXPECT_EQ(st.occupied, occupied);
+  EXPECT_EQ(st.surface, surface);
+  EXPECT_EQ(st.colored, colored);
+  ASSERT_EQ(st.perClass.size(), 3u);
+  EXPECT_EQ(st.perClass[1].classId, 7);
+  EXPECT_EQ(st.perClass[1].votes, votes7);
+  EXPECT_EQ(st.perClass[1].modeVoxels, wins7);
+  EXPECT_EQ(st.bounds.min, (Coord3{0, 0, 0}));
+  EXPECT_EQ(st.bounds.max, (Coord3{4, 2, 66}));
 }
 
 TEST(Scene, CompareFindsTheFirstDifference) {

@@ -1,5 +1,7 @@
 #include "libvox/core/bitmap_packing.h"
 
+#include <atomic>
+
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -14,6 +16,12 @@ OccupancyBitmap::OccupancyBitmap(const AtlasLayout& layout, int bitsPerVoxel) : 
 void OccupancyBitmap::setOccupied(const TexelAddress& t) {
   if (bits_ == 1) layers_[t.layer][size_t(t.y) * rowBytes_ + (t.x >> 3)] |= uint8_t(1u << (t.x & 7));
   else layers_[t.layer][size_t(t.y) * rowBytes_ + (t.x >> 2)] |= uint8_t(1u << (2 * (t.x & 3)));
+}
+
+void OccupancyBitmap::setOccupiedConcurrently(const TexelAddress& t) {
+  const size_t byte = size_t(t.y) * rowBytes_ + (bits_ == 1 ? t.x >> 3 : t.x >> 2);
+  const uint8_t bit = bits_ == 1 ? uint8_t(1u << (t.x & 7)) : uint8_t(1u << (2 * (t.x & 3)));
+  std::atomic_ref<uint8_t>(layers_[t.layer][byte]).fetch_or(bit, std::memory_order_relaxed);
 }
 
 void OccupancyBitmap::setTouched(const TexelAddress& t) {

@@ -31,6 +31,9 @@ class OccupancyBitmap {
   const std::vector<uint8_t>& layerBytes(uint32_t layer) const { return layers_[layer]; }
 
   void setOccupied(const TexelAddress& t);
+  /// As setOccupied, and safe to call concurrently with itself (an atomic OR
+  /// of the texel's bit into its byte, so the bytes do not depend on the order).
+  void setOccupiedConcurrently(const TexelAddress& t);
   void setTouched(const TexelAddress& t);  // 2-bit bitmaps only
   bool occupied(const TexelAddress& t) const;
   bool touched(const TexelAddress& t) const;

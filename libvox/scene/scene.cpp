@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <mutex>
 #include <unordered_map>
 
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 #include "libvox/scene/scene_grids.h"
+#include "libvox/scene/scene_pieces.h"
 #include "libvox/mesh/class_compaction.h"
 #include "libvox/mesh/voxel_blocks.h"
 
@@ -100,70 +103,115 @@ std::optional<VoxelView> Scene::voxel(Coord3 c, std::vector<ClassVotes>& storage
   return view;
 }
 
-void Scene::forEachVoxel(const std::function<void(const VoxelView&)>& fn) const {
-  // Leaf by leaf: the matching vote and colour leaves are looked up once per
-  // 8^3 block, then voxels are read straight from the leaf buffers. Readers
-  // expand tiles into voxels, so every active value sits in a leaf.
-  const size_t nClasses = grids_->votes.size();
-  std::vector<const openvdb::Int32Tree::LeafNodeType*> voteLeaves(nClasses);
-  std::vector<ClassVotes> storage;
-  storage.reserve(nClasses);
-  for (auto leaf = grids_->occupancy->tree().cbeginLeaf(); leaf; ++leaf) {
-    const openvdb::Coord origin = leaf->origin();
-    for (size_t i = 0; i < nClasses; ++i) voteLeaves[i] = grids_->votes[i].grid->tree().probeConstLeaf(origin);
-    const openvdb::Vec3STree::LeafNodeType* colorLeaf =
-        grids_->color ? grids_->color->tree().probeConstLeaf(origin) : nullptr;
-    for (auto it = leaf->cbeginValueOn(); it; ++it) {
-      const openvdb::Index offset = it.pos();
-      storage.clear();
-      for (size_t i = 0; i < nClasses; ++i)
-        if (voteLeaves[i] && voteLeaves[i]->isValueOn(offset))
-          storage.push_back({grids_->votes[i].classId, uint32_t(voteLeaves[i]->getValue(offset))});
-      VoxelView view;
-      view.at = fromVdb(it.getCoord());
-      view.surface = *it;
-      view.votes = storage;
-      if (colorLeaf && colorLeaf->isValueOn(offset)) {
-        const openvdb::Vec3s& rgb = colorLeaf->getValue(offset);
-        view.color = RgbLinear{rgb[0], rgb[1], rgb[2]};
-      }
-      fn(view);
+namespace {
+
+/// Calls fn for every occupied voxel of one occupancy leaf: the matching vote
+/// and colour leaves are looked up once per 8^3 block, then voxels are read
+/// straight from the leaf buffers. Readers expand tiles into voxels, so every
+/// active value sits in a leaf. `voteLeaves` and `storage` are scratch.
+template <typename Fn>
+void forEachVoxelOfLeaf(const SceneGrids& grids, const openvdb::BoolTree::LeafNodeType& leaf,
+                        std::vector<const openvdb::Int32Tree::LeafNodeType*>& voteLeaves,
+                        std::vector<ClassVotes>& storage, const Fn& fn) {
+  const size_t nClasses = grids.votes.size();
+  const openvdb::Coord origin = leaf.origin();
+  voteLeaves.resize(nClasses);
+  for (size_t i = 0; i < nClasses; ++i) voteLeaves[i] = grids.votes[i].grid->tree().probeConstLeaf(origin);
+  const openvdb::Vec3STree::LeafNodeType* colorLeaf = grids.color ? grids.color->tree().probeConstLeaf(origin) : nullptr;
+  for (auto it = leaf.cbeginValueOn(); it; ++it) {
+    const openvdb::Index offset = it.pos();
+    storage.clear();
+    for (size_t i = 0; i < nClasses; ++i)
+      if (voteLeaves[i] && voteLeaves[i]->isValueOn(offset))
+        storage.push_back({grids.votes[i].classId, uint32_t(voteLeaves[i]->getValue(offset))});
+    VoxelView view;
+    view.at = fromVdb(it.getCoord());
+    view.surface = *it;
+    view.votes = storage;
+    if (colorLeaf && colorLeaf->isValueOn(offset)) {
+      const openvdb::Vec3s& rgb = colorLeaf->getValue(offset);
+      view.color = RgbLinear{rgb[0], rgb[1], rgb[2]};
     }
+    fn(view);
   }
 }
 
+}  // namespace
+
+void Scene::forEachVoxel(const std::function<void(const VoxelView&)>& fn) const {
+  std::vector<const openvdb::Int32Tree::LeafNodeType*> voteLeaves;
+  std::vector<ClassVotes> storage;
+  storage.reserve(grids_->votes.size());
+  for (auto leaf = grids_->occupancy->tree().cbeginLeaf(); leaf; ++leaf)
+    forEachVoxelOfLeaf(*grids_, *leaf, voteLeaves, storage, fn);
+}
+
+void forEachVoxelInPieces(const Scene& scene, unsigned threads, size_t pieces,
+                          const std::function<void(const VoxelView&, size_t piece)>& fn) {
+  const SceneGrids& grids = scene.grids();
+  std::vector<const openvdb::BoolTree::LeafNodeType*> leaves;
+  leaves.reserve(grids.occupancy->tree().leafCount());
+  for (auto leaf = grids.occupancy->tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
+  parallelPieces(leaves.size(), threads, pieces, [&](size_t begin, size_t end, size_t piece) {
+    std::vector<const openvdb::Int32Tree::LeafNodeType*> voteLeaves;
+    std::vector<ClassVotes> storage;
+    storage.reserve(grids.votes.size());
+    for (size_t l = begin; l < end; ++l)
+      forEachVoxelOfLeaf(grids, *leaves[l], voteLeaves, storage, [&](const VoxelView& v) { fn(v, piece); });
+  });
+}
+
 SceneStats Scene::stats() const {
-  SceneStats s;
-  std::vector<SceneStats::PerClass> per(grids_->votes.size());
-  for (size_t i = 0; i < per.size(); ++i) per[i].classId = grids_->votes[i].classId;
-  forEachVoxel([&](const VoxelView& v) {
-    ++s.occupied;
-    if (v.surface) ++s.surface;
-    if (v.color) ++s.colored;
-    if (s.occupied == 1) {
-      s.bounds.min = s.bounds.max = v.at;
-    } else {
-      s.bounds.min = {std::min(s.bounds.min.u, v.at.u), std::min(s.bounds.min.v, v.at.v),
-                      std::min(s.bounds.min.w, v.at.w)};
-      s.bounds.max = {std::max(s.bounds.max.u, v.at.u), std::max(s.bounds.max.v, v.at.v),
-                      std::max(s.bounds.max.w, v.at.w)};
-    }
-    uint8_t best = 0;
+  // Per piece, then summed: every count is a sum and the bounds a min/max, so
+  // the result does not depend on the split.
+  const size_t nClasses = grids_->votes.size();
+  struct Partial {
+    uint64_t occupied = 0, surface = 0, colored = 0;
+    Coord3 min{INT32_MAX, INT32_MAX, INT32_MAX}, max{INT32_MIN, INT32_MIN, INT32_MIN};
+    std::vector<SceneStats::PerClass> per;
+  };
+  std::vector<Partial> parts(std::max(1u, workerCount(0)));
+  std::array<int16_t, 256> slotOf;  // class id -> index in the vote grids
+  slotOf.fill(-1);
+  for (size_t i = 0; i < nClasses; ++i) slotOf[grids_->votes[i].classId] = int16_t(i);
+  forEachVoxelInPieces(*this, 0, parts.size(), [&](const VoxelView& v, size_t piece) {
+    Partial& p = parts[piece];
+    if (p.per.empty()) p.per.resize(nClasses);
+    ++p.occupied;
+    if (v.surface) ++p.surface;
+    if (v.color) ++p.colored;
+    p.min = {std::min(p.min.u, v.at.u), std::min(p.min.v, v.at.v), std::min(p.min.w, v.at.w)};
+    p.max = {std::max(p.max.u, v.at.u), std::max(p.max.v, v.at.v), std::max(p.max.w, v.at.w)};
+    int best = -1;
     uint32_t bestVotes = 0;
     for (const ClassVotes& cv : v.votes) {
-      auto& p = *std::find_if(per.begin(), per.end(),
-                              [&](const SceneStats::PerClass& q) { return q.classId == cv.classId; });
-      ++p.voxelsWithVotes;
-      p.votes += cv.votes;
+      const int slot = slotOf[cv.classId];
+      ++p.per[slot].voxelsWithVotes;
+      p.per[slot].votes += cv.votes;
       if (cv.votes > bestVotes) {  // votes are sorted by id, so ties keep the lowest id
-        best = cv.classId;
+        best = slot;
         bestVotes = cv.votes;
       }
     }
-    if (best)
-      for (auto& p : per)
-        if (p.classId == best) ++p.modeVoxels;
+    if (best >= 0 && grids_->votes[best].classId != 0) ++p.per[best].modeVoxels;
   });
+  SceneStats s;
+  std::vector<SceneStats::PerClass> per(nClasses);
+  for (size_t i = 0; i < nClasses; ++i) per[i].classId = grids_->votes[i].classId;
+  for (const Partial& p : parts) {
+    if (p.occupied == 0) continue;
+    if (s.occupied == 0) s.bounds.min = p.min, s.bounds.max = p.max;
+    s.bounds.min = {std::min(s.bounds.min.u, p.min.u), std::min(s.bounds.min.v, p.min.v),
+                    std::min(s.bounds.min.w, p.min.w)};
+    s.bounds.max = {std::max(s.bounds.max.u, p.max.u), std::max(s.bounds.max.v, p.max.v),
+                    std::max(s.bounds.max.w, p.max.w)};
+    s.occupied += p.occupied, s.surface += p.surface, s.colored += p.colored;
+    for (size_t i = 0; i < nClasses; ++i) {
+      per[i].voxelsWithVotes += p.per[i].voxelsWithVotes;
+      per[i].modeVoxels += p.per[i].modeVoxels;
+      per[i].votes += p.per[i].votes;
+    }
+  }
   s.perClass = std::move(per);
   s.memoryBytes = grids_->occupancy->memUsage();
   for (const ClassGrid& cg : grids_->votes) s.memoryBytes += cg.grid->memUsage();

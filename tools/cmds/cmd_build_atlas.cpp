@@ -3,7 +3,9 @@
 // and only what is asked.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
+#include <mutex>
 
 #include "formats/image/atlas_meta.h"
 #include "formats/image/atlas_preview.h"
@@ -16,6 +18,7 @@
 #include "libvox/core/parallel.h"
 #include "libvox/core/summary_bytes.h"
 #include "libvox/core/texel_formats.h"
+#include "libvox/scene/scene_pieces.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
@@ -324,8 +327,16 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
       }
     if (wOcc) bits1.emplace(oneLayer, 1);
     if (wOcc2) bits2.emplace(oneLayer, 2);
-    scene.forEachVoxel([&](const vox::VoxelView& v) {
-      if ((++done & 0xffff) == 0) progress->update(double(done) / total);
+    // In parallel: the mapping is a bijection, so each voxel writes texels no
+    // other voxel writes (bitmap bits, which share bytes, are OR-ed atomically);
+    // the bytes do not depend on the split or the thread count.
+    std::atomic<uint64_t> doneHere{0};
+    std::mutex progressMutex;
+    vox::forEachVoxelInPieces(scene, run.threads(), 0, [&](const vox::VoxelView& v, size_t) {
+      if (((doneHere.fetch_add(1, std::memory_order_relaxed) + 1) & 0xffff) == 0 && progressMutex.try_lock()) {
+        progress->update(double(done + doneHere.load(std::memory_order_relaxed)) / total);
+        progressMutex.unlock();
+      }
       vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
       if (t.layer != layer) return;
       for (size_t i : here) {
@@ -352,9 +363,10 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
         }
       }
       t.layer = 0;  // the bitmaps hold this layer only
-      if (bits1) bits1->setOccupied(t);
-      if (bits2) bits2->setOccupied(t);
+      if (bits1) bits1->setOccupiedConcurrently(t);
+      if (bits2) bits2->setOccupiedConcurrently(t);
     });
+    done += doneHere.load();
     for (size_t i : here) {
       if (outs[i].info.content == vox::AtlasContent::Occupancy) outs[i].image.pixels = std::move(bits1->layerBytes(0));
       if (outs[i].info.content == vox::AtlasContent::Occupancy2) outs[i].image.pixels = std::move(bits2->layerBytes(0));
