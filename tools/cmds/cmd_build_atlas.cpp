@@ -330,11 +330,26 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     // In parallel: the mapping is a bijection, so each voxel writes texels no
     // other voxel writes (bitmap bits, which share bytes, are OR-ed atomically);
     // the bytes do not depend on the split or the thread count.
-    std::atomic<uint64_t> doneHere{0};
+    // Progress: a counter per piece on its own cache line (one shared atomic
+    // counter, bounced between the cores on every voxel, cost more than the
+    // texels), summed by whichever worker passes a multiple of 65536.
+    constexpr size_t kPieces = 64;
+    struct alignas(64) PieceCount {
+      std::atomic<uint64_t> n{0};
+    };
+    std::vector<PieceCount> doneIn(kPieces);
     std::mutex progressMutex;
-    vox::forEachVoxelInPieces(scene, run.threads(), 0, [&](const vox::VoxelView& v, size_t) {
-      if (((doneHere.fetch_add(1, std::memory_order_relaxed) + 1) & 0xffff) == 0 && progressMutex.try_lock()) {
-        progress->update(double(done + doneHere.load(std::memory_order_relaxed)) / total);
+    auto doneHere = [&] {
+      uint64_t sum = 0;
+      for (const PieceCount& c : doneIn) sum += c.n.load(std::memory_order_relaxed);
+      return sum;
+    };
+    vox::forEachVoxelInPieces(scene, run.threads(), kPieces, [&](const vox::VoxelView& v, size_t piece) {
+      std::atomic<uint64_t>& count = doneIn[piece].n;  // written by this piece's worker only
+      const uint64_t n = count.load(std::memory_order_relaxed) + 1;
+      count.store(n, std::memory_order_relaxed);
+      if ((n & 0xffff) == 0 && progressMutex.try_lock()) {
+        progress->update(double(done + doneHere()) / total);
         progressMutex.unlock();
       }
       vox::TexelAddress t = L.toTexel(uint32_t(v.at.u), uint32_t(v.at.v), uint32_t(v.at.w));
@@ -366,7 +381,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
       if (bits1) bits1->setOccupiedConcurrently(t);
       if (bits2) bits2->setOccupiedConcurrently(t);
     });
-    done += doneHere.load();
+    done += doneHere();
     for (size_t i : here) {
       if (outs[i].info.content == vox::AtlasContent::Occupancy) outs[i].image.pixels = std::move(bits1->layerBytes(0));
       if (outs[i].info.content == vox::AtlasContent::Occupancy2) outs[i].image.pixels = std::move(bits2->layerBytes(0));
