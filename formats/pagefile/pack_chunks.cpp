@@ -6,6 +6,7 @@
 
 #include "formats/pagefile/layouts.h"
 #include "formats/pagefile/pagefile_meta.h"
+#include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
@@ -37,24 +38,29 @@ void checkSettings(const PackSettings& s, size_t levelCount) {
   if (levelCount == 0 || levelCount > 255) throw Error(ErrorKind::Internal, "packChunks: 1..255 levels");
 }
 
-// The file header from the base level; channel flags from every level.
-pagefile::Header fileHeader(const std::vector<const Scene*>& levels, const PackSettings& s) {
-  const SceneHeader& bh = levels[0]->header();
+// The file header from the base level's header and the channels of all levels.
+pagefile::Header fileHeader(const SceneHeader& bh, const PackSettings& s, size_t levelCount, bool anyColor,
+                            bool anyInterior) {
   pagefile::Header h;
   h.layout = s.layout;
   h.chunkLog2 = uint8_t(std::countr_zero(s.chunkSide));
-  h.levelCount = uint8_t(levels.size());
+  h.levelCount = uint8_t(levelCount);
   h.alignLog2 = uint8_t(std::countr_zero(s.alignment));
   h.dims = {bh.dims.x, bh.dims.y, bh.dims.z};
   h.voxelSize = bh.voxelSize;
   h.origin = bh.origin;
-  bool anyInterior = false;
-  for (const Scene* l : levels) {
-    if (l->hasColor()) h.flags |= pagefile::kFlagColor;
-    for (auto it = l->grids().occupancy->cbeginValueOn(); it && !anyInterior; ++it) anyInterior = !*it;
-  }
+  if (anyColor) h.flags |= pagefile::kFlagColor;
   if (anyInterior) h.flags |= pagefile::kFlagSurface;
   return h;
+}
+
+pagefile::Header fileHeader(const std::vector<const Scene*>& levels, const PackSettings& s) {
+  bool anyColor = false, anyInterior = false;
+  for (const Scene* l : levels) {
+    anyColor = anyColor || l->hasColor();
+    for (auto it = l->grids().occupancy->cbeginValueOn(); it && !anyInterior; ++it) anyInterior = !*it;
+  }
+  return fileHeader(levels[0]->header(), s, levels.size(), anyColor, anyInterior);
 }
 
 // Non-empty chunks of a level, as sorted Morton keys of their chunk coordinates.
@@ -69,32 +75,64 @@ std::vector<uint64_t> chunkKeys(const SceneGrids& g, uint32_t log2C) {
   return keys;
 }
 
-// Reads one chunk of a scene into a ChunkVoxels that is reused chunk after
-// chunk (its buffers are sized once per worker).
+// A ChunkVoxels for chunks of side `side`, reused chunk after chunk (its
+// buffers are sized once per worker).
+ChunkVoxels chunkBuffers(uint32_t side, bool withVotes) {
+  ChunkVoxels sc;
+  const uint32_t N = side * side * side;
+  sc.side = side;
+  sc.bits.assign(N / 64, 0);
+  sc.summary.resize(N);
+  sc.color.resize(N);
+  sc.surface.resize(N);
+  sc.withVotes = withVotes;
+  if (withVotes) {
+    sc.voteBegin.resize(N);
+    sc.voteEnd.resize(N);
+    sc.linear.resize(N);
+  }
+  return sc;
+}
+
+// Occupied voxel k (chunk-local index) of `sc`: its votes (sorted by class),
+// surface flag and linear colour (nullptr: none).
+void putVoxel(ChunkVoxels& sc, uint32_t k, bool surface, std::span<const ClassVotes> votes, const float* color) {
+  sc.bits[k >> 6] |= uint64_t(1) << (k & 63);
+  ++sc.count;
+  const SummaryTexel t = summarize(votes);
+  sc.summary[k] = {t.cls, t.conf, t.obs, t.mrg};
+  sc.surface[k] = surface ? 1 : 0;
+  if (sc.withVotes) {
+    sc.voteBegin[k] = uint32_t(sc.votes.size());
+    sc.votes.insert(sc.votes.end(), votes.begin(), votes.end());
+    sc.voteEnd[k] = uint32_t(sc.votes.size());
+  }
+  if (color) {
+    sc.color[k] = {linearToSrgb8(color[0]), linearToSrgb8(color[1]), linearToSrgb8(color[2]), 255};
+    if (sc.withVotes) sc.linear[k] = {color[0], color[1], color[2]};
+  } else {
+    sc.color[k] = {0, 0, 0, 0};
+  }
+}
+
+// Starts a chunk in `sc`: no voxel.
+void clearChunk(ChunkVoxels& sc) {
+  std::fill(sc.bits.begin(), sc.bits.end(), 0);
+  sc.votes.clear();
+  sc.count = 0;
+}
+
+// Reads one chunk of a scene into a ChunkVoxels that is reused chunk after chunk.
 class ChunkGatherer {
  public:
-  ChunkGatherer(const SceneGrids& g, uint32_t side, bool withVotes) : g_(g), voteLeaves_(g.votes.size()) {
-    const uint32_t N = side * side * side;
-    sc_.side = side;
-    sc_.bits.assign(N / 64, 0);
-    sc_.summary.resize(N);
-    sc_.color.resize(N);
-    sc_.surface.resize(N);
-    sc_.withVotes = withVotes;
-    if (withVotes) {
-      sc_.voteBegin.resize(N);
-      sc_.voteEnd.resize(N);
-      sc_.linear.resize(N);
-    }
-  }
+  ChunkGatherer(const SceneGrids& g, uint32_t side, bool withVotes)
+      : g_(g), sc_(chunkBuffers(side, withVotes)), voteLeaves_(g.votes.size()) {}
 
   // The voxels of the chunk at chunk coordinates `chunk`, leaf by leaf (the
   // 8^3 leaves of the scene's trees).
   const ChunkVoxels& gather(const std::array<uint32_t, 3>& chunk) {
     const uint32_t C = sc_.side, leavesPerAxis = C / 8;
-    std::fill(sc_.bits.begin(), sc_.bits.end(), 0);
-    sc_.votes.clear();
-    sc_.count = 0;
+    clearChunk(sc_);
     for (uint32_t a = 0; a < leavesPerAxis; ++a)
       for (uint32_t b = 0; b < leavesPerAxis; ++b)
         for (uint32_t c = 0; c < leavesPerAxis; ++c) {
@@ -119,28 +157,12 @@ class ChunkGatherer {
     for (auto it = occ->cbeginValueOn(); it; ++it) {
       const openvdb::Index off = it.pos();  // x-major within the leaf (OpenVDB's order)
       const uint32_t x = leafChunkLocal[0] + (off >> 6), y = leafChunkLocal[1] + ((off >> 3) & 7), z = leafChunkLocal[2] + (off & 7);
-      const uint32_t k = x + C * (y + C * z);  // chunk-local index
-      sc_.bits[k >> 6] |= uint64_t(1) << (k & 63);
-      ++sc_.count;
       votes_.clear();
       for (size_t q = 0; q < nClasses; ++q)
         if (voteLeaves_[q] && voteLeaves_[q]->isValueOn(off))
           votes_.push_back({g_.votes[q].classId, uint32_t(voteLeaves_[q]->getValue(off))});
-      const SummaryTexel t = summarize(votes_);
-      sc_.summary[k] = {t.cls, t.conf, t.obs, t.mrg};
-      sc_.surface[k] = *it ? 1 : 0;
-      if (sc_.withVotes) {
-        sc_.voteBegin[k] = uint32_t(sc_.votes.size());
-        sc_.votes.insert(sc_.votes.end(), votes_.begin(), votes_.end());
-        sc_.voteEnd[k] = uint32_t(sc_.votes.size());
-      }
-      if (col && col->isValueOn(off)) {
-        const openvdb::Vec3s& v = col->getValue(off);
-        sc_.color[k] = {linearToSrgb8(v[0]), linearToSrgb8(v[1]), linearToSrgb8(v[2]), 255};
-        if (sc_.withVotes) sc_.linear[k] = {v[0], v[1], v[2]};
-      } else {
-        sc_.color[k] = {0, 0, 0, 0};
-      }
+      const float* color = col && col->isValueOn(off) ? col->getValue(off).asPointer() : nullptr;
+      putVoxel(sc_, x + C * (y + C * z), *it, votes_, color);
     }
   }
 
@@ -150,24 +172,27 @@ class ChunkGatherer {
   std::vector<const IntLeaf*> voteLeaves_;
 };
 
-// Every non-empty chunk of one level, encoded, in Morton order. Workers take
-// contiguous ranges of chunks; each chunk's payload lands in its own slot, so
-// the result does not depend on the thread count. A layout's refusal is
-// reported for the first chunk in order.
 }  // namespace
 
-std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const pagefile::Header& h, unsigned threads) {
+namespace {
+
+// The chunks with Morton keys `keys` (ascending) of one level, encoded.
+// Workers take contiguous ranges of chunks; each chunk's payload lands in its
+// own slot, so the result does not depend on the thread count. A layout's
+// refusal is reported for the first chunk in order. `makeGatherer()` gives a
+// worker's gatherer, whose gather(ci, chunk coordinates) returns chunk ci's voxels.
+template <typename MakeGatherer>
+std::vector<pagefile::ChunkBlob> encodeChunks(const std::vector<uint64_t>& keys, int level, const pagefile::Header& h,
+                                              unsigned threads, const MakeGatherer& makeGatherer) {
   const pagefile::LayoutCodec& codec = pagefile::codecOf(h.layout);
-  const SceneGrids& g = scene.grids();
-  const std::vector<uint64_t> keys = chunkKeys(g, h.chunkLog2);
-  const uint32_t C = h.chunkSide(), N = h.chunkVoxels();
+  const uint32_t N = h.chunkVoxels();
   std::vector<pagefile::ChunkBlob> out(keys.size());
   std::vector<std::exception_ptr> errors(keys.size());
   parallelPieces(keys.size(), threads, 0, [&](size_t begin, size_t end, size_t) {
-    ChunkGatherer gatherer(g, C, codec.encoderNeedsVotes);
+    auto gatherer = makeGatherer();
     for (size_t ci = begin; ci < end; ++ci) {
       const auto cc = mortonDecode(keys[ci]);
-      const ChunkVoxels& sc = gatherer.gather(cc);
+      const ChunkVoxels& sc = gatherer.gather(ci, cc);
       pagefile::ChunkBlob& blob = out[ci];
       blob.level = uint8_t(level);
       blob.key = keys[ci];
@@ -185,6 +210,19 @@ std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const 
     if (e) std::rethrow_exception(e);
   std::erase_if(out, [](const pagefile::ChunkBlob& b) { return b.occupied == 0; });  // leaves without active voxels
   return out;
+}
+
+}  // namespace
+
+std::vector<pagefile::ChunkBlob> packLevel(const Scene& scene, int level, const pagefile::Header& h, unsigned threads) {
+  const bool withVotes = pagefile::codecOf(h.layout).encoderNeedsVotes;
+  const SceneGrids& g = scene.grids();
+  struct Gatherer {
+    ChunkGatherer g;
+    const ChunkVoxels& gather(size_t, const std::array<uint32_t, 3>& cc) { return g.gather(cc); }
+  };
+  return encodeChunks(chunkKeys(g, h.chunkLog2), level, h, threads,
+                      [&] { return Gatherer{ChunkGatherer(g, h.chunkSide(), withVotes)}; });
 }
 
 namespace {
@@ -221,9 +259,10 @@ pagefile::Header packHeader(const std::vector<const Scene*>& levels, const PackS
   return fileHeader(levels, s);
 }
 
-PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& s) {
-  const pagefile::Header h = packHeader(levels, s);
-  const SceneHeader& bh = levels[0]->header();
+namespace {
+
+// The page file's metadata but its levels, from the base level's header.
+pagefile::PageMeta packMeta(const SceneHeader& bh, const PackSettings& s) {
   pagefile::PageMeta meta;
   meta.toolVersion = kToolVersion;
   meta.classes = bh.classes;
@@ -231,28 +270,147 @@ PackResult packChunks(const std::vector<const Scene*>& levels, const PackSetting
   meta.mipOccupancy = s.mipOccupancy;
   meta.blockWorld = bh.blockWorld;
   meta.region = bh.region;
-  if (bh.region && levels.size() > 1) meta.regionMips = regionMips(levels, s);
+  return meta;
+}
 
+// Level `li` (header `sh`, chunks `levelBlobs`) added to the file's blobs, the
+// result's counts and the metadata.
+void addLevel(size_t li, const SceneHeader& sh, const pagefile::Header& h, std::vector<pagefile::ChunkBlob> levelBlobs,
+              std::vector<pagefile::ChunkBlob>& blobs, PackResult& result, pagefile::PageMeta& meta) {
+  const auto expectDims = h.levelDims(int(li));
+  if (sh.dims.x != expectDims[0] || sh.dims.y != expectDims[1] || sh.dims.z != expectDims[2])
+    throw Error(ErrorKind::Internal, "packChunks: level " + std::to_string(li) + " has the wrong dims");
+  PackResult::Level lv;
+  lv.level = int(li);
+  for (pagefile::ChunkBlob& b : levelBlobs) {
+    ++lv.chunks;
+    lv.fullChunks += b.full ? 1 : 0;
+    lv.voxels += b.occupied;
+    lv.payloadBytes += b.bytes.size();
+    blobs.push_back(std::move(b));
+  }
+  result.levels.push_back(lv);
+  meta.levels.push_back({uint32_t(li), {sh.dims.x, sh.dims.y, sh.dims.z}, sh.voxelSize, lv.chunks, lv.voxels});
+}
+
+// Reads one chunk of a scene's leaves (SceneLeaves) into a ChunkVoxels reused
+// chunk after chunk. Chunk ci is the occupancy leaves order[start[ci]] ..
+// order[start[ci + 1] - 1], in the order ChunkGatherer visits them.
+class LeavesGatherer {
+ public:
+  LeavesGatherer(const SceneLeaves& scene, const std::vector<uint32_t>& order, const std::vector<size_t>& start,
+                 uint32_t side, bool withVotes)
+      : s_(scene), order_(order), start_(start), sc_(chunkBuffers(side, withVotes)), voteLeaves_(scene.votes.size()),
+        voteRank_(scene.votes.size()) {}
+
+  const ChunkVoxels& gather(size_t ci, const std::array<uint32_t, 3>& chunk) {
+    clearChunk(sc_);
+    for (size_t j = start_[ci]; j < start_[ci + 1]; ++j) gatherLeaf(order_[j], chunk);
+    return sc_;
+  }
+
+ private:
+  // Occupancy leaf i. The vote and colour masks are subsets of the occupancy
+  // mask (readSceneLeaves checks it), so walking the occupied voxels in
+  // ascending order walks each grid's values in order.
+  void gatherLeaf(uint32_t i, const std::array<uint32_t, 3>& chunk) {
+    const OccupancyLeaf& o = s_.occupancy[i];
+    const uint32_t C = sc_.side;
+    const uint32_t lx = uint32_t(o.origin[0]) - chunk[0] * C, ly = uint32_t(o.origin[1]) - chunk[1] * C,
+                   lz = uint32_t(o.origin[2]) - chunk[2] * C;
+    const size_t nClasses = s_.votes.size();
+    for (size_t q = 0; q < nClasses; ++q) {
+      const uint32_t at = s_.votes[q].at[i];
+      voteLeaves_[q] = at == SceneLeaves::kNoLeaf ? nullptr : &s_.votes[q].leaves[at];
+      voteRank_[q] = 0;
+    }
+    const SceneLeaf<std::array<float, 3>>* col = nullptr;
+    if (s_.hasColor && s_.colorAt[i] != SceneLeaves::kNoLeaf) col = &s_.colorLeaves[s_.colorAt[i]];
+    size_t colRank = 0;
+    for (uint32_t w = 0; w < 8; ++w)
+      for (uint64_t bits = o.mask[w]; bits; bits &= bits - 1) {
+        const uint32_t b = uint32_t(std::countr_zero(bits)), off = w * 64 + b;  // x-major within the leaf
+        const uint32_t x = lx + (off >> 6), y = ly + ((off >> 3) & 7), z = lz + (off & 7);
+        votes_.clear();
+        for (size_t q = 0; q < nClasses; ++q)
+          if (voteLeaves_[q] && (voteLeaves_[q]->mask[w] >> b & 1))
+            votes_.push_back({s_.votes[q].classId, uint32_t(voteLeaves_[q]->values[voteRank_[q]++])});
+        const float* color = nullptr;
+        if (col && (col->mask[w] >> b & 1)) color = col->values[colRank++].data();
+        putVoxel(sc_, x + C * (y + C * z), o.surface[w] >> b & 1, votes_, color);
+      }
+  }
+
+  const SceneLeaves& s_;
+  const std::vector<uint32_t>& order_;
+  const std::vector<size_t>& start_;
+  ChunkVoxels sc_;
+  std::vector<ClassVotes> votes_;
+  std::vector<const SceneLeaf<int32_t>*> voteLeaves_;
+  std::vector<size_t> voteRank_;
+};
+
+}  // namespace
+
+PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& s) {
+  const pagefile::Header h = packHeader(levels, s);
+  const SceneHeader& bh = levels[0]->header();
+  pagefile::PageMeta meta = packMeta(bh, s);
+  if (bh.region && levels.size() > 1) meta.regionMips = regionMips(levels, s);
   PackResult result;
   std::vector<pagefile::ChunkBlob> blobs;
-  for (size_t li = 0; li < levels.size(); ++li) {
-    const Scene& scene = *levels[li];
-    const SceneHeader& sh = scene.header();
-    const auto expectDims = h.levelDims(int(li));
-    if (sh.dims.x != expectDims[0] || sh.dims.y != expectDims[1] || sh.dims.z != expectDims[2])
-      throw Error(ErrorKind::Internal, "packChunks: level " + std::to_string(li) + " has the wrong dims");
-    PackResult::Level lv;
-    lv.level = int(li);
-    for (pagefile::ChunkBlob& b : packLevel(scene, int(li), h, s.threads)) {
-      ++lv.chunks;
-      lv.fullChunks += b.full ? 1 : 0;
-      lv.voxels += b.occupied;
-      lv.payloadBytes += b.bytes.size();
-      blobs.push_back(std::move(b));
-    }
-    result.levels.push_back(lv);
-    meta.levels.push_back({uint32_t(li), {sh.dims.x, sh.dims.y, sh.dims.z}, sh.voxelSize, lv.chunks, lv.voxels});
+  for (size_t li = 0; li < levels.size(); ++li)
+    addLevel(li, levels[li]->header(), h, packLevel(*levels[li], int(li), h, s.threads), blobs, result, meta);
+  result.bytes = pagefile::serialize(h, pagefile::writePageMeta(meta), blobs);
+  return result;
+}
+
+PackResult packChunks(const SceneLeaves& scene, const PackSettings& s) {
+  checkSettings(s, 1);
+  bool anyInterior = false;
+  for (const OccupancyLeaf& o : scene.occupancy)
+    for (size_t w = 0; w < 8; ++w) anyInterior = anyInterior || (o.mask[w] & ~o.surface[w]);
+  const pagefile::Header h = fileHeader(scene.header, s, 1, scene.hasColor, anyInterior);
+  pagefile::PageMeta meta = packMeta(scene.header, s);
+
+  // The chunks in Morton order, each its leaves in ChunkGatherer's order (x, then y, then z).
+  const uint32_t log2C = h.chunkLog2, L = h.chunkSide() / 8;
+  struct Entry {
+    uint64_t key;
+    uint32_t sub, leaf;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(scene.occupancy.size());
+  for (size_t i = 0; i < scene.occupancy.size(); ++i) {
+    const OccupancyLeaf& o = scene.occupancy[i];
+    uint64_t any = 0;
+    for (uint64_t w : o.mask) any |= w;
+    if (!any) continue;  // no voxel
+    const std::array<uint32_t, 3> at{uint32_t(o.origin[0]), uint32_t(o.origin[1]), uint32_t(o.origin[2])};
+    const uint32_t sub = (((at[0] >> 3) & (L - 1)) * L + ((at[1] >> 3) & (L - 1))) * L + ((at[2] >> 3) & (L - 1));
+    entries.push_back({mortonEncode(at[0] >> log2C, at[1] >> log2C, at[2] >> log2C), sub, uint32_t(i)});
   }
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& a, const Entry& b) { return a.key != b.key ? a.key < b.key : a.sub < b.sub; });
+  std::vector<uint64_t> keys;
+  std::vector<size_t> start;
+  std::vector<uint32_t> order(entries.size());
+  for (size_t j = 0; j < entries.size(); ++j) {
+    if (j == 0 || entries[j].key != entries[j - 1].key) {
+      keys.push_back(entries[j].key);
+      start.push_back(j);
+    }
+    order[j] = entries[j].leaf;
+  }
+  start.push_back(entries.size());
+
+  const bool withVotes = pagefile::codecOf(h.layout).encoderNeedsVotes;
+  PackResult result;
+  std::vector<pagefile::ChunkBlob> blobs;
+  addLevel(0, scene.header, h,
+           encodeChunks(keys, 0, h, s.threads,
+                        [&] { return LeavesGatherer(scene, order, start, h.chunkSide(), withVotes); }),
+           blobs, result, meta);
   result.bytes = pagefile::serialize(h, pagefile::writePageMeta(meta), blobs);
   return result;
 }

@@ -46,6 +46,13 @@ struct PackResult {
 /// (columns: a coloured interior voxel).
 PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& settings);
 
+struct SceneLeaves;
+
+/// packChunks of one level (no mips) read as leaves (formats/vdb/vdb_scene_leaves.h):
+/// the same bytes as packChunks of readSceneVdb's scene of the same file, at
+/// any thread count, without OpenVDB trees.
+PackResult packChunks(const SceneLeaves& scene, const PackSettings& settings);
+
 /// MipSettings::levels for packing `header`'s scene with `--levels asked`
 /// (0: automatic): `asked` for a whole scene; for a region part, every level
 /// up to pagefile::kRegionSeamLevel (or `asked` when smaller), whatever the

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "formats/pagefile/pagefile.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/mip.h"
 #include "tools/cli/cli.h"
@@ -125,6 +127,16 @@ vox::PackResult packLevels(const std::vector<vox::Scene>& levels, const vox::Pac
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
   try {
     return vox::packChunks(ptrs, pack);
+  } catch (const vox::Error& e) {
+    if (e.kind != vox::ErrorKind::Usage) throw;
+    throw vox::Error(e.kind, input + ": " + e.what(), e.setting);
+  }
+}
+
+// packChunks of a scene read as leaves, naming the input as packLevels does.
+vox::PackResult packLeaves(const vox::SceneLeaves& leaves, const vox::PackSettings& pack, const std::string& input) {
+  try {
+    return vox::packChunks(leaves, pack);
   } catch (const vox::Error& e) {
     if (e.kind != vox::ErrorKind::Usage) throw;
     throw vox::Error(e.kind, input + ": " + e.what(), e.setting);
@@ -254,13 +266,23 @@ int runPack(const PackOptions& o) {
   const std::string temp = run.output(o.output);
   vox::PackSettings pack = o.pack;
   pack.threads = run.threads();
-  const std::vector<vox::Scene> levels = readLevels(o, run, pack);
+  // A scene of the form voxbake writes is packed from its leaves, without
+  // OpenVDB trees (formats/vdb/vdb_scene_leaves.h); others, and mips, from the scene.
+  std::optional<vox::SceneLeaves> leaves;
+  if (!o.mips) {
+    run.phase("read");
+    run.input(o.input);
+    vox::requireRegularFile(o.input);
+    leaves = vox::readSceneLeaves(o.input);
+  }
+  std::vector<vox::Scene> levels;
+  if (!leaves) levels = readLevels(o, run, pack);
   // The page file is assembled in memory before it is written: payloads of
   // a few bytes per voxel, chunk by chunk (measured).
   run.checkWorkMemory("packing " + o.input, 1.0);
   run.phase("pack");
   const auto t0 = std::chrono::steady_clock::now();
-  const vox::PackResult res = packLevels(levels, pack, o.input);
+  const vox::PackResult res = leaves ? packLeaves(*leaves, pack, o.input) : packLevels(levels, pack, o.input);
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   writeBytes(res.bytes, temp, o.output);
