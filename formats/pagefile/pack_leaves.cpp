@@ -183,7 +183,7 @@ class LeavesGatherer {
 
 }  // namespace
 
-PackResult packChunks(const SceneLeaves& scene, const PackSettings& s) {
+PlannedPack packChunks(const SceneLeaves& scene, const PackSettings& s) {
   checkSettings(s, 1);
   bool anyInterior = false;
   for (const OccupancyLeaf& o : scene.occupancy)
@@ -223,14 +223,15 @@ PackResult packChunks(const SceneLeaves& scene, const PackSettings& s) {
   start.push_back(entries.size());
 
   const bool withVotes = pagefile::codecOf(h.layout).encoderNeedsVotes;
-  PackResult result;
-  std::vector<pagefile::ChunkBlob> blobs;
+  PackResult counts;
+  PlannedPack out;
   addLevel(0, scene.header, h,
            encodeChunks(keys, 0, h, s.threads,
                         [&] { return LeavesGatherer(scene, order, start, h.chunkSide(), withVotes); }),
-           blobs, result, meta);
-  result.bytes = pagefile::serialize(h, pagefile::writePageMeta(meta), blobs);
-  return result;
+           out.chunks, counts, meta);
+  out.levels = std::move(counts.levels);
+  out.plan = pagefile::planChunks(h, pagefile::writePageMeta(meta), out.chunks);
+  return out;
 }
 
 

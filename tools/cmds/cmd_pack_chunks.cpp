@@ -183,7 +183,7 @@ int runPack(const PackOptions& o) {
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   writeBytes(res.bytes, temp, o.output);
-  reportPack(o, pack, res, packSecs, run);
+  reportPack(o, pack, res.levels, res.bytes.size(), packSecs, run);
   return run.finish();
 }
 

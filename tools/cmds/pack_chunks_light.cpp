@@ -8,6 +8,7 @@
 #include "formats/pagefile/layouts.h"
 #include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/core/error.h"
+#include "tools/cli/alloc_tuning.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cmds/option_names.h"
 
@@ -48,27 +49,27 @@ std::string layoutHelp() {
 
 }  // namespace
 
-void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
-                Run& run) {
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
+                uint64_t fileBytes, double packSecs, Run& run) {
   uint64_t voxels = 0, chunks = 0;
-  const nlohmann::json lv = levelsJson(res.levels, voxels, chunks);
-  const double bytesPerVoxel = voxels ? double(res.bytes.size()) / double(voxels) : 0.0;
+  const nlohmann::json lv = levelsJson(levels, voxels, chunks);
+  const double bytesPerVoxel = voxels ? double(fileBytes) / double(voxels) : 0.0;
   run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
                   {"chunk", pack.chunkSide},
                   {"align", pack.alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
-                  {"file_bytes", res.bytes.size()},
+                  {"file_bytes", fileBytes},
                   {"scene_file_bytes", vox::fileSizeOrMinusOne(o.input)},
                   {"bytes_per_voxel", bytesPerVoxel},
                   {"pack_seconds", packSecs},
-                  {"pack_mb_per_s", packSecs > 0 ? double(res.bytes.size()) / 1e6 / packSecs : 0.0}};
+                  {"pack_mb_per_s", packSecs > 0 ? double(fileBytes) / 1e6 / packSecs : 0.0}};
   char bpv[32];
   std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
-  run.note("wrote " + o.output + ": " + std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) +
+  run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
            " chunks of " + std::to_string(pack.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
-           std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
+           std::to_string(fileBytes) + " bytes (" + bpv + " per voxel)");
 }
 
 CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
@@ -105,6 +106,9 @@ std::optional<int> runPackFromLeaves(const PackOptions& o) {
   if (!o.merge.empty() || !o.verify.empty() || o.mips || o.levels || o.input.empty() || o.output.empty() ||
       !vox::hasExtension(o.output, ".vpk"))
     return std::nullopt;
+  // A few hundred MB of fresh heap at most; a file that turns out not to be of
+  // the form (rare) is then read by vox-cmds.so with the same tuning.
+  tuneAllocatorForShortRun();
   Run run("pack-chunks", o.common);
   const std::string temp = run.output(o.output);
   vox::PackSettings pack = o.pack;
@@ -119,11 +123,11 @@ std::optional<int> runPackFromLeaves(const PackOptions& o) {
   run.checkWorkMemory("packing " + o.input, 1.0);
   run.phase("pack");
   const auto t0 = std::chrono::steady_clock::now();
-  const vox::PackResult res = packNamingInput(o.input, [&] { return vox::packChunks(*leaves, pack); });
+  const vox::PlannedPack res = packNamingInput(o.input, [&] { return vox::packChunks(*leaves, pack); });
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
-  vox::writeFileBytes(temp, res.bytes.data(), res.bytes.size(), o.output);
-  reportPack(o, pack, res, packSecs, run);
+  vox::pagefile::writePlannedFile(temp, res.plan, res.chunks, o.output);
+  reportPack(o, pack, res.levels, res.plan.header.fileBytes, packSecs, run);
   return run.finish();
 }
 

@@ -53,12 +53,12 @@ nlohmann::json levelsJson(const Levels& levels, uint64_t& voxels, uint64_t& chun
 }
 
 /// The report's counts and the summary line of a pack.
-void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
-                Run& run);
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
+                uint64_t fileBytes, double packSecs, Run& run);
 
 /// Runs the packer, naming the input when the layout cannot hold the scene.
 template <typename Pack>
-vox::PackResult packNamingInput(const std::string& input, const Pack& pack) {
+auto packNamingInput(const std::string& input, const Pack& pack) {
   try {
     return pack();
   } catch (const vox::Error& e) {
