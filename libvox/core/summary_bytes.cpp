@@ -19,6 +19,12 @@ uint8_t roundedRatio255(uint64_t num, uint64_t total) {  // round(255 * num / to
 // integer except the exact powers of two, which are handled separately).
 struct ObsTable {
   std::array<uint64_t, 256> t{};
+  // low[i] = the largest j in 0..15 with 2^(j/16) <= 1 + i/256: for n with
+  // m = floor(log2 n) and the 8 bits after its leading one i, floor(16 log2 n)
+  // is 16 m + low[i] or one more (a step of i moves 16 log2 by < 0.1), so one
+  // comparison with t settles it. 1 + i/256 is rational and 2^(j/16)
+  // irrational for j > 0: the long double comparison is exact here.
+  std::array<uint8_t, 256> low{};
   ObsTable() {
     for (int k = 0; k < 256; ++k) {
       if (k % 16 == 0) {
@@ -27,6 +33,11 @@ struct ObsTable {
         t[k] = uint64_t(std::ceil(std::exp2l((long double)k / 16.0L)));
       }
     }
+    for (int i = 0; i < 256; ++i) {
+      int j = 0;
+      while (j < 15 && std::exp2l((long double)(j + 1) / 16.0L) <= 1.0L + (long double)i / 256.0L) ++j;
+      low[size_t(i)] = uint8_t(j);
+    }
   }
 };
 
@@ -34,16 +45,14 @@ struct ObsTable {
 
 uint8_t observationByte(uint64_t n) {
   static const ObsTable table;
-  // The largest k with table[k] <= n (table is increasing). It lies among
-  // the 16 entries of n's power of two (table[16 m] = 2^m <= n < 2^(m+1));
-  // counting them without branches beats a binary search's mispredictions.
+  // The largest k with table[k] <= n (table is increasing): 16 m + low[i]
+  // or one more (ObsTable), without the mispredicted branches of a search.
   if (n >= table.t[255]) return 255;
   if (n == 0) return 0;
   const int m = std::bit_width(n) - 1;  // m <= 15 here
-  const uint64_t* t = &table.t[size_t(16 * m)];
-  int k = 16 * m;
-  for (int j = 1; j < 16; ++j) k += t[j] <= n ? 1 : 0;
-  return uint8_t(k);
+  const size_t i = size_t((n << (63 - m)) >> 55) & 255;  // the 8 bits after the leading one
+  const int k = 16 * m + table.low[i];
+  return uint8_t(table.low[i] < 15 && table.t[size_t(k + 1)] <= n ? k + 1 : k);
 }
 
 SummaryTexel summarize(std::span<const ClassVotes> votes) {
