@@ -3,6 +3,8 @@
 // long double reference, exhaustive round trips).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <random>
 #include <set>
 
@@ -147,6 +149,14 @@ TEST(SummaryBytes, MatchesTheReferenceOnRandomAndExtremeHistograms) {
   check({{2, 0xffffffffu}, {3, 0xffffffffu}, {4, 0xfffffffeu}});
   // log2 exact at powers of two: total + 1 = 2^m gives 16 m.
   for (int m = 0; m < 16; ++m) EXPECT_EQ(observationByte(uint64_t(1) << m), 16 * m);
+  // At and below every threshold: the smallest n with 16 log2 n >= k gives at
+  // least k, n - 1 less than k (small k share thresholds: 2 gives 16).
+  for (int k = 1; k < 256; ++k) {
+    const uint64_t n = k % 16 == 0 ? uint64_t(1) << (k / 16) : uint64_t(std::ceil(std::exp2l((long double)k / 16.0L)));
+    EXPECT_GE(observationByte(n), k) << n;
+    EXPECT_LT(observationByte(n - 1), k) << n - 1;
+  }
+  EXPECT_EQ(observationByte(0), 0);
   EXPECT_EQ(observationByte(uint64_t(1) << 40), 255);
 }
 

@@ -10,7 +10,11 @@
 // grid types) must fall back and read as before. With VOX_DIRECT_READ_DIR
 // set (tests/cli/direct_read_test.sh: scenes made by `vox voxelize` from a
 // coloured mesh, a solid fill, a block map, region parts, the city and more),
-// every .vdb file there is compared too.
+// every .vdb file there is compared too. The same files are read as leaves
+// (formats/vdb/vdb_scene_leaves.h, what `vox pack-chunks` packs): a file the
+// one-pass reader takes must be taken, its page file the same bytes as the
+// one packed from the scene (every layout, two chunk sides, 1 and 3 threads);
+// others, and scenes a check refuses, must be left to the usual reader.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -23,11 +27,15 @@
 #include <iostream>
 #include <random>
 
+#include "formats/core/file_util.h"
+#include "formats/pagefile/layouts.h"
+#include "formats/pagefile/pack_chunks.h"
 #include "formats/scene/scene_vdb_direct.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_scene_direct_read.h"
 #include "formats/vdb/vdb_scene_grids.h"
+#include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
@@ -80,6 +88,38 @@ std::string gridDifference(const openvdb::GridBase::Ptr& a, const openvdb::GridB
   return "grid type not compared: " + a->type();
 }
 
+/// The page file packed from `path`'s leaves against the one packed from the
+/// scene, or both refusals alike. `direct`: the leaves reader must take the file.
+void expectSamePack(const std::string& path, bool direct) {
+  SCOPED_TRACE("packed from leaves: " + path);
+  const std::optional<SceneLeaves> leaves = readSceneLeaves(path);
+  ASSERT_EQ(leaves.has_value(), direct);
+  if (!leaves) return;
+  const Scene scene = readSceneVdb(path);
+  for (const pagefile::LayoutCodec& layout : pagefile::layoutTable())
+    for (uint32_t chunk : {8u, 16u})
+      for (unsigned threads : {1u, 3u}) {
+        SCOPED_TRACE(std::string(layout.name) + ", chunk " + std::to_string(chunk) + ", threads " + std::to_string(threads));
+        PackSettings s;
+        s.layout = layout.id;
+        s.chunkSide = chunk;
+        s.alignment = chunk == 8 ? 64 : 4096;
+        s.threads = threads;
+        std::vector<uint8_t> want;
+        try {
+          want = packChunks({&scene}, s).bytes;
+        } catch (const Error& e) {  // a layout that cannot hold the scene refuses it both ways
+          EXPECT_TRUE(voxtest::throwsVoxError([&] { packChunks(*leaves, s); }, e.kind, {}));
+          continue;
+        }
+        const PlannedPack got = packChunks(*leaves, s);
+        const std::string out = path + ".leaves.vpk";
+        pagefile::writePlannedFile(out, got.plan, got.chunks, out);
+        EXPECT_TRUE(readFileBytes(out) == std::string(want.begin(), want.end()));
+        std::filesystem::remove(out);
+      }
+}
+
 /// Reads `path` both ways (whole and occupancy only) and compares. With
 /// `direct`, the one-pass reader must take the file; without, it must
 /// leave it to OpenVDB.
@@ -102,6 +142,7 @@ void expectSameBothWays(const std::string& path, bool direct = true) {
   want.grids() = levelGridsFromVdb(b.grids, "", b.header, path, true);
   const SceneDifference diff = compareScenes(readSceneVdb(path), want);
   EXPECT_TRUE(diff.same()) << diff.headerNote << " " << diff.firstNote;
+  expectSamePack(path, direct);
 }
 
 SceneHeader testHeader(Dims dims) {
@@ -249,6 +290,7 @@ TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
     grids.push_back(c);
   });
   EXPECT_FALSE(readVdbSceneFileDirect(half, false).has_value());
+  EXPECT_FALSE(readSceneLeaves(half).has_value());
 }
 
 TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
@@ -289,6 +331,20 @@ TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
   });
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(stray); }, ErrorKind::BadInput,
                                       {stray, "grid '" + voteGridName(scene.grids().votes[0].classId) + "' has a vote at an unoccupied voxel (15, 15, 15)"}));
+  // The leaves reader leaves each to the usual reader, which names the fault.
+  for (const std::string& refused : {path, unvoted, stray}) EXPECT_FALSE(readSceneLeaves(refused).has_value()) << refused;
+  // A truncated file: the walk's message, as readSceneVdb gives it.
+  const std::string bytes = readFileBytes(path);
+  const std::string cut = dir.file("cut.vdb");
+  writeFileBytes(cut, bytes.data(), bytes.size() * 2 / 3, cut);
+  std::string message;
+  try {
+    readSceneVdb(cut);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  ASSERT_FALSE(message.empty());
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneLeaves(cut); }, ErrorKind::BadInput, {message}));
 }
 
 TEST(DirectRead, ScenesMadeByTheCommandLine) {

@@ -46,6 +46,21 @@ struct PackResult {
 /// (columns: a coloured interior voxel).
 PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& settings);
 
+struct SceneLeaves;
+
+/// A page file laid out with its payloads beside it, not yet copied together:
+/// pagefile::writePlannedFile writes it.
+struct PlannedPack {
+  pagefile::FilePlan plan;
+  std::vector<pagefile::ChunkBlob> chunks;
+  std::vector<PackResult::Level> levels;
+};
+
+/// packChunks of one level (no mips) read as leaves (formats/vdb/vdb_scene_leaves.h):
+/// the file of packChunks of readSceneVdb's scene of the same file, byte for
+/// byte, at any thread count, without OpenVDB trees. Throws as packChunks.
+PlannedPack packChunks(const SceneLeaves& scene, const PackSettings& settings);
+
 /// MipSettings::levels for packing `header`'s scene with `--levels asked`
 /// (0: automatic): `asked` for a whole scene; for a region part, every level
 /// up to pagefile::kRegionSeamLevel (or `asked` when smaller), whatever the

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -141,13 +142,41 @@ FilePlan planFile(Header h, const std::string& metaJson, std::span<const ChunkSl
   return plan;
 }
 
-std::vector<uint8_t> serialize(Header h, const std::string& metaJson, const std::vector<ChunkBlob>& chunks) {
+FilePlan planChunks(Header h, const std::string& metaJson, const std::vector<ChunkBlob>& chunks) {
   std::vector<ChunkSlot> slots(chunks.size());
   for (size_t i = 0; i < chunks.size(); ++i) {
     const ChunkBlob& c = chunks[i];
     slots[i] = {c.level, c.key, c.occupied, c.full, c.bytes.size(), crc32c(c.bytes.data(), c.bytes.size())};
   }
-  const FilePlan plan = planFile(h, metaJson, slots);
+  return planFile(h, metaJson, slots);
+}
+
+void writePlannedFile(const std::string& path, const FilePlan& plan, const std::vector<ChunkBlob>& chunks,
+                      const std::string& nameForMessages) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throwIo(nameForMessages + ": cannot create the file: " + std::strerror(errno));
+  auto fail = [&](int err) {
+    ::close(fd);
+    throwIo(nameForMessages + ": cannot write the file: " + std::strerror(err));
+  };
+  auto put = [&](const uint8_t* p, size_t n, uint64_t at) {
+    while (n > 0) {
+      const ssize_t w = ::pwrite(fd, p, n, off_t(at));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) fail(w < 0 ? errno : ENOSPC);
+      p += w;
+      n -= size_t(w);
+      at += uint64_t(w);
+    }
+  };
+  put(plan.prefix.data(), plan.prefix.size(), 0);
+  for (size_t i = 0; i < chunks.size(); ++i) put(chunks[i].bytes.data(), chunks[i].bytes.size(), plan.entries[i].offset);
+  if (::ftruncate(fd, off_t(plan.header.fileBytes)) != 0) fail(errno);  // the file's length, whatever was written
+  if (::close(fd) != 0) throwIo(nameForMessages + ": cannot write the file: " + std::strerror(errno));
+}
+
+std::vector<uint8_t> serialize(Header h, const std::string& metaJson, const std::vector<ChunkBlob>& chunks) {
+  const FilePlan plan = planChunks(h, metaJson, chunks);
   std::vector<uint8_t> out(plan.header.fileBytes, 0);
   std::memcpy(out.data(), plan.prefix.data(), plan.prefix.size());
   for (size_t i = 0; i < chunks.size(); ++i)

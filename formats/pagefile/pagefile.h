@@ -153,6 +153,17 @@ FilePlan planFile(Header header, const std::string& metaJson, std::span<const Ch
 /// Throws vox::Error (Internal) when chunks are not sorted or sizes are wrong.
 std::vector<uint8_t> serialize(Header header, const std::string& metaJson, const std::vector<ChunkBlob>& chunks);
 
+/// The plan serialize() makes for `chunks` (their CRCs computed here).
+FilePlan planChunks(Header header, const std::string& metaJson, const std::vector<ChunkBlob>& chunks);
+
+/// Writes the file serialize() would return, without assembling it in memory:
+/// the plan's prefix, then each payload at its offset. The zero bytes between
+/// payloads (most of a file with 4 KiB alignment) are not written: the file
+/// system reads them back as zeros (a sparse file). Throws vox::Error (Io)
+/// naming `nameForMessages` when a write fails.
+void writePlannedFile(const std::string& path, const FilePlan& plan, const std::vector<ChunkBlob>& chunks,
+                      const std::string& nameForMessages);
+
 /// One occupied voxel of a decoded chunk (any layout).
 struct DecodedVoxel {
   uint32_t index = 0;  // x + C * (y + C * z), chunk-local

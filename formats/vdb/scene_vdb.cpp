@@ -16,13 +16,6 @@ void writeSceneVdb(const Scene& scene, const std::string& path) {
   writeVdbFile(path, grids, meta, "scene");
 }
 
-bool looksLikeVdb(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  int32_t magic = 0;
-  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
-  return in && magic == 0x56444220;  // OpenVDB's OPENVDB_MAGIC (" BDV")
-}
-
 Scene readSceneVdb(const std::string& path) { return readSceneVdb(path, SceneParts::All); }
 
 Scene readSceneVdb(const std::string& path, SceneParts parts) {

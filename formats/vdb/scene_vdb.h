@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "formats/vdb/vdb_structure.h"  // looksLikeVdb
 #include "libvox/scene/scene.h"
 
 namespace vox {
@@ -28,7 +29,5 @@ Scene readSceneVdb(const std::string& path);
 enum class SceneParts { All, OccupancyOnly };
 Scene readSceneVdb(const std::string& path, SceneParts parts);
 
-/// True when the file starts with OpenVDB's magic number (cheap sniffing).
-bool looksLikeVdb(const std::string& path);
 
 }  // namespace vox

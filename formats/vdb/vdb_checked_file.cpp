@@ -43,20 +43,6 @@ void rethrowVdbReadError(const std::string& path, const std::string& what) {
   }
 }
 
-void checkVdbFileOpenable(const std::string& path) {
-  std::error_code ec;
-  const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
-  if (std::filesystem::is_directory(st)) throwBadInput(path + ": is a directory, expected a .vdb file");
-  if (!std::filesystem::is_regular_file(st))
-    throwBadInput(path + ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throwBadInput(path + ": cannot open the file (missing or unreadable)");
-  }
-  if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
-}
-
 CheckedVdbFile::CheckedVdbFile(const std::string& path, VdbCheck depth) : path_(path) {
   checkVdbFileOpenable(path);
   frame_ = checkVdbStructure(path, depth);

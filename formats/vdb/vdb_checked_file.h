@@ -24,10 +24,6 @@
 
 namespace vox {
 
-/// The checks CheckedVdbFile makes before walking `path`: it exists, is not a
-/// directory, is a regular file (not a FIFO, socket or device), can be
-/// opened and starts with OpenVDB's magic number. Throws vox::Error (BadInput).
-void checkVdbFileOpenable(const std::string& path);
 
 /// Inside a catch block: rethrows the exception in flight as vox::Error naming
 /// `path` (BadInput "PATH: cannot read WHAT (corrupt?): ..." for OpenVDB's

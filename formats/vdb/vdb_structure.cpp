@@ -13,6 +13,8 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -851,6 +853,27 @@ VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth) {
     memo[before] = frame;
   }
   return frame;
+}
+
+bool looksLikeVdb(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  int32_t magic = 0;
+  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+  return in && magic == 0x56444220;  // OpenVDB's OPENVDB_MAGIC (" BDV")
+}
+
+void checkVdbFileOpenable(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  if (std::filesystem::is_directory(st)) throwBadInput(path + ": is a directory, expected a .vdb file");
+  if (!std::filesystem::is_regular_file(st))
+    throwBadInput(path + ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  }
+  if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
 }
 
 }  // namespace vox

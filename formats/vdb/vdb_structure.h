@@ -79,6 +79,14 @@ VdbFrame checkVdbStructure(const std::string& path, VdbCheck depth = VdbCheck::F
 VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& nameForMessages,
                            VdbCheck depth = VdbCheck::Full);
 
+/// True when the file starts with OpenVDB's magic number (cheap sniffing).
+bool looksLikeVdb(const std::string& path);
+
+/// The checks CheckedVdbFile (vdb_checked_file.h) and the scene readers make before walking `path`: it exists, is not a
+/// directory, is a regular file (not a FIFO, socket or device), can be
+/// opened and starts with OpenVDB's magic number. Throws vox::Error (BadInput).
+void checkVdbFileOpenable(const std::string& path);
+
 // ---------------------------------------------------------------- reading through the walk
 // A reader that builds its trees from the walk's own decoding instead of
 // handing the file to OpenVDB afterwards (the one-pass scene reader,

@@ -1,5 +1,6 @@
 #include "libvox/core/summary_bytes.h"
 
+#include <bit>
 #include <cmath>
 
 namespace vox {
@@ -18,6 +19,12 @@ uint8_t roundedRatio255(uint64_t num, uint64_t total) {  // round(255 * num / to
 // integer except the exact powers of two, which are handled separately).
 struct ObsTable {
   std::array<uint64_t, 256> t{};
+  // low[i] = the largest j in 0..15 with 2^(j/16) <= 1 + i/256: for n with
+  // m = floor(log2 n) and the 8 bits after its leading one i, floor(16 log2 n)
+  // is 16 m + low[i] or one more (a step of i moves 16 log2 by < 0.1), so one
+  // comparison with t settles it. 1 + i/256 is rational and 2^(j/16)
+  // irrational for j > 0: the long double comparison is exact here.
+  std::array<uint8_t, 256> low{};
   ObsTable() {
     for (int k = 0; k < 256; ++k) {
       if (k % 16 == 0) {
@@ -26,6 +33,11 @@ struct ObsTable {
         t[k] = uint64_t(std::ceil(std::exp2l((long double)k / 16.0L)));
       }
     }
+    for (int i = 0; i < 256; ++i) {
+      int j = 0;
+      while (j < 15 && std::exp2l((long double)(j + 1) / 16.0L) <= 1.0L + (long double)i / 256.0L) ++j;
+      low[size_t(i)] = uint8_t(j);
+    }
   }
 };
 
@@ -33,18 +45,20 @@ struct ObsTable {
 
 uint8_t observationByte(uint64_t n) {
   static const ObsTable table;
-  // The largest k with table[k] <= n (table is increasing): binary search.
-  int lo = 0, hi = 255;
+  // The largest k with table[k] <= n (table is increasing): 16 m + low[i]
+  // or one more (ObsTable), without the mispredicted branches of a search.
   if (n >= table.t[255]) return 255;
-  while (lo < hi) {
-    const int mid = (lo + hi + 1) / 2;
-    if (table.t[mid] <= n) lo = mid;
-    else hi = mid - 1;
-  }
-  return uint8_t(lo);
+  if (n == 0) return 0;
+  const int m = std::bit_width(n) - 1;  // m <= 15 here
+  const size_t i = size_t((n << (63 - m)) >> 55) & 255;  // the 8 bits after the leading one
+  const int k = 16 * m + table.low[i];
+  return uint8_t(table.low[i] < 15 && table.t[size_t(k + 1)] <= n ? k + 1 : k);
 }
 
 SummaryTexel summarize(std::span<const ClassVotes> votes) {
+  // One class (most voxels): conf = mrg = round(255 * n / n) = 255, no division.
+  if (votes.size() == 1 && votes[0].votes != 0)
+    return {votes[0].classId, 255, observationByte(uint64_t(votes[0].votes) + 1), 255};
   uint64_t total = 0, top = 0, second = 0;
   uint8_t cls = 0;
   for (const ClassVotes& c : votes) {

@@ -42,8 +42,6 @@ struct Scratch {
 
 }  // namespace
 
-const char* mipOccupancyName(MipOccupancy m) { return m == MipOccupancy::Any ? "any" : "majority"; }
-
 uint64_t surfaceCount(const Scene& scene) {
   uint64_t n = 0;
   for (auto it = scene.grids().occupancy->cbeginValueOn(); it; ++it) n += *it ? 1 : 0;

@@ -33,7 +33,7 @@ namespace vox {
 
 enum class MipOccupancy { Any, Majority };
 
-const char* mipOccupancyName(MipOccupancy m);  // "any", "majority"
+inline const char* mipOccupancyName(MipOccupancy m) { return m == MipOccupancy::Any ? "any" : "majority"; }
 
 /// One level coarser than `fine` (fine.header().mipLevel + 1).
 Scene reduceScene(const Scene& fine, MipOccupancy occupancy, unsigned threads = 1);

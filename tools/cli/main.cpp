@@ -83,6 +83,12 @@ int main(int argc, char** argv) {
     const int code = runModule("VOX_BAKE_MODULE", "vox-bake.so", "vox_bake_main", dir, argc, argv, errors);
     if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }
+  // Packing a scene voxbake wrote runs in the light pack module (no OpenVDB);
+  // it defers everything else before writing anything.
+  if (argc >= 2 && std::strcmp(argv[1], "pack-chunks") == 0) {
+    const int code = runModule("VOX_PACK_MODULE", "vox-pack.so", "vox_pack_main", dir, argc, argv, errors);
+    if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
+  }
   const int code = runModule("VOX_CMDS_MODULE", "vox-cmds.so", "vox_cli_main", dir, argc, argv, errors);
   if (code != kNoModule) return code;
   std::fprintf(stderr,

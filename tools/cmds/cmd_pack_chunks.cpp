@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,53 +22,11 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cmds/option_names.h"
+#include "tools/cmds/pack_chunks_light.h"
 
 namespace voxcli {
 
 namespace {
-
-struct PackOptions {
-  std::string input;
-  std::string output;
-  std::string verify;
-  std::vector<std::string> merge;  // --merge PART.vpk...
-  vox::PackSettings pack;  // --chunk, --align, --layout; defaults from the library
-  bool mips = false;
-  int levels = 0;
-  vox::MipOccupancy occupancy = vox::MipSettings{}.occupancy;
-  CommonOptions common;
-};
-
-// --layout's names, from the layout table.
-EnumNames<vox::pagefile::Layout> layoutNames() {
-  EnumNames<vox::pagefile::Layout> out;
-  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
-  return out;
-}
-
-// The help's list of layouts, from the layout table: name, then its summary
-// wrapped under it.
-std::string layoutHelp() {
-  std::string out;
-  const vox::pagefile::Layout byDefault = vox::PackSettings{}.layout;
-  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) {
-    std::string line = "  " + std::string(l.name);
-    line.resize(11, ' ');
-    std::string text = std::string(l.summary) + (l.id == byDefault ? " (default)" : "");
-    size_t at = 0;
-    while (at < text.size()) {
-      size_t take = text.size() - at;
-      if (take > 86) {  // break at the last space that fits
-        const size_t space = text.rfind(' ', at + 86);
-        take = space != std::string::npos && space > at ? space - at : 86;
-      }
-      out += line + text.substr(at, take) + "\n";
-      at += take + 1;
-      line = std::string(11, ' ');
-    }
-  }
-  return out;
-}
 
 int runVerify(const PackOptions& o) {
   Run run("pack-chunks", o.common);
@@ -123,53 +82,11 @@ vox::PackResult packLevels(const std::vector<vox::Scene>& levels, const vox::Pac
                            const std::string& input) {
   std::vector<const vox::Scene*> ptrs;
   for (const vox::Scene& l : levels) ptrs.push_back(&l);
-  try {
-    return vox::packChunks(ptrs, pack);
-  } catch (const vox::Error& e) {
-    if (e.kind != vox::ErrorKind::Usage) throw;
-    throw vox::Error(e.kind, input + ": " + e.what(), e.setting);
-  }
+  return packNamingInput(input, [&] { return vox::packChunks(ptrs, pack); });
 }
 
 void writeBytes(const std::vector<uint8_t>& bytes, const std::string& temp, const std::string& output) {
   vox::writeFileBytes(temp, bytes.data(), bytes.size(), output);
-}
-
-// The report's per-level counts (a pack's or a merge's levels) and their totals.
-template <typename Levels>
-nlohmann::json levelsJson(const Levels& levels, uint64_t& voxels, uint64_t& chunks) {
-  nlohmann::json lv = nlohmann::json::array();
-  for (const auto& l : levels) {
-    voxels += l.voxels;
-    chunks += l.chunks;
-    lv.push_back({{"level", l.level}, {"chunks", l.chunks}, {"full_chunks", l.fullChunks}, {"voxels", l.voxels},
-                  {"payload_bytes", l.payloadBytes}});
-  }
-  return lv;
-}
-
-// The report's counts and the summary line.
-void reportPack(const PackOptions& o, const vox::PackSettings& pack, const vox::PackResult& res, double packSecs,
-                Run& run) {
-  uint64_t voxels = 0, chunks = 0;
-  const nlohmann::json lv = levelsJson(res.levels, voxels, chunks);
-  const double bytesPerVoxel = voxels ? double(res.bytes.size()) / double(voxels) : 0.0;
-  run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
-                  {"chunk", pack.chunkSide},
-                  {"align", pack.alignment},
-                  {"levels", lv},
-                  {"chunks", chunks},
-                  {"voxels", voxels},
-                  {"file_bytes", res.bytes.size()},
-                  {"scene_file_bytes", vox::fileSizeOrMinusOne(o.input)},
-                  {"bytes_per_voxel", bytesPerVoxel},
-                  {"pack_seconds", packSecs},
-                  {"pack_mb_per_s", packSecs > 0 ? double(res.bytes.size()) / 1e6 / packSecs : 0.0}};
-  char bpv[32];
-  std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
-  run.note("wrote " + o.output + ": " + std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) +
-           " chunks of " + std::to_string(pack.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
-           std::to_string(res.bytes.size()) + " bytes (" + bpv + " per voxel)");
 }
 
 // --merge PART.vpk... -o WORLD.vpk: the parts' page files joined into the
@@ -250,6 +167,8 @@ int runPack(const PackOptions& o) {
     vox::throwUsage("-o " + o.output + ": a page file is written; name it *.vpk (vox info and render-canonical tell "
                     "files apart by that extension)");
 
+  // A scene voxbake wrote: from its leaves, without OpenVDB trees.
+  if (const std::optional<int> code = runPackFromLeaves(o)) return *code;
   Run run("pack-chunks", o.common);
   const std::string temp = run.output(o.output);
   vox::PackSettings pack = o.pack;
@@ -264,7 +183,7 @@ int runPack(const PackOptions& o) {
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   writeBytes(res.bytes, temp, o.output);
-  reportPack(o, pack, res, packSecs, run);
+  reportPack(o, pack, res.levels, res.bytes.size(), packSecs, run);
   return run.finish();
 }
 
@@ -272,32 +191,7 @@ int runPack(const PackOptions& o) {
 
 Command registerPackChunks(CLI::App& root) {
   auto opts = std::make_shared<PackOptions>();
-  CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
-  cmd->footer(
-      "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
-      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
-      layoutHelp() +
-      "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
-      "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
-      "--merge PART.vpk... -o WORLD.vpk: the parts of a region bake (packed with the same settings)\n"
-      "joined into exactly the file the single-process bake gives (PAGEFILE.md, \"Merging\").\n"
-      "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
-  cmd->add_option("input", opts->input, "Scene or pyramid (.vdb)");
-  cmd->add_option("-o,--output", opts->output, "Page file to write (.vpk)");
-  cmd->add_option("--verify", opts->verify, "Check a page file instead of writing one");
-  CLI::Option* merge = cmd->add_option("--merge", opts->merge,
-                                       "Join the page files of a region bake's parts (PART.vpk...) into the world's");
-  cmd->add_option("--chunk", opts->pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
-  cmd->add_option("--align", opts->pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
-      ->capture_default_str();
-  addEnumOption(*cmd, "--layout", opts->pack.layout, layoutNames(), "Payload layout (below)");
-  cmd->add_flag("--mips", opts->mips, "Also pack the mip levels");
-  cmd->add_option("--levels", opts->levels, "With --mips: levels to build (default: automatic)");
-  addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "With --mips: how a coarser voxel is occupied");
-  addCommonOptions(*cmd, opts->common);
-  // The parts carry their settings: a merge takes none of the packing options.
-  for (const char* name : {"--chunk", "--align", "--layout", "--mips", "--levels", "--occupancy"})
-    merge->excludes(cmd->get_option(name));
+  CLI::App* cmd = addPackChunksOptions(root, *opts);
   return {cmd, [opts] { return runPack(*opts); }};
 }
 

@@ -1,0 +1,134 @@
+#include "tools/cmds/pack_chunks_light.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "formats/core/file_kinds.h"
+#include "formats/core/file_util.h"
+#include "formats/pagefile/layouts.h"
+#include "formats/vdb/vdb_scene_leaves.h"
+#include "libvox/core/error.h"
+#include "tools/cli/alloc_tuning.h"
+#include "tools/cli/enum_option.h"
+#include "tools/cmds/option_names.h"
+
+namespace voxcli {
+
+namespace {
+
+// --layout's names, from the layout table.
+EnumNames<vox::pagefile::Layout> layoutNames() {
+  EnumNames<vox::pagefile::Layout> out;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) out.push_back({l.name, l.id});
+  return out;
+}
+
+// The help's list of layouts, from the layout table: name, then its summary
+// wrapped under it.
+std::string layoutHelp() {
+  std::string out;
+  const vox::pagefile::Layout byDefault = vox::PackSettings{}.layout;
+  for (const vox::pagefile::LayoutCodec& l : vox::pagefile::layoutTable()) {
+    std::string line = "  " + std::string(l.name);
+    line.resize(11, ' ');
+    std::string text = std::string(l.summary) + (l.id == byDefault ? " (default)" : "");
+    size_t at = 0;
+    while (at < text.size()) {
+      size_t take = text.size() - at;
+      if (take > 86) {  // break at the last space that fits
+        const size_t space = text.rfind(' ', at + 86);
+        take = space != std::string::npos && space > at ? space - at : 86;
+      }
+      out += line + text.substr(at, take) + "\n";
+      at += take + 1;
+      line = std::string(11, ' ');
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
+                uint64_t fileBytes, double packSecs, Run& run) {
+  uint64_t voxels = 0, chunks = 0;
+  const nlohmann::json lv = levelsJson(levels, voxels, chunks);
+  const double bytesPerVoxel = voxels ? double(fileBytes) / double(voxels) : 0.0;
+  run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
+                  {"chunk", pack.chunkSide},
+                  {"align", pack.alignment},
+                  {"levels", lv},
+                  {"chunks", chunks},
+                  {"voxels", voxels},
+                  {"file_bytes", fileBytes},
+                  {"scene_file_bytes", vox::fileSizeOrMinusOne(o.input)},
+                  {"bytes_per_voxel", bytesPerVoxel},
+                  {"pack_seconds", packSecs},
+                  {"pack_mb_per_s", packSecs > 0 ? double(fileBytes) / 1e6 / packSecs : 0.0}};
+  char bpv[32];
+  std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
+  run.note("wrote " + o.output + ": " + std::to_string(levels.size()) + " level(s), " + std::to_string(chunks) +
+           " chunks of " + std::to_string(pack.chunkSide) + "^3, " + std::to_string(voxels) + " voxels, " +
+           std::to_string(fileBytes) + " bytes (" + bpv + " per voxel)");
+}
+
+CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
+  CLI::App* cmd = root.add_subcommand("pack-chunks", "Cut a scene (and its mips) into C^3 chunks in one page file (.vpk)");
+  cmd->footer(
+      "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
+      "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
+      layoutHelp() +
+      "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
+      "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
+      "--merge PART.vpk... -o WORLD.vpk: the parts of a region bake (packed with the same settings)\n"
+      "joined into exactly the file the single-process bake gives (PAGEFILE.md, \"Merging\").\n"
+      "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
+  cmd->add_option("input", opts.input, "Scene or pyramid (.vdb)");
+  cmd->add_option("-o,--output", opts.output, "Page file to write (.vpk)");
+  cmd->add_option("--verify", opts.verify, "Check a page file instead of writing one");
+  CLI::Option* merge = cmd->add_option("--merge", opts.merge,
+                                       "Join the page files of a region bake's parts (PART.vpk...) into the world's");
+  cmd->add_option("--chunk", opts.pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
+  cmd->add_option("--align", opts.pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
+      ->capture_default_str();
+  addEnumOption(*cmd, "--layout", opts.pack.layout, layoutNames(), "Payload layout (below)");
+  cmd->add_flag("--mips", opts.mips, "Also pack the mip levels");
+  cmd->add_option("--levels", opts.levels, "With --mips: levels to build (default: automatic)");
+  addEnumOption(*cmd, "--occupancy", opts.occupancy, mipOccupancyNames(), "With --mips: how a coarser voxel is occupied");
+  addCommonOptions(*cmd, opts.common);
+  // The parts carry their settings: a merge takes none of the packing options.
+  for (const char* name : {"--chunk", "--align", "--layout", "--mips", "--levels", "--occupancy"})
+    merge->excludes(cmd->get_option(name));
+  return cmd;
+}
+
+std::optional<int> runPackFromLeaves(const PackOptions& o) {
+  if (!o.merge.empty() || !o.verify.empty() || o.mips || o.levels || o.input.empty() || o.output.empty() ||
+      !vox::hasExtension(o.output, ".vpk"))
+    return std::nullopt;
+  // A few hundred MB of fresh heap at most; a file that turns out not to be of
+  // the form (rare) is then read by vox-cmds.so with the same tuning.
+  tuneAllocatorForShortRun();
+  Run run("pack-chunks", o.common);
+  const std::string temp = run.output(o.output);
+  vox::PackSettings pack = o.pack;
+  pack.threads = run.threads();
+  run.phase("read");
+  run.input(o.input);
+  vox::requireRegularFile(o.input);
+  const std::optional<vox::SceneLeaves> leaves = vox::readSceneLeaves(o.input);
+  if (!leaves) return std::nullopt;  // the temporary output goes with `run`
+  // The page file is assembled in memory before it is written: payloads of
+  // a few bytes per voxel, chunk by chunk (measured).
+  run.checkWorkMemory("packing " + o.input, 1.0);
+  run.phase("pack");
+  const auto t0 = std::chrono::steady_clock::now();
+  const vox::PlannedPack res = packNamingInput(o.input, [&] { return vox::packChunks(*leaves, pack); });
+  const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.phase("write");
+  vox::pagefile::writePlannedFile(temp, res.plan, res.chunks, o.output);
+  reportPack(o, pack, res.levels, res.plan.header.fileBytes, packSecs, run);
+  return run.finish();
+}
+
+}  // namespace voxcli
