@@ -9,6 +9,7 @@
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
+#include "libvox/render/ray_bundle.h"
 
 namespace vox {
 
@@ -193,7 +194,8 @@ class CountsPool {
 }  // namespace
 
 FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
-                      FuseCounts* free, int faceAxis, const RayGrid* tracked, RayGrid::Cursor* cursor) {
+                      FuseCounts* free, int faceAxis, const RayGrid* tracked, RayGrid::Cursor* cursor,
+                      double tEmpty) {
   if (!free || !cursor) tracked = nullptr;
   FuseRayResult out;
   KeyOf key;
@@ -228,7 +230,11 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   // there and evaluates it exactly only near the depth. Without free counts
   // it starts at tLow: no crossing before it can be the hit or tie with it.
   const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
-  const double tStart = !free && tLow > tEnter ? tLow : tEnter;
+  // With tracked voxels only, cells left before tEmpty hold none of them: the
+  // walk may start there as it starts at a jump's target (no crossing before
+  // tLow is a hit or ties with it).
+  const double tSkip = !free ? tLow : tracked ? std::min(tEmpty, tLow) : 0;
+  const double tStart = tSkip > tEnter ? tSkip : tEnter;
   if (tStart > tExit) return out;  // the ray leaves the grid before the depth
 
   // The cell the ray is in at tStart (entered at or before it), per axis.
@@ -533,18 +539,47 @@ FuseViewStats Fuser::addFree(const FuseView& view) {
     uint64_t st = 0, fc = 0;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
-    for (size_t y = y0; y < y1; ++y)
-      for (size_t x = x0; x < x1; ++x) {
-        // The pixels add() walks (same filter): they carve whether or not they voted.
-        const size_t i = y * W + x;
-        const double d = view.depth[i];
-        if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) continue;
-        if ((view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) == 0) continue;
-        const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
-        const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
-                                        &counts, face, tracked_.get(), &cursor);
-        st += r.steps;
-        fc += r.freeCells;
+    // The pixels add() walks (same filter): they carve whether or not they voted.
+    auto walks = [&](size_t i) {
+      const double d = view.depth[i];
+      if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) return false;
+      return (view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) != 0;
+    };
+    // Sub-tiles of kBundle^2 pixels share one march through the tracked set's
+    // empty space (ray_bundle.h, as render-canonical's caster): each ray then
+    // starts where the march stopped instead of jumping the same empty boxes.
+    constexpr size_t kBundle = 8;
+    for (size_t by = y0; by < y1; by += kBundle)
+      for (size_t bx = x0; bx < x1; bx += kBundle) {
+        const size_t by1 = std::min(y1, by + kBundle), bx1 = std::min(x1, bx + kBundle);
+        // The bounding box of the pixels that walk: the directions are affine
+        // in (x, y), so its four corner rays span every ray of it.
+        size_t lx = bx1, hx = bx, ly = by1, hy = by;
+        for (size_t y = by; y < by1; ++y)
+          for (size_t x = bx; x < bx1; ++x)
+            if (walks(y * W + x)) {
+              lx = std::min(lx, x);
+              hx = std::max(hx, x);
+              ly = std::min(ly, y);
+              hy = std::max(hy, y);
+            }
+        if (lx > hx) continue;  // no pixel walks
+        const std::array<std::array<double, 3>, 4> corners{
+            rays.ray(uint32_t(lx), uint32_t(ly)).dir, rays.ray(uint32_t(hx), uint32_t(ly)).dir,
+            rays.ray(uint32_t(lx), uint32_t(hy)).dir, rays.ray(uint32_t(hx), uint32_t(hy)).dir};
+        const double tEmpty = bundleEmptyUntil(*tracked_, rays.ray(uint32_t(lx), uint32_t(ly)).origin, corners);
+        // No ray of the box touches a tracked voxel: no free count to add.
+        if (tEmpty == std::numeric_limits<double>::infinity()) continue;
+        for (size_t y = ly; y <= hy; ++y)
+          for (size_t x = lx; x <= hx; ++x) {
+            const size_t i = y * W + x;
+            if (!walks(i)) continue;
+            const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
+            const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure,
+                                            view.depth[i], dims_, &counts, face, tracked_.get(), &cursor, tEmpty);
+            st += r.steps;
+            fc += r.freeCells;
+          }
       }
     steps += st;
     freeCounts += fc;
