@@ -152,6 +152,13 @@ namespace {
 // The stored-depth value of the crossing at ray parameter t (header comment):
 // render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
 // order, rounded to float when the image stores float32.
+// floor() of a finite value of a few voxels' magnitude, as an integer:
+// the x86-64 baseline has no rounding instruction, so std::floor is a call.
+inline int64_t floorToInt(double p) {
+  const int64_t i = int64_t(p);
+  return i - (double(i) > p ? 1 : 0);
+}
+
 struct KeyOf {
   double length = 1, voxelSize = 1;
   bool z = false, float32 = true;
@@ -253,7 +260,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       continue;
     }
     const double p = o + tStart * ray.dir[size_t(a)];
-    int64_t cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(D[a]) + 1))) : 0;
+    int64_t cell = std::isfinite(p) ? floorToInt(std::clamp(p, -1.0, double(D[a]) + 1)) : 0;
     cell = std::clamp<int64_t>(cell, 0, D[a] - 1);
     if (ray.dir[size_t(a)] > 0) {
       step[a] = 1;
@@ -301,13 +308,13 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       const double p = ray.origin[size_t(a)] + target * ray.dir[size_t(a)];
       int64_t cell;
       if (step[a] > 0) {
-        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, double(c[a]), double(D[a])))) : c[a];
+        cell = std::isfinite(p) ? floorToInt(std::clamp(p, double(c[a]), double(D[a]))) : c[a];
         while (cell < D[a] && time(a, cell + 1) <= target) ++cell;
         while (cell > c[a] && time(a, cell) > target) --cell;
         next[a] = time(a, cell + 1);
         left |= cell >= D[a];
       } else {
-        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(c[a])))) : c[a];
+        cell = std::isfinite(p) ? floorToInt(std::clamp(p, -1.0, double(c[a]))) : c[a];
         while (cell >= 0 && time(a, cell) <= target) --cell;
         while (cell < c[a] && time(a, cell + 1) > target) ++cell;
         next[a] = time(a, cell);
@@ -324,6 +331,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       if (moving[a]) t = std::min(t, time(a, step[a] > 0 ? hi[a] : lo[a]));
     return t;
   };
+  const int64_t brickEnd[3] = {(D[0] + 7) >> 3, (D[1] + 7) >> 3, (D[2] + 7) >> 3};
   for (;;) {
     bool isTracked = true;
     if (tracked) {
@@ -342,18 +350,44 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
         }
         double tb = boxExit(lo, hi);
         const int64_t k = tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3);
+        uint32_t boxes = 1;
         if (k > 1) {
           for (int a = 0; a < 3; ++a) {
             lo[a] = ((c[a] >> 3) - k + 1) * 8;
             hi[a] = ((c[a] >> 3) + k) * 8;
           }
           tb = std::max(tb, boxExit(lo, hi));
+        } else if (level == 1 && tracked->hasDistanceField()) {
+          // An empty brick next to a tracked one (the common case near a
+          // surface): walk on brick by brick (the walk's own plane times at
+          // multiples of 8, so the bricks are the ones its cells lie in)
+          // while the bricks entered are empty with no larger empty box
+          // around them, and jump once, to the entry of the first other one.
+          int64_t b[3];
+          double nb[3];
+          for (int a = 0; a < 3; ++a) {
+            b[a] = c[a] >> 3;
+            nb[a] = moving[a] ? time(a, (step[a] > 0 ? b[a] + 1 : b[a]) * 8) : inf;
+          }
+          for (;;) {
+            tb = std::min(nb[0], std::min(nb[1], nb[2]));
+            if (tb >= tLow) break;
+            bool outside = false;
+            for (int a = 0; a < 3; ++a) {
+              if (nb[a] != tb) continue;
+              b[a] += step[a];
+              nb[a] = time(a, (step[a] > 0 ? b[a] + 1 : b[a]) * 8);
+              outside |= b[a] < 0 || b[a] >= brickEnd[a];
+            }
+            if (outside || tracked->emptyBricksAround(b[0], b[1], b[2]) != 1) break;
+            ++boxes;
+          }
         }
         // Only crossings before tLow (all "early": keys below the depth, no
         // tie rules) are jumped; the cells left there hold no tracked voxel.
         const double target = std::min(tb, tLow);
         if (std::min(next[0], std::min(next[1], next[2])) <= target) {
-          ++out.steps;
+          out.steps += boxes;
           if (jumpTo(target)) return out;  // the depth lies beyond the grid
           enteredBelow = true;
           continue;
