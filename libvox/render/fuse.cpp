@@ -332,11 +332,15 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
     return t;
   };
   const int64_t brickEnd[3] = {(D[0] + 7) >> 3, (D[1] + 7) >> 3, (D[2] + 7) >> 3};
+  const bool distanceField = tracked && tracked->hasDistanceField();
   for (;;) {
     bool isTracked = true;
     if (tracked) {
       bool occ = false;
-      const int level = cursor->probe(c[0], c[1], c[2], occ);
+      // With the distance field, one byte tells an empty brick: the tree is
+      // probed only inside non-empty ones (where the walk goes voxel by voxel).
+      const int64_t k = distanceField ? tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3) : 1;
+      const int level = k > 0 && distanceField ? 1 : cursor->probe(c[0], c[1], c[2], occ);
       isTracked = occ;
       if (level >= 1) {
         // An empty box around the cell: its brick, region or super-region
@@ -349,7 +353,6 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
           hi[a] = lo[a] + (int64_t(1) << shift);
         }
         double tb = boxExit(lo, hi);
-        const int64_t k = tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3);
         uint32_t boxes = 1;
         if (k > 1) {
           for (int a = 0; a < 3; ++a) {
@@ -357,7 +360,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
             hi[a] = ((c[a] >> 3) + k) * 8;
           }
           tb = std::max(tb, boxExit(lo, hi));
-        } else if (level == 1 && tracked->hasDistanceField()) {
+        } else if (level == 1 && distanceField) {
           // An empty brick next to a tracked one (the common case near a
           // surface): walk on brick by brick (the walk's own plane times at
           // multiples of 8, so the bricks are the ones its cells lie in)
