@@ -149,9 +149,6 @@ std::vector<FuseCounts::Vote> FuseCounts::votes() const {
 
 namespace {
 
-// The stored-depth value of the crossing at ray parameter t (header comment):
-// render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
-// order, rounded to float when the image stores float32.
 // floor() of a finite value of a few voxels' magnitude, as an integer:
 // the x86-64 baseline has no rounding instruction, so std::floor is a call.
 inline int64_t floorToInt(double p) {
@@ -159,6 +156,9 @@ inline int64_t floorToInt(double p) {
   return i - (double(i) > p ? 1 : 0);
 }
 
+// The stored-depth value of the crossing at ray parameter t (header comment):
+// render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
+// order, rounded to float when the image stores float32.
 struct KeyOf {
   double length = 1, voxelSize = 1;
   bool z = false, float32 = true;

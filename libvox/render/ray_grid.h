@@ -82,13 +82,13 @@ class RayGrid {
 
   static int bitOf(uint32_t x, uint32_t y, uint32_t z) { return int((x << 6) | (y << 3) | z); }
 
+  /// False for domains of more than 2^24 bricks (emptyBricksAround then reads 1 everywhere).
+  bool hasDistanceField() const { return !brickDist_.empty(); }
   /// Chebyshev distance, in bricks, from brick (bx, by, bz) (inside the
   /// domain) to the nearest non-empty brick, capped at 255: every brick closer
   /// than that is empty (bricks outside the domain are empty). 0 for a
   /// non-empty brick; 1 when the grid has no distance field (domains of more
   /// than 2^24 bricks). Lets a ray jump over many empty cells at once.
-  /// False for domains of more than 2^24 bricks (emptyBricksAround then reads 1 everywhere).
-  bool hasDistanceField() const { return !brickDist_.empty(); }
   uint32_t emptyBricksAround(int64_t bx, int64_t by, int64_t bz) const {
     if (brickDist_.empty()) return 1;
     return brickDist_[(size_t(bx + 1) * (brickDims_[1] + 2) + size_t(by + 1)) * (brickDims_[2] + 2) + size_t(bz + 1)];
