@@ -6,13 +6,16 @@
 // same scene as FreeScope::All, at any thread count.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
 
 #include "libvox/render/camera.h"
 #include "libvox/render/fuse.h"
+#include "libvox/render/ray_bundle.h"
 #include "libvox/render/ray_grid.h"
 #include "libvox/render/render.h"
 #include "libvox/scene/fuse_scene.h"
@@ -51,8 +54,8 @@ TEST(FuseRayTracked, SameCountsAtTrackedVoxelsAndSameHit) {
   for (int64_t u = 0; u < d.x; ++u) track(u, 0, 0);  // a line along the grid's edge
   tracked.finish();
 
-  FuseCounts full, fast;
-  uint64_t hits = 0, fullSteps = 0, fastSteps = 0;
+  FuseCounts full, fast, bundled;
+  uint64_t hits = 0, fullSteps = 0, fastSteps = 0, certified = 0;
   vox::RayGrid::Cursor cursor(tracked);
   for (int i = 0; i < 20000; ++i) {
     vox::Ray r;
@@ -75,13 +78,27 @@ TEST(FuseRayTracked, SameCountsAtTrackedVoxelsAndSameHit) {
     const int face = i % 3 - 1 + (i % 9 == 0 ? 1 : 0);
     const vox::FuseRayResult a = vox::fuseRay(r, vs, m, depth, d, &full, face);
     const vox::FuseRayResult b = vox::fuseRay(r, vs, m, depth, d, &fast, face, &tracked, &cursor);
+    // Starting at a tile march's certificate (the second pass of addFree):
+    // a bundle of this ray and three neighbours within 2% of it.
+    std::array<std::array<double, 3>, 4> cone;
+    for (size_t k = 0; k < 4; ++k)
+      for (size_t a = 0; a < 3; ++a) cone[k][a] = r.dir[a] * (1 + (k == a ? 0.02 : 0.0));
+    const double tEmpty = vox::bundleEmptyUntil(tracked, r.origin, cone);
+    certified += tEmpty > 0 ? 1 : 0;
+    const vox::FuseRayResult c =
+        tEmpty == std::numeric_limits<double>::infinity()
+            ? b  // addFree skips such a tile (no tracked voxel to count): only the counts must agree
+            : vox::fuseRay(r, vs, m, depth, d, &bundled, face, &tracked, &cursor, tEmpty);
     fullSteps += a.steps;
     fastSteps += b.steps;
     ASSERT_EQ(a.hit, b.hit) << i;
+    ASSERT_EQ(a.hit, c.hit) << i;
     if (a.hit) {
       ++hits;
       ASSERT_EQ(a.voxel, b.voxel) << i;
       ASSERT_EQ(a.ambiguous, b.ambiguous) << i;
+      ASSERT_EQ(a.voxel, c.voxel) << i;
+      ASSERT_EQ(a.ambiguous, c.ambiguous) << i;
     }
   }
   EXPECT_GT(hits, 2000u);
@@ -91,6 +108,8 @@ TEST(FuseRayTracked, SameCountsAtTrackedVoxelsAndSameHit) {
   const std::map<uint64_t, uint32_t> got = freeMap(fast);
   EXPECT_GT(want.size(), 300u);
   EXPECT_EQ(got, want);
+  EXPECT_EQ(freeMap(bundled), want);  // from the march's end: the same counts
+  EXPECT_GT(certified, 1000u);
   EXPECT_LT(fastSteps * 4, fullSteps);  // the jumps do skip most of the walk
 }
 

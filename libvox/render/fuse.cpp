@@ -9,6 +9,7 @@
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
+#include "libvox/render/ray_bundle.h"
 
 namespace vox {
 
@@ -148,6 +149,13 @@ std::vector<FuseCounts::Vote> FuseCounts::votes() const {
 
 namespace {
 
+// floor() of a finite value of a few voxels' magnitude, as an integer:
+// the x86-64 baseline has no rounding instruction, so std::floor is a call.
+inline int64_t floorToInt(double p) {
+  const int64_t i = int64_t(p);
+  return i - (double(i) > p ? 1 : 0);
+}
+
 // The stored-depth value of the crossing at ray parameter t (header comment):
 // render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
 // order, rounded to float when the image stores float32.
@@ -193,7 +201,8 @@ class CountsPool {
 }  // namespace
 
 FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
-                      FuseCounts* free, int faceAxis, const RayGrid* tracked, RayGrid::Cursor* cursor) {
+                      FuseCounts* free, int faceAxis, const RayGrid* tracked, RayGrid::Cursor* cursor,
+                      double tEmpty) {
   if (!free || !cursor) tracked = nullptr;
   FuseRayResult out;
   KeyOf key;
@@ -228,7 +237,11 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
   // there and evaluates it exactly only near the depth. Without free counts
   // it starts at tLow: no crossing before it can be the hit or tie with it.
   const double tLow = (key.z ? depth : depth / (key.length * key.voxelSize)) * (1 - 1e-6);
-  const double tStart = !free && tLow > tEnter ? tLow : tEnter;
+  // With tracked voxels only, cells left before tEmpty hold none of them: the
+  // walk may start there as it starts at a jump's target (no crossing before
+  // tLow is a hit or ties with it).
+  const double tSkip = !free ? tLow : tracked ? std::min(tEmpty, tLow) : 0;
+  const double tStart = tSkip > tEnter ? tSkip : tEnter;
   if (tStart > tExit) return out;  // the ray leaves the grid before the depth
 
   // The cell the ray is in at tStart (entered at or before it), per axis.
@@ -247,7 +260,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       continue;
     }
     const double p = o + tStart * ray.dir[size_t(a)];
-    int64_t cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(D[a]) + 1))) : 0;
+    int64_t cell = std::isfinite(p) ? floorToInt(std::clamp(p, -1.0, double(D[a]) + 1)) : 0;
     cell = std::clamp<int64_t>(cell, 0, D[a] - 1);
     if (ray.dir[size_t(a)] > 0) {
       step[a] = 1;
@@ -295,13 +308,13 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       const double p = ray.origin[size_t(a)] + target * ray.dir[size_t(a)];
       int64_t cell;
       if (step[a] > 0) {
-        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, double(c[a]), double(D[a])))) : c[a];
+        cell = std::isfinite(p) ? floorToInt(std::clamp(p, double(c[a]), double(D[a]))) : c[a];
         while (cell < D[a] && time(a, cell + 1) <= target) ++cell;
         while (cell > c[a] && time(a, cell) > target) --cell;
         next[a] = time(a, cell + 1);
         left |= cell >= D[a];
       } else {
-        cell = std::isfinite(p) ? int64_t(std::floor(std::clamp(p, -1.0, double(c[a])))) : c[a];
+        cell = std::isfinite(p) ? floorToInt(std::clamp(p, -1.0, double(c[a]))) : c[a];
         while (cell >= 0 && time(a, cell) <= target) --cell;
         while (cell < c[a] && time(a, cell + 1) > target) ++cell;
         next[a] = time(a, cell);
@@ -318,11 +331,16 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       if (moving[a]) t = std::min(t, time(a, step[a] > 0 ? hi[a] : lo[a]));
     return t;
   };
+  const int64_t brickEnd[3] = {(D[0] + 7) >> 3, (D[1] + 7) >> 3, (D[2] + 7) >> 3};
+  const bool distanceField = tracked && tracked->hasDistanceField();
   for (;;) {
     bool isTracked = true;
     if (tracked) {
       bool occ = false;
-      const int level = cursor->probe(c[0], c[1], c[2], occ);
+      // With the distance field, one byte tells an empty brick: the tree is
+      // probed only inside non-empty ones (where the walk goes voxel by voxel).
+      const int64_t k = distanceField ? tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3) : 1;
+      const int level = k > 0 && distanceField ? 1 : cursor->probe(c[0], c[1], c[2], occ);
       isTracked = occ;
       if (level >= 1) {
         // An empty box around the cell: its brick, region or super-region
@@ -335,19 +353,44 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
           hi[a] = lo[a] + (int64_t(1) << shift);
         }
         double tb = boxExit(lo, hi);
-        const int64_t k = tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3);
+        uint32_t boxes = 1;
         if (k > 1) {
           for (int a = 0; a < 3; ++a) {
             lo[a] = ((c[a] >> 3) - k + 1) * 8;
             hi[a] = ((c[a] >> 3) + k) * 8;
           }
           tb = std::max(tb, boxExit(lo, hi));
+        } else if (level == 1 && distanceField) {
+          // An empty brick next to a tracked one (the common case near a
+          // surface): walk on brick by brick (the walk's own plane times at
+          // multiples of 8, so the bricks are the ones its cells lie in)
+          // while the bricks entered are empty with no larger empty box
+          // around them, and jump once, to the entry of the first other one.
+          int64_t b[3];
+          double nb[3];
+          for (int a = 0; a < 3; ++a) {
+            b[a] = c[a] >> 3;
+            nb[a] = moving[a] ? time(a, (step[a] > 0 ? b[a] + 1 : b[a]) * 8) : inf;
+          }
+          for (;;) {
+            tb = std::min(nb[0], std::min(nb[1], nb[2]));
+            if (tb >= tLow) break;
+            bool outside = false;
+            for (int a = 0; a < 3; ++a) {
+              if (nb[a] != tb) continue;
+              b[a] += step[a];
+              nb[a] = time(a, (step[a] > 0 ? b[a] + 1 : b[a]) * 8);
+              outside |= b[a] < 0 || b[a] >= brickEnd[a];
+            }
+            if (outside || tracked->emptyBricksAround(b[0], b[1], b[2]) != 1) break;
+            ++boxes;
+          }
         }
         // Only crossings before tLow (all "early": keys below the depth, no
         // tie rules) are jumped; the cells left there hold no tracked voxel.
         const double target = std::min(tb, tLow);
         if (std::min(next[0], std::min(next[1], next[2])) <= target) {
-          ++out.steps;
+          out.steps += boxes;
           if (jumpTo(target)) return out;  // the depth lies beyond the grid
           enteredBelow = true;
           continue;
@@ -533,18 +576,47 @@ FuseViewStats Fuser::addFree(const FuseView& view) {
     uint64_t st = 0, fc = 0;
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
-    for (size_t y = y0; y < y1; ++y)
-      for (size_t x = x0; x < x1; ++x) {
-        // The pixels add() walks (same filter): they carve whether or not they voted.
-        const size_t i = y * W + x;
-        const double d = view.depth[i];
-        if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) continue;
-        if ((view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) == 0) continue;
-        const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
-        const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure, d, dims_,
-                                        &counts, face, tracked_.get(), &cursor);
-        st += r.steps;
-        fc += r.freeCells;
+    // The pixels add() walks (same filter): they carve whether or not they voted.
+    auto walks = [&](size_t i) {
+      const double d = view.depth[i];
+      if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) return false;
+      return (view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) != 0;
+    };
+    // Sub-tiles of kBundle^2 pixels share one march through the tracked set's
+    // empty space (ray_bundle.h, as render-canonical's caster): each ray then
+    // starts where the march stopped instead of jumping the same empty boxes.
+    constexpr size_t kBundle = 8;
+    for (size_t by = y0; by < y1; by += kBundle)
+      for (size_t bx = x0; bx < x1; bx += kBundle) {
+        const size_t by1 = std::min(y1, by + kBundle), bx1 = std::min(x1, bx + kBundle);
+        // The bounding box of the pixels that walk: the directions are affine
+        // in (x, y), so its four corner rays span every ray of it.
+        size_t lx = bx1, hx = bx, ly = by1, hy = by;
+        for (size_t y = by; y < by1; ++y)
+          for (size_t x = bx; x < bx1; ++x)
+            if (walks(y * W + x)) {
+              lx = std::min(lx, x);
+              hx = std::max(hx, x);
+              ly = std::min(ly, y);
+              hy = std::max(hy, y);
+            }
+        if (lx > hx) continue;  // no pixel walks
+        const std::array<std::array<double, 3>, 4> corners{
+            rays.ray(uint32_t(lx), uint32_t(ly)).dir, rays.ray(uint32_t(hx), uint32_t(ly)).dir,
+            rays.ray(uint32_t(lx), uint32_t(hy)).dir, rays.ray(uint32_t(hx), uint32_t(hy)).dir};
+        const double tEmpty = bundleEmptyUntil(*tracked_, rays.ray(uint32_t(lx), uint32_t(ly)).origin, corners);
+        // No ray of the box touches a tracked voxel: no free count to add.
+        if (tEmpty == std::numeric_limits<double>::infinity()) continue;
+        for (size_t y = ly; y <= hy; ++y)
+          for (size_t x = lx; x <= hx; ++x) {
+            const size_t i = y * W + x;
+            if (!walks(i)) continue;
+            const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
+            const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure,
+                                            view.depth[i], dims_, &counts, face, tracked_.get(), &cursor, tEmpty);
+            st += r.steps;
+            fc += r.freeCells;
+          }
       }
     steps += st;
     freeCounts += fc;

@@ -195,9 +195,14 @@ struct FuseRayResult {
 /// empty boxes) before the depth, one step per box instead of one per voxel.
 /// The counts it adds are exactly the full walk's at the tracked voxels, and
 /// the hit is the same. `cursor` must be a cursor of `tracked` (one per thread).
+///
+/// `tEmpty` (with `tracked`): a ray time before which the ray touches no
+/// tracked voxel (bundleEmptyUntil's certificate for the ray's pixel tile,
+/// ray_bundle.h); the walk starts there, at the cell the step-by-step walk
+/// reaches at that time. 0: nothing certified.
 FuseRayResult fuseRay(const Ray& ray, double voxelSize, const DepthMeasure& measure, double depth, const Dims& dims,
                       FuseCounts* free, int faceAxis = -1, const RayGrid* tracked = nullptr,
-                      RayGrid::Cursor* cursor = nullptr);
+                      RayGrid::Cursor* cursor = nullptr, double tEmpty = 0);
 
 /// One view: its camera (width x height = the images' size), a depth per
 /// pixel (row-major, row 0 at the top; 0, negative, NaN or inf = no depth)

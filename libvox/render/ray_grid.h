@@ -82,6 +82,8 @@ class RayGrid {
 
   static int bitOf(uint32_t x, uint32_t y, uint32_t z) { return int((x << 6) | (y << 3) | z); }
 
+  /// False for domains of more than 2^24 bricks (emptyBricksAround then reads 1 everywhere).
+  bool hasDistanceField() const { return !brickDist_.empty(); }
   /// Chebyshev distance, in bricks, from brick (bx, by, bz) (inside the
   /// domain) to the nearest non-empty brick, capped at 255: every brick closer
   /// than that is empty (bricks outside the domain are empty). 0 for a

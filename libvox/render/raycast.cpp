@@ -456,18 +456,10 @@ bool pastContentBox(const MirroredFrame& frame, const int64_t* index) {
   return false;
 }
 
-Ray sanitized(const Ray& ray) {
-  Ray r = ray;
-  double m = 0;
-  for (double d : r.dir) m = std::max(m, std::fabs(d));
-  for (double& d : r.dir)
-    if (std::fabs(d) < m * 1e-200 || std::fabs(d) < 1e-290) d = 0;
-  return r;
-}
+Ray sanitized(const Ray& ray) { return sanitizeRay(ray); }
 
 }  // namespace
 
-Ray sanitizeRay(const Ray& ray) { return sanitized(ray); }
 
 bool rayVoxelInterval(const Ray& ray, const Coord3& voxel, double& enter, double& exit) {
   enter = -kInf;
