@@ -19,6 +19,7 @@
 #include "libvox/core/summary_bytes.h"
 #include "libvox/core/texel_formats.h"
 #include "libvox/scene/scene_pieces.h"
+#include "tools/cli/alloc_tuning.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
@@ -85,6 +86,9 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     throw vox::Error(vox::ErrorKind::Usage, "--stem " + o.stem + ": a file name stem, without '/', is expected; "
                                             "choose the directory with -o");
 
+  // The images are tens of MB of fresh heap filled once: huge pages spare the
+  // page faults (alloc_tuning.h).
+  tuneAllocatorForShortRun();
   run.phase("read");
   run.input(o.scene);
   const vox::Scene scene = vox::readSceneVdb(o.scene);
