@@ -13,6 +13,7 @@
 set -euo pipefail
 before=$(realpath "$1") after=$(realpath "$2")
 cd "$(dirname "$0")/.."
+scripts=$(pwd)/scripts
 mesh=${3:-$(pwd)/../shared/data/common-3d-test-models/stanford-bunny.obj}
 threads=${THREADS:-2}
 runs=${RUNS:-10}
@@ -22,12 +23,7 @@ done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-"$after" voxelize demo:hamlet --res 256 -o hamlet256.vdb --quiet
-scenes="hamlet256"
-if [ -f "$mesh" ]; then
-  "$after" voxelize "$mesh" --res 1024 -o mesh1024.vdb --quiet --threads "$threads"
-  scenes="$scenes mesh1024"
-fi
+. "$scripts/bench_scenes.sh"
 
 echo "# pack-chunks against nanovdb_convert ($(nproc) cores, --threads $threads, $runs runs)"
 echo
