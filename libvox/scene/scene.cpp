@@ -165,7 +165,7 @@ SceneStats Scene::stats() const {
   // Per piece, then summed: every count is a sum and the bounds a min/max, so
   // the result does not depend on the split.
   const size_t nClasses = grids_->votes.size();
-  struct Partial {
+  struct alignas(64) Partial {  // one per worker: no shared cache lines
     uint64_t occupied = 0, surface = 0, colored = 0;
     Coord3 min{INT32_MAX, INT32_MAX, INT32_MAX}, max{INT32_MIN, INT32_MIN, INT32_MIN};
     std::vector<SceneStats::PerClass> per;
