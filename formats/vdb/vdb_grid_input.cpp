@@ -62,7 +62,7 @@ void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double 
   std::string suggestion;
   if (!limit.unlimited() && e.bytes() > limit.bytes) {
     const uint32_t res = dims.maxAxis();
-    const uint64_t best = largestFitting(1, res, limit.bytes, [&](uint64_t r) {
+    const uint64_t best = largestFitting(1, res, suggestionBudget(limit.bytes), [&](uint64_t r) {
       const double k = double(r) / res;
       return estimateAt(k * k * k).bytes();
     });

@@ -102,6 +102,12 @@ std::vector<CheckedEstimate> checkedEstimates();
 /// with n; 0 when even lo does not fit. Binary search: O(log(hi - lo)) calls.
 uint64_t largestFitting(uint64_t lo, uint64_t hi, uint64_t limit, const std::function<uint64_t(uint64_t)>& bytesAt);
 
+/// The bytes a suggested setting ("--res 1931 would need about ...") is fitted
+/// under: 1/32 below `limit`, so that the suggestion still fits when the
+/// command is run again with it (the resident part of an estimate moves by a
+/// few MB from run to run).
+inline uint64_t suggestionBudget(uint64_t limit) { return limit - limit / 32; }
+
 /// Resident memory of this process now (VmRSS of /proc/self/status), 0 when unknown.
 uint64_t residentBytesNow();
 

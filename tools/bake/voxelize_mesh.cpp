@@ -497,7 +497,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
     auto bytesAt = [&](uint64_t res) { return estimateFor(headerAt(res), uint64_t(1) << 18).bytes(); };
     const uint64_t limit = run.memoryLimit().bytes;
     const uint64_t hi = std::min<uint64_t>(4096, std::max<uint64_t>(1, d.maxAxis()));
-    uint64_t best = vox::largestFitting(1, hi, limit, bytesAt);
+    uint64_t best = vox::largestFitting(1, hi, vox::suggestionBudget(limit), bytesAt);
     // The search counts coarsely; the run at the suggested setting estimates
     // finely: step down until the fine estimate fits too.
     uint64_t fine = best ? estimateFor(headerAt(best), uint64_t(1) << 22).bytes() : 0;

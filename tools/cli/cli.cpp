@@ -58,7 +58,8 @@ std::string suggestSetting(const std::string& option, uint64_t lo, uint64_t hi, 
                            const std::function<std::string(uint64_t)>& show) {
   if (limit.unlimited()) return "";
   if (lo > hi || estimateAt(lo) > limit.bytes) return "";
-  const uint64_t best = vox::largestFitting(lo, hi, limit.bytes, estimateAt);
+  const uint64_t best = vox::largestFitting(lo, hi, vox::suggestionBudget(limit.bytes), estimateAt);
+  if (best == 0) return "";
   return option + " " + (show ? show(best) : std::to_string(best)) + " would need about " +
          vox::formatBytes(estimateAt(best));
 }
