@@ -501,7 +501,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
     // The search counts coarsely; the run at the suggested setting estimates
     // finely: step down until the fine estimate fits too.
     uint64_t fine = best ? estimateFor(headerAt(best), uint64_t(1) << 22).bytes() : 0;
-    for (int i = 0; i < 20 && best > 1 && fine > limit; ++i) {
+    for (int i = 0; i < 20 && best > 1 && fine > vox::suggestionBudget(limit); ++i) {
       best = std::max<uint64_t>(1, best * 97 / 100);
       fine = estimateFor(headerAt(best), uint64_t(1) << 22).bytes();
     }
