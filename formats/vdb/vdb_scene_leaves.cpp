@@ -75,7 +75,7 @@ MetaEntries parseMeta(const uint8_t* p, size_t n) {
 /// NotOfTheForm: the caller reads the file the usual way, which names it.
 class LeavesSink final : public VdbWalkSink {
  public:
-  explicit LeavesSink(const std::string& path) : path_(path) {}
+  LeavesSink(const std::string& path, bool occupancyOnly) : path_(path), occupancyOnly_(occupancyOnly) {}
 
   void fileMetadata(const uint8_t* bytes, size_t size) override {
     meta_ = bytes;
@@ -125,7 +125,7 @@ class LeavesSink final : public VdbWalkSink {
 
   /// The joins and the topology checks, once every leaf is in.
   SceneLeaves take() {
-    if (!join()) throw NotOfTheForm{};
+    if (!occupancyOnly_ && !join()) throw NotOfTheForm{};
     return std::move(out_);
   }
 
@@ -195,7 +195,7 @@ class LeavesSink final : public VdbWalkSink {
     }
     out_.metadata = parseMeta(meta_, metaBytes_);
     out_.header = sceneHeaderFromMetadata(out_.metadata, path_);
-    checkSceneReadMemory(frame, false, path_);
+    checkSceneReadMemory(frame, occupancyOnly_, path_);
     roles_.resize(frame.grids.size());
     bool occupancy = false;
     for (size_t i = 0; i < frame.grids.size(); ++i) {
@@ -206,6 +206,7 @@ class LeavesSink final : public VdbWalkSink {
       const auto nameAt = gridMeta.find("name");
       if (nameAt != gridMeta.end() && !std::holds_alternative<std::string>(nameAt->second)) throw NotOfTheForm{};
       const std::string name = nameAt == gridMeta.end() ? "" : std::get<std::string>(nameAt->second);
+      if (occupancyOnly_ && name != g.uniqueName) throw NotOfTheForm{};
       const size_t leaves = size_t(g.leafCount);
       Role& r = roles_[i];
       if (name == kOccupancyGridName) {
@@ -233,7 +234,18 @@ class LeavesSink final : public VdbWalkSink {
       }
     }
     if (!occupancy) throw NotOfTheForm{};
-    return std::vector<VdbLeafUse>(frame.grids.size(), VdbLeafUse::Deliver);
+    std::vector<VdbLeafUse> use(frame.grids.size(), VdbLeafUse::Deliver);
+    if (occupancyOnly_) {
+      // Nothing of the other grids is kept: their blocks are framed, not decompressed.
+      for (size_t i = 0; i < frame.grids.size(); ++i)
+        if (roles_[i].kind != Role::Occupancy) {
+          roles_[i].kind = Role::Ignored;
+          use[i] = VdbLeafUse::Frame;
+        }
+      out_.votes.clear();
+      out_.hasColor = false;
+    }
+    return use;
   }
 
   /// Joins the vote and colour leaves to the occupancy leaves; false when a
@@ -272,6 +284,7 @@ class LeavesSink final : public VdbWalkSink {
   }
 
   std::string path_;
+  bool occupancyOnly_;
   const uint8_t* meta_ = nullptr;
   size_t metaBytes_ = 0;
   std::vector<Role> roles_;
@@ -280,10 +293,10 @@ class LeavesSink final : public VdbWalkSink {
 
 }  // namespace
 
-std::optional<SceneLeaves> readSceneLeaves(const std::string& path) {
+std::optional<SceneLeaves> readSceneLeaves(const std::string& path, SceneLeafParts parts) {
   checkVdbFileOpenable(path);
   const FileView file(path);  // mapped
-  LeavesSink sink(path);
+  LeavesSink sink(path, parts == SceneLeafParts::OccupancyOnly);
   try {
     walkVdbInto(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, sink);
     return sink.take();

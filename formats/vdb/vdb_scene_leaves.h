@@ -73,12 +73,23 @@ struct SceneLeaves {
   std::vector<uint32_t> colorAt;  // per occupancy leaf
 };
 
+/// What readSceneLeaves reads. OccupancyOnly mirrors readSceneVdb's
+/// SceneParts::OccupancyOnly (formats/vdb/scene_vdb.h), for renders that need
+/// where voxels are, not what they are: the occupancy leaves only (`votes`
+/// and `colorLeaves` empty, `hasColor` false, no joins); the other grids'
+/// blocks are framed but not decompressed and the vote/colour topology is not
+/// checked. The grid names and types are checked as for All, and every
+/// grid's stored name must be its "name" metadata (the two readers pick the
+/// occupancy grid by one and the other).
+enum class SceneLeafParts { All, OccupancyOnly };
+
 /// Reads `path` into leaves, or std::nullopt when the file is not of the form
 /// above or fails a scene check (read it with readSceneVdb, which says why).
 /// Throws vox::Error like readSceneVdb for what the walk refuses (BadInput:
 /// missing, non-VDB, truncated or corrupt files) and for the memory guard
-/// (Resource). Leaves are decoded on the TBB workers the process allows; the
-/// result does not depend on their number.
-std::optional<SceneLeaves> readSceneLeaves(const std::string& path);
+/// (Resource; the estimate is readSceneVdb's for the same parts). Leaves are
+/// decoded on the TBB workers the process allows; the result does not depend
+/// on their number.
+std::optional<SceneLeaves> readSceneLeaves(const std::string& path, SceneLeafParts parts = SceneLeafParts::All);
 
 }  // namespace vox

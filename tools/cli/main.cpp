@@ -89,6 +89,12 @@ int main(int argc, char** argv) {
     const int code = runModule("VOX_PACK_MODULE", "vox-pack.so", "vox_pack_main", dir, argc, argv, errors);
     if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }
+  // Renders of page files and of scenes voxbake wrote run in the light render
+  // module (no OpenVDB); it defers other scene files before writing anything.
+  if (argc >= 2 && std::strcmp(argv[1], "render-canonical") == 0) {
+    const int code = runModule("VOX_RENDER_MODULE", "vox-render.so", "vox_render_main", dir, argc, argv, errors);
+    if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
+  }
   const int code = runModule("VOX_CMDS_MODULE", "vox-cmds.so", "vox_cli_main", dir, argc, argv, errors);
   if (code != kNoModule) return code;
   std::fprintf(stderr,

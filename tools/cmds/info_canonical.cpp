@@ -10,6 +10,7 @@
 #include "formats/core/file_util.h"
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
+#include "libvox/scene/scene.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/info_atlas.h"
 #include "tools/cmds/info_text.h"

@@ -1,21 +1,89 @@
+// The render inputs that need no OpenVDB (page files, scenes read as leaves):
+// linked by the light render module and by vox-cmds.so.
 #include "tools/cmds/render_input.h"
 
 #include <chrono>
 
+#include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_meta.h"
-#include "formats/vdb/scene_vdb.h"
+#include "formats/pagefile/pagefile_ray_grid.h"
+#include "formats/vdb/vdb_leaves_render.h"
+#include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/core/error.h"
 
 namespace voxcli {
 
-std::vector<vox::SummaryTexel> RenderInput::summaries(std::span<const vox::Coord3> voxels) const {
-  if (scene) return vox::sceneSummaries(*scene, voxels);
-  return vox::pageSummaries(*pages, level, voxels);
+namespace {
+
+double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
 }
 
-std::vector<vox::VoxelColor8> RenderInput::colors(std::span<const vox::Coord3> voxels) const {
-  if (scene) return vox::sceneColors(*scene, voxels);
-  return vox::pageColors(*pages, level, voxels);
+class PageVoxels final : public RenderVoxels {
+ public:
+  PageVoxels(vox::pagefile::Reader reader, int level) : reader_(std::move(reader)), level_(level) {}
+  std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const override {
+    return vox::pageSummaries(reader_, level_, voxels);
+  }
+  std::vector<vox::VoxelColor8> colors(std::span<const vox::Coord3> voxels) const override {
+    return vox::pageColors(reader_, level_, voxels);
+  }
+  bool hasColor() const override { return (reader_.header().flags & vox::pagefile::kFlagColor) != 0; }
+  const vox::pagefile::Reader& reader() const { return reader_; }
+
+ private:
+  vox::pagefile::Reader reader_;
+  int level_;
+};
+
+class LeavesVoxels final : public RenderVoxels {
+ public:
+  explicit LeavesVoxels(vox::SceneLeaves leaves) : leaves_(std::move(leaves)), lookup_(leaves_) {}
+  LeavesVoxels(const LeavesVoxels&) = delete;  // lookup_ refers to leaves_
+  LeavesVoxels& operator=(const LeavesVoxels&) = delete;
+  std::vector<vox::SummaryTexel> summaries(std::span<const vox::Coord3> voxels) const override {
+    return lookup_.summaries(voxels);
+  }
+  std::vector<vox::VoxelColor8> colors(std::span<const vox::Coord3> voxels) const override {
+    return lookup_.colors(voxels);
+  }
+  bool hasColor() const override { return leaves_.hasColor; }
+  const vox::SceneLeaves& leaves() const { return leaves_; }
+
+ private:
+  vox::SceneLeaves leaves_;
+  vox::SceneLeavesLookup lookup_;  // refers to leaves_
+};
+
+}  // namespace
+
+RenderInput loadPageRenderInput(const std::string& path, int level) {
+  RenderInput in;
+  const auto t0 = std::chrono::steady_clock::now();
+  in.path = path;
+  in.level = level;
+  in.kind = "pages";
+  auto pages = std::make_shared<PageVoxels>(vox::pagefile::Reader::open(path), level);
+  const vox::pagefile::Reader& reader = pages->reader();
+  const vox::pagefile::Header& h = reader.header();
+  if (level < 0 || level >= int(h.levelCount))
+    vox::throwUsage("--level " + std::to_string(level) + ": " + path + " holds levels 0.." +
+                    std::to_string(h.levelCount - 1));
+  const auto d = h.levelDims(level);
+  in.dims = {d[0], d[1], d[2]};
+  in.frame.origin = h.origin;
+  in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << level);
+  in.classes = vox::pagefile::readPageMeta(reader.metaJson(), path).classes;
+  const auto t1 = std::chrono::steady_clock::now();
+  in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromPages(reader, level));
+  in.voxels = std::move(pages);
+  in.readSeconds = secondsBetween(t0, t1);
+  in.gridSeconds = secondsBetween(t1, std::chrono::steady_clock::now());
+  return in;
+}
+
+void checkSceneLevel(const std::string& path, int level) {
+  if (level != 0) vox::throwUsage("--level " + std::to_string(level) + ": only page files (.vpk) hold levels; " + path + " is a scene");
 }
 
 vox::WorldBox RenderInput::occupiedWorldBox() const {
@@ -29,47 +97,32 @@ vox::WorldBox RenderInput::occupiedWorldBox() const {
   return box;
 }
 
-bool RenderInput::hasColor() const {
-  if (scene) return scene->hasColor();
-  return (pages->header().flags & vox::pagefile::kFlagColor) != 0;
-}
-
-RenderInput loadRenderInput(const std::string& path, int level, bool needSummaries) {
-  RenderInput in;
+std::optional<RenderInput> loadRenderInputLight(const std::string& path, int level, bool needSummaries) {
+  if (vox::pagefile::looksLikePageFile(path)) return loadPageRenderInput(path, level);
+  checkSceneLevel(path, level);
   const auto t0 = std::chrono::steady_clock::now();
-  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-  in.path = path;
-  in.level = level;
-  if (vox::pagefile::looksLikePageFile(path)) {
-    in.kind = "pages";
-    in.pages.emplace(vox::pagefile::Reader::open(path));
-    const vox::pagefile::Header& h = in.pages->header();
-    if (level < 0 || level >= int(h.levelCount))
-      vox::throwUsage("--level " + std::to_string(level) + ": " + path + " holds levels 0.." +
-                      std::to_string(h.levelCount - 1));
-    const auto d = h.levelDims(level);
-    in.dims = {d[0], d[1], d[2]};
-    in.frame.origin = h.origin;
-    in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << level);
-    in.classes = vox::pagefile::readPageMeta(in.pages->metaJson(), path).classes;
-    const auto t1 = std::chrono::steady_clock::now();
-    in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromPages(*in.pages, level));
-    in.readSeconds = seconds(t0, t1);
-    in.gridSeconds = seconds(t1, std::chrono::steady_clock::now());
-    return in;
+  std::optional<vox::SceneLeaves> leaves;
+  try {
+    leaves = vox::readSceneLeaves(path, needSummaries ? vox::SceneLeafParts::All : vox::SceneLeafParts::OccupancyOnly);
+  } catch (const vox::Error&) {
+    return std::nullopt;  // missing, corrupt, too large: the OpenVDB reader names it in its own words
+  } catch (const std::bad_alloc&) {
+    return std::nullopt;
   }
-  if (level != 0) vox::throwUsage("--level " + std::to_string(level) + ": only page files (.vpk) hold levels; " + path + " is a scene");
+  if (!leaves) return std::nullopt;
+  RenderInput in;
+  in.path = path;
   in.kind = "scene";
-  in.scene.emplace(vox::readSceneVdb(path, needSummaries ? vox::SceneParts::All : vox::SceneParts::OccupancyOnly));
-  const vox::SceneHeader& h = in.scene->header();
-  in.dims = h.dims;
-  in.frame.origin = h.origin;
-  in.frame.voxelSize = h.voxelSize;  // already the level's voxel size for mip scenes
-  in.classes = h.classes;
+  in.dims = leaves->header.dims;
+  in.frame.origin = leaves->header.origin;
+  in.frame.voxelSize = leaves->header.voxelSize;  // already the level's voxel size for mip scenes
+  in.classes = leaves->header.classes;
+  auto voxels = std::make_shared<LeavesVoxels>(std::move(*leaves));
   const auto t1 = std::chrono::steady_clock::now();
-  in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromScene(*in.scene));
-  in.readSeconds = seconds(t0, t1);
-  in.gridSeconds = seconds(t1, std::chrono::steady_clock::now());
+  in.grid = std::make_unique<vox::RayGrid>(vox::rayGridFromLeaves(voxels->leaves()));
+  in.voxels = std::move(voxels);
+  in.readSeconds = secondsBetween(t0, t1);
+  in.gridSeconds = secondsBetween(t1, std::chrono::steady_clock::now());
   return in;
 }
 
