@@ -15,6 +15,10 @@
 // one-pass reader takes must be taken, its page file the same bytes as the
 // one packed from the scene (every layout, two chunk sides, 1 and 3 threads);
 // others, and scenes a check refuses, must be left to the usual reader.
+// As render sources (formats/vdb/vdb_leaves_render.h, what `vox-render.so`
+// renders), the leaves of a file, whole or occupancy only, must give the ray
+// grid, summary bytes and colours that the scene read with OpenVDB gives
+// (libvox/scene/render_scene.h).
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -32,6 +36,7 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/scene/scene_vdb_direct.h"
 #include "formats/vdb/pyramid_vdb.h"
+#include "formats/vdb/vdb_leaves_render.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_scene_direct_read.h"
 #include "formats/vdb/vdb_scene_grids.h"
@@ -40,6 +45,7 @@
 #include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/scene/mip.h"
+#include "libvox/scene/render_scene.h"
 #include "libvox/scene/scene_grids.h"
 #include "test_util.h"
 
@@ -120,6 +126,49 @@ void expectSamePack(const std::string& path, bool direct) {
       }
 }
 
+/// Empty when the two ray grids are the same structure, else what differs.
+std::string rayGridDifference(const RayGrid& a, const RayGrid& b) {
+  if (a.occupiedCount() != b.occupiedCount()) return "occupied counts";
+  if (a.brickCount() != b.brickCount() || a.memoryBytes() != b.memoryBytes()) return "bricks";
+  if (a.contentMin() != b.contentMin() || a.contentEnd() != b.contentEnd()) return "content box";
+  if (a.occupiedMin() != b.occupiedMin() || a.occupiedEnd() != b.occupiedEnd()) return "occupied box";
+  if (a.occupiedVoxels() != b.occupiedVoxels()) return "occupied voxels";
+  if (a.hasDistanceField() != b.hasDistanceField()) return "distance field";
+  const Dims& d = a.dims();
+  const int64_t bx = (int64_t(d.x) + 7) / 8, by = (int64_t(d.y) + 7) / 8, bz = (int64_t(d.z) + 7) / 8;
+  if (a.hasDistanceField())
+    for (int64_t x = 0; x < bx; ++x)
+      for (int64_t y = 0; y < by; ++y)
+        for (int64_t z = 0; z < bz; ++z)
+          if (a.emptyBricksAround(x, y, z) != b.emptyBricksAround(x, y, z)) return "distance field";
+  return "";
+}
+
+/// The leaves of `path` as a render source against the scene read with
+/// OpenVDB: the same ray grid (whole read and occupancy only), summaries and
+/// colours of every occupied voxel, of empty ones and of ones outside the dims.
+void expectSameRenderSource(const std::string& path) {
+  SCOPED_TRACE("render source from leaves: " + path);
+  const Scene scene = readSceneVdb(path);
+  const RayGrid want = rayGridFromScene(scene);
+  const std::optional<SceneLeaves> all = readSceneLeaves(path, SceneLeafParts::All);
+  const std::optional<SceneLeaves> occ = readSceneLeaves(path, SceneLeafParts::OccupancyOnly);
+  ASSERT_TRUE(all && occ);
+  EXPECT_TRUE(occ->votes.empty() && !occ->hasColor);
+  EXPECT_TRUE(occ->header.dims == scene.header().dims);
+  EXPECT_EQ(rayGridDifference(rayGridFromLeaves(*all), want), "");
+  EXPECT_EQ(rayGridDifference(rayGridFromLeaves(*occ), want), "");
+  std::vector<Coord3> voxels = want.occupiedVoxels();
+  const Dims& d = scene.header().dims;
+  std::mt19937 rng(7);
+  for (int i = 0; i < 2000; ++i)  // mostly empty voxels, some outside the dims on either side
+    voxels.push_back({int32_t(rng() % (d.x + 20)) - 10, int32_t(rng() % (d.y + 20)) - 10, int32_t(rng() % (d.z + 20)) - 10});
+  const SceneLeavesLookup lookup(*all);
+  EXPECT_TRUE(lookup.summaries(voxels) == sceneSummaries(scene, voxels));
+  EXPECT_TRUE(lookup.colors(voxels) == sceneColors(scene, voxels));
+  EXPECT_EQ(all->hasColor, scene.hasColor());
+}
+
 /// Reads `path` both ways (whole and occupancy only) and compares. With
 /// `direct`, the one-pass reader must take the file; without, it must
 /// leave it to OpenVDB.
@@ -143,6 +192,8 @@ void expectSameBothWays(const std::string& path, bool direct = true) {
   const SceneDifference diff = compareScenes(readSceneVdb(path), want);
   EXPECT_TRUE(diff.same()) << diff.headerNote << " " << diff.firstNote;
   expectSamePack(path, direct);
+  if (direct) expectSameRenderSource(path);
+  else EXPECT_FALSE(readSceneLeaves(path, SceneLeafParts::OccupancyOnly).has_value());
 }
 
 SceneHeader testHeader(Dims dims) {
@@ -291,6 +342,7 @@ TEST(DirectRead, FilesOfAnotherFormAreReadByOpenVdb) {
   });
   EXPECT_FALSE(readVdbSceneFileDirect(half, false).has_value());
   EXPECT_FALSE(readSceneLeaves(half).has_value());
+  EXPECT_FALSE(readSceneLeaves(half, SceneLeafParts::OccupancyOnly).has_value());
 }
 
 TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
@@ -333,6 +385,13 @@ TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
                                       {stray, "grid '" + voteGridName(scene.grids().votes[0].classId) + "' has a vote at an unoccupied voxel (15, 15, 15)"}));
   // The leaves reader leaves each to the usual reader, which names the fault.
   for (const std::string& refused : {path, unvoted, stray}) EXPECT_FALSE(readSceneLeaves(refused).has_value()) << refused;
+  // Occupancy only, the vote grids are not read (nor checked), as readSceneVdb's SceneParts::OccupancyOnly.
+  for (const std::string& taken : {path, unvoted, stray}) {
+    const std::optional<SceneLeaves> occ = readSceneLeaves(taken, SceneLeafParts::OccupancyOnly);
+    ASSERT_TRUE(occ.has_value()) << taken;
+    EXPECT_EQ(rayGridDifference(rayGridFromLeaves(*occ), rayGridFromScene(readSceneVdb(taken, SceneParts::OccupancyOnly))), "")
+        << taken;
+  }
   // A truncated file: the walk's message, as readSceneVdb gives it.
   const std::string bytes = readFileBytes(path);
   const std::string cut = dir.file("cut.vdb");
