@@ -25,6 +25,7 @@
 #include "libvox/render/render_modes.h"
 #include "libvox/render/touched_voxels.h"
 #include "libvox/render/voxel_walk.h"
+#include "tools/cli/alloc_tuning.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
@@ -416,6 +417,10 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   const bool needColors = std::any_of(modes.begin(), modes.end(),
                                       [&](vox::RenderMode m) { return vox::modeNeedsColors(m, o.shadeColor); });
 
+  // Tens of MB of fresh heap (the hit records, the images, the PNG): in huge
+  // pages rather than 4 KB faults. A deferred run is then read by vox-cmds.so
+  // with the same tuning.
+  tuneAllocatorForShortRun();
   run.phase("load");
   run.input(o.input);
   std::optional<RenderInput> loaded = load(o.input, o.level, needClasses);
