@@ -73,54 +73,42 @@ matrix)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 256 -o hamlet256.vdb --quiet
   expect_exit 0 "$vox" voxelize demo:hamlet --res 61 -o hamlet61.vdb --quiet
   expect_exit 0 "$vox" pack-chunks hamlet61.vdb -o hamlet61.vpk --mips --quiet
-  # A mesh scene made here (two boxes of two materials, so two classes), for runs without ../shared/data.
-  cat >boxes.obj <<'EOF'
-mtllib none.mtl
-v 0 0 0
-v 2 0 0
-v 2 1 0
-v 0 1 0
-v 0 0 1.5
-v 2 0 1.5
-v 2 1 1.5
-v 0 1 1.5
-v 0.5 1 0.5
-v 1.5 1 0.5
-v 1.5 2.2 0.5
-v 0.5 2.2 0.5
-v 0.5 1 1
-v 1.5 1 1
-v 1.5 2.2 1
-v 0.5 2.2 1
-usemtl stone
-f 1 3 2
-f 1 4 3
-f 5 6 7
-f 5 7 8
-f 1 2 6
-f 1 6 5
-f 4 8 7
-f 4 7 3
-f 1 5 8
-f 1 8 4
-f 2 3 7
-f 2 7 6
-usemtl wood
-f 9 11 10
-f 9 12 11
-f 13 14 15
-f 13 15 16
-f 9 10 14
-f 9 14 13
-f 12 16 15
-f 12 15 11
-f 9 13 16
-f 9 16 12
-f 10 11 15
-f 10 15 14
+  # A mesh scene made here, for runs without ../shared/data: a bumpy ground and
+  # a sphere on it, two materials (so two classes).
+  python3 - >mesh.obj <<'EOF'
+import math
+n, vs, fs = 24, [], []
+for i in range(n + 1):
+    for j in range(n + 1):
+        x, z = 4.0 * i / n - 2, 4.0 * j / n - 2
+        vs.append((x, 0.25 * math.sin(2.1 * x) * math.cos(1.7 * z), z))
+for i in range(n):
+    for j in range(n):
+        a = i * (n + 1) + j + 1
+        fs.append(('ground', (a, a + 1, a + n + 2)))
+        fs.append(('ground', (a, a + n + 2, a + n + 1)))
+rings, segs, base = 12, 18, len(vs)
+for r in range(rings + 1):
+    th = math.pi * r / rings
+    for k in range(segs):
+        ph = 2 * math.pi * k / segs
+        vs.append((0.3 + 0.8 * math.sin(th) * math.cos(ph), 0.9 + 0.8 * math.cos(th), -0.2 + 0.8 * math.sin(th) * math.sin(ph)))
+for r in range(rings):
+    for k in range(segs):
+        p, q = base + r * segs + k + 1, base + r * segs + (k + 1) % segs + 1
+        fs.append(('rock', (p, q, q + segs)))
+        fs.append(('rock', (p, q + segs, p + segs)))
+for v in vs:
+    print('v %.6f %.6f %.6f' % v)
+last = None
+for m, f in fs:
+    if m != last:
+        print('usemtl ' + m)
+        last = m
+    print('f %d %d %d' % f)
 EOF
-  expect_exit 0 "$vox" voxelize boxes.obj --res 90 -o boxes.vdb --ignore-missing-materials --quiet
-  inputs="hamlet256.vdb hamlet61.vdb hamlet61.vpk boxes.vdb"
+  expect_exit 0 "$vox" voxelize mesh.obj --res 90 -o mesh.vdb --ignore-missing-materials --quiet
+  inputs="hamlet256.vdb hamlet61.vdb hamlet61.vpk mesh.vdb"
   colored=$data/mesh-misc/assimp/cube_with_vertexcolors.obj
   bunny=$data/common-3d-test-models/stanford-bunny.obj
   if [ -e "$colored" ] && [ -e "$bunny" ]; then
