@@ -53,8 +53,8 @@ MemSizes memSizes(GridKind k) {
 
 class Sink {
  public:
-  explicit Sink(const std::string& path) : path_(path), f_(std::fopen(path.c_str(), "wb")) {
-    if (!f_) throwIo(path + ": cannot create the scene file: " + std::strerror(errno));
+  Sink(const std::string& path, const std::string& what) : path_(path), what_(what), f_(std::fopen(path.c_str(), "wb")) {
+    if (!f_) throwIo(path + ": cannot create the " + what + " file: " + std::strerror(errno));
     std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
   }
   ~Sink() {
@@ -92,12 +92,12 @@ class Sink {
   // Worded like the OpenVDB writer's check (formats/vdb/vdb_scene_grids.cpp), naming the output, not its temporary.
   [[noreturn]] void fail() {
     const std::string reason = std::strerror(errno);  // before anything else can change errno
-    throwIo(outputName(path_) + ": the scene was not written completely (" + reason + ")");
+    throwIo(outputName(path_) + ": the " + what_ + " was not written completely (" + reason + ")");
   }
   void hash(const void* p, size_t n) {
     for (size_t k = 0; k < crc_.size(); ++k) crc_[k] = crc32c(p, n, crc_[k]);
   }
-  std::string path_;
+  std::string path_, what_;
   std::FILE* f_;
   uint64_t pos_ = 0;
   bool hashing_ = false;
@@ -500,13 +500,13 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
 std::vector<DirectWriteSummary> writeScenesVdbDirect(
     const std::vector<DirectScenePart>& parts,
     const std::function<MetaEntries(const std::vector<DirectWriteSummary>&)>& fileMetadata, const std::string& path,
-    unsigned threads) {
+    unsigned threads, const std::string& what) {
   std::vector<GridPlan> grids;
   std::vector<std::vector<const VoxelBlock*>> sorted(parts.size());
   std::vector<DirectWriteSummary> summaries;
   for (size_t i = 0; i < parts.size(); ++i) summaries.push_back(planPart(parts[i], sorted[i], grids));
 
-  Sink out(path);
+  Sink out(path, what);
   // Archive::writeHeader: magic, file and library versions, "has grid offsets",
   // then the UUID as 36 characters (patched at the end with the content digest).
   out.pod(kMagic);
@@ -550,7 +550,7 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
   part.blocks.assign(sorted.begin(), sorted.end());
   const DirectWriteSummary summary =
       writeScenesVdbDirect({part}, [&](const std::vector<DirectWriteSummary>&) { return sceneFileMetadata(h); }, path,
-                           threads)[0];
+                           threads, "scene")[0];
   for (VoxelBlock* b : sorted) VoxelBlocks::release(*b);
   return summary;
 }

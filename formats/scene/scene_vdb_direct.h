@@ -68,10 +68,11 @@ struct DirectScenePart {
 /// neither validated nor released: the caller made them (a reduction of a
 /// checked scene). Same bytes as openvdb::io::File would write for the same
 /// grids and metadata, except the UUID; they do not depend on `threads`.
-/// Throws vox::Error (Io) when the file cannot be written.
+/// Throws vox::Error (Io) when the file cannot be written, naming it `what`
+/// ("pyramid").
 std::vector<DirectWriteSummary> writeScenesVdbDirect(
     const std::vector<DirectScenePart>& parts,
     const std::function<MetaEntries(const std::vector<DirectWriteSummary>&)>& fileMetadata, const std::string& path,
-    unsigned threads = 1);
+    unsigned threads, const std::string& what);
 
 }  // namespace vox

@@ -103,12 +103,12 @@ void writePyramidVdbDirect(const std::vector<const MipBlocksLevel*>& levels, Mip
         meta[kPyramidKey] = pyramidMetadata(mipOccupancyName(occupancy), table);
         return meta;
       },
-      path, threads);
+      path, threads, "pyramid");
 }
 
 void writeMipLevelVdbDirect(const MipBlocksLevel& level, const std::string& path, unsigned threads) {
   writeScenesVdbDirect({partOf(level, 0)}, [&](const std::vector<DirectWriteSummary>&) { return sceneFileMetadata(level.header); },
-                       path, threads);
+                       path, threads, "scene");
 }
 
 }  // namespace vox

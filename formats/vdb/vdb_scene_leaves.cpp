@@ -131,8 +131,6 @@ class LeavesSink final : public VdbWalkSink {
   /// The joins and the topology checks, once every leaf is in.
   SceneLeaves take() {
     if (!join()) throw NotOfTheForm{};
-    for (const SceneLeaves::Votes& v : out_.votes) notPlain_ = notPlain_ || v.leaves.empty();
-    out_.plainForm = !notPlain_;
     return std::move(out_);
   }
 
@@ -214,8 +212,8 @@ class LeavesSink final : public VdbWalkSink {
       if (nameAt != gridMeta.end() && !std::holds_alternative<std::string>(nameAt->second)) throw NotOfTheForm{};
       const std::string name = nameAt == gridMeta.end() ? "" : std::get<std::string>(nameAt->second);
       const size_t leaves = size_t(g.leafCount);
-      if (!plainGrid(name, gridMeta, l)) notPlain_ = true;
       Role& r = roles_[i];
+      if (!plainGrid(name, gridMeta, l, leaves)) notPlain_ = true;
       if (name == kOccupancyGridName) {
         if (occupancy || g.type != kBoolTree) throw NotOfTheForm{};
         occupancy = true;
@@ -244,10 +242,12 @@ class LeavesSink final : public VdbWalkSink {
     return std::vector<VdbLeafUse>(frame.grids.size(), VdbLeafUse::Deliver);
   }
 
-  /// A scene grid whose background is 0 and whose metadata keys are among
-  /// those voxbake's writers give it (which a rewrite replaces), or another grid.
-  static bool plainGrid(const std::string& name, const MetaEntries& meta, const VdbGridLayout& l) {
+  /// A scene grid whose background is 0, whose metadata keys are among those
+  /// voxbake's writers give it (which a rewrite replaces) and, for votes, with
+  /// leaves; or another grid.
+  static bool plainGrid(const std::string& name, const MetaEntries& meta, const VdbGridLayout& l, size_t leaves) {
     MetaEntries own;
+    if (looksLikeVoteGridName(name) && leaves == 0) return false;
     if (looksLikeVoteGridName(name)) own = voteGridMetadata(ClassTable{}, 0);
     else if (name == kColorGridName) own = colorGridMetadata(), own["vector_type"] = std::string();
     else if (name != kOccupancyGridName) return true;
@@ -293,6 +293,7 @@ class LeavesSink final : public VdbWalkSink {
       for (uint64_t w : unvoted)
         if (w) return false;
     }
+    out_.plainForm = !notPlain_;  // every leaf is in
     return true;
   }
 

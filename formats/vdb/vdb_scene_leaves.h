@@ -78,7 +78,7 @@ struct SceneLeaves {
   /// 0, and the grids carry no metadata beyond the keys voxbake's writers
   /// give them. So a writer of these leaves (formats/scene/scene_vdb_direct.h)
   /// gives the bytes OpenVDB would. True for every scene voxbake writes.
-  bool plainForm = true;
+  bool plainForm = false;
 };
 
 /// Reads `path` into leaves, or std::nullopt when the file is not of the form
