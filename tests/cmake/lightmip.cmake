@@ -9,3 +9,6 @@ foreach(group matrix path)
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/lightmip_test.sh ${group} $<TARGET_FILE:vox>)
   set_tests_properties(lightmip.${group} PROPERTIES TIMEOUT 900)
 endforeach()
+# Levels reduced on blocks against reduceScene (saturated sums, odd dims,
+# partial colour), and the plain form of the leaves.
+target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_mip_blocks.cpp)
