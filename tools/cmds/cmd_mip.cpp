@@ -52,20 +52,9 @@ int runMip(const MipOptions& o) {
   if (o.levels < 0) vox::throwUsage("--levels must be >= 0 (0 = automatic)");
 
   Run run("mip", o.common);
-  std::string outTemp;
-  if (!o.split) outTemp = run.output(o.output);
-
-  run.phase("read");
-  run.input(o.input);
-  vox::requireRegularFile(o.input);
+  const std::string outTemp = startMipRun(o, run);
   vox::Scene base = vox::readSceneVdb(o.input);
-  if (base.header().mipLevel != 0)
-    run.note("note: " + o.input + " is already mip level " + std::to_string(base.header().mipLevel) +
-             "; the pyramid continues from there");
-
-  // Levels above 0 hold about a third of level 0 again (surfaces shrink 4x
-  // per level), built through blocks and written with the scene (measured).
-  run.checkWorkMemory("the pyramid of " + o.input, 1.0);
+  checkMipInput(o, base.header().mipLevel, run);
   run.phase("reduce");
   vox::MipSettings settings;
   settings.occupancy = o.occupancy;
@@ -184,13 +173,7 @@ int runMip(const MipOptions& o) {
     for (const vox::Scene& l : levels) all.push_back(&l);
     vox::writePyramidVdb(all, o.occupancy, outTemp);
   }
-  run.counts()["levels"] = perLevel;
-  run.counts()["level_count"] = levels.size();
-  run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
-  run.counts()["base_occupied"] = base.occupiedCount();
-  run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(stem, 1) + "...")
-                               : o.output) +
-           ": " + std::to_string(levels.size()) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
+  reportMip(o, perLevel, levels.size(), base.occupiedCount(), run);
   return run.finish();
 }
 

@@ -43,6 +43,35 @@ CLI::App* addMipOptions(CLI::App& root, MipOptions& opts) {
   return cmd;
 }
 
+std::string startMipRun(const MipOptions& o, Run& run) {
+  std::string outTemp;
+  if (!o.split) outTemp = run.output(o.output);
+  run.phase("read");
+  run.input(o.input);
+  vox::requireRegularFile(o.input);
+  return outTemp;
+}
+
+void checkMipInput(const MipOptions& o, int mipLevel, Run& run) {
+  if (mipLevel != 0)
+    run.note("note: " + o.input + " is already mip level " + std::to_string(mipLevel) +
+             "; the pyramid continues from there");
+  // Levels above 0 hold about a third of level 0 again (surfaces shrink 4x
+  // per level), built through blocks and written with the scene (measured).
+  run.checkWorkMemory("the pyramid of " + o.input, 1.0);
+}
+
+void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t levelCount, uint64_t baseOccupied, Run& run) {
+  run.counts()["levels"] = perLevel;
+  run.counts()["level_count"] = levelCount;
+  run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
+  run.counts()["base_occupied"] = baseOccupied;
+  const std::string stem = o.split ? splitStem(o.output) : std::string();
+  run.note("wrote " + (o.split ? std::to_string(levelCount) + " level files " + (levelCount == 0 ? std::string() : splitName(stem, 1) + "...")
+                               : o.output) +
+           ": " + std::to_string(levelCount) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
+}
+
 namespace {
 
 /// The report's entry of one level (cmd_mip.cpp's, from the blocks).
@@ -79,11 +108,7 @@ std::optional<int> runMipFromLeaves(const MipOptions& o) {
   // the form (rare) is then read by vox-cmds.so with the same tuning.
   tuneAllocatorForShortRun();
   Run run("mip", o.common);
-  std::string outTemp;
-  if (!o.split) outTemp = run.output(o.output);
-  run.phase("read");
-  run.input(o.input);
-  vox::requireRegularFile(o.input);
+  const std::string outTemp = startMipRun(o, run);
   std::optional<vox::SceneLeaves> leaves = vox::readSceneLeaves(o.input);
   // Pyramids (level 0 and its levels) and level counts beyond the dims: the
   // full command's (the temporary output goes with `run`).
@@ -91,10 +116,7 @@ std::optional<int> runMipFromLeaves(const MipOptions& o) {
     return std::nullopt;
   std::optional<vox::MipBlocksLevel> base = vox::mipBlocksFromLeaves(std::move(*leaves), run.threads());
   if (!base) return std::nullopt;
-  if (base->header.mipLevel != 0)
-    run.note("note: " + o.input + " is already mip level " + std::to_string(base->header.mipLevel) +
-             "; the pyramid continues from there");
-  run.checkWorkMemory("the pyramid of " + o.input, 1.0);
+  checkMipInput(o, base->header.mipLevel, run);
 
   // Levels as vox::buildMipPyramid builds them (the same automatic stop).
   run.phase("reduce");
@@ -121,13 +143,7 @@ std::optional<int> runMipFromLeaves(const MipOptions& o) {
     for (const vox::MipBlocksLevel& l : levels) all.push_back(&l);
     vox::writePyramidVdbDirect(all, o.occupancy, outTemp, run.threads());
   }
-  run.counts()["levels"] = perLevel;
-  run.counts()["level_count"] = levels.size();
-  run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
-  run.counts()["base_occupied"] = baseOccupied;
-  run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(stem, 1) + "...")
-                               : o.output) +
-           ": " + std::to_string(levels.size()) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
+  reportMip(o, perLevel, levels.size(), baseOccupied, run);
   return run.finish();
 }
 

@@ -35,6 +35,16 @@ std::string splitStem(const std::string& output);
 /// STEM -> STEM.mipN.vdb
 std::string splitName(const std::string& stem, int level);
 
+/// The start both modules' runs share: the pyramid's temporary output (none
+/// with --split), phase "read", the input recorded and checked to be a file.
+/// Returns the temporary path.
+std::string startMipRun(const MipOptions& o, Run& run);
+/// The note when the input already is mip level `mipLevel` (> 0), then the
+/// memory check before the levels are built.
+void checkMipInput(const MipOptions& o, int mipLevel, Run& run);
+/// The report's counts and the summary line, once the levels are written.
+void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t levelCount, uint64_t baseOccupied, Run& run);
+
 /// The whole command (read, reduce, write, report) for a pyramid or --split
 /// levels of a scene of the form voxbake writes, read as leaves
 /// (formats/vdb/pyramid_direct.h). std::nullopt, having written nothing, for
