@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Benchmarks `vox mip` against OpenVDB's vdb_lod (Debian libopenvdb-tools) on the
-# same scene files, and `vox pack-chunks` against just loading the scene
+# Benchmarks `vox mip` against OpenVDB's vdb_lod and `vdb_tool -multires` (Debian
+# libopenvdb-tools) on the same voxels (vdb_tool reduces float grids only, so it
+# gets the scene's `vox export --fog` volume: the same active voxels), and `vox pack-chunks` against just loading the scene
 # (`vox info`), with hyperfine; every ratio comes from one hyperfine run.
 # Writes the markdown results to docs/bench-mip-pack.md (or $OUT).
 #
@@ -14,7 +15,7 @@ mesh=${1:-$root/../shared/data/common-3d-test-models/stanford-bunny.obj}
 threads=${THREADS:-$(nproc)}
 runs=${RUNS:-5}
 out=${OUT:-$root/docs/bench-mip-pack.md}
-for tool in hyperfine vdb_lod python3; do
+for tool in hyperfine vdb_lod vdb_tool python3; do
   command -v $tool >/dev/null || { echo "bench_mip_pack.sh: needs $tool (apt-get install hyperfine libopenvdb-tools)" >&2; exit 4; }
 done
 [ -x "$vox" ] || { echo "bench_mip_pack.sh: build vox first ($vox)" >&2; exit 4; }
@@ -38,9 +39,11 @@ results=$work/results.jsonl
 for s in $scenes; do
   levels=$("$vox" info --json $s.vdb | python3 -c "import json,sys,math; d=json.load(sys.stdin); print(math.ceil(math.log2(max(d['dims']))))")
   echo "== mip $s (levels 1..$levels)" >&2
+  "$vox" export $s.vdb --fog -o fog_$s.vdb --quiet
   hyperfine --warmup 1 --runs "$runs" --export-json mip_$s.json \
     -n "vox mip" "$vox mip $s.vdb -o m.vdb --levels $levels --threads $threads --quiet" \
-    -n "vdb_lod" "vdb_lod $s.vdb l.vdb -range 0-$levels" >&2
+    -n "vdb_lod" "vdb_lod $s.vdb l.vdb -range 0-$levels" \
+    -n "vdb_tool -multires" "vdb_tool -read fog_$s.vdb -multires levels=$levels -write t.vdb" >&2
   echo "== pack $s" >&2
   hyperfine --warmup 1 --runs "$runs" --export-json pack_$s.json \
     -n "vox info (load)" "$vox info $s.vdb" \
@@ -68,13 +71,14 @@ print(json.dumps({
   "scene": s, "dims": info["dims"], "occupied": info["occupied"], "vdb_bytes": info["file_bytes"],
   "mip_vox": mip["vox mip"]["mean"], "mip_vox_sd": mip["vox mip"]["stddev"],
   "mip_lod": mip["vdb_lod"]["mean"], "mip_lod_sd": mip["vdb_lod"]["stddev"],
+  "mip_tool": mip["vdb_tool -multires"]["mean"], "mip_tool_sd": mip["vdb_tool -multires"]["stddev"],
   "mip_phases": mr["phases"], "pyramid_bytes": os.path.getsize("m.vdb"), "lod_bytes": os.path.getsize("l.vdb"),
   "info": pack["vox info (load)"]["mean"], "pack": pack["vox pack-chunks"]["mean"],
   "pack_mips": pack["vox pack-chunks --mips"]["mean"],
-  "vpk_bytes": rep["file_bytes"], "bpv": rep["bytes_per_voxel"], "chunks": rep["chunks"],
+  "vpk_bytes": rep["file_bytes"], "bpv": rep["bytes_per_voxel"], "chunks": rep["chunks"], "align": rep["align"],
   "pack_core_s": rep["pack_seconds"], "pack_phases": json.load(open(f"pack_report_{s}.json"))["phases"],
   "vpk8_bytes": rep8["file_bytes"], "bpv8": rep8["bytes_per_voxel"],
-  "layouts": [dict(layout=l, chunk=c, **{k: r[k] for k in ("file_bytes", "voxels", "chunks", "bytes_per_voxel", "pack_seconds")},
+  "layouts": [dict(layout=l, chunk=c, **{k: r[k] for k in ("file_bytes", "voxels", "chunks", "bytes_per_voxel", "pack_seconds", "align")},
                    payload_bytes=sum(x["payload_bytes"] for x in r["levels"]))
               for l in os.environ["LAYOUTS"].split() for c in (16, 8)
               for r in [json.load(open(f"layout_{l}{c}_{s}.json"))["counts"]]],
@@ -97,34 +101,38 @@ p(f"vdb_lod uses TBB on every core, which is the same {threads} here). Machine: 
 p(f"Scenes: `vox voxelize demo:hamlet --res 256` and `vox voxelize {mesh.split('/')[-1]} --res 1024` (surface).")
 p("Every ratio compares commands timed in the same hyperfine run. Times are whole processes")
 p("(start, read the .vdb, work, write).\n")
-p("## `vox mip` against `vdb_lod`\n")
-p("Both read the same scene file and write every level from 0 to one voxel into one .vdb.")
-p("vdb_lod processes the int32 `votes.<id>` grids (it skips the bool `occupancy` grid, an")
-p("unsupported type) with OpenVDB's MultiResGrid restriction; vox mip reduces occupancy,")
-p("votes (exact sums) and colour, so it does strictly more work per level.\n")
-p("| scene | dims | occupied | vox mip (s) | vdb_lod (s) | vdb_lod / vox mip | pyramid .vdb | vdb_lod .vdb |")
-p("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+p("## `vox mip` against `vdb_lod` and `vdb_tool -multires`\n")
+p("vox mip and vdb_lod read the same scene file and write every level from 0 to one voxel")
+p("into one .vdb. vdb_lod processes the int32 `votes.<id>` grids (it skips the bool")
+p("`occupancy` grid, an unsupported type) with OpenVDB's MultiResGrid restriction; vox mip")
+p("reduces occupancy, votes (exact sums) and colour, so it does strictly more work per level.")
+p("`vdb_tool -multires` (the same MultiResGrid) takes float grids only, so it reads the")
+p("scene's `vox export --fog` volume (one float grid, the same active voxels) and writes")
+p("levels 1 to one voxel.\n")
+p("| scene | dims | occupied | vox mip (s) | vdb_lod (s) | vdb_lod / vox mip | vdb_tool -multires (s) | vdb_tool / vox mip | pyramid .vdb | vdb_lod .vdb |")
+p("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for r in rows:
     p(f"| {r['scene']} | {'x'.join(map(str, r['dims']))} | {r['occupied']:,} | {r['mip_vox']:.3f} ± {r['mip_vox_sd']:.3f} | "
-      f"{r['mip_lod']:.3f} ± {r['mip_lod_sd']:.3f} | **{r['mip_lod'] / r['mip_vox']:.2f}x** | {r['pyramid_bytes'] / 1e6:.1f} MB | {r['lod_bytes'] / 1e6:.1f} MB |")
+      f"{r['mip_lod']:.3f} ± {r['mip_lod_sd']:.3f} | **{r['mip_lod'] / r['mip_vox']:.2f}x** | "
+      f"{r['mip_tool']:.3f} ± {r['mip_tool_sd']:.3f} | **{r['mip_tool'] / r['mip_vox']:.2f}x** | {r['pyramid_bytes'] / 1e6:.1f} MB | {r['lod_bytes'] / 1e6:.1f} MB |")
 p("\nPhases of one `vox mip --report` run (seconds):\n")
 for r in rows:
     p(f"* {r['scene']}: " + ", ".join(f"{ph['name']} {ph['seconds']:.3f}" for ph in r["mip_phases"]))
 p("\n## `vox pack-chunks` against loading the scene\n")
-p("Target: packing (bricks, C = 16, 4 KiB alignment, level 0) costs at most 2x the time of")
+p("Target: packing (bricks, C = 16, the default `--align auto`, level 0) costs at most 2x the time of")
 p("just loading the scene (`vox info`, which reads and checks the .vdb and counts its voxels).\n")
-p("| scene | .vdb | vox info (s) | pack-chunks (s) | pack / info | pack --mips (s) | .vpk (C=16, 4 KiB) | bytes/voxel | .vpk (C=8, 64 B) | bytes/voxel | pack core MB/s |")
+p("| scene | .vdb | vox info (s) | pack-chunks (s) | pack / info | pack --mips (s) | .vpk (C=16, auto) | bytes/voxel | .vpk (C=8, 64 B) | bytes/voxel | pack core MB/s |")
 p("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for r in rows:
     p(f"| {r['scene']} | {r['vdb_bytes'] / 1e6:.2f} MB | {r['info']:.3f} | {r['pack']:.3f} | **{r['pack'] / r['info']:.2f}x** | {r['pack_mips']:.3f} | "
-      f"{r['vpk_bytes'] / 1e6:.2f} MB | {r['bpv']:.2f} | {r['vpk8_bytes'] / 1e6:.2f} MB | {r['bpv8']:.2f} | {r['vpk_bytes'] / 1e6 / r['pack_core_s']:.0f} |")
+      f"{r['vpk_bytes'] / 1e6:.2f} MB ({r['align']} B) | {r['bpv']:.2f} | {r['vpk8_bytes'] / 1e6:.2f} MB | {r['bpv8']:.2f} | {r['vpk_bytes'] / 1e6 / r['pack_core_s']:.0f} |")
 p("\n\"pack core MB/s\" is the page file's size over the time of the chunking itself (the")
 p("`pack_seconds` of `--report`, without reading the .vdb). Phases of one run (seconds):\n")
 for r in rows:
     p(f"* {r['scene']}: " + ", ".join(f"{ph['name']} {ph['seconds']:.3f}" for ph in r["pack_phases"]))
 p("\n## Layouts: bytes per occupied voxel\n")
-p("`vox pack-chunks --layout L` of each scene (level 0 only), C = 16 with the default 4 KiB")
-p("alignment and C = 8 with 64-byte alignment (formats/pagefile/PAGEFILE.md). \"file\" counts the whole")
+p("`vox pack-chunks --layout L` of each scene (level 0 only), C = 16 with the default `--align auto`")
+p("(the alignment it chose in brackets) and C = 8 with 64-byte alignment (formats/pagefile/PAGEFILE.md). \"file\" counts the whole")
 p(".vpk (header, index, metadata, alignment padding); \"payload\" only the chunk payloads. svo")
 p("payloads include the mip bricks of the inner nodes (C = 16 and 32); columns payloads the mip")
 p("ladder. Pack time is the chunking alone (`pack_seconds` of `--report`), one run.\n")
@@ -132,7 +140,7 @@ p("| scene | layout | C, alignment | chunks | .vpk | file bytes/voxel | payload 
 p("| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |")
 for r in rows:
     for l in r["layouts"]:
-        al = "4 KiB" if l["chunk"] == 16 else "64 B"
+        al = f"auto ({l['align']} B)" if l["chunk"] == 16 else "64 B"
         p(f"| {r['scene']} | {l['layout']} | {l['chunk']}, {al} | {l['chunks']:,} | {l['file_bytes'] / 1e6:.2f} MB | "
           f"**{l['bytes_per_voxel']:.2f}** | {l['payload_bytes'] / l['voxels']:.2f} | {l['pack_seconds']:.3f} |")
 notes = open(sys.argv[5]).read()

@@ -3,7 +3,8 @@
 # (Debian libnanovdb-tools) on the same .vdb, all three in ONE hyperfine run
 # per scene, so every ratio comes from one run. First checks that both builds
 # write the same .vpk bytes (every layout, --chunk 8 and 16, --threads 1 and
-# 2, and --mips), then times, then prints the `read`/`pack`/`write` phases of
+# 2, and --mips, all at --align 4096, which every build has: the default
+# alignment became `auto` on 2026-11-29), then times each build's default, then prints the `read`/`pack`/`write` phases of
 # AFTER's --report (best of 3).
 # Scenes: `vox voxelize demo:hamlet --res 256` and MESH (default: the Stanford
 # bunny of ../shared/data) at --res 1024 (surface), made by AFTER.
@@ -32,9 +33,9 @@ for s in $scenes; do
   for args in "--layout bricks" "--layout svo" "--layout columns" "--chunk 8" "--mips" "--mips --chunk 8 --layout svo"; do
     for t in 1 2; do
       # shellcheck disable=SC2086
-      "$before" pack-chunks $s.vdb -o b.vpk $args --threads $t --quiet 2>/dev/null || continue
+      "$before" pack-chunks $s.vdb -o b.vpk $args --align 4096 --threads $t --quiet 2>/dev/null || continue
       # shellcheck disable=SC2086
-      "$after" pack-chunks $s.vdb -o a.vpk $args --threads $t --quiet
+      "$after" pack-chunks $s.vdb -o a.vpk $args --align 4096 --threads $t --quiet
       cmp -s b.vpk a.vpk || { echo "bench_pack_nanovdb.sh: $s $args --threads $t: the builds differ" >&2; exit 1; }
       same=$((same + 1))
     done

@@ -307,6 +307,52 @@ TEST(PageFile, EmptySceneHasNoChunks) {
   EXPECT_EQ(res.bytes.size(), 4096u);  // header + metadata, padded to the first payload offset
 }
 
+// --align auto (the default): 4 KiB when page padding makes the payload area
+// at most 1/8 larger than 64-byte padding, else 64 bytes.
+TEST(PageFile, AutomaticAlignmentRule) {
+  using vox::pagefile::ChunkSlot;
+  using vox::pagefile::chooseAlignLog2;
+  using vox::pagefile::kAutoAlignCompactLog2;
+  using vox::pagefile::kAutoAlignPageLog2;
+  auto slots = [](std::initializer_list<std::pair<int, uint64_t>> runs) {  // (count, size) runs
+    std::vector<ChunkSlot> out;
+    for (const auto& [n, size] : runs)
+      for (int i = 0; i < n; ++i) out.push_back({0, uint64_t(out.size()), 1, false, size, 0});
+    return out;
+  };
+  EXPECT_EQ(chooseAlignLog2(slots({})), kAutoAlignPageLog2);
+  EXPECT_EQ(chooseAlignLog2(slots({{10, 8192}})), kAutoAlignPageLog2);        // no padding either way
+  EXPECT_EQ(chooseAlignLog2(slots({{1, 1}, {1, 65536}})), kAutoAlignPageLog2);  // 69632 <= 65600 * 9/8
+  EXPECT_EQ(chooseAlignLog2(slots({{100, 300}})), kAutoAlignCompactLog2);
+  // The boundary: 503 chunks of 4 KiB and 64 of 64 bytes make 4 KiB padding
+  // exactly 9/8 of 64-byte padding (2322432 = 2064384 + 2064384 / 8); one
+  // chunk of 4 KiB fewer tips it.
+  EXPECT_EQ(chooseAlignLog2(slots({{503, 4096}, {64, 64}})), kAutoAlignPageLog2);
+  EXPECT_EQ(chooseAlignLog2(slots({{502, 4096}, {64, 64}})), kAutoAlignCompactLog2);
+
+  // Packed files: a dense block keeps 4 KiB, a sparse scatter takes 64 bytes;
+  // every payload starts at a multiple of what the header says.
+  vox::SceneHeader h;
+  h.dims = {64, 64, 64};
+  h.classes.add({1, "a", {}, {}});
+  vox::SceneBuilder dense(h), sparse(h);
+  for (int z = 0; z < 64; ++z)
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) dense.addVotes({x, y, z}, 1, 1, true);
+  for (int i = 0; i < 50; ++i) sparse.addVotes({(i * 7) % 64, (i * 13) % 64, (i * 29) % 64}, 1, 1, true);
+  for (auto& [builder, want] : {std::pair{&dense, kAutoAlignPageLog2}, std::pair{&sparse, kAutoAlignCompactLog2}}) {
+    const vox::Scene scene = std::move(*builder).build();
+    vox::PackSettings p;
+    p.chunkSide = 32;
+    EXPECT_EQ(p.alignment, 0u) << "auto is the default";
+    const auto res = vox::packChunks({&scene}, p);
+    const Reader r = Reader::fromMemory(res.bytes.data(), res.bytes.size(), "a.vpk");
+    EXPECT_EQ(r.header().alignLog2, want);
+    for (const auto& e : r.entries()) EXPECT_EQ(e.offset % (1u << want), 0u);
+    EXPECT_EQ(r.verify(), scene.occupiedCount());
+  }
+}
+
 TEST(PageFile, RefusesBadSettings) {
   const vox::Scene s = colouredScene();
   vox::PackSettings p;
@@ -589,6 +635,15 @@ TEST(PageFileMeta, WriteThenReadGivesTheSameMeta) {
   const std::string text = vox::pagefile::writePageMeta(m);
   EXPECT_EQ(vox::pagefile::readPageMeta(text, "m.vpk"), m);
   EXPECT_EQ(vox::pagefile::writePageMeta(vox::pagefile::readPageMeta(text, "m.vpk")), text);
+  // A part's alignment asked: auto (0) and bytes.
+  for (uint32_t align : {0u, 64u, 65536u}) {
+    vox::pagefile::PageMeta part = fullMeta();
+    part.regionAlign = align;
+    const std::string partText = vox::pagefile::writePageMeta(part);
+    EXPECT_NE(partText.find(align ? "\"region_align\":" + std::to_string(align) : "\"region_align\":\"auto\""),
+              std::string::npos);
+    EXPECT_EQ(vox::pagefile::readPageMeta(partText, "p.vpk"), part);
+  }
   // Without mips, block world, classes or sources: the optional keys are absent.
   vox::pagefile::PageMeta bare;
   bare.toolVersion = "0";
@@ -644,6 +699,9 @@ TEST(PageFileMeta, RefusesBadMetadataNamingTheFileAndKey) {
   auto refused = [](const std::string& text, std::initializer_list<std::string> needles) {
     return voxtest::throwsVoxError([&] { vox::pagefile::readPageMeta(text, "x.vpk"); }, vox::ErrorKind::BadInput, needles);
   };
+  for (const char* bad : {R"({"region_align":100})", R"({"region_align":4})", R"({"region_align":"page"})",
+                          R"({"region_align":-64})", R"({"region_align":131072})"})
+    EXPECT_TRUE(refused(bad, {"x.vpk: metadata 'region_align'", "auto"})) << bad;
   EXPECT_TRUE(refused("{", {"x.vpk: metadata is not valid JSON"}));
   EXPECT_TRUE(refused("[]", {"x.vpk: metadata must be a JSON object"}));
   EXPECT_TRUE(refused(R"({"format":"voxbake-scene"})", {"x.vpk: metadata 'format'", "voxbake-pages"}));

@@ -155,7 +155,7 @@ void expectMergeIsWhole(const vox::Scene& world, const std::string& what, const 
       vox::PackSettings ps;
       ps.layout = layout.id;
       ps.chunkSide = chunk;
-      ps.alignment = 64;
+      ps.alignment = chunk == 16 ? 0 : 64;  // 0: auto, chosen again by the merge
       const std::vector<uint8_t> whole = pack(world, ps, mips);
       for (uint32_t n : {1u, 2u, 3u, 7u}) {
         const Merged m = packParts(world, n, ps, mips);
@@ -299,6 +299,55 @@ TEST(PageMerge, IdenticalBytesAtAnyThreadCount) {
   EXPECT_GT(r.stats.copiedChunks, 0u);
   EXPECT_EQ(one, merge(ptrs(m), 2));
   EXPECT_EQ(one, merge(ptrs(m), 0));
+}
+
+// --align auto: each part chooses its own alignment from its own payloads, but
+// the merge chooses again over the world's chunks, as the single-process pack
+// does. Four full 32^3 chunks in tile 0 (page alignment costs them ~3%)
+// beside single voxels in tile 1, one per chunk (a chunk of ~4-8 KiB of
+// bitmaps: 4 KiB padding costs them ~45%): with few single voxels the world
+// keeps 4 KiB, with many it takes 64 bytes, while the parts are 4 KiB and 64
+// bytes either way.
+TEST(PageMerge, AutomaticAlignmentIsChosenOverTheWorld) {
+  vox::SceneHeader h;
+  h.dims = {128, 32, 1600};
+  h.classes.add({1, "a", {}, {}});
+  const vox::IndexBox dense = vox::regionTile(h.dims, 0, 2), sparse = vox::regionTile(h.dims, 1, 2);
+  std::vector<vox::Coord3> chunkCorners;  // of tile 1, on the 32-voxel chunk grid
+  for (int z = (sparse.min.w + 31) / 32 * 32; z + 31 <= sparse.max.w; z += 32)
+    for (int x = (sparse.min.u + 31) / 32 * 32; x + 31 <= sparse.max.u; x += 32) chunkCorners.push_back({x, 0, z});
+  ASSERT_GE(chunkCorners.size(), 60u);
+  ASSERT_TRUE(dense.max.u - dense.min.u >= 63 && dense.max.w - dense.min.w >= 63 && dense.min.u % 32 == 0 &&
+              dense.min.w % 32 == 0);
+  for (const int singles : {4, 60}) {
+    SCOPED_TRACE(std::to_string(singles) + " single voxels");
+    vox::SceneBuilder b(h);
+    for (int z = dense.min.w; z < dense.min.w + 64; ++z)
+      for (int y = 0; y < 32; ++y)
+        for (int x = dense.min.u; x < dense.min.u + 64; ++x) b.addVotes({x, y, z}, 1, 2, false);
+    for (int i = 0; i < singles; ++i) b.addVotes(chunkCorners[size_t(i)], 1, 1, true);
+    const vox::Scene world = std::move(b).build();
+    vox::PackSettings ps;
+    ps.chunkSide = 32;
+    ASSERT_EQ(ps.alignment, 0u) << "auto is the default";
+    const std::vector<uint8_t> whole = pack(world, ps);
+    const Reader w = Reader::fromMemory(whole.data(), whole.size(), "whole.vpk");
+    const Merged m = packParts(world, 2, ps);
+    EXPECT_EQ(m.readers[0].header().alignLog2, vox::pagefile::kAutoAlignPageLog2);
+    EXPECT_EQ(m.readers[1].header().alignLog2, vox::pagefile::kAutoAlignCompactLog2);
+    EXPECT_EQ(w.header().alignLog2, singles == 4 ? vox::pagefile::kAutoAlignPageLog2 : vox::pagefile::kAutoAlignCompactLog2);
+    vox::MergeResult r;
+    const std::vector<uint8_t> merged = merge(ptrs(m), 1, &r);
+    EXPECT_TRUE(merged == whole) << merged.size() << " bytes merged, " << whole.size() << " whole";
+    EXPECT_EQ(r.alignment, 1u << w.header().alignLog2);
+    // A part packed with an explicit alignment is not of the same bake's settings.
+    vox::PackSettings fixed = ps;
+    fixed.alignment = 1u << m.readers[1].header().alignLog2;
+    const std::vector<uint8_t> odd = pack(cropToTile(world, 1, 2), fixed);
+    const Reader o = Reader::fromMemory(odd.data(), odd.size(), "fixed.vpk");
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { merge(std::vector<const Reader*>{&m.readers[0], &o}); },
+                                        vox::ErrorKind::BadInput, {"fixed.vpk", "payload alignment", "auto"}));
+  }
 }
 
 class PageMergeErrors : public ::testing::Test {

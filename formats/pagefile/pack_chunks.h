@@ -21,7 +21,8 @@ namespace vox {
 /// How to pack; the defaults are those of `vox pack-chunks`.
 struct PackSettings {
   uint32_t chunkSide = 16;    // 8, 16 or 32 (pagefile::kMinChunkLog2 .. kMaxChunkLog2)
-  uint32_t alignment = 4096;  // power of two, 8..65536 (pagefile::kMinAlignLog2 .. kMaxAlignLog2)
+  uint32_t alignment = 0;     // power of two, 8..65536 (pagefile::kMinAlignLog2 .. kMaxAlignLog2);
+                              // 0: automatic, 4 KiB or 64 bytes by the payload sizes (pagefile::chooseAlignLog2)
   pagefile::Layout layout = pagefile::Layout::Bricks;
   unsigned threads = 1;       // 0: every core; any count gives the same bytes
   std::string mipOccupancy;   // recorded in the metadata ("any", "majority", "from FILE"), empty without mips

@@ -20,9 +20,9 @@ void checkSettings(const PackSettings& s, size_t levelCount) {
   if (s.chunkSide < (1u << pagefile::kMinChunkLog2) || s.chunkSide > (1u << pagefile::kMaxChunkLog2) ||
       !std::has_single_bit(s.chunkSide))
     throwUsage("chunk side " + std::to_string(s.chunkSide) + ": expected 8, 16 or 32", Setting::ChunkSide);
-  if (s.alignment < (1u << pagefile::kMinAlignLog2) || s.alignment > (1u << pagefile::kMaxAlignLog2) ||
-      !std::has_single_bit(s.alignment))
-    throwUsage("payload alignment " + std::to_string(s.alignment) + ": expected a power of two from 8 to 65536",
+  if (s.alignment != 0 && (s.alignment < (1u << pagefile::kMinAlignLog2) ||
+                           s.alignment > (1u << pagefile::kMaxAlignLog2) || !std::has_single_bit(s.alignment)))
+    throwUsage("payload alignment " + std::to_string(s.alignment) + ": expected auto or a power of two from 8 to 65536",
                Setting::PageAlignment);
   if (!pagefile::findLayout(uint8_t(s.layout)))
     throwUsage("layout " + std::to_string(int(s.layout)) + ": expected " + pagefile::layoutNameList(), Setting::PageLayout);
@@ -35,7 +35,7 @@ pagefile::Header fileHeader(const SceneHeader& bh, const PackSettings& s, size_t
   h.layout = s.layout;
   h.chunkLog2 = uint8_t(std::countr_zero(s.chunkSide));
   h.levelCount = uint8_t(levelCount);
-  h.alignLog2 = uint8_t(std::countr_zero(s.alignment));
+  h.alignLog2 = s.alignment ? uint8_t(std::countr_zero(s.alignment)) : pagefile::kAlignAuto;
   h.dims = {bh.dims.x, bh.dims.y, bh.dims.z};
   h.voxelSize = bh.voxelSize;
   h.origin = bh.origin;
@@ -95,6 +95,7 @@ pagefile::PageMeta packMeta(const SceneHeader& bh, const PackSettings& s) {
   meta.mipOccupancy = s.mipOccupancy;
   meta.blockWorld = bh.blockWorld;
   meta.region = bh.region;
+  if (bh.region) meta.regionAlign = s.alignment;
   return meta;
 }
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <chrono>
@@ -95,6 +96,14 @@ bool contains(const IndexBox& outer, const IndexBox& inner) {
          inner.max.u <= outer.max.u && inner.max.v <= outer.max.v && inner.max.w <= outer.max.w;
 }
 
+// The --align a part was packed with (0: auto): its record, or for parts that
+// predate the record, the alignment in its header.
+uint32_t alignmentAsked(const Part& p) {
+  return p.meta.regionAlign ? *p.meta.regionAlign : 1u << p.reader->header().alignLog2;
+}
+
+std::string alignmentName(uint32_t asked) { return asked ? std::to_string(asked) : "auto"; }
+
 // Every part is a part, and the parts agree on what decides the bytes of the
 // merged file besides their voxels.
 void checkSettingsAgree(const std::vector<Part>& parts) {
@@ -109,8 +118,10 @@ void checkSettingsAgree(const std::vector<Part>& parts) {
     if (b.chunkLog2 != a.chunkLog2)
       differs("chunk side", std::to_string(a.chunkSide()), std::to_string(b.chunkSide()));
     if (b.layout != a.layout) differs("layout", pagefile::layoutName(a.layout), pagefile::layoutName(b.layout));
-    if (b.alignLog2 != a.alignLog2)
-      differs("payload alignment", std::to_string(1u << a.alignLog2), std::to_string(1u << b.alignLog2));
+    // The alignment asked, not the one a part's own payloads gave with auto:
+    // the merge chooses again over the world's chunks, as the whole pack does.
+    if (alignmentAsked(p) != alignmentAsked(first))
+      differs("payload alignment", alignmentName(alignmentAsked(first)), alignmentName(alignmentAsked(p)));
     if (p.meta.mipOccupancy != first.meta.mipOccupancy)
       differs("mip occupancy", "'" + first.meta.mipOccupancy + "'", "'" + p.meta.mipOccupancy + "'");
     if (b.levelCount != a.levelCount)
@@ -317,7 +328,8 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   pagefile::Header h;
   h.layout = first.reader->header().layout;
   h.chunkLog2 = first.reader->header().chunkLog2;
-  h.alignLog2 = first.reader->header().alignLog2;
+  const uint32_t align = alignmentAsked(first);
+  h.alignLog2 = align ? uint8_t(std::countr_zero(align)) : pagefile::kAlignAuto;
   h.levelCount = first.reader->header().levelCount;  // the parts'; the world's is set below
   h.dims = first.reader->header().dims;
   h.voxelSize = first.reader->header().voxelSize;
@@ -442,6 +454,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   }
   const pagefile::FilePlan plan = pagefile::planFile(h, pagefile::writePageMeta(meta), slots);
   result.fileBytes = plan.header.fileBytes;
+  result.alignment = 1u << plan.header.alignLog2;
 
   // Write: the file at its final size, header, index and metadata, then the
   // payloads in runs of consecutive chunks of about kRunBytes: each run is

@@ -45,6 +45,7 @@ struct MergeStats {
 
 struct MergeResult {
   uint64_t fileBytes = 0;  // of the file written
+  uint32_t alignment = 0;  // its payload alignment in bytes (the parts' --align; auto chosen over the world's chunks)
   struct Level {
     int level = 0;
     uint64_t chunks = 0, fullChunks = 0, voxels = 0, payloadBytes = 0;

@@ -106,7 +106,17 @@ std::array<uint32_t, 3> Header::levelChunks(int level) const {
 
 std::array<uint32_t, 3> IndexEntry::chunk() const { return mortonDecode(key); }
 
+uint8_t chooseAlignLog2(std::span<const ChunkSlot> chunks) {
+  uint64_t page = 0, compact = 0;
+  for (const ChunkSlot& c : chunks) {
+    page += alignUp(c.size, uint64_t(1) << kAutoAlignPageLog2);
+    compact += alignUp(c.size, uint64_t(1) << kAutoAlignCompactLog2);
+  }
+  return page <= compact + compact / 8 ? kAutoAlignPageLog2 : kAutoAlignCompactLog2;
+}
+
 FilePlan planFile(Header h, const std::string& metaJson, std::span<const ChunkSlot> chunks) {
+  if (h.alignLog2 == kAlignAuto) h.alignLog2 = chooseAlignLog2(chunks);
   const uint64_t align = uint64_t(1) << h.alignLog2;
   const LayoutCodec& codec = codecOf(h.layout);
   h.chunkCount = chunks.size();

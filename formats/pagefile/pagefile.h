@@ -67,6 +67,13 @@ inline constexpr size_t kCrc = 28;      // u32
 inline constexpr uint8_t kMinChunkLog2 = 3, kMaxChunkLog2 = 5;
 /// Payload alignments 1 << alignLog2 a file may have (8 .. 65536 bytes).
 inline constexpr uint8_t kMinAlignLog2 = 3, kMaxAlignLog2 = 16;
+/// Header::alignLog2 of a file still to be laid out: planFile chooses the
+/// alignment from the payload sizes (chooseAlignLog2). Never in a written file.
+inline constexpr uint8_t kAlignAuto = 0;
+/// The two alignments the automatic choice picks between: 4 KiB (a page, so
+/// every payload can be read with O_DIRECT or mapped page by page) and 64
+/// bytes (a cache line; compact for the small chunks of sparse surfaces).
+inline constexpr uint8_t kAutoAlignPageLog2 = 12, kAutoAlignCompactLog2 = 6;
 /// Level-0 dims per axis: 1 .. kMaxDim.
 inline constexpr uint32_t kMaxDim = 1u << 20;
 
@@ -82,7 +89,8 @@ struct Header {
   Layout layout = Layout::Bricks;
   uint8_t chunkLog2 = 4;  // C = 1 << chunkLog2: kMinChunkLog2 .. kMaxChunkLog2
   uint8_t levelCount = 1;
-  uint8_t alignLog2 = 12;  // payloads start at multiples of 1 << alignLog2 (kMinAlignLog2 .. kMaxAlignLog2)
+  uint8_t alignLog2 = 12;  // payloads start at multiples of 1 << alignLog2 (kMinAlignLog2 .. kMaxAlignLog2;
+                           // kAlignAuto before planFile lays the file out)
   uint32_t flags = 0;
   std::array<uint32_t, 3> dims{};  // level 0
   double voxelSize = 1.0;
@@ -145,7 +153,18 @@ struct FilePlan {
   std::vector<IndexEntry> entries;
   std::vector<uint8_t> prefix;
 };
+/// A header.alignLog2 of kAlignAuto is replaced by chooseAlignLog2(chunks).
 FilePlan planFile(Header header, const std::string& metaJson, std::span<const ChunkSlot> chunks);
+
+/// The automatic payload alignment of a file holding `chunks` (every level):
+/// kAutoAlignPageLog2 when padding each payload to 4 KiB makes the payload
+/// area at most 1/8 larger than padding to 64 bytes, else
+/// kAutoAlignCompactLog2. Dense scenes (chunks of several KiB) keep page
+/// alignment for almost nothing; sparse surfaces, whose chunks hold a few
+/// hundred bytes, would be mostly padding. A function of the payload sizes
+/// only, so a region bake's merge, which lays out the same chunks, makes the
+/// same choice as the single-process pack.
+uint8_t chooseAlignLog2(std::span<const ChunkSlot> chunks);
 
 /// Serializes a whole page file: header, index, metadata (JSON text, see
 /// PAGEFILE.md), payloads at aligned offsets. `header` gives layout, chunkLog2,

@@ -1,7 +1,10 @@
 #include "formats/pagefile/pagefile_meta.h"
 
+#include <bit>
+
 #include <nlohmann/json.hpp>
 
+#include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
 #include "formats/scene/scene_meta.h"
 #include "libvox/core/error.h"
@@ -27,6 +30,10 @@ std::string writePageMeta(const PageMeta& meta) {
   if (!meta.mipOccupancy.empty()) j["mip_occupancy"] = meta.mipOccupancy;
   if (meta.blockWorld) j["block_world"] = json::parse(blockWorldJson(*meta.blockWorld));
   if (meta.region) j["region"] = json::parse(regionJson(*meta.region));
+  if (meta.regionAlign) {
+    if (*meta.regionAlign) j["region_align"] = *meta.regionAlign;
+    else j["region_align"] = "auto";
+  }
   if (meta.regionMips) {
     // One array per voxel: u, v, w, surface (0/1), [class, votes, ...], then
     // r, g, b (linear floats; each float prints exactly) when it has colour.
@@ -123,6 +130,14 @@ PageMeta readPageMeta(const std::string& text, const std::string& fileName) {
       meta.region = regionFromJson(j["region"], Dims{d[0], d[1], d[2]}, where + " 'region'");
     }
     if (j.contains("region_mips")) meta.regionMips = parse.regionMips(j["region_mips"]);
+    if (j.contains("region_align")) {
+      const json& a = j["region_align"];
+      if (a.is_string() && a.get<std::string>() == "auto") meta.regionAlign = 0;
+      else if (a.is_number_unsigned() && a.get<uint64_t>() >= (1u << kMinAlignLog2) &&
+               a.get<uint64_t>() <= (1u << kMaxAlignLog2) && std::has_single_bit(a.get<uint64_t>()))
+        meta.regionAlign = a.get<uint32_t>();
+      else parse.fail("'region_align': " + a.dump() + ", expected \"auto\" or a power of two from 8 to 65536");
+    }
   } catch (const json::exception& e) {
     parse.fail(std::string("is malformed: ") + e.what());
   }

@@ -62,6 +62,10 @@ struct PageMeta {
   std::optional<BlockWorldPlacement> blockWorld;
   std::optional<SceneRegion> region;    // as the scene's `vox:region`: the file is a part of a region bake
   std::optional<RegionMips> regionMips; // parts packed with mips only
+  // Parts only: the alignment the part was packed with (`--align`; 0: auto),
+  // which its merge lays the world's file out with (key `region_align`:
+  // "auto" or the bytes). Absent in older parts: the header's alignment.
+  std::optional<uint32_t> regionAlign;
   bool operator==(const PageMeta&) const = default;
 };
 

@@ -187,6 +187,18 @@ MetaEntries colorGridMetadata() { return {{"vox:color_space", std::string("linea
 
 MetaEntries pyramidLevelGridMetadata(int mipLevel) { return {{"vox:mip_level", int32_t(mipLevel)}}; }
 
+std::string pyramidGridPrefix(size_t level) { return level == 0 ? "" : "mip" + std::to_string(level) + "."; }
+
+std::string pyramidMetadata(const std::string& occupancy, const std::vector<PyramidLevelEntry>& levels) {
+  nlohmann::json table = nlohmann::json::array();
+  for (const PyramidLevelEntry& l : levels)
+    table.push_back({{"level", l.level},
+                     {"dims", {l.dims.x, l.dims.y, l.dims.z}},
+                     {"voxel_size", l.voxelSize},
+                     {"occupied", l.occupied}});
+  return nlohmann::json{{"occupancy", occupancy}, {"levels", table}}.dump();
+}
+
 SceneHeader sceneHeaderFromMetadata(const MetaEntries& meta, const std::string& path) {
   SceneHeader h;
   const std::string format = requiredMeta<std::string>(meta, path, "vox:format");

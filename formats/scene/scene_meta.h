@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "libvox/core/scene_header.h"
 
@@ -87,6 +88,23 @@ MetaEntries voteGridMetadata(const ClassTable& classes, uint8_t classId);
 MetaEntries colorGridMetadata();
 /// Grid metadata a pyramid adds to every grid of level n >= 1: vox:mip_level.
 MetaEntries pyramidLevelGridMetadata(int mipLevel);
+
+/// A pyramid file's metadata key (formats/scene/SCENE.md "Pyramids").
+inline constexpr const char* kPyramidKey = "vox:pyramid";
+/// The prefix of level n's grid names: "" for level 0, else "mip<n>." (a
+/// prefix, not a suffix, so that the scene reader, which refuses any
+/// "votes.*" grid it cannot parse, skips them).
+std::string pyramidGridPrefix(size_t level);
+/// One entry of `vox:pyramid`'s level list.
+struct PyramidLevelEntry {
+  int level = 0;
+  Dims dims;
+  double voxelSize = 0;
+  uint64_t occupied = 0;
+};
+/// The value of `vox:pyramid`: {"occupancy": occupancy, "levels": [...]}
+/// (levels above 0) as JSON text.
+std::string pyramidMetadata(const std::string& occupancy, const std::vector<PyramidLevelEntry>& levels);
 
 // ---------------------------------------------------------------- reading
 

@@ -53,8 +53,8 @@ MemSizes memSizes(GridKind k) {
 
 class Sink {
  public:
-  explicit Sink(const std::string& path) : path_(path), f_(std::fopen(path.c_str(), "wb")) {
-    if (!f_) throwIo(path + ": cannot create the scene file: " + std::strerror(errno));
+  Sink(const std::string& path, const std::string& what) : path_(path), what_(what), f_(std::fopen(path.c_str(), "wb")) {
+    if (!f_) throwIo(path + ": cannot create the " + what + " file: " + std::strerror(errno));
     std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
   }
   ~Sink() {
@@ -92,12 +92,12 @@ class Sink {
   // Worded like the OpenVDB writer's check (formats/vdb/vdb_scene_grids.cpp), naming the output, not its temporary.
   [[noreturn]] void fail() {
     const std::string reason = std::strerror(errno);  // before anything else can change errno
-    throwIo(outputName(path_) + ": the scene was not written completely (" + reason + ")");
+    throwIo(outputName(path_) + ": the " + what_ + " was not written completely (" + reason + ")");
   }
   void hash(const void* p, size_t n) {
     for (size_t k = 0; k < crc_.size(); ++k) crc_[k] = crc32c(p, n, crc_[k]);
   }
-  std::string path_;
+  std::string path_, what_;
   std::FILE* f_;
   uint64_t pos_ = 0;
   bool hashing_ = false;
@@ -195,6 +195,8 @@ struct GridPlan {
   uint8_t classId = 0;                  // votes grids
   std::vector<const VoxelBlock*> leaves;  // in tree order
   std::vector<const ClassBlock*> votes;  // votes grids: the class block of each leaf
+  const SceneHeader* header = nullptr;   // the scene's placement and classes
+  const MetaEntries* extraMeta = nullptr;  // added to the grid's metadata (a pyramid level's)
 };
 
 /// The per-leaf active mask of a grid.
@@ -318,7 +320,8 @@ struct GridStats {
   std::array<int32_t, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
 };
 
-void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned threads) {
+void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
+  const SceneHeader& h = *g.header;
   const size_t nLeaves = g.leaves.size();
   // Leaf buffers (masks, compressed values) in parallel, each piece a contiguous
   // range of leaves in tree order (at least 64), concatenated in order: the
@@ -375,10 +378,14 @@ void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned thre
   out.pod(kCompressBloscActiveMask);
 
   // Grid metadata: the scene's (scene_meta.h), OpenVDB's own and Archive's statistics.
-  MetaEntries gridMeta;
-  if (g.kind == GridKind::Int32) gridMeta = voteGridMetadata(h.classes, g.classId);
+  // The level's entries first, the grid's own over them (appendSceneGrids' order).
+  MetaEntries gridMeta = g.extraMeta ? *g.extraMeta : MetaEntries{};
+  auto over = [&](const MetaEntries& m) {
+    for (const auto& [k, v] : m) gridMeta.insert_or_assign(k, v);
+  };
+  if (g.kind == GridKind::Int32) over(voteGridMetadata(h.classes, g.classId));
   if (g.kind == GridKind::Vec3s) {
-    gridMeta = colorGridMetadata();
+    over(colorGridMetadata());
     gridMeta["vector_type"] = std::string("invariant");
   }
   gridMeta["file_bbox_min"] = stats.lo;
@@ -449,19 +456,16 @@ void writeGrid(Sink& out, const GridPlan& g, const SceneHeader& h, unsigned thre
   out.patch(positionsAt, positions, sizeof positions);
 }
 
-}  // namespace
-
-DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks, const std::string& path,
-                                       unsigned threads) {
-  blocks.validate(h.dims, h.classes);
-  const std::vector<VoxelBlock*> sorted = blocks.sortedBlocks(treeOrder);
-
-  // The grids writeSceneVdb writes for the scene SceneBuilder::build() makes
-  // from these blocks: occupancy, votes.<id> by id, color.
-  std::vector<GridPlan> grids;
-  GridPlan occ{kOccupancyGridName, GridKind::Bool, 0, {}, {}};
+/// The grids writeSceneVdb writes for one part's scene, as SceneBuilder::build()
+/// makes it from these blocks: occupancy, votes.<id> by id, color; appended to `grids`.
+DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const VoxelBlock*>& sorted,
+                            std::vector<GridPlan>& grids) {
+  sorted = part.blocks;
+  std::sort(sorted.begin(), sorted.end(), treeOrder);
+  const std::string& pre = part.gridPrefix;
+  GridPlan occ{pre + kOccupancyGridName, GridKind::Bool, 0, {}, {}, part.header, &part.gridMetadata};
   std::map<uint8_t, GridPlan> votes;
-  GridPlan color{kColorGridName, GridKind::Vec3s, 0, {}, {}};
+  GridPlan color{pre + kColorGridName, GridKind::Vec3s, 0, {}, {}, part.header, &part.gridMetadata};
   DirectWriteSummary summary;
   for (const VoxelBlock* b : sorted) {
     occ.leaves.push_back(b);
@@ -475,7 +479,7 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
     if (b->hasRuns() && b->runVotes && std::find(ids.begin(), ids.end(), b->runClass) == ids.end()) ids.push_back(b->runClass);
     for (uint8_t id : ids) {
       GridPlan& g = votes[id];
-      if (g.name.empty()) g = {voteGridName(id), GridKind::Int32, id, {}, {}};
+      if (g.name.empty()) g = {pre + voteGridName(id), GridKind::Int32, id, {}, {}, part.header, &part.gridMetadata};
       g.leaves.push_back(b);
       g.votes.push_back(findClassBlock(*b, id));
     }
@@ -487,9 +491,22 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
     grids.push_back(std::move(g));
   }
   summary.color = !color.leaves.empty();
-  if (summary.color) grids.push_back(std::move(color));
+  if (summary.color || part.colorGrid) grids.push_back(std::move(color));
+  return summary;
+}
 
-  Sink out(path);
+}  // namespace
+
+std::vector<DirectWriteSummary> writeScenesVdbDirect(
+    const std::vector<DirectScenePart>& parts,
+    const std::function<MetaEntries(const std::vector<DirectWriteSummary>&)>& fileMetadata, const std::string& path,
+    unsigned threads, const std::string& what) {
+  std::vector<GridPlan> grids;
+  std::vector<std::vector<const VoxelBlock*>> sorted(parts.size());
+  std::vector<DirectWriteSummary> summaries;
+  for (size_t i = 0; i < parts.size(); ++i) summaries.push_back(planPart(parts[i], sorted[i], grids));
+
+  Sink out(path, what);
   // Archive::writeHeader: magic, file and library versions, "has grid offsets",
   // then the UUID as 36 characters (patched at the end with the content digest).
   out.pod(kMagic);
@@ -501,9 +518,9 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
   out.bytes(std::string(36, '0').data(), 36);
   out.startHashing();
 
-  writeMeta(out, metaBytes(sceneFileMetadata(h)));
+  writeMeta(out, metaBytes(fileMetadata(summaries)));
   out.pod(int32_t(grids.size()));
-  for (const GridPlan& g : grids) writeGrid(out, g, h, threads);
+  for (const GridPlan& g : grids) writeGrid(out, g, threads);
 
   // UUID text (8-4-4-4-12 hex digits) from the four content CRCs, version 4 / variant 1 bits set.
   std::array<uint8_t, 16> id;
@@ -519,8 +536,21 @@ DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks
     text.push_back(hex[id[size_t(i)] & 15]);
   }
   out.patch(uuidAt, text.data(), text.size());
-  summary.fileBytes = out.pos();
+  for (DirectWriteSummary& s : summaries) s.fileBytes = out.pos();
   out.close();
+  return summaries;
+}
+
+DirectWriteSummary writeSceneVdbDirect(const SceneHeader& h, VoxelBlocks& blocks, const std::string& path,
+                                       unsigned threads) {
+  blocks.validate(h.dims, h.classes);
+  const std::vector<VoxelBlock*> sorted = blocks.sortedBlocks(treeOrder);
+  DirectScenePart part;
+  part.header = &h;
+  part.blocks.assign(sorted.begin(), sorted.end());
+  const DirectWriteSummary summary =
+      writeScenesVdbDirect({part}, [&](const std::vector<DirectWriteSummary>&) { return sceneFileMetadata(h); }, path,
+                           threads, "scene")[0];
   for (VoxelBlock* b : sorted) VoxelBlocks::release(*b);
   return summary;
 }

@@ -21,9 +21,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "formats/scene/scene_meta.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/voxel_blocks.h"
 
@@ -45,5 +47,32 @@ struct DirectWriteSummary {
 /// the file cannot be written.
 DirectWriteSummary writeSceneVdbDirect(const SceneHeader& header, VoxelBlocks& blocks, const std::string& path,
                                        unsigned threads = 1);
+
+/// One scene among several in one file (a level of a pyramid,
+/// formats/vdb/pyramid_vdb.h): its grids are named `gridPrefix` + the scene's
+/// grid names and carry `gridMetadata` besides their own, as
+/// formats/vdb/vdb_scene_grids.h's appendSceneGrids gives them.
+struct DirectScenePart {
+  const SceneHeader* header = nullptr;
+  std::vector<const VoxelBlock*> blocks;  // any order; no two at one origin, no runs (materializeRuns)
+  std::string gridPrefix;
+  MetaEntries gridMetadata;
+  /// Write the colour grid even when no voxel has a colour (a level of a
+  /// coloured scene whose coloured voxels all dropped out).
+  bool colorGrid = false;
+};
+
+/// Writes the grids of every part, in order, into one file whose metadata is
+/// fileMetadata(the parts' summaries), called before anything is written
+/// (fileBytes is 0 there; in the result it is the file's size). The blocks are
+/// neither validated nor released: the caller made them (a reduction of a
+/// checked scene). Same bytes as openvdb::io::File would write for the same
+/// grids and metadata, except the UUID; they do not depend on `threads`.
+/// Throws vox::Error (Io) when the file cannot be written, naming it `what`
+/// ("pyramid").
+std::vector<DirectWriteSummary> writeScenesVdbDirect(
+    const std::vector<DirectScenePart>& parts,
+    const std::function<MetaEntries(const std::vector<DirectWriteSummary>&)>& fileMetadata, const std::string& path,
+    unsigned threads, const std::string& what);
 
 }  // namespace vox

@@ -16,12 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-constexpr const char* kPyramidKey = "vox:pyramid";
-
-// Level n >= 1 grids are named "mip<n>.<scene grid name>": a prefix, not a suffix, so
-// that the scene reader (which refuses any "votes.*" grid it cannot parse) skips them.
-std::string levelPrefix(size_t level) { return level == 0 ? "" : "mip" + std::to_string(level) + "."; }
-
 [[noreturn]] void bad(const std::string& path, const std::string& what) { throwBadInput(path + ": " + what); }
 
 /// The level a grid named "mip<n>.<name>" belongs to (0 for other names);
@@ -65,22 +59,18 @@ void writePyramidVdb(const std::vector<const Scene*>& levels, MipOccupancy occup
   ensureOpenVdbInitialized();
   if (levels.empty()) throw Error(ErrorKind::Internal, "writePyramidVdb: no levels");
   openvdb::GridPtrVec grids;
-  json levelTable = json::array();
+  std::vector<PyramidLevelEntry> levelTable;
   for (size_t n = 0; n < levels.size(); ++n) {
     const Scene& scene = *levels[n];
     const SceneHeader& h = scene.header();
     if (h.mipLevel != int(n) + levels[0]->header().mipLevel)
       throw Error(ErrorKind::Internal, "writePyramidVdb: level " + std::to_string(n) + " has mipLevel " +
                                            std::to_string(h.mipLevel));
-    appendSceneGrids(scene, levelPrefix(n), n > 0 ? pyramidLevelGridMetadata(h.mipLevel) : MetaEntries{}, grids);
-    if (n > 0)
-      levelTable.push_back({{"level", h.mipLevel},
-                            {"dims", {h.dims.x, h.dims.y, h.dims.z}},
-                            {"voxel_size", h.voxelSize},
-                            {"occupied", scene.occupiedCount()}});
+    appendSceneGrids(scene, pyramidGridPrefix(n), n > 0 ? pyramidLevelGridMetadata(h.mipLevel) : MetaEntries{}, grids);
+    if (n > 0) levelTable.push_back({h.mipLevel, h.dims, h.voxelSize, scene.occupiedCount()});
   }
   MetaEntries fileMeta = sceneFileMetadata(levels[0]->header());
-  fileMeta[kPyramidKey] = json{{"occupancy", mipOccupancyName(occupancy)}, {"levels", levelTable}}.dump();
+  fileMeta[kPyramidKey] = pyramidMetadata(mipOccupancyName(occupancy), levelTable);
   openvdb::MetaMap meta;
   insertVdbMetadata(meta, fileMeta);
   writeVdbFile(path, grids, meta, "pyramid");
@@ -122,7 +112,7 @@ std::vector<Scene> readPyramidVdb(const std::string& path) {
     h.mipLevel = base.mipLevel + int(n);
     h.dims = mipDims(base.dims, int(n));
     h.voxelSize = base.voxelSize * double(uint64_t(1) << n);
-    scene.grids() = levelGridsFromVdb(file.grids, levelPrefix(n), h, path + ": level " + std::to_string(n),
+    scene.grids() = levelGridsFromVdb(file.grids, pyramidGridPrefix(n), h, path + ": level " + std::to_string(n),
                                       /*checkTopology=*/true);
     levels.push_back(std::move(scene));
   }

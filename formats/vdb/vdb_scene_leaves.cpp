@@ -1,6 +1,7 @@
 #include "formats/vdb/vdb_scene_leaves.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstring>
 #include <unordered_map>
@@ -98,11 +99,15 @@ class LeavesSink final : public VdbWalkSink {
     std::array<uint64_t, 8> mask;
     std::memcpy(mask.data(), v.valueMask, 64);
     if (!insideDims(v.origin, mask)) throw NotOfTheForm{};  // "active voxels outside the dims"
+    if (activeCount(mask) == 0 || (role.kind != Role::Occupancy && (v.compressionMeta != 0 || v.count != activeCount(mask))))
+      notPlain_ = true;  // an empty leaf, or inactive values that are not the background
     if (role.kind == Role::Occupancy) {
       OccupancyLeaf& o = out_.occupancy[index];
       o.origin = v.origin;
       o.mask = mask;
       std::memcpy(o.surface.data(), v.boolValues, 64);
+      for (size_t w = 0; w < 8; ++w)
+        if (o.surface[w] & ~mask[w]) notPlain_ = true;
       return;
     }
     if (role.kind == Role::Votes) {
@@ -209,6 +214,7 @@ class LeavesSink final : public VdbWalkSink {
       if (occupancyOnly_ && name != g.uniqueName) throw NotOfTheForm{};
       const size_t leaves = size_t(g.leafCount);
       Role& r = roles_[i];
+      if (!plainGrid(name, gridMeta, l, leaves)) notPlain_ = true;
       if (name == kOccupancyGridName) {
         if (occupancy || g.type != kBoolTree) throw NotOfTheForm{};
         occupancy = true;
@@ -248,6 +254,25 @@ class LeavesSink final : public VdbWalkSink {
     return use;
   }
 
+  /// A scene grid whose background is 0, whose metadata keys are among those
+  /// voxbake's writers give it (which a rewrite replaces) and, for votes, with
+  /// leaves; or another grid.
+  static bool plainGrid(const std::string& name, const MetaEntries& meta, const VdbGridLayout& l, size_t leaves) {
+    MetaEntries own;
+    if (looksLikeVoteGridName(name) && leaves == 0) return false;
+    if (looksLikeVoteGridName(name)) own = voteGridMetadata(ClassTable{}, 0);
+    else if (name == kColorGridName) own = colorGridMetadata(), own["vector_type"] = std::string();
+    else if (name != kOccupancyGridName) return true;
+    for (const char* key : {"name", "file_bbox_min", "file_bbox_max", "file_compression", "file_mem_bytes",
+                            "file_voxel_count", "is_saved_as_half_float", "file_delayed_load"})
+      own[key] = std::string();
+    for (const auto& entry : meta)
+      if (!own.count(entry.first)) return false;
+    for (uint32_t b = 0; b < l.valueSize; ++b)
+      if (l.background[b] != 0) return false;
+    return true;
+  }
+
   /// Joins the vote and colour leaves to the occupancy leaves; false when a
   /// vote or colour lies outside the occupancy or an occupied voxel has no vote.
   bool join() {
@@ -280,6 +305,7 @@ class LeavesSink final : public VdbWalkSink {
       for (uint64_t w : unvoted)
         if (w) return false;
     }
+    out_.plainForm = !notPlain_;  // every leaf is in
     return true;
   }
 
@@ -289,6 +315,7 @@ class LeavesSink final : public VdbWalkSink {
   size_t metaBytes_ = 0;
   std::vector<Role> roles_;
   SceneLeaves out_;
+  std::atomic<bool> notPlain_{false};  // set by leaf() on several threads
 };
 
 }  // namespace

@@ -71,6 +71,14 @@ struct SceneLeaves {
   bool hasColor = false;     // the file has a colour grid (even an empty one)
   std::vector<SceneLeaf<std::array<float, 3>>> colorLeaves;
   std::vector<uint32_t> colorAt;  // per occupancy leaf
+  /// The leaves hold all a rewrite of the scene keeps (readSceneVdb then
+  /// writeSceneVdb, which keep what the file has): every leaf of every scene
+  /// grid has active voxels and every vote grid has leaves, the occupancy has
+  /// no value bits at inactive voxels, the backgrounds and inactive values are
+  /// 0, and the grids carry no metadata beyond the keys voxbake's writers
+  /// give them. So a writer of these leaves (formats/scene/scene_vdb_direct.h)
+  /// gives the bytes OpenVDB would. True for every scene voxbake writes.
+  bool plainForm = false;
 };
 
 /// What readSceneLeaves reads. OccupancyOnly mirrors readSceneVdb's

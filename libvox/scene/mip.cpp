@@ -48,20 +48,6 @@ uint64_t surfaceCount(const Scene& scene) {
   return n;
 }
 
-Dims mipDims(Dims d, int level) {
-  auto f = [level](uint32_t a) { return uint32_t((uint64_t(a) + (uint64_t(1) << level) - 1) >> level); };
-  return {f(d.x), f(d.y), f(d.z)};
-}
-
-int maxMipLevels(Dims d) {
-  int n = 0;
-  while (d.maxAxis() > 1) {
-    d = mipDims(d, 1);
-    ++n;
-  }
-  return n;
-}
-
 Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
   const SceneHeader& fh = fine.header();
   const SceneGrids& fg = fine.grids();
@@ -156,19 +142,7 @@ Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
   });
 
   Scene coarse;
-  SceneHeader& h = coarse.header();
-  h = fh;
-  h.dims = mipDims(fd, 1);
-  h.voxelSize = fh.voxelSize * 2;
-  h.mipLevel = fh.mipLevel + 1;
-  if (h.region && !h.region->box.empty()) {
-    // A region bake's part: the coarse voxels its box's voxels reduce into. Past
-    // the tiling's 32-voxel cells, parts share coarse voxels: such levels of a
-    // part are partial (docs/scale.md).
-    IndexBox& b = h.region->box;
-    b.min = {b.min.u >> 1, b.min.v >> 1, b.min.w >> 1};
-    b.max = {b.max.u >> 1, b.max.v >> 1, b.max.w >> 1};
-  }
+  coarse.header() = coarserMipHeader(fh);
   SceneGrids& g = coarse.grids();
   std::vector<openvdb::Int32Grid::Ptr> voteGrids(nClasses);
   for (size_t c = 0; c < nClasses; ++c) voteGrids[c] = openvdb::Int32Grid::create(0);

@@ -27,25 +27,16 @@
 #include <vector>
 
 #include "libvox/core/progress.h"
+#include "libvox/scene/mip_blocks.h"  // MipOccupancy, mipDims, maxMipLevels, coarserMipHeader
 #include "libvox/scene/scene.h"
 
 namespace vox {
-
-enum class MipOccupancy { Any, Majority };
-
-inline const char* mipOccupancyName(MipOccupancy m) { return m == MipOccupancy::Any ? "any" : "majority"; }
 
 /// One level coarser than `fine` (fine.header().mipLevel + 1).
 Scene reduceScene(const Scene& fine, MipOccupancy occupancy, unsigned threads = 1);
 
 /// Occupied voxels whose surface flag is set (a quick count on the trees).
 uint64_t surfaceCount(const Scene& scene);
-
-/// Dims of level n of a scene with level-0 dims `d`: ceil(d / 2^n) per axis.
-Dims mipDims(Dims d, int level);
-
-/// The number of levels after which the grid is one voxel: ceil(log2(max axis)).
-int maxMipLevels(Dims d);
 
 struct MipSettings {
   MipOccupancy occupancy = MipOccupancy::Any;

@@ -415,7 +415,19 @@ mip_pack)
   expect_exit 0 "$vox" pack-chunks --verify a.vpk
   expect_exit 0 "$vox" info --json a.vpk
   cp out.txt ainfo.json
-  jcheck ainfo.json "assert d['kind']=='pagefile' and d['layout']=='bricks' and d['chunk']==16 and d['align']==4096 and len(d['levels'])==7 and d['channels']==['occupancy','summary','surface']"
+  jcheck ainfo.json "assert d['kind']=='pagefile' and d['layout']=='bricks' and d['chunk']==16 and d['align'] in (64, 4096) and len(d['levels'])==7 and d['channels']==['occupancy','summary','surface']"
+  # --align auto is the default and the report names what it chose; a number is kept.
+  python3 -c "import json; a=json.load(open('ainfo.json'))['align']; c=json.load(open('pack.json'))['counts']['align']; assert a == c, (a, c)" ||
+    fail "info and the pack report disagree on the alignment"
+  expect_exit 0 "$vox" pack-chunks h.vdb -o auto.vpk --mips --align auto
+  cmp -s a.vpk auto.vpk || fail "--align auto differs from the default"
+  expect_exit 0 "$vox" pack-chunks h.vdb -o page.vpk --mips --align 4096 --report page.json
+  jcheck page.json "assert d['counts']['align']==4096"
+  for bad in 0 100 abc 4k; do
+    expect_exit 2 "$vox" pack-chunks h.vdb -o bad.vpk --align $bad
+    expect_stderr "auto"
+    [ ! -e bad.vpk ] || fail "--align $bad wrote bad.vpk"
+  done
   expect_exit 0 "$vox" info a.vpk
   expect_stdout "bytes per voxel"
   # From the stored pyramid, chunk 8, small alignment.

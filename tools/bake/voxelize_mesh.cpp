@@ -64,11 +64,6 @@ const EnumNames<vox::SolidRule>& solidRuleNames() {
   return names;
 }
 
-const EnumNames<vox::FillMode>& fillModeNames() {
-  static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
-  return names;
-}
-
 namespace {
 
 const EnumNames<VoxelizeMethod>& methodNames() {

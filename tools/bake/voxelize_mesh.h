@@ -123,7 +123,10 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp);
 
 /// --fill's names (surface | solid), shared with `vox mip --source-fill`.
-const EnumNames<vox::FillMode>& fillModeNames();
+inline const EnumNames<vox::FillMode>& fillModeNames() {
+  static const EnumNames<vox::FillMode> names{{"surface", vox::FillMode::Surface}, {"solid", vox::FillMode::Solid}};
+  return names;
+}
 
 /// The light module's registration of `voxelize`.
 Command registerVoxelizeLight(CLI::App& root);

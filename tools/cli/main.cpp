@@ -83,9 +83,9 @@ int main(int argc, char** argv) {
     const int code = runModule("VOX_BAKE_MODULE", "vox-bake.so", "vox_bake_main", dir, argc, argv, errors);
     if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }
-  // Packing a scene voxbake wrote runs in the light pack module (no OpenVDB);
-  // it defers everything else before writing anything.
-  if (argc >= 2 && std::strcmp(argv[1], "pack-chunks") == 0) {
+  // Packing a scene voxbake wrote, or building its pyramid, runs in the light
+  // pack module (no OpenVDB); it defers everything else before writing anything.
+  if (argc >= 2 && (std::strcmp(argv[1], "pack-chunks") == 0 || std::strcmp(argv[1], "mip") == 0)) {
     const int code = runModule("VOX_PACK_MODULE", "vox-pack.so", "vox_pack_main", dir, argc, argv, errors);
     if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }

@@ -18,30 +18,12 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
+#include "tools/cmds/mip_light.h"
 #include "tools/cmds/option_names.h"
 
 namespace voxcli {
 
 namespace {
-
-struct MipOptions {
-  std::string input;
-  std::string output;
-  int levels = 0;  // 0: automatic (vox::MipSettings::levels)
-  vox::MipOccupancy occupancy = vox::MipOccupancy::Any;
-  bool split = false;
-  std::vector<std::string> sources;
-  vox::FillMode sourceFill = vox::FillMode::Surface;
-  CommonOptions common;
-};
-
-/// --split: "-o OUT" or "-o OUT.vdb" both name the stem OUT.
-std::string splitStem(const std::string& output) {
-  return vox::hasExtension(output, ".vdb") ? output.substr(0, output.size() - 4) : output;
-}
-
-/// STEM -> STEM.mipN.vdb
-std::string splitName(const std::string& stem, int level) { return stem + ".mip" + std::to_string(level) + ".vdb"; }
 
 /// Why a level has no IoU: an empty reference makes the ratio meaningless (0
 /// for any non-empty level), so the report says so instead of a number.
@@ -70,20 +52,9 @@ int runMip(const MipOptions& o) {
   if (o.levels < 0) vox::throwUsage("--levels must be >= 0 (0 = automatic)");
 
   Run run("mip", o.common);
-  std::string outTemp;
-  if (!o.split) outTemp = run.output(o.output);
-
-  run.phase("read");
-  run.input(o.input);
-  vox::requireRegularFile(o.input);
+  const std::string outTemp = startMipRun(o, run);
   vox::Scene base = vox::readSceneVdb(o.input);
-  if (base.header().mipLevel != 0)
-    run.note("note: " + o.input + " is already mip level " + std::to_string(base.header().mipLevel) +
-             "; the pyramid continues from there");
-
-  // Levels above 0 hold about a third of level 0 again (surfaces shrink 4x
-  // per level), built through blocks and written with the scene (measured).
-  run.checkWorkMemory("the pyramid of " + o.input, 1.0);
+  checkMipInput(o, base.header().mipLevel, run);
   run.phase("reduce");
   vox::MipSettings settings;
   settings.occupancy = o.occupancy;
@@ -202,13 +173,7 @@ int runMip(const MipOptions& o) {
     for (const vox::Scene& l : levels) all.push_back(&l);
     vox::writePyramidVdb(all, o.occupancy, outTemp);
   }
-  run.counts()["levels"] = perLevel;
-  run.counts()["level_count"] = levels.size();
-  run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
-  run.counts()["base_occupied"] = base.occupiedCount();
-  run.note("wrote " + (o.split ? std::to_string(levels.size()) + " level files " + (levels.empty() ? std::string() : splitName(stem, 1) + "...")
-                               : o.output) +
-           ": " + std::to_string(levels.size()) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
+  reportMip(o, perLevel, levels.size(), base.occupiedCount(), run);
   return run.finish();
 }
 
@@ -216,26 +181,7 @@ int runMip(const MipOptions& o) {
 
 Command registerMip(CLI::App& root) {
   auto opts = std::make_shared<MipOptions>();
-  CLI::App* cmd = root.add_subcommand("mip", "Build the LOD pyramid of a scene (levels of voxel size 2^n)");
-  cmd->footer(
-      "Level n has voxels 2^n wide, reduced from level n-1 by 2x2x2 blocks: occupancy any or\n"
-      "majority (ties keep the voxel), votes summed exactly (saturating at 2^31-1), colour the\n"
-      "average of the coloured children, surface flag OR-ed.\n"
-      "Output: one .vdb holding level 0 and every level (grids mipN.occupancy, mipN.votes.ID,\n"
-      "mipN.color; "
-      "formats/scene/SCENE.md \"Pyramids\"), or with --split one scene per level: OUT.mip1.vdb, ...\n"
-      "--source demo:hamlet | MESH | SCENE.vdb (repeatable): with --report, the error of each level\n"
-      "(occupancy IoU, class disagreement) against the source voxelized directly at its placement.\n"
-      "Example: vox mip hamlet.vdb -o hamlet_mips.vdb --source demo:hamlet --report mip.json");
-  cmd->add_option("input", opts->input, "Scene (.vdb)")->required();
-  cmd->add_option("-o,--output", opts->output, "Pyramid file (*.vdb), or with --split the stem OUT (or OUT.vdb)")->required();
-  cmd->add_option("--levels", opts->levels,
-                  "Levels to build (default 0 = until one voxel, or until a level holds at most one voxel)");
-  addEnumOption(*cmd, "--occupancy", opts->occupancy, mipOccupancyNames(), "any (conservative) or majority (for display)");
-  cmd->add_flag("--split", opts->split, "One scene file per level (OUT.mip1.vdb, OUT.mip2.vdb, ...)");
-  cmd->add_option("--source", opts->sources, "Reference for the error report: demo:hamlet, a mesh or scene .vdb files");
-  addEnumOption(*cmd, "--source-fill", opts->sourceFill, fillModeNames(), "Mesh source: surface or solid");
-  addCommonOptions(*cmd, opts->common);
+  CLI::App* cmd = addMipOptions(root, *opts);
   return {cmd, [opts] { return runMip(*opts); }};
 }
 

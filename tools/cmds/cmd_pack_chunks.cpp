@@ -120,6 +120,7 @@ int runMerge(const PackOptions& o) {
   const vox::MergeStats& st = res.stats;
   run.counts() = {{"parts", o.merge.size()},
                   {"part_file_bytes", st.partFileBytes},
+                  {"align", res.alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
@@ -183,7 +184,8 @@ int runPack(const PackOptions& o) {
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   writeBytes(res.bytes, temp, o.output);
-  reportPack(o, pack, res.levels, res.bytes.size(), packSecs, run);
+  reportPack(o, pack, res.levels, res.bytes.size(),
+             1u << res.bytes.at(vox::pagefile::header_field::kAlignLog2), packSecs, run);
   return run.finish();
 }
 

@@ -50,13 +50,13 @@ std::string layoutHelp() {
 }  // namespace
 
 void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
-                uint64_t fileBytes, double packSecs, Run& run) {
+                uint64_t fileBytes, uint32_t alignment, double packSecs, Run& run) {
   uint64_t voxels = 0, chunks = 0;
   const nlohmann::json lv = levelsJson(levels, voxels, chunks);
   const double bytesPerVoxel = voxels ? double(fileBytes) / double(voxels) : 0.0;
   run.counts() = {{"layout", vox::pagefile::layoutName(pack.layout)},
                   {"chunk", pack.chunkSide},
-                  {"align", pack.alignment},
+                  {"align", alignment},
                   {"levels", lv},
                   {"chunks", chunks},
                   {"voxels", voxels},
@@ -89,8 +89,28 @@ CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
   CLI::Option* merge = cmd->add_option("--merge", opts.merge,
                                        "Join the page files of a region bake's parts (PART.vpk...) into the world's");
   cmd->add_option("--chunk", opts.pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
-  cmd->add_option("--align", opts.pack.alignment, "Payload alignment in bytes (power of two, 8..65536)")
-      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--align",
+         [&opts](const std::string& v) {
+           if (v == "auto") {
+             opts.pack.alignment = 0;
+             return;
+           }
+           // The packer checks the range and names the setting; here only the form.
+           size_t used = 0;
+           unsigned long bytes = 0;
+           try {
+             bytes = std::stoul(v, &used);
+           } catch (const std::exception&) {
+             used = 0;
+           }
+           if (used != v.size() || bytes == 0 || bytes > 0xFFFFFFFFul)
+             throw CLI::ValidationError("--align", v + ": expected auto or a power of two from 8 to 65536");
+           opts.pack.alignment = uint32_t(bytes);
+         },
+         "Payload alignment: auto (4 KiB when that pads the payloads by at most 1/8 more than 64 bytes would, "
+         "else 64 bytes) or bytes, a power of two 8..65536")
+      ->default_str("auto");
   addEnumOption(*cmd, "--layout", opts.pack.layout, layoutNames(), "Payload layout (below)");
   cmd->add_flag("--mips", opts.mips, "Also pack the mip levels");
   cmd->add_option("--levels", opts.levels, "With --mips: levels to build (default: automatic)");
@@ -127,7 +147,7 @@ std::optional<int> runPackFromLeaves(const PackOptions& o) {
   const double packSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.phase("write");
   vox::pagefile::writePlannedFile(temp, res.plan, res.chunks, o.output);
-  reportPack(o, pack, res.levels, res.plan.header.fileBytes, packSecs, run);
+  reportPack(o, pack, res.levels, res.plan.header.fileBytes, 1u << res.plan.header.alignLog2, packSecs, run);
   return run.finish();
 }
 

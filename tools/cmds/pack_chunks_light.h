@@ -52,9 +52,10 @@ nlohmann::json levelsJson(const Levels& levels, uint64_t& voxels, uint64_t& chun
   return lv;
 }
 
-/// The report's counts and the summary line of a pack.
+/// The report's counts and the summary line of a pack; `alignment` is the
+/// written file's (what --align auto chose).
 void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
-                uint64_t fileBytes, double packSecs, Run& run);
+                uint64_t fileBytes, uint32_t alignment, double packSecs, Run& run);
 
 /// Runs the packer, naming the input when the layout cannot hold the scene.
 template <typename Pack>

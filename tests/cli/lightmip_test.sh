@@ -1,0 +1,185 @@
+#!/usr/bin/env bash
+# `vox mip` in the light module (vox-pack.so, docs/startup.md) must write what
+# vox-cmds.so writes.
+#   matrix  hamlet 256 and 64, a coloured two-class mesh scene, a solid one
+#           (interior voxels, odd dims), one voxel, no voxel, and a --split
+#           level (mip level 1) as input; any/majority, automatic and given
+#           --levels, --split, threads 1 and 2. Every file written: the full
+#           module's bytes but for the UUID and OpenVDB's `file_delayed_load`
+#           entries (vdb_same.py), no difference for `vox diff` (every level),
+#           the same bytes at threads 1 and 2; exit codes, messages and
+#           reports (but for timings and resident memory) equal.
+#   path    the light path is taken (the loader's log, LD_DEBUG=files:
+#           vox-pack.so alone, no libopenvdb); --source, pyramid inputs, too
+#           many --levels and a scene whose grids carry metadata voxbake does
+#           not write run in vox-cmds.so; truncated, non-VDB and missing files
+#           are refused with its messages and exit codes; help and usage
+#           errors are the full module's.
+# The full module alone runs from a directory holding only vox and vox-cmds.so.
+# Usage: lightmip_test.sh GROUP VOX_BINARY
+set -u
+group=$1 vox=$2
+same_bytes=$(dirname "$(realpath "$0")")/vdb_same.py
+# shellcheck source=test_lib.sh
+. "$(dirname "$0")/test_lib.sh"
+
+mkdir full && cp "$(dirname "$vox")/vox" "$(dirname "$vox")/vox-cmds.so" full/
+fullvox=$work/full/vox
+[ -e "$(dirname "$vox")/vox-pack.so" ] || fail "no vox-pack.so beside $vox"
+
+# A sphere with vertex colours, its upper and lower halves of two materials
+# (so two classes), closed (so --fill solid has an inside).
+python3 - >sphere.obj <<'EOF'
+import math
+rings, segs = 14, 20
+for r in range(rings + 1):
+    th = math.pi * r / rings
+    for k in range(segs):
+        ph = 2 * math.pi * k / segs
+        x, y, z = math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph)
+        print('v %.6f %.6f %.6f %.4f %.4f %.4f' % (x, y + 1.2, z, 0.5 + 0.5 * x, 0.5 + 0.5 * y, 0.5 + 0.5 * z))
+for r in range(rings):
+    print('usemtl ' + ('upper' if r < rings // 2 else 'lower'))
+    for k in range(segs):
+        p, q = r * segs + k + 1, r * segs + (k + 1) % segs + 1
+        print('f %d %d %d' % (p, q, q + segs))
+        print('f %d %d %d' % (p, q + segs, p + segs))
+EOF
+printf 'v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nf 1 2 3\n' >tiny.obj
+
+case $group in
+matrix)
+  # Reports without what differs run to run: timings and resident memory
+  # (the memory checks' other parts must agree), argv[0].
+  cat >norm.py <<'EOF'
+import json, sys
+def clean(x):
+    if isinstance(x, dict):
+        return {k: clean(v) for k, v in x.items() if 'seconds' not in k and 'per_second' not in k and k != 'memory'}
+    return [clean(v) for v in x] if isinstance(x, list) else x
+d = json.load(open(sys.argv[1]))
+out = clean(d)
+out['argv'] = d['argv'][1:]
+out['memory_parts'] = [{k: v for k, v in c['parts'].items() if not k.startswith('resident')} for c in d['memory']['checks']]
+print(json.dumps(out, sort_keys=True))
+EOF
+  compared=0
+  # same NAME ARGS...: `vox mip ARGS` in L1/ and L2/ (the launcher, light
+  # module; --threads 1 and 2) and F/ (full module only); compares exit codes,
+  # messages, every file written and the reports.
+  same() {
+    local name=$1; shift
+    rm -rf L1 L2 F && mkdir L1 L2 F
+    (cd L1 && "$vox" mip "$@" --threads 1 --report rep.json >out.txt 2>err.txt; echo $? >rc)
+    (cd L2 && "$vox" mip "$@" --threads 2 --report rep.json >out.txt 2>err.txt; echo $? >rc)
+    (cd F && "$fullvox" mip "$@" --threads 1 --report rep.json >out.txt 2>err.txt; echo $? >rc)
+    [ "$(cat L1/rc)" = 0 ] || fail "$name: light exit $(cat L1/rc): $(head -c 300 L1/err.txt)"
+    [ "$(cat L1/rc)" = "$(cat F/rc)" ] || fail "$name: exit $(cat L1/rc) vs $(cat F/rc)"
+    cmp -s L1/err.txt F/err.txt || fail "$name: stderr differs: $(diff L1/err.txt F/err.txt | head -5)"
+    local files
+    files=$(cd F && ls | grep -v '^rep.json$\|^rc$\|^out.txt$\|^err.txt$')
+    [ "$(cd L1 && ls | grep -v '^rep.json$\|^rc$\|^out.txt$\|^err.txt$')" = "$files" ] ||
+      fail "$name: files differ: $(ls L1) / $(ls F)"
+    for f in $files; do
+      cmp -s "L1/$f" "L2/$f" || fail "$name: $f differs between threads 1 and 2"
+      python3 "$same_bytes" "L1/$f" "F/$f" >cmp.txt 2>&1 || fail "$name: $f: not OpenVDB's bytes: $(cat cmp.txt)"
+      "$vox" diff "L1/$f" "F/$f" >diff.txt 2>&1 || fail "$name: vox diff $f: $(head -c 300 diff.txt)"
+      compared=$((compared + 1))
+    done
+    [ "$(python3 norm.py L1/rep.json)" = "$(python3 norm.py F/rep.json)" ] ||
+      fail "$name: reports differ: $(diff <(python3 norm.py L1/rep.json | tr ',' '\n') <(python3 norm.py F/rep.json | tr ',' '\n') | head -6)"
+  }
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 256 -o hamlet256.vdb --quiet
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o hamlet64.vdb --quiet
+  expect_exit 0 "$vox" voxelize sphere.obj --res 50 -o colored.vdb --ignore-missing-materials --quiet
+  expect_exit 0 "$vox" voxelize sphere.obj --res 37 --fill solid -o solid.vdb --ignore-missing-materials --quiet
+  expect_exit 0 "$vox" voxelize tiny.obj --voxel-size 1 --bounds -3.5,-3.5,-3.5,4.5,4.5,4.5 -o one.vdb --quiet
+  expect_exit 0 "$vox" voxelize tiny.obj --voxel-size 1 --bounds 10,10,10,15,15,17 -o empty.vdb --quiet
+  expect_exit 0 "$fullvox" mip hamlet64.vdb -o level --split --levels 1 --quiet  # level.mip1.vdb: mip level 1
+  "$vox" info colored.vdb >info.txt 2>&1
+  grep -q "colour .* voxels coloured" info.txt || fail "colored.vdb has no colour: $(cat info.txt)"
+  "$vox" info solid.vdb >info.txt 2>&1
+  grep -q "surface (.*), [1-9][0-9,]* interior" info.txt || fail "solid.vdb has no interior voxels: $(cat info.txt)"
+
+  for occ in any majority; do
+    same "hamlet256 $occ" ../hamlet256.vdb -o m.vdb --levels 8 --occupancy $occ
+    for in in hamlet64 colored solid one empty level.mip1; do
+      for levels in "" "--levels 1" "--levels 3"; do
+        # shellcheck disable=SC2086
+        same "$in $occ $levels" ../$in.vdb -o m.vdb --occupancy $occ $levels
+      done
+      same "$in $occ split" ../$in.vdb -o parts.vdb --split --occupancy $occ
+    done
+  done
+  same "hamlet64 all levels" ../hamlet64.vdb -o m.vdb --levels 6 --occupancy majority
+  same "hamlet256 split" ../hamlet256.vdb -o parts --split --levels 2
+  echo "lightmip.matrix: $compared files compared" >&2
+  [ $compared -ge 80 ] || fail "only $compared files compared"
+  ;;
+path)
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 40 -o h.vdb --quiet
+  # modules LOGFILE: the command modules the run loaded, and whether OpenVDB was among its libraries.
+  modules() { grep -o 'file=[^ ]*\(vox-[a-z]*\.so\|libopenvdb[^ ]*\)' "$1" | sed 's|.*/||; s|file=||' | sort -u | tr '\n' ' '; }
+  for args in "-o m.vdb" "-o m.vdb --levels 2 --occupancy majority" "-o parts --split"; do
+    # shellcheck disable=SC2086
+    LD_DEBUG=files "$vox" mip h.vdb $args --quiet 2>ld.txt
+    [ "$(modules ld.txt)" = "vox-pack.so " ] || fail "'$args': loaded $(modules ld.txt), expected vox-pack.so alone"
+    ! grep -q libopenvdb ld.txt || fail "'$args': libopenvdb was loaded"
+  done
+  [ -e m.vdb ] && [ -e parts.mip1.vdb ] || fail "the light runs wrote nothing"
+
+  # same_outcome NAME ARGS...: `vox mip ARGS` exits, prints and writes as the
+  # full module alone does, each in its own directory.
+  same_outcome() {
+    local name=$1; shift
+    rm -rf L F && mkdir L F
+    (cd L && "$vox" mip "$@" >out.txt 2>err.txt; echo $? >rc)
+    (cd F && "$fullvox" mip "$@" >out.txt 2>err.txt; echo $? >rc)
+    [ "$(cat L/rc)" = "$(cat F/rc)" ] || fail "$name: exit $(cat L/rc) vs $(cat F/rc)"
+    cmp -s L/err.txt F/err.txt || fail "$name: messages differ: $(diff L/err.txt F/err.txt | head -4)"
+    [ "$(cd L && ls)" = "$(cd F && ls)" ] || fail "$name: files differ: $(ls L) / $(ls F)"
+  }
+  # deferred NAME ARGS...: also, the light module leaves the run to vox-cmds.so.
+  deferred() {
+    same_outcome "$@"
+    local name=$1; shift
+    (cd L && LD_DEBUG=files "$vox" mip "$@" 2>ld.txt >/dev/null)
+    modules L/ld.txt | grep -q "vox-cmds.so vox-pack.so" || fail "$name: not deferred: loaded $(modules L/ld.txt)"
+  }
+  expect_exit 0 "$vox" mip h.vdb -o pyramid.vdb --levels 2 --quiet
+  head -c 3000 h.vdb >cut.vdb
+  echo "not a scene" >text.vdb
+  # The same scene with a grid metadata key voxbake does not write (a
+  # same-length rename of "file_compression"): a rewrite keeps it.
+  python3 -c "
+b = open('h.vdb', 'rb').read(); i = b.index(b'file_compression')
+open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
+  deferred "--source" ../h.vdb -o m.vdb --source demo:hamlet --quiet
+  deferred "pyramid input" ../pyramid.vdb -o m.vdb --quiet
+  deferred "too many levels" ../h.vdb -o m.vdb --levels 7
+  # Files the walk refuses: the light module's error is the full module's (the same walk).
+  same_outcome "truncated" ../cut.vdb -o m.vdb
+  same_outcome "not a VDB" ../text.vdb -o m.vdb
+  same_outcome "missing" ../missing.vdb -o m.vdb
+  deferred "foreign grid metadata" ../foreign_meta.vdb -o m.vdb --quiet
+  # Both written by OpenVDB (random UUIDs): the same pyramid.
+  "$vox" diff L/m.vdb F/m.vdb >diff.txt 2>&1 || fail "foreign grid metadata: outputs differ: $(head -c 300 diff.txt)"
+
+  # Help and usage errors, as the full module prints them.
+  for args in "--help" "h.vdb -o x.txt" "h.vdb -o x.vdb --levels -1" "h.vdb -o / --split" \
+              "h.vdb -o x.vdb --occupancy most" "h.vdb" "h.vdb -o x.vdb --bogus"; do
+    # shellcheck disable=SC2086
+    "$vox" mip $args >l_out.txt 2>l_err.txt
+    lrc=$?
+    # shellcheck disable=SC2086
+    "$fullvox" mip $args >f_out.txt 2>f_err.txt
+    frc=$?
+    [ $lrc = $frc ] || fail "'$args': exit $lrc vs $frc"
+    cmp -s l_out.txt f_out.txt && cmp -s l_err.txt f_err.txt || fail "'$args': output differs: $(diff l_err.txt f_err.txt | head -4)"
+  done
+  [ ! -e x.vdb ] && [ ! -e x.txt ] || fail "a usage error left an output"
+  ;;
+*) echo "unknown group $group" >&2; exit 2 ;;
+esac
+[ $failures = 0 ] || { echo "$failures failure(s) in lightmip.$group" >&2; exit 1; }
+echo "lightmip.$group: ok"
