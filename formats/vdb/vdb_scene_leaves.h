@@ -84,7 +84,7 @@ struct SceneLeaves {
 /// What readSceneLeaves reads. OccupancyOnly mirrors readSceneVdb's
 /// SceneParts::OccupancyOnly (formats/vdb/scene_vdb.h), for renders that need
 /// where voxels are, not what they are: the occupancy leaves only (`votes`
-/// and `colorLeaves` empty, `hasColor` false, no joins); the other grids'
+/// and `colorLeaves` empty, `hasColor` false, `plainForm` false, no joins); the other grids'
 /// blocks are framed but not decompressed and the vote/colour topology is not
 /// checked. The grid names and types are checked as for All, and every
 /// grid's stored name must be its "name" metadata (the two readers pick the
