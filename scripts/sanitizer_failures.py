@@ -10,13 +10,19 @@ about the program. Such a failure is worth exactly one re-run of the test; any
 real sanitizer report (an ASan error, a leak, undefined behaviour) or any other
 failure is not.
 
-Prints the names of failed tests whose output carries the tracer's signature
-and no sanitizer report, one per line, and exits 0 when every failure is of
-that kind (so the caller re-runs them), 1 when some failure is anything else
-(it names those on stderr) or the file cannot be read.
+When every failure is of that kind, names them on stderr, prints a CTest
+regular expression matching exactly those tests (for `ctest -R`) and exits 0,
+so the caller re-runs them; exits 1 when some failure is anything else (it
+names those on stderr) or the file cannot be read.
+
+The re-run selects tests by name, not with `ctest --rerun-failed`: that reads
+test numbers back from LastTestsFailed.log, and after a run filtered with -E
+those numbers named other tests (a CI run re-ran fusespeed.reuse in place of
+gltfext.extensions).
 
 Usage: sanitizer_failures.py JUNIT.xml | --self-test
 """
+import re
 import sys
 import xml.etree.ElementTree as ET
 
@@ -48,6 +54,17 @@ def classify(root):
     return tracer_only, others
 
 
+# Characters special in CMake's regular expressions (cmake-commands(7), "Regex
+# Specification"); a backslash makes each literal.
+CMAKE_REGEX_SPECIAL = set("^$.[]*+?|()\\")
+
+
+def ctest_regex(names):
+    """A CTest -R expression that matches exactly the given test names."""
+    escaped = ("".join("\\" + c if c in CMAKE_REGEX_SPECIAL else c for c in n) for n in names)
+    return "^(" + "|".join(escaped) + ")$"
+
+
 def self_test():
     """Each kind of failure CTest's JUnit output can hold, sorted as documented."""
     def junit(*cases):
@@ -71,6 +88,20 @@ def self_test():
         if got != want:
             print(f"sanitizer_failures self-test case {i}: got {got}, want {want}", file=sys.stderr)
             failed += 1
+    # The re-run expression, checked the way CTest reads it (POSIX-like, whole name).
+    regex_checks = [
+        (["gltfext.extensions", "lightrender.matrix"],
+         ["gltfext.extensions", "lightrender.matrix"],
+         ["gltfextXextensions", "gltfext.extensions2", "fusespeed.reuse", "xlightrender.matrix"]),
+        (["a+b(c)"], ["a+b(c)"], ["aab(c)", "a+bc"]),
+    ]
+    for names, match, reject in regex_checks:
+        rx = re.compile(ctest_regex(names))
+        for n in match + reject:
+            if bool(rx.search(n)) != (n in match):
+                print(f"sanitizer_failures self-test: {ctest_regex(names)} on {n!r} wrong", file=sys.stderr)
+                failed += 1
+    checks += regex_checks
     print(f"sanitizer_failures self-test: {len(checks) - failed} of {len(checks)} cases sorted as documented")
     return 1 if failed else 0
 
@@ -91,7 +122,9 @@ def main(argv):
         print(f"sanitizer_failures: {name} failed for a reason other than LeakSanitizer's tracer", file=sys.stderr)
     if others or not tracer_only:
         return 1
-    print("\n".join(tracer_only))
+    print("sanitizer_failures: LeakSanitizer's tracer crashed at exit in: " + " ".join(tracer_only)
+          + " - running those once more", file=sys.stderr)
+    print(ctest_regex(tracer_only))
     return 0
 
 

@@ -46,6 +46,6 @@ fi
 # (google/sanitizers#1353; docs/reliability.md "Sanitizers in CI"). A test
 # that failed only that way runs once more and must pass then; any other
 # failure, a real leak or sanitizer report included, fails here.
-tests=$(python3 "$root/scripts/sanitizer_failures.py" "$junit") || exit 1
-echo "test-sanitizers: LeakSanitizer's tracer crashed at exit in: $(echo "$tests" | tr '\n' ' ')- running those once more"
-ctest --output-on-failure --rerun-failed
+# By name: --rerun-failed maps numbers from the filtered run onto other tests.
+rerun=$(python3 "$root/scripts/sanitizer_failures.py" "$junit") || exit 1
+ctest --output-on-failure -R "$rerun"
