@@ -2,7 +2,8 @@
 // against the brute-force oracle (solid angles over every triangle, long double)
 // at every voxel centre of small grids: open meshes (holes, a crack, an
 // open-topped box, a sheet) and closed ones (self-intersecting, nested,
-// inverted); the caps close the boundary; the caps' ball bound holds; the
+// inverted); the caps close the boundary, also across unwelded seams; the
+// caps' ball bound holds; the
 // result does not depend on the thread count.
 #include <gtest/gtest.h>
 
@@ -126,7 +127,47 @@ void expectIou(const char* name, const Mesh& m, uint32_t n, double target) {
 
 constexpr uint32_t kN = 32;
 
+/// A closed sphere cut into three bands along two latitudes, each band with
+/// vertices of its own and a radius larger by 2e-4 than the one above, so the
+/// seams are not welded: two pairs of rims side by side, 1e-3 voxel apart,
+/// running in opposite directions (as in meshes exported patch by patch).
+Mesh seamedSphere() {
+  const std::array<double, 3> c{16.2, 15.9, 16.1};
+  const Mesh top = sphere(c, 12.3, 40, false, [](double th, double) { return th < 1.0; });
+  const Mesh middle = sphere(c, 12.3 * (1 + 2e-4), 40, false, [](double th, double) { return th >= 1.0 && th < 2.0; });
+  const Mesh bottom = sphere(c, 12.3 * (1 + 4e-4), 40, false, [](double th, double) { return th >= 2.0; });
+  return join(join(top, middle), bottom);
+}
+
+std::vector<LatticePoint> latticeOf(const Mesh& m) {
+  std::vector<LatticePoint> lattice;
+  for (const auto& p : m.positions) lattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
+  return lattice;
+}
+
 }  // namespace
+
+TEST(Winding, UnweldedSeamsAreZipped) {
+  // The seams' four rims are joined into one walk and capped across the 1e-3
+  // voxel gaps, not by four caps as large as the sphere's cross-sections.
+  const Mesh m = seamedSphere();
+  const std::vector<CapTriangle> caps = capBoundaryLoops(m.triangles, latticeOf(m));
+  ASSERT_FALSE(caps.empty());
+  const CapField field(caps);
+  // reach = sqrt(area / 2pi). Zipped: two strips ~65 voxels long, ~2.5e-3
+  // wide, 0.32 voxels^2 (reach 0.23); four separate caps: ~1400 (reach ~15).
+  EXPECT_LT(field.reach(), 0.5);
+  // mesh + caps is still closed: an integer winding number everywhere off it.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> d(0, 32);
+  for (int i = 0; i < 200; ++i) {
+    const double p[3] = {d(rng), d(rng), d(rng)};
+    const double w = windingNumber(m, {p[0], p[1], p[2]}) + field.winding(p);
+    EXPECT_NEAR(w, std::round(w), 1e-4) << p[0] << " " << p[1] << " " << p[2];
+  }
+  // The solid fill is the closed sphere's.
+  expectIou("seamed sphere", m, kN, 1.0);
+}
 
 TEST(Winding, SphereWithHolesPunched) {
   const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double th, double ph) {
@@ -260,6 +301,8 @@ TEST(Winding, BallBoundHolds) {
                                        !(th > 2.7);
                               }),
                        13, 1.5, checked, cutting, clustered);
+  // Seams zipped by thin caps: the area bound is the smaller one near them.
+  expectBallBoundHolds(seamedSphere(), 14, 2.0, checked, cutting, clustered);
   std::printf("  %d points checked, %d balls cutting caps, %d with far clusters\n", checked, cutting, clustered);
   EXPECT_GT(clustered, 100);  // the trees' far-field approximations were exercised
   EXPECT_GT(checked, 10000);

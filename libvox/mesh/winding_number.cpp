@@ -5,6 +5,8 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <tuple>
+#include <queue>
 #include <unordered_map>
 
 namespace vox {
@@ -20,6 +22,173 @@ struct PointHash {
     return size_t(h ^ (h >> 29));
   }
 };
+
+/// A closed walk along the boundary: vertex[i] -> vertex[i + 1] (cyclic) is a
+/// boundary edge owned by mesh triangle source[i].
+struct Walk {
+  std::vector<uint32_t> vertex, source;
+};
+
+/// Joins walks that come within one voxel of each other into one walk each,
+/// through bridges: an edge x -> y and its reverse y -> x between vertices of
+/// two walks, which cancel, so the caps' boundary stays the mesh's. Why: an
+/// unwelded seam between two patches of a mesh leaves two loops side by side
+/// running in opposite directions; capped one by one they give two large caps
+/// whose fields cancel almost everywhere but whose bounds add up, so every
+/// block near them needs evaluating voxel by voxel. Joined, the ears cut
+/// shortest first zip the seam with triangles as wide as its gap. Walks are
+/// joined along a minimum spanning forest of their closest vertex pairs
+/// (shortest first, ties by walk order: deterministic); a joined walk starts
+/// as its first walk did.
+std::vector<Walk> bridgeWalks(std::vector<Walk>& walks, const std::vector<LatticePoint>& points) {
+  if (walks.size() < 2) return std::move(walks);
+  constexpr int64_t kReach = 65536;  // one voxel in lattice steps (libvox/mesh/voxelize.h)
+  auto cellOf = [](const LatticePoint& p) {
+    LatticePoint c;
+    for (int k = 0; k < 3; ++k) c[k] = p[k] >= 0 ? p[k] / kReach : -((-p[k] + kReach - 1) / kReach);
+    return c;
+  };
+  std::unordered_map<LatticePoint, std::vector<std::pair<uint32_t, uint32_t>>, PointHash> grid;  // cell -> (walk, position)
+  for (uint32_t w = 0; w < walks.size(); ++w)
+    for (uint32_t i = 0; i < walks[w].vertex.size(); ++i) grid[cellOf(points[walks[w].vertex[i]])].push_back({w, i});
+  struct Bridge {
+    double length2;
+    uint32_t walkA, posA, walkB, posB;  // walkA < walkB
+    bool operator<(const Bridge& o) const {
+      return std::tie(length2, walkA, walkB, posA, posB) < std::tie(o.length2, o.walkA, o.walkB, o.posA, o.posB);
+    }
+  };
+  std::map<std::pair<uint32_t, uint32_t>, Bridge> closest;  // per pair of walks
+  for (uint32_t w = 0; w < walks.size(); ++w)
+    for (uint32_t i = 0; i < walks[w].vertex.size(); ++i) {
+      const LatticePoint& p = points[walks[w].vertex[i]];
+      const LatticePoint c = cellOf(p);
+      for (int64_t dx = -1; dx <= 1; ++dx)
+        for (int64_t dy = -1; dy <= 1; ++dy)
+          for (int64_t dz = -1; dz <= 1; ++dz) {
+            const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+            if (it == grid.end()) continue;
+            for (const auto& [u, j] : it->second) {
+              if (u <= w) continue;  // each pair once, from its lower walk
+              const LatticePoint& q = points[walks[u].vertex[j]];
+              double d2 = 0;
+              for (int k = 0; k < 3; ++k) d2 += double(q[k] - p[k]) * double(q[k] - p[k]);
+              if (d2 > double(kReach) * double(kReach)) continue;
+              const Bridge b{d2, w, i, u, j};
+              auto [at, fresh] = closest.emplace(std::pair{w, u}, b);
+              if (!fresh && b < at->second) at->second = b;
+            }
+          }
+    }
+  if (closest.empty()) return std::move(walks);
+  std::vector<Bridge> bridges;
+  for (const auto& [pair, b] : closest) bridges.push_back(b);
+  std::sort(bridges.begin(), bridges.end());
+  std::vector<uint32_t> root(walks.size());
+  std::iota(root.begin(), root.end(), 0u);
+  auto find = [&](uint32_t w) {
+    while (root[w] != w) w = root[w] = root[root[w]];
+    return w;
+  };
+  // Children hung on a walk's positions: (position, child walk, child's position).
+  std::vector<std::vector<std::array<uint32_t, 3>>> links(walks.size());
+  for (const Bridge& b : bridges) {
+    const uint32_t ra = find(b.walkA), rb = find(b.walkB);
+    if (ra == rb) continue;
+    root[std::max(ra, rb)] = std::min(ra, rb);
+    links[b.walkA].push_back({b.posA, b.walkB, b.posB});
+    links[b.walkB].push_back({b.posB, b.walkA, b.posA});
+  }
+  for (auto& l : links) std::sort(l.begin(), l.end());
+  // Each tree of walks as one walk, depth first from its lowest walk: at a
+  // position with a child, x -> y (bridge), the child's loop from y back to
+  // y, y -> x (bridge), then on along the parent. Bridges take their owner
+  // from the edge they start beside (they cancel: any owner will do).
+  std::vector<Walk> joined;
+  std::vector<bool> emitted(walks.size(), false);
+  struct Frame {
+    uint32_t walk, start, step, link;
+    bool child;
+  };
+  for (uint32_t w0 = 0; w0 < walks.size(); ++w0) {
+    if (emitted[w0]) continue;
+    Walk out;
+    std::vector<Frame> stack{{w0, 0, 0, 0, false}};
+    emitted[w0] = true;
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const Walk& w = walks[f.walk];
+      const uint32_t n = uint32_t(w.vertex.size());
+      if (f.step == n) {  // back at the start: a child returns over its bridge
+        if (f.child) out.vertex.push_back(w.vertex[f.start]), out.source.push_back(w.source[f.start]);
+        stack.pop_back();
+        continue;
+      }
+      const uint32_t k = (f.start + f.step) % n;
+      // x on entry, and again on return from each child (then x -> y or x -> next).
+      out.vertex.push_back(w.vertex[k]), out.source.push_back(w.source[k]);
+      // The next child hung here that is not emitted yet (its parent edge is this one).
+      const auto& l = links[f.walk];
+      auto it = std::lower_bound(l.begin(), l.end(), std::array<uint32_t, 3>{k, 0, 0});
+      it += f.link;
+      while (it != l.end() && (*it)[0] == k && emitted[(*it)[1]]) ++it, ++f.link;
+      if (it != l.end() && (*it)[0] == k) {
+        ++f.link;
+        emitted[(*it)[1]] = true;
+        stack.push_back({(*it)[1], (*it)[2], 0, 0, true});
+        continue;
+      }
+      f.link = 0, ++f.step;
+    }
+    joined.push_back(std::move(out));
+  }
+  return joined;
+}
+
+/// Triangulates one closed walk (cycle[i] -> cycle[i + 1] is a boundary edge
+/// owned by mesh triangle source[i]) by cutting ears, shortest new edge first
+/// (ties by position in the walk: deterministic), each ear (p, q, r) emitted
+/// as (p, r, q): reversed, so the caps run against the mesh's boundary and the
+/// edges cancel. Why shortest first: the cap's triangles then grow only as far
+/// as the hole is wide. A narrow slit is zipped across with triangles about as
+/// large as its width, and a round hole is cut in rounds that double inwards;
+/// cutting in fixed rounds instead left, along a slit, slivers as long as the
+/// slit beside the rim, which every evaluation near the rim had to open.
+void cutEars(const std::vector<uint32_t>& cycle, const std::vector<uint32_t>& source,
+             const std::vector<LatticePoint>& points, std::vector<CapTriangle>& caps) {
+  const size_t n = cycle.size();
+  if (n < 3) return;  // a walk of two edges (a -> b -> a) cancels itself: no cap
+  std::vector<uint32_t> prev(n), next(n), version(n, 0);
+  for (size_t i = 0; i < n; ++i) prev[i] = uint32_t((i + n - 1) % n), next[i] = uint32_t((i + 1) % n);
+  auto diagonal = [&](uint32_t i) {  // squared length of the edge an ear at i leaves, in lattice steps
+    const LatticePoint &a = points[cycle[prev[i]]], &b = points[cycle[next[i]]];
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += double(b[k] - a[k]) * double(b[k] - a[k]);
+    return d2;
+  };
+  struct Ear {
+    double length2;
+    uint32_t at, version;
+    bool operator>(const Ear& o) const { return length2 != o.length2 ? length2 > o.length2 : at > o.at; }
+  };
+  std::priority_queue<Ear, std::vector<Ear>, std::greater<Ear>> ears;
+  for (uint32_t i = 0; i < n; ++i) ears.push({diagonal(i), i, 0});
+  for (size_t left = n; left > 3;) {
+    const Ear e = ears.top();
+    ears.pop();
+    if (e.version != version[e.at]) continue;  // its neighbours changed since: a newer entry exists
+    const uint32_t q = e.at, p = prev[q], r = next[q];
+    // The ear's first edge p -> q owns it, and the new edge p -> r inherits that owner.
+    caps.push_back({{points[cycle[p]], points[cycle[r]], points[cycle[q]]}, source[p]});
+    next[p] = r, prev[r] = p, version[q] = UINT32_MAX, --left;
+    ears.push({diagonal(p), p, ++version[p]});
+    ears.push({diagonal(r), r, ++version[r]});
+  }
+  uint32_t a = 0;
+  while (version[a] == UINT32_MAX) ++a;
+  const uint32_t b = next[a], c = next[b];
+  caps.push_back({{points[cycle[a]], points[cycle[c]], points[cycle[b]]}, source[a]});
+}
 
 }  // namespace
 
@@ -69,36 +238,21 @@ std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t,
     starts.push_back(from);
   }
   std::vector<uint32_t> used(points.size(), 0);  // outgoing edges used per vertex
-  std::vector<CapTriangle> caps;
-  std::vector<uint32_t> cycle, source, level, levelSource;
+  std::vector<Walk> walks;
   for (uint32_t s : starts) {
     while (used[s] < out[s].size()) {
-      cycle.clear(), source.clear();
+      Walk w;
       uint32_t v = s;
       do {
         const auto [to, tri] = out[v][used[v]++];
-        cycle.push_back(v), source.push_back(tri);
+        w.vertex.push_back(v), w.source.push_back(tri);
         v = to;
       } while (v != s);
-      // Balanced triangulation of the walk, reversed (the caps run against the
-      // mesh's boundary, so the edges cancel): each round cuts the triangles
-      // (p0, p2, p1), (p2, p4, p3), ... off the polygon and keeps p0, p2, p4,
-      // ...; triangles near the rim are as small as its edges, and each round
-      // doubles their size (a fan's long slivers would defeat CapField's tree).
-      while (cycle.size() >= 3) {
-        const size_t n = cycle.size();
-        level.clear(), levelSource.clear();
-        for (size_t i = 0; i + 1 < n; i += 2) {
-          caps.push_back({{points[cycle[i]], points[cycle[(i + 2) % n]], points[cycle[i + 1]]}, source[i]});
-          level.push_back(cycle[i]), levelSource.push_back(source[i]);
-        }
-        if (n % 2) level.push_back(cycle[n - 1]), levelSource.push_back(source[n - 1]);
-        if (n == 3) break;  // the last triangle closed it
-        cycle.swap(level), source.swap(levelSource);
-      }
-      // A walk of two edges (a -> b -> a) cancels itself: no cap.
+      walks.push_back(std::move(w));
     }
   }
+  std::vector<CapTriangle> caps;
+  for (const Walk& w : bridgeWalks(walks, points)) cutEars(w.vertex, w.source, points, caps);
   return caps;
 }
 
@@ -332,7 +486,10 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   double g[3] = {0, 0, 0}, gErr = 0;
   uint32_t stack[128];
   int top = 0;
-  if (!edgeTree_.empty()) stack[top++] = 0;
+  // A point (radius 0) needs the value alone: slope and curvature multiply
+  // distances from the centre, all 0. A point on a rim is still refused: the
+  // cap triangle on that rim edge has it on its plane (below).
+  if (!edgeTree_.empty() && radius > 0) stack[top++] = 0;
   while (top > 0) {
     const Node& n = edgeTree_[stack[--top]];
     double mc[3];
@@ -374,7 +531,14 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       for (int k = 0; k < 3; ++k) g[k] += c[k] * f;
     }
   }
-  double value = 0, vErr = 0;
+  // The same bounds from the caps' area, where the ball stays off every cap:
+  // |grad Omega| <= sum over the area of 2 / D^3 and the Hessian's half <=
+  // 3 / D^4 (K's derivatives, D: distance from the ball). Why both: the rims'
+  // terms add up along both sides of a narrow slit whose fields cancel, while
+  // the thin cap zipped across it has little area, so far from the slit this
+  // bound is smaller by about the slit's width over the distance.
+  double value = 0, vErr = 0, t1 = 0, t2 = 0;
+  bool areaBound = true;
   if (!triTree_.empty()) stack[top++] = 0;
   while (top > 0) {
     const Node& n = triTree_[stack[--top]];
@@ -386,6 +550,9 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       // off by at most area * r * 2 / clear^3.
       value += dot3(n.vec, mc) / (dist * dist * dist);
       vErr += n.size * n.r * 2 / (clear * clear * clear);
+      const double gap = clear - reachR;
+      t1 += 2 * n.size / (gap * gap * gap);
+      t2 += 3 * n.size / (gap * gap * gap * gap);
       continue;
     }
     if (n.left) {
@@ -399,14 +566,22 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       sub3(t.v[0], centre, a), sub3(t.v[1], centre, b), sub3(t.v[2], centre, c);
       value += triangleSolidAngle(a, b, c);
       const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
-      if (std::sqrt(dot3(dc, dc)) - t.r > reachR) continue;
-      if (triangleDistance(centre, t.v[0], t.v[1], t.v[2]) > reachR) continue;
+      double gap = std::sqrt(dot3(dc, dc)) - t.r - reachR;
+      if (gap <= 0) gap = triangleDistance(centre, t.v[0], t.v[1], t.v[2]) - reachR;
+      if (gap > 0) {
+        const double area = 0.5 / t.invN;
+        t1 += 2 * area / (gap * gap * gap);
+        t2 += 3 * area / (gap * gap * gap * gap);
+        continue;
+      }
+      areaBound = false;
       double cv[3];
       sub3(centre, t.v[0], cv);
       if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane
       ball.cut.push_back(i);
     }
   }
+  if (areaBound) s1 = std::min(s1, t1), s2 = std::min(s2, t2);
   ball.value = value / (4.0 * M_PI);
   for (int k = 0; k < 3; ++k) ball.gradient[k] = kGradientSign * g[k] / (4.0 * M_PI);
   ball.slope = s1 / (4.0 * M_PI) * (1 + 1e-9);

@@ -32,11 +32,15 @@ struct CapTriangle {
 
 /// The cap triangles closing every boundary loop of (triangles, lattice). Empty
 /// for closed, consistently oriented meshes. Deterministic (order of first
-/// appearance of the boundary edges in triangle order). Each loop (a closed
-/// walk along the boundary) is triangulated in rounds: (p0, p2, p1), (p2, p4,
-/// p3), ... then the same on p0, p2, p4, ...: small triangles along the rim,
-/// doubling inwards, n - 2 for n edges. A cap triangle's sourceTriangle owns
-/// the first boundary edge it spans.
+/// appearance of the boundary edges in triangle order). The boundary is split
+/// into closed walks; walks that come within one voxel of each other (an
+/// unwelded seam: two rims side by side, running in opposite directions) are
+/// joined into one by pairs of opposite bridge edges, which cancel. Each walk
+/// is triangulated by cutting ears, the one leaving the shortest new edge
+/// first: the caps are no wider than the hole (a seam or slit is zipped
+/// across, a round hole cut in rounds doubling inwards), n - 2 triangles for n
+/// edges (some of zero area). A cap triangle's sourceTriangle owns the first
+/// boundary edge it spans.
 std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t, 3>>& triangles,
                                           const std::vector<LatticePoint>& lattice);
 
@@ -100,6 +104,14 @@ class CapField {
     double valueError, gradientError;  // of the far clusters' dipole approximations
     std::vector<uint32_t> cut;  // cap triangles the ball reaches (their jumps count)
   };
+  /// Where the ball stays off every cap triangle, slope and curvature are the
+  /// smaller of those and the same bounds from the caps' area: (1 / 4pi) sum_t
+  /// 2 A_t / D_t^3 and 3 A_t / D_t^4 (D_t: the triangle's or its far cluster's
+  /// distance from the ball; the solid angle's kernel has derivatives of at most
+  /// 2 / D^3 and 6 / D^4). Why: along a seam or narrow slit the rims' terms add
+  /// up although their fields cancel, while the cap between them has almost no
+  /// area.
+  /// A point (radius 0) gets the value alone: slope, curvature and gradient 0.
   /// Fills `ball` and returns true when the ball stays clear of every boundary
   /// edge (and its centre clear of every cap plane it reaches); false when no
   /// bound is available (split the ball).
