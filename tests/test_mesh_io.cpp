@@ -177,10 +177,13 @@ TEST(ObjIo, SeveralLibrariesOnOneLineAndWindowsTexturePaths) {
 TEST(ObjIo, MissingLibraryOrTextureIsAnErrorUnlessIgnored) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib gone.mtl\nusemtl X\nf 1 2 3\n");
-  EXPECT_TRUE(rejects(dir.file("a.obj"), {"a.obj:4", "gone.mtl"}));
+  EXPECT_TRUE(rejects(dir.file("a.obj"), {"a.obj:4", "gone.mtl", "missing"}));
   voxtest::writeText(dir.file("t.mtl"), "newmtl X\nKd 1 1 1\nmap_Kd nothere.png\n");
   voxtest::writeText(dir.file("b.obj"), "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl X\nf 1 2 3\n");
   EXPECT_TRUE(rejects(dir.file("b.obj"), {"t.mtl:3", "map_Kd", "nothere.png", "missing"}));
+  // Both name the setting that bakes without them (the CLI adds --ignore-missing-materials).
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("a.obj")); }), Setting::IgnoreMissingMaterials);
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("b.obj")); }), Setting::IgnoreMissingMaterials);
   voxtest::writeText(dir.file("bad.png"), "not a png");
   voxtest::writeText(dir.file("u.mtl"), "newmtl X\nmap_Kd bad.png\n");
   voxtest::writeText(dir.file("c.obj"), "mtllib u.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

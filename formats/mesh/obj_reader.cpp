@@ -72,7 +72,8 @@ bool isFile(const std::string& path) {
 MeshTexture loadTexture(const std::string& path, const std::string& mtlName, size_t line) {
   if (!isFile(path))
     throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path +
-                  ": the texture file is missing; restore it or remove the map_Kd line");
+                      ": the texture file is missing; restore it, remove the map_Kd line, or leave the texture out",
+                  Setting::IgnoreMissingMaterials);
   const std::string bytes = readFileBytes(path);
   TextureImage image;
   std::string why;
@@ -263,6 +264,10 @@ class ObjParser {
                             ": the material library is missing; its materials are white");
         continue;
       }
+      if (!isFile(full))
+        throwBadInput(name_ + ":" + std::to_string(c.line) + ": mtllib " + file + ": the material library " + full +
+                          " is missing; restore it, or bake without it (its materials white)",
+                      Setting::IgnoreMissingMaterials);
       try {
         parseMtl(full, mesh_, materialByName_, options_, warnings_);
       } catch (const Error& e) {
