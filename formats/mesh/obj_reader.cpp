@@ -264,7 +264,8 @@ class ObjParser {
                             ": the material library is missing; its materials are white");
         continue;
       }
-      if (!isFile(full))
+      std::error_code ec;
+      if (!std::filesystem::exists(full, ec))  // not a regular file: parseMtl names what it is
         throwBadInput(name_ + ":" + std::to_string(c.line) + ": mtllib " + file + ": the material library " + full +
                           " is missing; restore it, or bake without it (its materials white)",
                       Setting::IgnoreMissingMaterials);
