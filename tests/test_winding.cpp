@@ -234,10 +234,11 @@ TEST(Winding, CapsCloseTheBoundary) {
   EXPECT_TRUE(capBoundaryLoops(soup, soupLattice).empty());
 }
 
-/// CapField::ballField's bound and jump counts against exact evaluation at
-/// random points of random balls, near and far from the holes' rims and
-/// cutting through the caps.
-void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& checked, int& cutting, int& clustered) {
+/// CapField::ballField's bounds, jump counts and magnitude (and
+/// CapField::magnitudeBound) against exact evaluation at random points of
+/// random balls, near and far from the holes' rims and cutting through the caps.
+void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& checked, int& cutting, int& clustered,
+                          int& nearRim, int& small) {
   std::vector<LatticePoint> lattice;
   for (const auto& p : m.positions) lattice.push_back({std::llround(p[0] * 65536), std::llround(p[1] * 65536), std::llround(p[2] * 65536)});
   const std::vector<CapTriangle> caps = capBoundaryLoops(m.triangles, lattice);
@@ -257,7 +258,9 @@ void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& chec
                unit(rng) * radius;
     }
     if (!field.ballField(c, radius, ball)) continue;
+    const double magnitude = field.magnitudeBound(c, radius, 1e9);
     cutting += !ball.cut.empty();
+    nearRim += !ball.rimsClear;
     clustered += ball.valueError > 0 && ball.gradientError > 0;
     for (int i = 0; i < 20; ++i) {
       double q[3];
@@ -268,6 +271,9 @@ void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& chec
       int jump = 0;
       if (!field.jumps(ball, p, jump)) continue;
       const double exact = field.winding(p), dist = std::hypot(q[0], q[1], q[2]);
+      EXPECT_LE(std::abs(exact), ball.magnitude) << p[0] << " " << p[1] << " " << p[2];
+      EXPECT_LE(std::abs(exact), magnitude) << p[0] << " " << p[1] << " " << p[2];
+      small += magnitude < 0.5;
       const double linear = ball.value + jump + ball.gradient[0] * q[0] + ball.gradient[1] * q[1] + ball.gradient[2] * q[2];
       EXPECT_LE(std::abs(exact - ball.value - jump), ball.slope * dist + ball.valueError + ball.slack)
           << p[0] << " " << p[1] << " " << p[2];
@@ -289,24 +295,27 @@ void expectBallBoundHolds(const Mesh& m, unsigned seed, double radius, int& chec
 }
 
 TEST(Winding, BallBoundHolds) {
-  int checked = 0, cutting = 0, clustered = 0;
+  int checked = 0, cutting = 0, clustered = 0, nearRim = 0, small = 0;
   // One big hole (a flat-ish cap), a crack (long thin caps), three holes.
   expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 24, false, [](double th, double) { return th > 1.1; }), 11,
-                       6.06, checked, cutting, clustered);
+                       6.06, checked, cutting, clustered, nearRim, small);
   expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double, double ph) { return ph > 0.2; }), 12,
-                       3.0, checked, cutting, clustered);
+                       3.0, checked, cutting, clustered, nearRim, small);
   expectBallBoundHolds(sphere({16.2, 15.9, 16.1}, 12.3, 40, false,
                               [](double th, double ph) {
                                 return !(th < 0.5) && !(std::abs(th - M_PI / 2) < 0.35 && std::abs(ph - 1.0) < 0.4) &&
                                        !(th > 2.7);
                               }),
-                       13, 1.5, checked, cutting, clustered);
+                       13, 1.5, checked, cutting, clustered, nearRim, small);
   // Seams zipped by thin caps: the area bound is the smaller one near them.
-  expectBallBoundHolds(seamedSphere(), 14, 2.0, checked, cutting, clustered);
-  std::printf("  %d points checked, %d balls cutting caps, %d with far clusters\n", checked, cutting, clustered);
+  expectBallBoundHolds(seamedSphere(), 14, 2.0, checked, cutting, clustered, nearRim, small);
+  std::printf("  %d points checked, %d balls cutting caps, %d with far clusters, %d reaching a rim, %d points under"
+              " a magnitude bound < 0.5\n", checked, cutting, clustered, nearRim, small);
   EXPECT_GT(clustered, 100);  // the trees' far-field approximations were exercised
   EXPECT_GT(checked, 10000);
   EXPECT_GT(cutting, 20);  // balls through the caps were exercised
+  EXPECT_GT(nearRim, 20);   // and balls reaching a rim (the magnitude bound alone)
+  EXPECT_GT(small, 1000);   // and the magnitude bound deciding
 }
 
 TEST(Winding, SameAtAnyThreadCount) {

@@ -1237,10 +1237,15 @@ class WindingTile {
     for (int32_t i = i0; i < i1 && !any; ++i)
       for (int32_t j = j0; j < j1 && !any; ++j) any = anyFree(column(i, j), k0, k1);
     if (!any) return;
-    if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {  // the tree's value, else every cap triangle
+    if (i1 - i0 == 1 && j1 - j0 == 1 && k1 - k0 == 1) {  // the caps' magnitude, the tree's value, else every cap
       const double p[3] = {x0_ + i0 + 0.5, y0_ + j0 + 0.5, z0_ + k0 + 0.5};
+      const int32_t w = windingAt(column(i0, j0), k0);
+      if (caps_.magnitudeBound(p, 0, 0.5) < 0.5) {  // |w_caps| < 0.5: inside exactly where W != 0
+        if (w != 0) setBits(inside_, column(i0, j0), k0, k1);
+        return;
+      }
       if (caps_.ballField(p, 0, ball_) && decideVoxel(column(i0, j0), i0, j0, k0, p)) return;
-      if (std::abs(double(windingAt(column(i0, j0), k0)) - caps_.winding(p)) > 0.5) setBits(inside_, column(i0, j0), k0, k1);
+      if (std::abs(double(w) - caps_.winding(p)) > 0.5) setBits(inside_, column(i0, j0), k0, k1);
       return;
     }
     if (decideBlock(i0, i1, j0, j1, k0, k1)) return;
@@ -1252,7 +1257,9 @@ class WindingTile {
           if (a0 < a1 && b0 < b1 && c0 < c1) decide(a0, a1, b0, b1, c0, c1);
   }
 
-  /// One evaluation for the block: decides the voxels (blocks up to
+  /// One evaluation for the block: where the caps' field stays below 0.5 in
+  /// magnitude (CapField::magnitudeBound, then the full evaluation's bound),
+  /// every voxel by W alone; else decides the voxels (blocks up to
   /// kJumpVolume voxels one by one, larger ones by runs of equal W) that its
   /// bound decides and returns whether none is left to decide.
   bool decideBlock(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1) {
@@ -1260,8 +1267,22 @@ class WindingTile {
     const double dx = i1 - i0 - 1, dy = j1 - j0 - 1, dz = k1 - k0 - 1;
     const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
     const size_t volume = size_t(i1 - i0) * size_t(j1 - j0) * size_t(k1 - k0);
-    if (!caps_.ballField(centre, radius, ball_)) return false;
+    const bool small = caps_.magnitudeBound(centre, radius, 0.5) < 0.5;
+    if (!small && !caps_.ballField(centre, radius, ball_)) return false;
     const CapField::Ball& b = ball_;
+    if (small || b.magnitude < 0.5) {  // |w_caps| < 0.5 throughout: inside exactly where W != 0
+      for (int32_t i = i0; i < i1; ++i)
+        for (int32_t j = j0; j < j1; ++j) {
+          const size_t col = column(i, j);
+          setBits(done_, col, k0, k1);
+          forRuns(col, k0, k1, [&](const Run& r, int32_t a, int32_t e) {
+            if (r.w != 0) setBits(inside_, col, a, e);
+            return true;
+          });
+        }
+      return true;
+    }
+    if (!b.rimsClear) return false;
     // A ball through caps: each voxel counts its jumps (a plane test per cut
     // triangle), unless splitting (eight evaluations over every cap) costs less.
     if (!b.cut.empty() && volume > kJumpVolume && volume * b.cut.size() > kJumpsPerEvaluation * caps_.size())
@@ -1312,6 +1333,11 @@ class WindingTile {
   bool decideVoxel(size_t col, int32_t i, int32_t j, int32_t k, const double centre[3]) {
     if (!anyFree(col, k, k + 1)) return true;
     const CapField::Ball& b = ball_;
+    if (b.magnitude < 0.5) {  // |w_caps| < 0.5: inside exactly where W != 0
+      setBits(done_, col, k, k + 1);
+      if (windingAt(col, k) != 0) setBits(inside_, col, k, k + 1);
+      return true;
+    }
     const double p[3] = {x0_ + i + 0.5, y0_ + j + 0.5, z0_ + k + 0.5};
     int jump = 0;
     if (!b.cut.empty() && !caps_.jumps(b, p, jump)) return false;

@@ -484,6 +484,7 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   const double reachR = radius * (1 + 1e-12) + kPlaneTolerance;
   double s1 = 0, s2 = 0;  // sum_e len_e / gap_e^2, sum_e len_e / gap_e^3
   double g[3] = {0, 0, 0}, gErr = 0;
+  bool rimsClear = true;
   uint32_t stack[128];
   int top = 0;
   // A point (radius 0) needs the value alone: slope and curvature multiply
@@ -517,7 +518,11 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
     for (uint32_t i = n.begin; i < n.end; ++i) {
       const Edge& e = edges_[i];
       const double gap = segmentDistance(centre, e.a, e.d) - reachR;
-      if (gap <= 0) return false;  // the ball reaches a rim: no bound
+      if (gap <= 0) {  // the ball reaches a rim: no slope, only the magnitude bound
+        rimsClear = false;
+        top = 0;
+        break;
+      }
       s1 += e.len / (gap * gap);
       s2 += e.len / (gap * gap * gap);
       // Biot-Savart over the edge a -> b: (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| + ra . rb)),
@@ -537,7 +542,7 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   // terms add up along both sides of a narrow slit whose fields cancel, while
   // the thin cap zipped across it has little area, so far from the slit this
   // bound is smaller by about the slit's width over the distance.
-  double value = 0, vErr = 0, t1 = 0, t2 = 0;
+  double value = 0, vErr = 0, t0 = 0, t1 = 0, t2 = 0;
   bool areaBound = true;
   if (!triTree_.empty()) stack[top++] = 0;
   while (top > 0) {
@@ -551,6 +556,7 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       value += dot3(n.vec, mc) / (dist * dist * dist);
       vErr += n.size * n.r * 2 / (clear * clear * clear);
       const double gap = clear - reachR;
+      t0 += n.size / (gap * gap);
       t1 += 2 * n.size / (gap * gap * gap);
       t2 += 3 * n.size / (gap * gap * gap * gap);
       continue;
@@ -570,18 +576,27 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       if (gap <= 0) gap = triangleDistance(centre, t.v[0], t.v[1], t.v[2]) - reachR;
       if (gap > 0) {
         const double area = 0.5 / t.invN;
+        t0 += std::min(2 * M_PI, area / (gap * gap));
         t1 += 2 * area / (gap * gap * gap);
         t2 += 3 * area / (gap * gap * gap * gap);
         continue;
       }
       areaBound = false;
+      t0 += 2 * M_PI;  // a triangle's solid angle is below a hemisphere's
       double cv[3];
       sub3(centre, t.v[0], cv);
       if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane
       ball.cut.push_back(i);
     }
   }
-  if (areaBound) s1 = std::min(s1, t1), s2 = std::min(s2, t2);
+  ball.magnitude = t0 / (4.0 * M_PI) * (1 + 1e-9) + 1e-9;
+  ball.rimsClear = rimsClear;
+  if (!rimsClear) {  // the rims' sums stopped part way: no gradient, the area's slope at most
+    s1 = areaBound ? t1 : INFINITY, s2 = INFINITY, gErr = INFINITY;
+    g[0] = g[1] = g[2] = 0;
+  } else if (areaBound) {
+    s1 = std::min(s1, t1), s2 = std::min(s2, t2);
+  }
   ball.value = value / (4.0 * M_PI);
   for (int k = 0; k < 3; ++k) ball.gradient[k] = kGradientSign * g[k] / (4.0 * M_PI);
   ball.slope = s1 / (4.0 * M_PI) * (1 + 1e-9);
@@ -590,6 +605,41 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   ball.gradientError = gErr / (4.0 * M_PI) * (1 + 1e-9);
   ball.slack = 1e-9 + 1e-12 * (radius * (std::sqrt(dot3(ball.gradient, ball.gradient)) + ball.slope) + std::abs(ball.value));
   return true;
+}
+
+double CapField::magnitudeBound(const double centre[3], double radius, double limit) const {
+  // Any cluster off the ball bounds its triangles' sum of A / D^2 by its area
+  // over its gap^2: no solid angle is evaluated, and clusters are taken whole
+  // as soon as they clear the ball by their own radius.
+  const double reachR = radius * (1 + 1e-12) + kPlaneTolerance;
+  const double budget = limit * 4.0 * M_PI / (1 + 1e-9);
+  double sum = 0;
+  uint32_t stack[128];
+  int top = 0;
+  if (!triTree_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = triTree_[stack[--top]];
+    double mc[3];
+    sub3(n.m, centre, mc);
+    const double gap = std::sqrt(dot3(mc, mc)) - n.r - reachR;
+    if (gap > n.r) {
+      sum += n.size / (gap * gap);
+    } else if (n.left) {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
+      continue;
+    } else {
+      for (uint32_t i = n.begin; i < n.end; ++i) {
+        const Tri& t = tris_[i];
+        const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
+        double d = std::sqrt(dot3(dc, dc)) - t.r - reachR;
+        if (d <= 0) d = triangleDistance(centre, t.v[0], t.v[1], t.v[2]) - reachR;
+        sum += d > 0 ? std::min(2 * M_PI, 0.5 / (t.invN * d * d)) : 2 * M_PI;
+      }
+    }
+    if (sum >= budget) return limit;
+  }
+  return sum / (4.0 * M_PI) * (1 + 1e-9) + 1e-9;
 }
 
 bool CapField::jumps(const Ball& ball, const double p[3], int& jump) const {

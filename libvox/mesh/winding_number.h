@@ -102,6 +102,12 @@ class CapField {
     double gradient[3];  // grad w_caps(centre), within gradientError (Euclidean norm)
     double slope, curvature, slack;
     double valueError, gradientError;  // of the far clusters' dipole approximations
+    /// |w_caps(p)| <= magnitude anywhere in the ball: sum over the caps of
+    /// min(2pi, A_t / D_t^2) / 4pi, with or without rims or caps in the ball.
+    double magnitude;
+    /// slope, curvature and the gradient hold (no rim within the ball); else
+    /// they are infinite and only `magnitude` bounds the field.
+    bool rimsClear;
     std::vector<uint32_t> cut;  // cap triangles the ball reaches (their jumps count)
   };
   /// Where the ball stays off every cap triangle, slope and curvature are the
@@ -112,10 +118,18 @@ class CapField {
   /// up although their fields cancel, while the cap between them has almost no
   /// area.
   /// A point (radius 0) gets the value alone: slope, curvature and gradient 0.
-  /// Fills `ball` and returns true when the ball stays clear of every boundary
-  /// edge (and its centre clear of every cap plane it reaches); false when no
-  /// bound is available (split the ball).
+  /// A ball that reaches a boundary edge (a rim) gets rimsClear false: no
+  /// gradient, infinite curvature and gradientError, the area's slope where it
+  /// stays off every cap (else infinite), and `magnitude`, which holds anyway.
+  /// Fills `ball` and returns true, or false when its centre lies on a cap
+  /// plane it reaches (no bound: split the ball, or evaluate the point exactly).
   bool ballField(const double centre[3], double radius, Ball& ball) const;
+
+  /// An upper bound on |w_caps(p)| over the ball (sum of min(2pi, A_t / D_t^2)
+  /// / 4pi, clusters that clear the ball by their radius taken whole), or
+  /// `limit` as soon as it reaches `limit`. Evaluates no solid angle: a cheap
+  /// first test where caps are thin strips (seams) or far away.
+  double magnitudeBound(const double centre[3], double radius, double limit) const;
 
   /// The jump of w_caps along the segment ball.centre -> p (p in the ball):
   /// -1 for each cut triangle crossed from its back (where its solid angle is
