@@ -241,27 +241,51 @@ enum class WalkEnd {
 // exactly one plane (the voxels touched are then the one left, already
 // tested, and the one entered). Anything else (a tie, the box's end, an empty
 // brick) goes back to a general event.
+//
+// The step's dependency chain is kept short: the time the ray leaves the
+// voxel it is about to enter (`tAfter`) is computed one step ahead, so a step
+// only compares and selects times already known; the voxel's bit in the brick
+// mask moves by a fixed stride per axis, and one index limit per axis (the
+// brick's far face) says when a step needs more than a bit test. The times are the same planeTime() values as
+// before, so the walk visits the same voxels in the same order.
 WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& event, RayGrid::Cursor& cursor,
                           RayHit& result) {
-  int64_t mirrored[3], gridVoxel[3], gridStep[3], brick[3];
+  int64_t mirrored[3], gridVoxel[3], gridStep[3], limit[3];
   double tLeave[3];  // when the ray leaves the current voxel on each axis
+  double tAfter[3];  // when it leaves the next voxel along each axis
+  int bitStep[3];
+  static constexpr int kBitStride[3] = {64, 8, 1};
   for (int a = 0; a < 3; ++a) {
     mirrored[a] = event.last[a];
     tLeave[a] = frame.moving[a] ? frame.planeTime(a, mirrored[a] + 1) : kInf;
+    tAfter[a] = frame.moving[a] ? frame.planeTime(a, mirrored[a] + 2) : kInf;
     gridVoxel[a] = frame.gridIndex(a, mirrored[a]);
     gridStep[a] = frame.flipped[a] ? -1 : 1;
-    brick[a] = gridVoxel[a] >> 3;
+    bitStep[a] = frame.flipped[a] ? -kBitStride[a] : kBitStride[a];
   }
+  auto setLimits = [&]() {
+    for (int a = 0; a < 3; ++a) {
+      // The last mirrored index of the current brick along the ray's direction.
+      const int64_t inBrick = frame.flipped[a] ? (gridVoxel[a] & 7) : 7 - (gridVoxel[a] & 7);
+      limit[a] = mirrored[a] + inBrick + 1;
+    }
+  };
+  setLimits();
   bool occupiedStart;
   cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
   const RayGrid::Mask512* brickMask = cursor.lastBrick();
+  int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
   for (;;) {
     const int axis = argMin3(tLeave);
     const double tCross = tLeave[axis];
     const int64_t entered = mirrored[axis] + 1;
-    const double tLeaveEntered = frame.planeTime(axis, entered + 1);
-    const int planesCrossed = int(tLeave[0] == tCross) + int(tLeave[1] == tCross) + int(tLeave[2] == tCross);
-    if (planesCrossed > 1 || tLeaveEntered == tCross || entered >= frame.domainEnd[axis]) {
+    const double tLeaveEntered = tAfter[axis];
+    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2;  // the other two axes
+    // A tie (another plane crossed at tCross, or the entered voxel left at
+    // once) or the content box's end: a general event. The others' times are
+    // >= tCross, so a tie is one of them <= tCross.
+    if (std::min(std::min(tLeave[o1], tLeave[o2]), tLeaveEntered) <= tCross ||
+        entered >= frame.domainEnd[axis]) {
       for (int a = 0; a < 3; ++a) {
         if (!frame.moving[a]) continue;
         if (tLeave[a] == tCross) frame.indicesAt(a, tCross, mirrored[a] + 1, event.first[a], event.last[a]);
@@ -271,18 +295,21 @@ WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& eve
       return WalkEnd::NextEvent;
     }
     ++result.steps;
+    const bool sameBrick = entered < limit[axis];
     mirrored[axis] = entered;
     tLeave[axis] = tLeaveEntered;
+    tAfter[axis] = frame.planeTime(axis, entered + 2);
     gridVoxel[axis] += gridStep[axis];
     bool occupied;
     int level = 0;
-    if ((gridVoxel[axis] >> 3) == brick[axis]) {  // same brick: one bit test at the brick-local position
-      const int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
+    if (sameBrick) {  // same brick: one bit test at the brick-local position
+      bit += bitStep[axis];
       occupied = ((*brickMask)[size_t(bit >> 6)] >> (bit & 63)) & 1;
     } else {
-      brick[axis] = gridVoxel[axis] >> 3;
       level = cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
       brickMask = cursor.lastBrick();
+      bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
+      setLimits();
     }
     if (occupied) {
       const Coord3 voxel{int32_t(gridVoxel[0]), int32_t(gridVoxel[1]), int32_t(gridVoxel[2])};
