@@ -146,7 +146,8 @@ class RayGrid {
 inline int RayGrid::Cursor::probe(int64_t u, int64_t v, int64_t w, bool& occupied) {
   occupied = false;
   const RayGrid& g = g_;
-  if (u < 0 || v < 0 || w < 0 || u >= int64_t(g.dims_.x) || v >= int64_t(g.dims_.y) || w >= int64_t(g.dims_.z)) return 3;
+  // Negative indices wrap to huge unsigned ones: one comparison per axis.
+  if ((uint64_t(u) >= g.dims_.x) | (uint64_t(v) >= g.dims_.y) | (uint64_t(w) >= g.dims_.z)) return 3;
   const uint64_t bkey = (uint64_t(u >> 3) << 42) | (uint64_t(v >> 3) << 21) | uint64_t(w >> 3);
   if (bkey != brickKey_) {
     brickKey_ = bkey;

@@ -96,16 +96,26 @@ RayHit& setHit(const Ray& ray, const Coord3& voxel, double key, double exit, Ray
 struct MirroredFrame {
   bool moving[3]{};
   bool flipped[3]{};
+  int64_t flipMask[3]{};  // -1 (all bits) on flipped axes, else 0: -i - 1 == i ^ -1
   double origin[3]{}, dir[3]{}, invDir[3]{};
   int64_t domainBegin[3]{}, domainEnd[3]{};  // the content box, mirrored: [begin, end)
   // On every fixed axis the ray lies inside one voxel slab rather than on the
   // plane between two (so each event touches one index there).
   bool oneSlabOnFixedAxes = true;
+  // Neighbouring planes of every moving axis are crossed at distinct times
+  // (planeTime strictly increasing in the plane), so a step never has to ask
+  // whether the plane before or after the one crossed is crossed at the same
+  // time. True when |origin| <= 2^39 and 2^-900 <= 1/dir <= 2^900 on every
+  // moving axis: then |p - o| < 2^40 for every plane p of the index range
+  // (|p| < 2^32), so p - o and p + 1 - o round to distinct doubles at least
+  // 1/2 apart, a relative gap above 2^-41, which the multiplication by 1/dir
+  // (no overflow, and no underflow that could merge two of them) keeps.
+  bool strictPlaneTimes = true;
 
   // When the ray crosses plane `plane` (mirrored) of moving axis `axis`: the
   // brute force's (p - o) * (1 / d), bit for bit.
   double planeTime(int axis, int64_t plane) const { return (double(plane) - origin[axis]) * invDir[axis]; }
-  int64_t gridIndex(int axis, int64_t mirrored) const { return flipped[axis] ? -mirrored - 1 : mirrored; }
+  int64_t gridIndex(int axis, int64_t mirrored) const { return mirrored ^ flipMask[axis]; }
 
   // The mirrored indices [first, last] of moving axis `axis` whose interval
   // contains time t, searched from `guess`.
@@ -118,11 +128,15 @@ struct MirroredFrame {
     while (planeTime(axis, first) >= t) --first;
   }
   // A starting point for indicesAt: the index the ray is near at time t, clamped.
+  // floor(x) clamped, without a floor call: floor(x) >= m iff x >= m, and
+  // floor(x) <= M iff x < M + 1 (m, M integers); in between, truncation
+  // corrected for negative x.
   int64_t indexGuess(int axis, double t, int64_t minIndex, int64_t maxIndex) const {
-    const double g = std::floor(origin[axis] + t * dir[axis]);
-    if (!(g >= double(minIndex))) return minIndex;
-    if (!(g <= double(maxIndex))) return maxIndex;
-    return int64_t(g);
+    const double x = origin[axis] + t * dir[axis];
+    if (!(x >= double(minIndex))) return minIndex;
+    if (!(x < double(maxIndex) + 1.0)) return maxIndex;
+    const int64_t i = int64_t(x);
+    return double(i) > x ? i - 1 : i;
   }
 };
 
@@ -162,9 +176,12 @@ bool makeFrame(const RayGrid& grid, const Ray& ray, MirroredFrame& frame, Event&
     ++movingAxes;
     frame.moving[a] = true;
     frame.flipped[a] = d < 0;
+    frame.flipMask[a] = frame.flipped[a] ? -1 : 0;
     frame.origin[a] = frame.flipped[a] ? -o : o;
     frame.dir[a] = frame.flipped[a] ? -d : d;
     frame.invDir[a] = 1.0 / frame.dir[a];  // == -(1.0 / d) when flipped, bit for bit
+    if (!(std::fabs(o) <= 0x1p39 && frame.invDir[a] >= 0x1p-900 && frame.invDir[a] <= 0x1p900))
+      frame.strictPlaneTimes = false;
     frame.domainBegin[a] = frame.flipped[a] ? -contentEnd[a] : contentBegin[a];
     frame.domainEnd[a] = frame.flipped[a] ? -contentBegin[a] : contentEnd[a];
   }
@@ -206,6 +223,27 @@ EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGri
     last[a] = std::min(event.last[a], frame.domainEnd[a] - 1);
   }
   EventTest test;
+  if (begin[0] == last[0] && begin[1] == last[1] && begin[2] == last[2]) {
+    // One voxel (the usual event away from ties): it is the one ahead when
+    // it is the event's last index on every moving axis.
+    bool occupied;
+    const int level = cursor.probe(frame.gridIndex(0, begin[0]), frame.gridIndex(1, begin[1]),
+                                   frame.gridIndex(2, begin[2]), occupied);
+    bool ahead = true;
+    for (int a = 0; a < 3; ++a)
+      if (frame.moving[a] && begin[a] != event.last[a]) ahead = false;
+    if (ahead) test.aheadLevel = level;
+    if (occupied) {
+      double exit = kInf;
+      for (int a = 0; a < 3; ++a)
+        if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, begin[a] + 1));
+      test.found = true;
+      test.voxel = Coord3{int32_t(frame.gridIndex(0, begin[0])), int32_t(frame.gridIndex(1, begin[1])),
+                          int32_t(frame.gridIndex(2, begin[2]))};
+      test.exit = exit;
+    }
+    return test;
+  }
   for (int64_t i = begin[0]; i <= last[0]; ++i)
     for (int64_t j = begin[1]; j <= last[1]; ++j)
       for (int64_t k = begin[2]; k <= last[2]; ++k) {
@@ -387,8 +425,8 @@ WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int leve
     const double tCross = tFar[axis];
     const int64_t plane = farPlane[axis];  // the plane crossed at tCross
     const int planesCrossed = int(tFar[0] == tCross) + int(tFar[1] == tCross) + int(tFar[2] == tCross);
-    if (planesCrossed > 1 || !(frame.planeTime(axis, plane - 1) < tCross) ||
-        !(frame.planeTime(axis, plane + 1) > tCross)) {
+    if (planesCrossed > 1 || (!frame.strictPlaneTimes && (!(frame.planeTime(axis, plane - 1) < tCross) ||
+                                                          !(frame.planeTime(axis, plane + 1) > tCross)))) {
       eventAt(tCross, farPlane, tFar);
       return WalkEnd::NextEvent;
     }
@@ -477,10 +515,10 @@ void jumpPastEmptyBox(const MirroredFrame& frame, int level, Event& event) {
   event.time = tCross;
 }
 
+// On a fixed axis the event's indices lie inside the box (makeFrame clips
+// them), so every axis can be compared.
 bool pastContentBox(const MirroredFrame& frame, const int64_t* index) {
-  for (int a = 0; a < 3; ++a)
-    if (frame.moving[a] && index[a] >= frame.domainEnd[a]) return true;
-  return false;
+  return (index[0] >= frame.domainEnd[0]) | (index[1] >= frame.domainEnd[1]) | (index[2] >= frame.domainEnd[2]);
 }
 
 Ray sanitized(const Ray& ray) { return sanitizeRay(ray); }
