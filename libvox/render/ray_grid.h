@@ -105,6 +105,8 @@ class RayGrid {
     explicit Cursor(const RayGrid& grid) : g_(grid) {}
     /// Same result as RayGrid::probe; `occupied` is set for level 0.
     int probe(int64_t u, int64_t v, int64_t w, bool& occupied);
+    /// The same for a voxel the caller knows lies inside the domain (no bounds test).
+    int probeInDomain(int64_t u, int64_t v, int64_t w, bool& occupied);
     /// The brick mask of the last probe that returned 0 (valid until the next probe).
     const Mask512* lastBrick() const { return brick_; }
 
@@ -154,10 +156,17 @@ class RayGrid {
 };
 
 inline int RayGrid::Cursor::probe(int64_t u, int64_t v, int64_t w, bool& occupied) {
+  // Negative indices wrap to huge unsigned ones: one comparison per axis.
+  if ((uint64_t(u) >= g_.dims_.x) | (uint64_t(v) >= g_.dims_.y) | (uint64_t(w) >= g_.dims_.z)) {
+    occupied = false;
+    return 3;
+  }
+  return probeInDomain(u, v, w, occupied);
+}
+
+inline int RayGrid::Cursor::probeInDomain(int64_t u, int64_t v, int64_t w, bool& occupied) {
   occupied = false;
   const RayGrid& g = g_;
-  // Negative indices wrap to huge unsigned ones: one comparison per axis.
-  if ((uint64_t(u) >= g.dims_.x) | (uint64_t(v) >= g.dims_.y) | (uint64_t(w) >= g.dims_.z)) return 3;
   if (!g.brickSlot_.empty()) {
     const uint64_t slot = (uint64_t(u >> 3) * g.brickDims_[1] + uint64_t(v >> 3)) * g.brickDims_[2] + uint64_t(w >> 3);
     if (slot != brickKey_) {

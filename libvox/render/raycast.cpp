@@ -215,7 +215,8 @@ struct EventTest {
   int aheadLevel = 3;  // the emptiness level (RayGrid::probe) of the voxels the ray goes on into
 };
 
-// Tests every voxel of the event inside the content box.
+// Tests every voxel of the event inside the content box. (Every voxel castRay
+// probes lies inside the content box, hence inside the domain: probeInDomain.)
 EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGrid::Cursor& cursor) {
   int64_t begin[3], last[3];
   for (int a = 0; a < 3; ++a) {
@@ -227,7 +228,7 @@ EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGri
     // One voxel (the usual event away from ties): it is the one ahead when
     // it is the event's last index on every moving axis.
     bool occupied;
-    const int level = cursor.probe(frame.gridIndex(0, begin[0]), frame.gridIndex(1, begin[1]),
+    const int level = cursor.probeInDomain(frame.gridIndex(0, begin[0]), frame.gridIndex(1, begin[1]),
                                    frame.gridIndex(2, begin[2]), occupied);
     bool ahead = true;
     for (int a = 0; a < 3; ++a)
@@ -250,7 +251,7 @@ EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGri
         const int64_t mirrored[3] = {i, j, k};
         const Coord3 voxel{int32_t(frame.gridIndex(0, i)), int32_t(frame.gridIndex(1, j)), int32_t(frame.gridIndex(2, k))};
         bool occupied;
-        const int level = cursor.probe(voxel.u, voxel.v, voxel.w, occupied);
+        const int level = cursor.probeInDomain(voxel.u, voxel.v, voxel.w, occupied);
         bool ahead = true;
         for (int a = 0; a < 3; ++a)
           if (frame.moving[a] && mirrored[a] != event.last[a]) ahead = false;
@@ -310,7 +311,7 @@ WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& eve
   };
   setLimits();
   bool occupiedStart;
-  cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
+  cursor.probeInDomain(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
   const RayGrid::Mask512* brickMask = cursor.lastBrick();
   int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
   for (;;) {
@@ -344,7 +345,7 @@ WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& eve
       bit += bitStep[axis];
       occupied = ((*brickMask)[size_t(bit >> 6)] >> (bit & 63)) & 1;
     } else {
-      level = cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
+      level = cursor.probeInDomain(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
       brickMask = cursor.lastBrick();
       bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
       setLimits();
@@ -467,7 +468,7 @@ WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int leve
       probeVoxel[a] = a == axis ? plane
                                 : std::clamp<int64_t>(cell[a] << (3 * level), frame.domainBegin[a], frame.domainEnd[a] - 1);
     bool occupied;
-    const int enteredLevel = cursor.probe(frame.gridIndex(0, probeVoxel[0]), frame.gridIndex(1, probeVoxel[1]),
+    const int enteredLevel = cursor.probeInDomain(frame.gridIndex(0, probeVoxel[0]), frame.gridIndex(1, probeVoxel[1]),
                                           frame.gridIndex(2, probeVoxel[2]), occupied);
     if (enteredLevel > level) {
       setLevel(enteredLevel);
