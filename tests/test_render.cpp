@@ -174,6 +174,41 @@ TEST(RayCast, EqualsBruteForceAcrossTheHierarchyLevels) {
   }
 }
 
+TEST(RayCast, EqualsBruteForceOnDomainsTooLargeForTheFlatBrickTable) {
+  // 2048 x 1024 x 2048 is 2^23 bricks, past RayGrid's flat table (2^22): its
+  // probes walk the tree. Sparse clusters, rays aimed at them or anywhere.
+  std::mt19937_64 rng(29);
+  const vox::Dims dims{2048, 1024, 2048};
+  RayGrid grid(dims);
+  std::vector<Coord3> voxels;
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int c = 0; c < 40; ++c) {
+    const int32_t cu = int32_t(unit(rng) * 2040), cv = int32_t(unit(rng) * 1016), cw = int32_t(unit(rng) * 2040);
+    for (int32_t du = 0; du < 6; ++du)
+      for (int32_t dv = 0; dv < 6; ++dv)
+        for (int32_t dw = 0; dw < 6; ++dw)
+          if (unit(rng) < 0.4) {
+            voxels.push_back({cu + du, cv + dv, cw + dw});
+            grid.addVoxel(uint32_t(cu + du), uint32_t(cv + dv), uint32_t(cw + dw));
+          }
+  }
+  grid.finish();
+  int hits = 0;
+  for (int i = 0; i < 600; ++i) {
+    Ray r = adversarialRay(rng, dims);
+    if (i % 2 == 0) {  // at a voxel of a cluster, from somewhere around the domain
+      const Coord3& target = voxels[size_t(unit(rng) * double(voxels.size()))];
+      const double t[3] = {target.u + unit(rng), target.v + unit(rng), target.w + unit(rng)};
+      for (int a = 0; a < 3; ++a) r.dir[size_t(a)] = t[a] - r.origin[size_t(a)];
+      if (r.dir[0] == 0 && r.dir[1] == 0 && r.dir[2] == 0) r.dir[0] = 1;
+    }
+    const vox::RayHit fast = vox::castRay(grid, r);
+    ASSERT_TRUE(sameHit(fast, vox::castRayBruteForce(voxels, r))) << "ray " << i << ": " << rayText(r);
+    hits += fast.hit;
+  }
+  EXPECT_GT(hits, 100);
+}
+
 TEST(RayCast, SkipsEmptySpaceInsteadOfSteppingThroughIt) {
   // One voxel at the far end of a 4096-long empty corridor: a per-voxel DDA
   // would take ~4000 steps; the hierarchy takes a few dozen.

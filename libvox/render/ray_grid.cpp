@@ -161,6 +161,7 @@ void RayGrid::finish() {
   prefixes(supers_);
   prefixes(regions_);
   buildDistanceField(brickKeys);
+  buildBrickSlots();
   if (!brickKeys.empty()) {
     std::array<int64_t, 3> lo{INT64_MAX, INT64_MAX, INT64_MAX}, hi{-1, -1, -1};
     for (uint64_t key : brickKeys) {
@@ -259,7 +260,45 @@ bool RayGrid::occupied(int64_t u, int64_t v, int64_t w) const {
 
 size_t RayGrid::memoryBytes() const {
   return top_.size() * sizeof(int32_t) + (supers_.size() + regions_.size()) * sizeof(Node) +
-         bricks_.size() * sizeof(Mask512) + brickDist_.size();
+         bricks_.size() * sizeof(Mask512) + brickDist_.size() + brickSlot_.size() * sizeof(int32_t);
+}
+
+void RayGrid::buildBrickSlots() {
+  const uint64_t count = uint64_t(brickDims_[0]) * brickDims_[1] * brickDims_[2];
+  if (count > kMaxBrickSlots) return;
+  brickSlot_.assign(size_t(count), -3);
+  // Fills the bricks of the box [lo, lo + n) (clipped to the domain) with `value`.
+  auto fill = [&](const uint32_t lo[3], uint32_t n, int32_t value) {
+    const uint32_t hx = std::min(lo[0] + n, brickDims_[0]), hy = std::min(lo[1] + n, brickDims_[1]),
+                   hz = std::min(lo[2] + n, brickDims_[2]);
+    for (uint32_t x = lo[0]; x < hx; ++x)
+      for (uint32_t y = lo[1]; y < hy; ++y) {
+        int32_t* row = brickSlot_.data() + (size_t(x) * brickDims_[1] + y) * brickDims_[2];
+        std::fill(row + lo[2], row + hz, value);
+      }
+  };
+  for (uint32_t tx = 0; tx < topDims_[0]; ++tx)
+    for (uint32_t ty = 0; ty < topDims_[1]; ++ty)
+      for (uint32_t tz = 0; tz < topDims_[2]; ++tz) {
+        const int32_t s = top_[(size_t(tx) * topDims_[1] + ty) * topDims_[2] + tz];
+        if (s < 0) continue;
+        const uint32_t superLo[3] = {tx * 64, ty * 64, tz * 64};
+        fill(superLo, 64, -2);
+        const Node& sn = supers_[size_t(s)];
+        for (int rb = 0; rb < 512; ++rb) {
+          if (!sn.has(rb)) continue;
+          const uint32_t regionLo[3] = {superLo[0] + uint32_t(rb >> 6) * 8, superLo[1] + uint32_t((rb >> 3) & 7) * 8,
+                                        superLo[2] + uint32_t(rb & 7) * 8};
+          fill(regionLo, 8, -1);
+          const Node& rn = regions_[sn.child(rb)];
+          for (int bb = 0; bb < 512; ++bb) {
+            if (!rn.has(bb)) continue;
+            const size_t x = regionLo[0] + uint32_t(bb >> 6), y = regionLo[1] + uint32_t((bb >> 3) & 7),
+                         z = regionLo[2] + uint32_t(bb & 7);
+            brickSlot_[(x * brickDims_[1] + y) * brickDims_[2] + z] = int32_t(rn.child(bb));
+          }
+        }
+      }
 }
 
 std::vector<Coord3> RayGrid::occupiedVoxels() const {

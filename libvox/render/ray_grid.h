@@ -12,7 +12,9 @@
 // Why not the OpenVDB tree: a ray needs "how big is the empty box around this
 // voxel" at every step, and the same structure must come from a page file
 // without OpenVDB. This one answers in four dependent loads (one when the
-// brick is cached) and holds a 256^3 scene's shell in a few MB.
+// brick is cached) and holds a 256^3 scene's shell in a few MB. Domains of up
+// to 2^22 bricks also get a flat table of each brick's answer (4 bytes per
+// brick: 128 KB at 256^3, 8 MB at 1024^3), so a probe is one load.
 //
 // Build with addBrick()/addVoxel() (any order, repeated bricks are OR-ed), then
 // finish(). After finish() the grid is immutable and safe to read from any
@@ -103,6 +105,8 @@ class RayGrid {
     explicit Cursor(const RayGrid& grid) : g_(grid) {}
     /// Same result as RayGrid::probe; `occupied` is set for level 0.
     int probe(int64_t u, int64_t v, int64_t w, bool& occupied);
+    /// The same for a voxel the caller knows lies inside the domain (no bounds test).
+    int probeInDomain(int64_t u, int64_t v, int64_t w, bool& occupied);
     /// The brick mask of the last probe that returned 0 (valid until the next probe).
     const Mask512* lastBrick() const { return brick_; }
 
@@ -138,17 +142,41 @@ class RayGrid {
   void includeInOccupiedBox(uint32_t bx, uint32_t by, uint32_t bz, const Mask512& mask);
   std::vector<uint8_t> brickDist_;  // (bx+1, by+1, bz+1) in a 1-brick padded box; see emptyBricksAround
   void buildDistanceField(const std::vector<uint64_t>& brickKeys);
+  // What probe() answers for each brick of the domain, flat (x major): the
+  // brick's index in bricks_ (>= 0), or minus its emptiness level (-1 brick,
+  // -2 region, -3 super-region empty). One load instead of the tree's three
+  // dependent ones; only for domains of at most kMaxBrickSlots bricks (16 MB),
+  // larger ones walk the tree.
+  static constexpr uint64_t kMaxBrickSlots = uint64_t(1) << 22;
+  std::vector<int32_t> brickSlot_;
+  void buildBrickSlots();
   std::vector<std::pair<uint64_t, Mask512>> pending_;  // (brick key, mask) until finish()
   uint64_t occupied_ = 0;
   bool finished_ = false;
 };
 
 inline int RayGrid::Cursor::probe(int64_t u, int64_t v, int64_t w, bool& occupied) {
+  // Negative indices wrap to huge unsigned ones: one comparison per axis.
+  if ((uint64_t(u) >= g_.dims_.x) | (uint64_t(v) >= g_.dims_.y) | (uint64_t(w) >= g_.dims_.z)) {
+    occupied = false;
+    return 3;
+  }
+  return probeInDomain(u, v, w, occupied);
+}
+
+inline int RayGrid::Cursor::probeInDomain(int64_t u, int64_t v, int64_t w, bool& occupied) {
   occupied = false;
   const RayGrid& g = g_;
-  if (u < 0 || v < 0 || w < 0 || u >= int64_t(g.dims_.x) || v >= int64_t(g.dims_.y) || w >= int64_t(g.dims_.z)) return 3;
-  const uint64_t bkey = (uint64_t(u >> 3) << 42) | (uint64_t(v >> 3) << 21) | uint64_t(w >> 3);
-  if (bkey != brickKey_) {
+  if (!g.brickSlot_.empty()) {
+    const uint64_t slot = (uint64_t(u >> 3) * g.brickDims_[1] + uint64_t(v >> 3)) * g.brickDims_[2] + uint64_t(w >> 3);
+    if (slot != brickKey_) {
+      brickKey_ = slot;
+      const int32_t s = g.brickSlot_[size_t(slot)];
+      brick_ = s >= 0 ? &g.bricks_[size_t(s)] : nullptr;
+      brickLevel_ = s >= 0 ? 0 : -s;
+    }
+  } else if (const uint64_t bkey = (uint64_t(u >> 3) << 42) | (uint64_t(v >> 3) << 21) | uint64_t(w >> 3);
+             bkey != brickKey_) {
     brickKey_ = bkey;
     const uint64_t rkey = (uint64_t(u >> 6) << 42) | (uint64_t(v >> 6) << 21) | uint64_t(w >> 6);
     if (rkey != regionKey_) {

@@ -96,16 +96,26 @@ RayHit& setHit(const Ray& ray, const Coord3& voxel, double key, double exit, Ray
 struct MirroredFrame {
   bool moving[3]{};
   bool flipped[3]{};
+  int64_t flipMask[3]{};  // -1 (all bits) on flipped axes, else 0: -i - 1 == i ^ -1
   double origin[3]{}, dir[3]{}, invDir[3]{};
   int64_t domainBegin[3]{}, domainEnd[3]{};  // the content box, mirrored: [begin, end)
   // On every fixed axis the ray lies inside one voxel slab rather than on the
   // plane between two (so each event touches one index there).
   bool oneSlabOnFixedAxes = true;
+  // Neighbouring planes of every moving axis are crossed at distinct times
+  // (planeTime strictly increasing in the plane), so a step never has to ask
+  // whether the plane before or after the one crossed is crossed at the same
+  // time. True when |origin| <= 2^39 and 2^-900 <= 1/dir <= 2^900 on every
+  // moving axis: then |p - o| < 2^40 for every plane p of the index range
+  // (|p| < 2^32), so p - o and p + 1 - o round to distinct doubles at least
+  // 1/2 apart, a relative gap above 2^-41, which the multiplication by 1/dir
+  // (no overflow, and no underflow that could merge two of them) keeps.
+  bool strictPlaneTimes = true;
 
   // When the ray crosses plane `plane` (mirrored) of moving axis `axis`: the
   // brute force's (p - o) * (1 / d), bit for bit.
   double planeTime(int axis, int64_t plane) const { return (double(plane) - origin[axis]) * invDir[axis]; }
-  int64_t gridIndex(int axis, int64_t mirrored) const { return flipped[axis] ? -mirrored - 1 : mirrored; }
+  int64_t gridIndex(int axis, int64_t mirrored) const { return mirrored ^ flipMask[axis]; }
 
   // The mirrored indices [first, last] of moving axis `axis` whose interval
   // contains time t, searched from `guess`.
@@ -118,11 +128,15 @@ struct MirroredFrame {
     while (planeTime(axis, first) >= t) --first;
   }
   // A starting point for indicesAt: the index the ray is near at time t, clamped.
+  // floor(x) clamped, without a floor call: floor(x) >= m iff x >= m, and
+  // floor(x) <= M iff x < M + 1 (m, M integers); in between, truncation
+  // corrected for negative x.
   int64_t indexGuess(int axis, double t, int64_t minIndex, int64_t maxIndex) const {
-    const double g = std::floor(origin[axis] + t * dir[axis]);
-    if (!(g >= double(minIndex))) return minIndex;
-    if (!(g <= double(maxIndex))) return maxIndex;
-    return int64_t(g);
+    const double x = origin[axis] + t * dir[axis];
+    if (!(x >= double(minIndex))) return minIndex;
+    if (!(x < double(maxIndex) + 1.0)) return maxIndex;
+    const int64_t i = int64_t(x);
+    return double(i) > x ? i - 1 : i;
   }
 };
 
@@ -162,9 +176,12 @@ bool makeFrame(const RayGrid& grid, const Ray& ray, MirroredFrame& frame, Event&
     ++movingAxes;
     frame.moving[a] = true;
     frame.flipped[a] = d < 0;
+    frame.flipMask[a] = frame.flipped[a] ? -1 : 0;
     frame.origin[a] = frame.flipped[a] ? -o : o;
     frame.dir[a] = frame.flipped[a] ? -d : d;
     frame.invDir[a] = 1.0 / frame.dir[a];  // == -(1.0 / d) when flipped, bit for bit
+    if (!(std::fabs(o) <= 0x1p39 && frame.invDir[a] >= 0x1p-900 && frame.invDir[a] <= 0x1p900))
+      frame.strictPlaneTimes = false;
     frame.domainBegin[a] = frame.flipped[a] ? -contentEnd[a] : contentBegin[a];
     frame.domainEnd[a] = frame.flipped[a] ? -contentBegin[a] : contentEnd[a];
   }
@@ -198,7 +215,8 @@ struct EventTest {
   int aheadLevel = 3;  // the emptiness level (RayGrid::probe) of the voxels the ray goes on into
 };
 
-// Tests every voxel of the event inside the content box.
+// Tests every voxel of the event inside the content box. (Every voxel castRay
+// probes lies inside the content box, hence inside the domain: probeInDomain.)
 EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGrid::Cursor& cursor) {
   int64_t begin[3], last[3];
   for (int a = 0; a < 3; ++a) {
@@ -206,13 +224,34 @@ EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGri
     last[a] = std::min(event.last[a], frame.domainEnd[a] - 1);
   }
   EventTest test;
+  if (begin[0] == last[0] && begin[1] == last[1] && begin[2] == last[2]) {
+    // One voxel (the usual event away from ties): it is the one ahead when
+    // it is the event's last index on every moving axis.
+    bool occupied;
+    const int level = cursor.probeInDomain(frame.gridIndex(0, begin[0]), frame.gridIndex(1, begin[1]),
+                                   frame.gridIndex(2, begin[2]), occupied);
+    bool ahead = true;
+    for (int a = 0; a < 3; ++a)
+      if (frame.moving[a] && begin[a] != event.last[a]) ahead = false;
+    if (ahead) test.aheadLevel = level;
+    if (occupied) {
+      double exit = kInf;
+      for (int a = 0; a < 3; ++a)
+        if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, begin[a] + 1));
+      test.found = true;
+      test.voxel = Coord3{int32_t(frame.gridIndex(0, begin[0])), int32_t(frame.gridIndex(1, begin[1])),
+                          int32_t(frame.gridIndex(2, begin[2]))};
+      test.exit = exit;
+    }
+    return test;
+  }
   for (int64_t i = begin[0]; i <= last[0]; ++i)
     for (int64_t j = begin[1]; j <= last[1]; ++j)
       for (int64_t k = begin[2]; k <= last[2]; ++k) {
         const int64_t mirrored[3] = {i, j, k};
         const Coord3 voxel{int32_t(frame.gridIndex(0, i)), int32_t(frame.gridIndex(1, j)), int32_t(frame.gridIndex(2, k))};
         bool occupied;
-        const int level = cursor.probe(voxel.u, voxel.v, voxel.w, occupied);
+        const int level = cursor.probeInDomain(voxel.u, voxel.v, voxel.w, occupied);
         bool ahead = true;
         for (int a = 0; a < 3; ++a)
           if (frame.moving[a] && mirrored[a] != event.last[a]) ahead = false;
@@ -241,27 +280,51 @@ enum class WalkEnd {
 // exactly one plane (the voxels touched are then the one left, already
 // tested, and the one entered). Anything else (a tie, the box's end, an empty
 // brick) goes back to a general event.
+//
+// The step's dependency chain is kept short: the time the ray leaves the
+// voxel it is about to enter (`tAfter`) is computed one step ahead, so a step
+// only compares and selects times already known; the voxel's bit in the brick
+// mask moves by a fixed stride per axis, and one index limit per axis (the
+// brick's far face) says when a step needs more than a bit test. The times are the same planeTime() values as
+// before, so the walk visits the same voxels in the same order.
 WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& event, RayGrid::Cursor& cursor,
                           RayHit& result) {
-  int64_t mirrored[3], gridVoxel[3], gridStep[3], brick[3];
+  int64_t mirrored[3], gridVoxel[3], gridStep[3], limit[3];
   double tLeave[3];  // when the ray leaves the current voxel on each axis
+  double tAfter[3];  // when it leaves the next voxel along each axis
+  int bitStep[3];
+  static constexpr int kBitStride[3] = {64, 8, 1};
   for (int a = 0; a < 3; ++a) {
     mirrored[a] = event.last[a];
     tLeave[a] = frame.moving[a] ? frame.planeTime(a, mirrored[a] + 1) : kInf;
+    tAfter[a] = frame.moving[a] ? frame.planeTime(a, mirrored[a] + 2) : kInf;
     gridVoxel[a] = frame.gridIndex(a, mirrored[a]);
     gridStep[a] = frame.flipped[a] ? -1 : 1;
-    brick[a] = gridVoxel[a] >> 3;
+    bitStep[a] = frame.flipped[a] ? -kBitStride[a] : kBitStride[a];
   }
+  auto setLimits = [&]() {
+    for (int a = 0; a < 3; ++a) {
+      // The last mirrored index of the current brick along the ray's direction.
+      const int64_t inBrick = frame.flipped[a] ? (gridVoxel[a] & 7) : 7 - (gridVoxel[a] & 7);
+      limit[a] = mirrored[a] + inBrick + 1;
+    }
+  };
+  setLimits();
   bool occupiedStart;
-  cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
+  cursor.probeInDomain(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupiedStart);  // the brick ahead (level 0)
   const RayGrid::Mask512* brickMask = cursor.lastBrick();
+  int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
   for (;;) {
     const int axis = argMin3(tLeave);
     const double tCross = tLeave[axis];
     const int64_t entered = mirrored[axis] + 1;
-    const double tLeaveEntered = frame.planeTime(axis, entered + 1);
-    const int planesCrossed = int(tLeave[0] == tCross) + int(tLeave[1] == tCross) + int(tLeave[2] == tCross);
-    if (planesCrossed > 1 || tLeaveEntered == tCross || entered >= frame.domainEnd[axis]) {
+    const double tLeaveEntered = tAfter[axis];
+    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2;  // the other two axes
+    // A tie (another plane crossed at tCross, or the entered voxel left at
+    // once) or the content box's end: a general event. The others' times are
+    // >= tCross, so a tie is one of them <= tCross.
+    if (std::min(std::min(tLeave[o1], tLeave[o2]), tLeaveEntered) <= tCross ||
+        entered >= frame.domainEnd[axis]) {
       for (int a = 0; a < 3; ++a) {
         if (!frame.moving[a]) continue;
         if (tLeave[a] == tCross) frame.indicesAt(a, tCross, mirrored[a] + 1, event.first[a], event.last[a]);
@@ -271,18 +334,21 @@ WalkEnd walkVoxelsInBrick(const MirroredFrame& frame, const Ray& ray, Event& eve
       return WalkEnd::NextEvent;
     }
     ++result.steps;
+    const bool sameBrick = entered < limit[axis];
     mirrored[axis] = entered;
     tLeave[axis] = tLeaveEntered;
+    tAfter[axis] = frame.planeTime(axis, entered + 2);
     gridVoxel[axis] += gridStep[axis];
     bool occupied;
     int level = 0;
-    if ((gridVoxel[axis] >> 3) == brick[axis]) {  // same brick: one bit test at the brick-local position
-      const int bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
+    if (sameBrick) {  // same brick: one bit test at the brick-local position
+      bit += bitStep[axis];
       occupied = ((*brickMask)[size_t(bit >> 6)] >> (bit & 63)) & 1;
     } else {
-      brick[axis] = gridVoxel[axis] >> 3;
-      level = cursor.probe(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
+      level = cursor.probeInDomain(gridVoxel[0], gridVoxel[1], gridVoxel[2], occupied);
       brickMask = cursor.lastBrick();
+      bit = RayGrid::bitOf(uint32_t(gridVoxel[0] & 7), uint32_t(gridVoxel[1] & 7), uint32_t(gridVoxel[2] & 7));
+      setLimits();
     }
     if (occupied) {
       const Coord3 voxel{int32_t(gridVoxel[0]), int32_t(gridVoxel[1]), int32_t(gridVoxel[2])};
@@ -360,8 +426,8 @@ WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int leve
     const double tCross = tFar[axis];
     const int64_t plane = farPlane[axis];  // the plane crossed at tCross
     const int planesCrossed = int(tFar[0] == tCross) + int(tFar[1] == tCross) + int(tFar[2] == tCross);
-    if (planesCrossed > 1 || !(frame.planeTime(axis, plane - 1) < tCross) ||
-        !(frame.planeTime(axis, plane + 1) > tCross)) {
+    if (planesCrossed > 1 || (!frame.strictPlaneTimes && (!(frame.planeTime(axis, plane - 1) < tCross) ||
+                                                          !(frame.planeTime(axis, plane + 1) > tCross)))) {
       eventAt(tCross, farPlane, tFar);
       return WalkEnd::NextEvent;
     }
@@ -402,7 +468,7 @@ WalkEnd walkEmptyCells(const RayGrid& grid, const MirroredFrame& frame, int leve
       probeVoxel[a] = a == axis ? plane
                                 : std::clamp<int64_t>(cell[a] << (3 * level), frame.domainBegin[a], frame.domainEnd[a] - 1);
     bool occupied;
-    const int enteredLevel = cursor.probe(frame.gridIndex(0, probeVoxel[0]), frame.gridIndex(1, probeVoxel[1]),
+    const int enteredLevel = cursor.probeInDomain(frame.gridIndex(0, probeVoxel[0]), frame.gridIndex(1, probeVoxel[1]),
                                           frame.gridIndex(2, probeVoxel[2]), occupied);
     if (enteredLevel > level) {
       setLevel(enteredLevel);
@@ -450,10 +516,10 @@ void jumpPastEmptyBox(const MirroredFrame& frame, int level, Event& event) {
   event.time = tCross;
 }
 
+// On a fixed axis the event's indices lie inside the box (makeFrame clips
+// them), so every axis can be compared.
 bool pastContentBox(const MirroredFrame& frame, const int64_t* index) {
-  for (int a = 0; a < 3; ++a)
-    if (frame.moving[a] && index[a] >= frame.domainEnd[a]) return true;
-  return false;
+  return (index[0] >= frame.domainEnd[0]) | (index[1] >= frame.domainEnd[1]) | (index[2] >= frame.domainEnd[2]);
 }
 
 Ray sanitized(const Ray& ray) { return sanitizeRay(ray); }
