@@ -48,11 +48,6 @@ struct Cursor {
   }
 };
 
-/// key == word, inlined (the line loop's comparisons, out of line, cost 6% of the parse).
-[[gnu::always_inline]] inline bool isKey(std::string_view key, std::string_view word) {
-  return key.size() == word.size() && std::memcmp(key.data(), word.data(), word.size()) == 0;
-}
-
 [[noreturn]] void bad(const std::string& name, size_t line, const std::string& what, Setting fix = Setting::None) {
   throwBadInput(name + ":" + std::to_string(line) + ": " + what, fix);
 }
@@ -135,12 +130,12 @@ struct ReadAhead {
         continue;
       }
       const std::string_view key = c.word();
-      if (isKey(key, "v")) {
+      if (key == "v") {
         std::array<double, 3> p;
         const bool ok = readVertex(c, p);
         vertices.push_back(ok ? p : std::array<double, 3>{0, 0, 0});
         vertexRead.push_back(ok);
-      } else if (isKey(key, "f")) {
+      } else if (key == "f") {
         const size_t mark = corners.size();
         if (readFace(c)) {
           faces.push_back({uint32_t(mark), uint32_t(corners.size())});
@@ -203,7 +198,7 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
   int current = -1;
   while (c.p < c.end) {
     const std::string_view key = c.word();
-    if (isKey(key, "newmtl")) {
+    if (key == "newmtl") {
       MeshMaterial m;
       m.name = c.rest();
       current = int(mesh.materials.size());
@@ -314,18 +309,23 @@ class ObjParser {
 
   /// "f v[/vt[/vn]] ..." (at least 3 corners, negative indices count back),
   /// fan-triangulated, in the current material and part.
-  /// With `corner`, the line's corners as read ahead, [corner, end), resolved
-  /// here in the order readCorners resolves them.
-  void face(Cursor& c, const ReadAhead::RawCorner* corner = nullptr, const ReadAhead::RawCorner* end = nullptr) {
-    if (!corner) {
-      readCorners(c);
-    } else {
-      face_.clear();
-      for (; corner != end; ++corner) {
-        const int64_t vtIndex = corner->vt ? int64_t(resolve(corner->vt, texcoords_.size(), c.line, "texture coordinate")) : -1;
-        face_.push_back({resolve(corner->v, objPositions_.size(), c.line, "vertex"), vtIndex});
-      }
+  void face(Cursor& c) {
+    readCorners(c);
+    addFace(c);
+  }
+
+  /// An "f" line whose corners were read ahead: resolved here, in order, as readCorners does.
+  void face(Cursor& c, const ReadAhead::RawCorner* corner, const ReadAhead::RawCorner* end) {
+    face_.clear();
+    for (; corner != end; ++corner) {
+      const int64_t vtIndex = corner->vt ? int64_t(resolve(corner->vt, texcoords_.size(), c.line, "texture coordinate")) : -1;
+      face_.push_back({resolve(corner->v, objPositions_.size(), c.line, "vertex"), vtIndex});
     }
+    addFace(c);
+  }
+
+  /// The corners in face_, fan-triangulated.
+  void addFace(const Cursor& c) {
     if (face_.size() < 3) bad(name_, c.line, "a face needs at least 3 vertices");
     if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
     const uint32_t first = meshVertex(face_[0]);
@@ -410,7 +410,7 @@ class ObjParser {
 
   /// Index `idx` as written (1-based, or negative counting back from the
   /// `count` defined so far) as a 0-based index.
-  [[gnu::always_inline]] uint32_t resolve(int64_t idx, size_t count, size_t line, const char* what) const {
+  uint32_t resolve(int64_t idx, size_t count, size_t line, const char* what) const {
     const int64_t i = idx < 0 ? int64_t(count) + idx : idx - 1;
     if (idx == 0 || i < 0 || i >= int64_t(count))
       bad(name_, line, std::string("face refers to ") + what + " " + std::to_string(idx) + " but " +
@@ -545,13 +545,13 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
       continue;
     }
     const std::string_view key = c.word();
-    if (isKey(key, "v")) {
+    if (key == "v") {
       if (readingAhead && ahead[stretch].vertexRead[vi]) obj.vertex(ahead[stretch].vertices[vi], c.line);
       else obj.vertex(c);
       vi += readingAhead;
-    } else if (isKey(key, "vt")) {
+    } else if (key == "vt") {
       obj.texcoord(c);
-    } else if (isKey(key, "f")) {
+    } else if (key == "f") {
       if (readingAhead && ahead[stretch].faces[fi][0] != UINT32_MAX) {
         const ReadAhead& a = ahead[stretch];
         obj.face(c, a.corners.data() + a.faces[fi][0], a.corners.data() + a.faces[fi][1]);
@@ -559,11 +559,11 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
         obj.face(c);
       }
       fi += readingAhead;
-    } else if (isKey(key, "o") || isKey(key, "g")) {
+    } else if (key == "o" || key == "g") {
       obj.part(c);
-    } else if (isKey(key, "usemtl")) {
+    } else if (key == "usemtl") {
       obj.useMaterial(c);
-    } else if (isKey(key, "mtllib")) {
+    } else if (key == "mtllib") {
       obj.materialLibraries(c);
     }
     c.nextLine();
