@@ -24,10 +24,6 @@ struct MeshReadOptions {
   /// reported in `warnings` (materials keep their names, untextured) instead of
   /// refusing the file. Off by default: a missing file is an error naming it.
   bool ignoreMissingMaterials = false;
-  /// Workers a reader may use (OBJ: the numbers of "v" and "f" lines are read
-  /// on them ahead of the one pass that builds the mesh); the mesh does not
-  /// depend on it. 1: the calling thread only.
-  unsigned threads = 1;
 };
 
 /// Reads any supported mesh file by extension. Non-fatal notes (skipped

@@ -12,7 +12,6 @@
 #include "formats/mesh/mesh_input.h"
 #include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
-#include "libvox/core/parallel.h"
 
 
 namespace vox {
@@ -62,92 +61,6 @@ double number(Cursor& c, const std::string& name, const char* what) {
   c.p = ptr;
   return v;
 }
-
-/// The numbers of the "v" and "f" lines of a stretch of the file, read ahead
-/// on other threads (readAhead): what ObjParser::vertex and readCorners would
-/// read, for lines they would read without error and (for "v") without a
-/// colour. Any other "v" or "f" line is marked not read, and the one pass
-/// reads it itself, so its errors and colours come out exactly as they would.
-struct ReadAhead {
-  struct RawCorner {
-    int64_t v, vt;  // as written; vt 0: none (0 is never a valid index)
-  };
-  const char* end = nullptr;  // the stretch ends here (at a line start)
-  std::vector<std::array<double, 3>> vertices;
-  std::vector<uint8_t> vertexRead;  // per "v" line: 1 when `vertices` holds it
-  std::vector<RawCorner> corners;
-  std::vector<std::array<uint32_t, 2>> faces;  // per "f" line: its [begin, end) in `corners`; begin UINT32_MAX: not read
-
-  /// "v x y z" with nothing after but a comment.
-  static bool readVertex(Cursor& c, std::array<double, 3>& p) {
-    for (int k = 0; k < 3; ++k) {
-      c.skipSpaces();
-      const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
-      auto [ptr, ec] = std::from_chars(b, c.end, p[size_t(k)]);
-      if (ec != std::errc() || ptr == b) return false;
-      c.p = ptr;
-    }
-    c.skipSpaces();
-    return c.atEol() || *c.p == '#';
-  }
-
-  /// The corners of an "f" line, as readCorners parses them (indices resolved later).
-  bool readFace(Cursor& c) {
-    while (true) {
-      c.skipSpaces();
-      if (c.atEol()) return true;
-      int64_t v = 0, vt = 0;
-      auto [ptr, ec] = std::from_chars(c.p, c.end, v);
-      if (ec != std::errc()) return false;
-      c.p = ptr;
-      if (c.p < c.end && *c.p == '/') {
-        ++c.p;
-        if (c.p < c.end && *c.p != '/') {
-          auto [p2, e2] = std::from_chars(c.p, c.end, vt);
-          if (e2 != std::errc() || vt == 0) return false;  // vt 0: let resolve() report it
-          c.p = p2;
-        }
-        if (c.p < c.end && *c.p == '/') {
-          ++c.p;
-          int64_t vn = 0;
-          auto [p3, e3] = std::from_chars(c.p, c.end, vn);
-          if (e3 == std::errc()) c.p = p3;
-        }
-      }
-      corners.push_back({v, vt});
-      if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') return false;
-    }
-  }
-
-  /// Reads the lines of [b, e) (whole lines), as parseObj's loop meets them.
-  void read(const char* b, const char* e) {
-    end = e;
-    Cursor c{b, e};
-    while (c.p < c.end) {
-      c.skipSpaces();
-      if (c.atEol() || *c.p == '#') {
-        c.nextLine();
-        continue;
-      }
-      const std::string_view key = c.word();
-      if (key == "v") {
-        std::array<double, 3> p;
-        const bool ok = readVertex(c, p);
-        vertices.push_back(ok ? p : std::array<double, 3>{0, 0, 0});
-        vertexRead.push_back(ok);
-      } else if (key == "f") {
-        const size_t mark = corners.size();
-        if (readFace(c)) {
-          faces.push_back({uint32_t(mark), uint32_t(corners.size())});
-        } else {
-          corners.resize(mark);
-          faces.push_back({UINT32_MAX, 0});
-        }
-      }
-      c.nextLine();
-    }
-  }
-};
 
 /// True when `path` names a regular file; never throws (a name too long or
 /// otherwise invalid is simply not a file).
@@ -289,16 +202,6 @@ class ObjParser {
     objColors_.push_back(color);
   }
 
-  /// A "v" line whose three numbers were read ahead (no colour).
-  void vertex(const std::array<double, 3>& p, size_t line) {
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      if (!invalidVertices_++) firstInvalidLine_ = line, firstInvalidVertex_ = objPositions_.size() + 1;
-    }
-    objPositions_.push_back(p);
-    vertexOfObj_.push_back(UINT32_MAX);
-    objColors_.push_back({1, 1, 1, 1});
-  }
-
   /// "vt s [t]".
   void texcoord(Cursor& c) {
     const float s = float(number(c, name_, "a texture coordinate"));
@@ -311,21 +214,6 @@ class ObjParser {
   /// fan-triangulated, in the current material and part.
   void face(Cursor& c) {
     readCorners(c);
-    addFace(c);
-  }
-
-  /// An "f" line whose corners were read ahead: resolved here, in order, as readCorners does.
-  void face(Cursor& c, const ReadAhead::RawCorner* corner, const ReadAhead::RawCorner* end) {
-    face_.clear();
-    for (; corner != end; ++corner) {
-      const int64_t vtIndex = corner->vt ? int64_t(resolve(corner->vt, texcoords_.size(), c.line, "texture coordinate")) : -1;
-      face_.push_back({resolve(corner->v, objPositions_.size(), c.line, "vertex"), vtIndex});
-    }
-    addFace(c);
-  }
-
-  /// The corners in face_, fan-triangulated.
-  void addFace(const Cursor& c) {
     if (face_.size() < 3) bad(name_, c.line, "a face needs at least 3 vertices");
     if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
     const uint32_t first = meshVertex(face_[0]);
@@ -510,62 +398,19 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
   ObjParser obj(name, options, warnings, baseDir);
   obj.reserveFor(data, size);
   Cursor c{data, data + size};
-  // With several threads the file goes in windows of whole lines, each read
-  // ahead in a fixed number of stretches (the mesh is the same either way),
-  // then built in one pass; the windows bound what is read ahead at a time.
-  constexpr size_t kWindow = size_t(8) << 20, kStretches = 4;
-  std::vector<ReadAhead> ahead;
-  size_t stretch = 0, vi = 0, fi = 0;
-  auto lineStart = [&](const char* q) {  // the first line start at or after q
-    if (q <= data || q >= data + size) return std::min(q, data + size);
-    const void* nl = std::memchr(q - 1, '\n', size_t(data + size - (q - 1)));
-    return nl ? static_cast<const char*>(nl) + 1 : data + size;
-  };
-  auto readWindow = [&]() {
-    const char* from = c.p;
-    const char* to = lineStart(from + std::min(kWindow, size_t(data + size - from)));
-    ahead.assign(kStretches, ReadAhead{});
-    std::vector<const char*> cuts(kStretches + 1);
-    cuts[0] = from, cuts[kStretches] = to;
-    for (size_t k = 1; k < kStretches; ++k) cuts[k] = std::max(cuts[k - 1], lineStart(from + size_t(to - from) * k / kStretches));
-    parallelPieces(kStretches, options.threads, kStretches, [&](size_t b, size_t e, size_t) {
-      for (size_t k = b; k < e; ++k) ahead[k].read(cuts[k], cuts[k + 1]);
-    });
-    stretch = vi = fi = 0;
-  };
-  const bool readingAhead = options.threads != 1;
   while (c.p < c.end) {
-    if (readingAhead) {
-      if (ahead.empty() || c.p >= ahead.back().end) readWindow();
-      while (c.p >= ahead[stretch].end) ++stretch, vi = fi = 0;
-    }
     c.skipSpaces();
     if (c.atEol() || *c.p == '#') {
       c.nextLine();
       continue;
     }
     const std::string_view key = c.word();
-    if (key == "v") {
-      if (readingAhead && ahead[stretch].vertexRead[vi]) obj.vertex(ahead[stretch].vertices[vi], c.line);
-      else obj.vertex(c);
-      vi += readingAhead;
-    } else if (key == "vt") {
-      obj.texcoord(c);
-    } else if (key == "f") {
-      if (readingAhead && ahead[stretch].faces[fi][0] != UINT32_MAX) {
-        const ReadAhead& a = ahead[stretch];
-        obj.face(c, a.corners.data() + a.faces[fi][0], a.corners.data() + a.faces[fi][1]);
-      } else {
-        obj.face(c);
-      }
-      fi += readingAhead;
-    } else if (key == "o" || key == "g") {
-      obj.part(c);
-    } else if (key == "usemtl") {
-      obj.useMaterial(c);
-    } else if (key == "mtllib") {
-      obj.materialLibraries(c);
-    }
+    if (key == "v") obj.vertex(c);
+    else if (key == "vt") obj.texcoord(c);
+    else if (key == "f") obj.face(c);
+    else if (key == "o" || key == "g") obj.part(c);
+    else if (key == "usemtl") obj.useMaterial(c);
+    else if (key == "mtllib") obj.materialLibraries(c);
     c.nextLine();
   }
   return obj.finish();

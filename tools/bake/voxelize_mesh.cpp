@@ -131,7 +131,6 @@ void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
   vox::MeshReadOptions ro;
   ro.dropInvalid = o.dropInvalid;
   ro.ignoreMissingMaterials = o.ignoreMissingMaterials;
-  ro.threads = run.threads();
   for (const std::string& in : o.inputs) {
     run.input(in);
     const int64_t size = vox::fileSizeOrMinusOne(in);
