@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <unordered_map>
 
-#include "libvox/core/parallel.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -80,24 +78,6 @@ class CellCounter {
     split(e, depth - 1, areaL1PerPiece, cls);
   }
 
-  /// Adds `other`'s cells to these: areas summed, classes joined as add() would
-  /// have seen them (the first four kept, the rest counted).
-  void merge(const CellCounter& other) {
-    for (const auto& [key, o] : other.cells_) {
-      Cell& c = cells_[key];
-      c.areaL1 += o.areaL1;
-      for (int i = 0; i < std::min<int>(o.classCount, 4); ++i) {
-        bool seen = false;
-        for (int j = 0; j < std::min<int>(c.classCount, 4); ++j) seen |= c.classes[size_t(j)] == o.classes[size_t(i)];
-        if (!seen) {
-          if (c.classCount < 4) c.classes[c.classCount] = o.classes[size_t(i)];
-          if (c.classCount < 255) ++c.classCount;
-        }
-      }
-      c.classCount = uint8_t(std::min(255, int(c.classCount) + std::max(0, int(o.classCount) - 4)));
-    }
-  }
-
   /// (blocks, block-classes): a cell of 8 voxels is one block; a coarser cell
   /// holds about areaL1 / 64 blocks (a plane of area A and normal n crosses
   /// A |n|_1 / 64 cubes of side 8 on average over its offsets), at least one,
@@ -124,51 +104,30 @@ class CellCounter {
 }  // namespace
 
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
-                                  uint64_t maxPieces, unsigned threads) {
+                                  uint64_t maxPieces) {
   SurfaceFootprint f;
   const size_t nt = mesh.triangles.size();
   if (nt == 0) return f;
-  // The triangles in a fixed number of pieces (not one per thread), each with
-  // its own sums and cells, merged in piece order: the estimate is the same
-  // at any --threads, and a bake's serial start halves on two cores.
-  constexpr size_t kPieces = 4;
   // Grid space, g = (world - origin) / voxelSize, snapped to the voxelizer's
   // lattice (2^-kSubvoxelBits voxel): a face that the division puts a hair
   // beyond the grid's last voxel boundary still touches the last voxel.
   std::vector<P3> g(mesh.positions.size());
   const double lattice = double(int64_t(1) << kSubvoxelBits);
-  parallelPieces(g.size(), threads, kPieces, [&](size_t b, size_t e, size_t) {
-    for (size_t i = b; i < e; ++i)
-      for (int k = 0; k < 3; ++k)
-        g[i][k] = std::round((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
-  });
+  for (size_t i = 0; i < g.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      g[i][k] = std::round((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
 
-  struct Sums {
-    P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    double area = 0, crossings[3] = {0, 0, 0}, volume6 = 0;
-    uint64_t pieces = 0;
-  };
-  std::vector<Sums> sums(kPieces);
-  parallelPieces(nt, threads, kPieces, [&](size_t b, size_t e, size_t piece) {
-    Sums& s = sums[piece];
-    for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
-      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-      const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));  // |n| = 2 area
-      s.area += len(n) / 2;
-      for (int k = 0; k < 3; ++k) s.crossings[k] += std::abs(n[k]) / 2;
-      s.volume6 += t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) - t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
-                   t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0]);
-      for (const P3& p : t)
-        for (int k = 0; k < 3; ++k) s.lo[k] = std::min(s.lo[k], p[k]), s.hi[k] = std::max(s.hi[k], p[k]);
-    }
-  });
   P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   double volume6 = 0;
-  for (const Sums& s : sums) {
-    f.area += s.area;
-    for (int k = 0; k < 3; ++k) f.crossings[k] += s.crossings[k], lo[k] = std::min(lo[k], s.lo[k]), hi[k] = std::max(hi[k], s.hi[k]);
-    volume6 += s.volume6;
+  for (const auto& tri : mesh.triangles) {
+    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));  // |n| = 2 area
+    f.area += len(n) / 2;
+    for (int k = 0; k < 3; ++k) f.crossings[k] += std::abs(n[k]) / 2;
+    volume6 += t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) - t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
+               t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0]);
+    for (const P3& p : t)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
   }
   f.enclosedVoxels = std::abs(volume6) / 6;
   const uint32_t dims[3] = {header.dims.x, header.dims.y, header.dims.z};
@@ -182,36 +141,25 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   double side = kBlockDim;
   std::vector<int> depth(nt);
   for (;;) {
-    parallelPieces(nt, threads, kPieces, [&](size_t b, size_t e, size_t piece) {
-      uint64_t pieces = 0;
-      for (size_t i = b; i < e && pieces <= maxPieces; ++i) {
-        const auto& tri = mesh.triangles[i];
-        const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-        depth[i] = splitDepth(t, side);
-        pieces += depth[i] >= 31 ? maxPieces + 1 : uint64_t(1) << (2 * depth[i]);
-      }
-      sums[piece].pieces = pieces;
-    });
     uint64_t pieces = 0;
-    for (const Sums& s : sums) pieces = std::min(maxPieces + 1, pieces + s.pieces);
+    for (size_t i = 0; i < nt && pieces <= maxPieces; ++i) {
+      const auto& tri = mesh.triangles[i];
+      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+      depth[i] = splitDepth(t, side);
+      pieces += depth[i] >= 31 ? maxPieces + 1 : uint64_t(1) << (2 * depth[i]);
+    }
     if (pieces <= maxPieces || side > 1e9) break;
     side *= 2;
   }
-  std::vector<std::unique_ptr<CellCounter>> counters(kPieces);
-  parallelPieces(nt, threads, kPieces, [&](size_t b, size_t e, size_t piece) {
-    counters[piece] = std::make_unique<CellCounter>(header.dims, side);
-    for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
-      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-      const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
-      const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
-      counters[piece]->split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])),
-                             i < triangleClass.size() ? triangleClass[i] : 0);
-    }
-  });
-  for (size_t k = 1; k < kPieces; ++k)
-    if (counters[k]) counters[0]->merge(*counters[k]);
-  std::tie(f.blocks, f.blockClasses) = counters[0]->blocks();
+  CellCounter counter(header.dims, side);
+  for (size_t i = 0; i < nt; ++i) {
+    const auto& tri = mesh.triangles[i];
+    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+    const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
+    counter.split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])), i < triangleClass.size() ? triangleClass[i] : 0);
+  }
+  std::tie(f.blocks, f.blockClasses) = counter.blocks();
   return f;
 }
 

@@ -41,11 +41,9 @@ struct SurfaceFootprint {
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
-/// dims). `maxPieces` bounds the work (coarser cells beyond it). Runs on up
-/// to `threads` workers (libvox/core/parallel.h); the result does not depend
-/// on their number.
+/// dims). `maxPieces` bounds the work (coarser cells beyond it).
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
-                                  uint64_t maxPieces = uint64_t(1) << 22, unsigned threads = 1);
+                                  uint64_t maxPieces = uint64_t(1) << 22);
 
 /// The parts of a bake's peak beyond what is resident before it (the mesh is
 /// counted by the caller): vote blocks, colour blocks, solid-fill bits and
