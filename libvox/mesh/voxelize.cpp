@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 
@@ -625,14 +626,32 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
 
   double xMin, xMax;
   polyRange(P, 0, xMin, xMax);
-  for (int32_t u = first[0]; u <= last[0]; ++u) {
-    Poly PuStorage, PueStorage;
+  // Candidate rows and voxels come from the exact pieces themselves (Pu, Puv)
+  // when every decision of the y clip is certain: no vertex of Pu within
+  // kCertain of a row boundary. Pu's vertices are then within `err` of the
+  // true ones (the x clip decides on exact distances: lattice / kS), Puv's
+  // vertices correspond one to one to the true polygon's, each off by at most
+  // 2 err + |dz| (err / kCertain + 4 ulp) along z, and `zMargin` covers that
+  // with a factor 4 to spare. So the candidates still hold every voxel the
+  // exact test or a piece's area admits, and the scene is the same as with
+  // the margin-clipped polygons, which a slab not certain still uses
+  // (rowsWithMargin): the same votes, fewer clips.
+  constexpr double kCertain = 1e-6;
+  double zMinT, zMaxT, maxAbs = 0;
+  polyRange(P, 2, zMinT, zMaxT);
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) maxAbs = std::max(maxAbs, std::abs(P.p[k][i]));
+  const double err = 16 * std::numeric_limits<double>::epsilon() * (maxAbs + 1);
+  const double zMargin = 4 * (2 * err + (zMaxT - zMinT) * (err / kCertain + 4 * std::numeric_limits<double>::epsilon()));
+
+  // Rows of slab u from the polygons clipped with margin eps (the reference
+  // way: every candidate from a polygon a little larger than the slab).
+  auto rowsWithMargin = [&](int32_t u, const Poly& Pu, double puYMin, double puYMax) {
+    Poly PueStorage;
     const Poly& Pue = clipRange<0>(P, PueStorage, u - eps, u + 1 + eps, xMin, xMax);
-    if (Pue.n == 0) continue;
-    const Poly& Pu = clipRange<0>(P, PuStorage, u, u + 1.0, xMin, xMax);
-    double ylo, yhi, puYMin = 0, puYMax = 0;
+    if (Pue.n == 0) return;
+    double ylo, yhi;
     polyRange(Pue, 1, ylo, yhi);
-    if (Pu.n > 0) polyRange(Pu, 1, puYMin, puYMax);
     // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
     // (a piece starting inside a voxel does not touch the one below).
     const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
@@ -647,6 +666,38 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       if (Puv.n > 0) polyRange(Puv, 2, puvZMin, puvZMax);
       const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
       const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
+      for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
+    }
+  };
+
+  for (int32_t u = first[0]; u <= last[0]; ++u) {
+    Poly PuStorage;
+    const Poly& Pu = clipRange<0>(P, PuStorage, u, u + 1.0, xMin, xMax);
+    // Empty decides exactly: the triangle misses the closed slab, so neither a
+    // piece nor the exact test admits any voxel of it.
+    if (Pu.n == 0) continue;
+    double puYMin = Pu.p[0][1], puYMax = puYMin;
+    bool certain = true;
+    for (int i = 0; i < Pu.n; ++i) {
+      const double y = Pu.p[i][1];
+      puYMin = std::min(puYMin, y), puYMax = std::max(puYMax, y);
+      const double f = std::abs(y - double(int64_t(y)));  // distance to the integer toward 0, exact
+      certain &= f > kCertain && f < 1 - kCertain;
+    }
+    if (!certain) {
+      rowsWithMargin(u, Pu, puYMin, puYMax);
+      continue;
+    }
+    const int32_t v0 = std::max(first[1], int32_t(std::ceil(puYMin)) - 1);
+    const int32_t v1 = std::min(last[1], int32_t(std::floor(puYMax)));
+    for (int32_t v = v0; v <= v1; ++v) {
+      Poly PuvStorage;
+      const Poly& Puv = clipRange<1>(Pu, PuvStorage, v, v + 1.0, puYMin, puYMax);
+      if (Puv.n == 0) continue;  // certain: the triangle misses the row
+      double puvZMin, puvZMax;
+      polyRange(Puv, 2, puvZMin, puvZMax);
+      const int32_t w0 = std::max(first[2], int32_t(std::ceil(puvZMin - zMargin)) - 1);
+      const int32_t w1 = std::min(last[2], int32_t(std::floor(puvZMax + zMargin)));
       for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
     }
   }
