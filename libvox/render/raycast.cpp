@@ -224,47 +224,37 @@ EventTest testEventVoxels(const MirroredFrame& frame, const Event& event, RayGri
     last[a] = std::min(event.last[a], frame.domainEnd[a] - 1);
   }
   EventTest test;
-  if (begin[0] == last[0] && begin[1] == last[1] && begin[2] == last[2]) {
-    // One voxel (the usual event away from ties): it is the one ahead when
-    // it is the event's last index on every moving axis.
+  // One voxel of the event: its level when it is the one ahead (the event's
+  // last index on every moving axis), and the hit with the earliest exit.
+  auto testVoxel = [&](const int64_t mirrored[3]) {
+    const Coord3 voxel{int32_t(frame.gridIndex(0, mirrored[0])), int32_t(frame.gridIndex(1, mirrored[1])),
+                       int32_t(frame.gridIndex(2, mirrored[2]))};
     bool occupied;
-    const int level = cursor.probeInDomain(frame.gridIndex(0, begin[0]), frame.gridIndex(1, begin[1]),
-                                   frame.gridIndex(2, begin[2]), occupied);
+    const int level = cursor.probeInDomain(voxel.u, voxel.v, voxel.w, occupied);
     bool ahead = true;
     for (int a = 0; a < 3; ++a)
-      if (frame.moving[a] && begin[a] != event.last[a]) ahead = false;
-    if (ahead) test.aheadLevel = level;
-    if (occupied) {
-      double exit = kInf;
-      for (int a = 0; a < 3; ++a)
-        if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, begin[a] + 1));
+      if (frame.moving[a] && mirrored[a] != event.last[a]) ahead = false;
+    if (ahead) test.aheadLevel = std::min(test.aheadLevel, level);
+    if (!occupied) return;
+    double exit = kInf;
+    for (int a = 0; a < 3; ++a)
+      if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, mirrored[a] + 1));
+    if (!test.found || winsTie(exit, voxel, test.exit, test.voxel)) {
       test.found = true;
-      test.voxel = Coord3{int32_t(frame.gridIndex(0, begin[0])), int32_t(frame.gridIndex(1, begin[1])),
-                          int32_t(frame.gridIndex(2, begin[2]))};
+      test.voxel = voxel;
       test.exit = exit;
     }
+  };
+  // One voxel is the usual event away from ties: no loops.
+  if (begin[0] == last[0] && begin[1] == last[1] && begin[2] == last[2]) {
+    testVoxel(begin);
     return test;
   }
   for (int64_t i = begin[0]; i <= last[0]; ++i)
     for (int64_t j = begin[1]; j <= last[1]; ++j)
       for (int64_t k = begin[2]; k <= last[2]; ++k) {
         const int64_t mirrored[3] = {i, j, k};
-        const Coord3 voxel{int32_t(frame.gridIndex(0, i)), int32_t(frame.gridIndex(1, j)), int32_t(frame.gridIndex(2, k))};
-        bool occupied;
-        const int level = cursor.probeInDomain(voxel.u, voxel.v, voxel.w, occupied);
-        bool ahead = true;
-        for (int a = 0; a < 3; ++a)
-          if (frame.moving[a] && mirrored[a] != event.last[a]) ahead = false;
-        if (ahead) test.aheadLevel = std::min(test.aheadLevel, level);
-        if (!occupied) continue;
-        double exit = kInf;
-        for (int a = 0; a < 3; ++a)
-          if (frame.moving[a]) exit = std::min(exit, frame.planeTime(a, mirrored[a] + 1));
-        if (!test.found || winsTie(exit, voxel, test.exit, test.voxel)) {
-          test.found = true;
-          test.voxel = voxel;
-          test.exit = exit;
-        }
+        testVoxel(mirrored);
       }
   return test;
 }
