@@ -43,7 +43,8 @@ if ctest --output-on-failure -j"$(nproc)" --output-junit "$junit" "$@"; then
   exit 0
 fi
 # LeakSanitizer's exit-time tracer sometimes dies of a segfault of its own
-# (google/sanitizers#1353; docs/reliability.md "Sanitizers in CI"). A test
+# (google/sanitizers#1353; docs/reliability.md "Sanitizers in CI"; the one
+# cause found, #1409, is avoided by vox's sanitizer defaults). A test
 # that failed only that way runs once more and must pass then; any other
 # failure, a real leak or sanitizer report included, fails here.
 # By name: --rerun-failed maps numbers from the filtered run onto other tests.

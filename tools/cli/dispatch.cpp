@@ -19,11 +19,8 @@ namespace voxcli {
 namespace {
 
 /// Joins TBB's worker threads when a command ends, however it ends, so that
-/// the process reaches exit() with one thread. Without it the workers were
-/// still shutting down while exit-time code ran; LeakSanitizer's exit check,
-/// which stops every thread to scan its stack, then intermittently died on one
-/// of them ("Tracer caught signal 11", a sanitizer CI run failed on it), and
-/// static destructors race the same way.
+/// the process reaches exit() with one thread: otherwise the workers are still
+/// shutting down while static destructors and LeakSanitizer's exit check run.
 class WorkerThreadsJoinedAtEnd {
  public:
   ~WorkerThreadsJoinedAtEnd() { tbb::finalize(handle_, std::nothrow); }
