@@ -113,6 +113,23 @@ inputs)
   jcheck empty.glb.summary.json "assert d['primitives']==[] and d['nodes']==0 and d['buffer_bytes']==0"
   expect_exit 0 "$vox" export small.vdb -o empty.gltf --region 0,2,0,0,2,0
   [ ! -e empty.bin ] || fail "an empty .gltf has no buffer file"
+  # The other formats of an empty region: each a valid empty file, with the
+  # warning, read back by the same outside readers as a full one.
+  for out in "empty.ply" "empty.vox" "empty_fog.vdb --fog" "empty_ls.vdb --level-set"; do
+    # shellcheck disable=SC2086
+    expect_exit 0 "$vox" export small.vdb -o $out --region 0,2,0,0,2,0
+    expect_stderr "no occupied voxel in the region"
+  done
+  read_ply empty.ply --points >eply.json || fail "numpy cannot read empty.ply"
+  jcheck eply.json "assert d['count']==0 and d['points']==[] and d['properties']==['x','y','z','red','green','blue','class']"
+  read_vox empty.vox >evox.json || fail "vox-reader cannot read empty.vox"
+  jcheck evox.json "assert d['voxels']==[] and d['models']>=1 and len(d['palette'])==256"
+  for f in empty_fog empty_ls; do
+    vdb_print -l $f.vdb >$f.txt || fail "vdb_print cannot read $f.vdb"
+    grep -q 'Number of active voxels: *0$' $f.txt || fail "$f.vdb is not empty: $(grep -i 'active voxels' $f.txt)"
+  done
+  grep -q 'class: fog volume' empty_fog.txt && grep -q 'class: level set' empty_ls.txt ||
+    fail "the empty volumes lost their grid class"
   validate_gltf
   ;;
 usage)
