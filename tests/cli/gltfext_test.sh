@@ -31,7 +31,7 @@ refused() {  # refused FILE TEXT...: exit 3, each TEXT on stderr, no output writ
 # position quantization (step 1); every triangle has one UV at a texel-block
 # centre and one colour, so the texture and colour quantization cannot change
 # a voxel either: the voxels must be identical, colours included.
-if command -v draco_transcoder >/dev/null; then
+if command -v draco_transcoder >/dev/null && command -v draco_encoder >/dev/null; then
   $make draco-source grid.gltf
   draco_transcoder -i grid.gltf -o grid_draco.glb >transcode.txt 2>&1 || fail "draco_transcoder: $(cat transcode.txt)"
   grep -q KHR_draco_mesh_compression grid_draco.glb || fail "grid_draco.glb is not Draco-compressed"
@@ -44,8 +44,18 @@ if command -v draco_transcoder >/dev/null; then
   refused view.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "bufferView 7 does not exist"
   $make corrupt uncompressed-count grid_draco.glb count.glb
   refused count.glb "mesh 'grid' primitive 0 (KHR_draco_mesh_compression)" "COLOR_0 is stored uncompressed" "5 values"
+  # A box encoded by Debian's draco_encoder with sequential connectivity and raw
+  # indices: the same voxels as its OBJ; with one face index patched past the
+  # points (what a corrupt or hostile encoder can store), refused by name.
+  printf 'v 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nv 0 0 5\nv 2 0 5\nv 2 3 5\nv 0 3 5\n' >box.obj
+  printf 'f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n' >>box.obj
+  draco_encoder -i box.obj -o box.drc -cl 0 -qp 0 >encode.txt 2>&1 || fail "draco_encoder: $(cat encode.txt)"
+  $make draco-box box.drc box_draco.glb
+  same_voxels box_draco.glb box.obj --fill solid
+  $make draco-box-oob box.drc oob.glb
+  refused oob.glb "mesh 'box' primitive 0 (KHR_draco_mesh_compression)" "face 5" "point 200 of 8"
 else
-  fail "draco_transcoder not found: install Debian's draco package (scripts/install-deps.sh)"
+  fail "draco_transcoder or draco_encoder not found: install Debian's draco package (scripts/install-deps.sh)"
 fi
 # A real Draco file when the shared data is there, against its uncompressed
 # original: Draco's default 14-bit positions move vertices by up to 1/2^15 of

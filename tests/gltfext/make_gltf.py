@@ -357,6 +357,44 @@ def corrupt(kind, src, out):
     write_glb(out, doc, rest)
 
 
+def draco_box(drc, out, oob=False):
+    """A GLB whose one primitive is the Draco mesh `drc` (positions only, as
+    Debian's draco_encoder writes an OBJ box with -cl 0 -qp 0: sequential
+    connectivity, raw indices, float positions). With `oob`, the second corner
+    of face 5 is patched to point 200, past the mesh's points."""
+    data = bytearray(open(drc, "rb").read())
+    assert data[:5] == b"DRACO", drc + ": not a Draco file"
+    assert data[7] == 1 and data[8] == 0, drc + ": not a sequentially encoded mesh (encode with -cl 0)"
+    at = 11  # magic, version (2), encoder type, method, flags (2)
+
+    def varint():
+        nonlocal at
+        value, shift = 0, 0
+        while True:
+            b = data[at]
+            at += 1
+            value |= (b & 0x7F) << shift
+            shift += 7
+            if b < 0x80:
+                return value
+
+    faces, points = varint(), varint()
+    assert data[at] == 1 and points < 256, drc + ": indices are not raw bytes"
+    indices = at + 1
+    assert all(i < points for i in data[indices:indices + 3 * faces])
+    if oob:
+        data[indices + 3 * 5 + 1] = 200
+    rest = bytes(data) + b"\0" * (-len(data) % 4)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"name": "box", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
+               "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+           "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"],
+           "accessors": [{"componentType": 5126, "count": points, "type": "VEC3", "min": [0, 0, 0], "max": [2, 3, 5]},
+                         {"componentType": 5125, "count": 3 * faces, "type": "SCALAR"}],
+           "buffers": [{"byteLength": len(rest)}], "bufferViews": [{"buffer": 0, "byteLength": len(data)}]}
+    write_glb(out, doc, struct.pack("<II", len(rest), 0x004E4942) + rest)
+
+
 def main(argv):
     kind = argv[1]
     if kind == "draco-source":
@@ -377,6 +415,8 @@ def main(argv):
         required(argv[2], argv[3])
     elif kind == "corrupt":
         corrupt(argv[2], argv[3], argv[4])
+    elif kind in ("draco-box", "draco-box-oob"):
+        draco_box(argv[2], argv[3], kind.endswith("-oob"))
     else:
         sys.exit("make_gltf.py: unknown kind " + kind)
 
