@@ -36,8 +36,10 @@ struct Cell {
 
 class CellCounter {
  public:
-  CellCounter(const Dims& dims, double side) : side_(side), dims_(dims) {
-    cells_.reserve(1 << 16);
+  /// `pieces`: how many pieces will be added; sizes the table (a small mesh
+  /// does not pay for zeroing a large one).
+  CellCounter(const Dims& dims, double side, uint64_t pieces) : side_(side), dims_(dims) {
+    cells_.reserve(size_t(std::min<uint64_t>(pieces, 1 << 16)));
   }
 
   /// One piece: its bounding box's voxels (closed boxes: a vertex on a voxel
@@ -140,8 +142,9 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   // The cell side: 8 voxels (one block) unless the pieces would be too many.
   double side = kBlockDim;
   std::vector<int> depth(nt);
+  uint64_t pieces = 0;
   for (;;) {
-    uint64_t pieces = 0;
+    pieces = 0;
     for (size_t i = 0; i < nt && pieces <= maxPieces; ++i) {
       const auto& tri = mesh.triangles[i];
       const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
@@ -151,7 +154,7 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
     if (pieces <= maxPieces || side > 1e9) break;
     side *= 2;
   }
-  CellCounter counter(header.dims, side);
+  CellCounter counter(header.dims, side, pieces);
   for (size_t i = 0; i < nt; ++i) {
     const auto& tri = mesh.triangles[i];
     const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
