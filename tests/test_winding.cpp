@@ -169,6 +169,64 @@ TEST(Winding, UnweldedSeamsAreZipped) {
   expectIou("seamed sphere", m, kN, 1.0);
 }
 
+/// `m` as a soup: every triangle with corners of its own, each moved by up to
+/// `noise` voxels on every axis (a deterministic hash, not a generator): the
+/// float noise of a mesh written from transformed coordinates.
+Mesh noisySoup(const Mesh& m, double noise) {
+  Mesh out;
+  uint64_t h = 0x9e3779b97f4a7c15ull;
+  auto next = [&] {
+    h ^= h >> 31, h *= 0xbf58476d1ce4e5b9ull, h ^= h >> 29;
+    return double(h >> 11) / double(uint64_t(1) << 53) * 2 - 1;  // [-1, 1)
+  };
+  for (const auto& t : m.triangles) {
+    const uint32_t base = uint32_t(out.positions.size());
+    for (uint32_t v : t) {
+      auto p = m.positions[v];
+      for (double& c : p) c += noise * next();
+      out.positions.push_back(p);
+    }
+    out.triangles.push_back({base, base + 1, base + 2});
+  }
+  return out;
+}
+
+TEST(Winding, FloatNoiseSoupIsWelded) {
+  // Corners 1e-4 voxel apart (about 7 lattice steps, so no two are equal on
+  // the lattice): without the weld every triangle is a loop of its own.
+  const Mesh m = noisySoup(sphere({16.2, 15.9, 16.1}, 12.3, 24), 1e-4);
+  const std::vector<LatticePoint> raw = latticeOf(m);
+  EXPECT_GT(capBoundaryLoops(m.triangles, raw).size(), m.triangles.size() / 2);
+  const std::vector<LatticePoint> welded = weldNearVertices(raw, kWeldSteps);
+  ASSERT_EQ(welded.size(), raw.size());
+  EXPECT_TRUE(capBoundaryLoops(m.triangles, welded).empty()) << "welded, the soup is the closed sphere";
+  for (size_t v = 0; v < raw.size(); ++v)
+    for (int k = 0; k < 3; ++k) ASSERT_LE(std::abs(welded[v][k] - raw[v][k]), 4 * kWeldSteps);
+  // The solid fill is the oracle's on the soup itself.
+  expectIou("float-noise soup", m, kN, 1.0);
+}
+
+TEST(Winding, WeldKeepsDistantAndChainedVerticesApart) {
+  const int64_t s = kWeldSteps;
+  // Nothing within reach: nothing moves.
+  EXPECT_TRUE(weldNearVertices({{0, 0, 0}, {s + 1, 0, 0}, {0, 0, 5 * s}}, s).empty());
+  // A pair within reach moves onto its first member; a third point apart stays.
+  const auto pair = weldNearVertices({{100, 0, 0}, {100 + s, -s, 3}, {0, 10 * s, 0}}, s);
+  ASSERT_EQ(pair.size(), 3u);
+  EXPECT_EQ(pair[0], (LatticePoint{100, 0, 0}));
+  EXPECT_EQ(pair[1], (LatticePoint{100, 0, 0}));
+  EXPECT_EQ(pair[2], (LatticePoint{0, 10 * s, 0}));
+  // A chain of near points wider than 4 x reach is left as it is (a fine mesh
+  // at a coarse resolution, not noise).
+  std::vector<LatticePoint> chain;
+  for (int64_t i = 0; i < 8; ++i) chain.push_back({i * s, 0, 0});
+  EXPECT_TRUE(weldNearVertices(chain, s).empty());
+  // Negative coordinates weld the same way across zero.
+  const auto across = weldNearVertices({{-3, -3, -3}, {2, 2, 2}}, s);
+  ASSERT_EQ(across.size(), 2u);
+  EXPECT_EQ(across[1], (LatticePoint{-3, -3, -3}));
+}
+
 TEST(Winding, SphereWithHolesPunched) {
   const Mesh m = sphere({16.2, 15.9, 16.1}, 12.3, 40, false, [](double th, double ph) {
     return !(th < 0.5) && !(std::abs(th - M_PI / 2) < 0.35 && std::abs(ph - 1.0) < 0.4) && !(th > 2.7);

@@ -1492,10 +1492,18 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
   const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
   std::optional<VoxelBox> box;
   std::vector<CapTriangle> caps;
+  // The winding rule works on the mesh with near vertices welded (a soup's
+  // float noise closed up; vertices move at most 2^-8 voxel): its crossings
+  // and caps then agree, and W changes only within that distance of the
+  // surface, inside surface voxels, which the unmoved mesh decides.
+  std::vector<Vec3i> weldedLattice;
+  if (settings.fill == FillMode::Solid && settings.solidRule == SolidRule::Winding && !mesh.triangles.empty())
+    weldedLattice = weldNearVertices(lattice, kWeldSteps);
+  const std::vector<Vec3i>& windingLattice = weldedLattice.empty() ? lattice : weldedLattice;
   if (settings.fill == FillMode::Solid && !mesh.triangles.empty()) {
     box = solidFillBox(mesh, lattice, header.dims);
     if (box && settings.solidRule == SolidRule::Winding) {
-      caps = capBoundaryLoops(mesh.triangles, lattice);
+      caps = capBoundaryLoops(mesh.triangles, windingLattice);
       // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the
       // caps); grow the box by the caps' reach (CapField::reach), within the domain.
       const int64_t grow = int64_t(std::ceil(CapField(caps).reach())) + 1;
@@ -1524,7 +1532,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
     progress(surfaceShare + 0.45);
     addInterior(blocks, rays, *surfaceBits, *box, triangleClass[0], threads);
   } else if (box) {
-    addWindingInterior(blocks, mesh, triangleClass, lattice, caps, *surfaceBits, *box, threads);
+    addWindingInterior(blocks, mesh, triangleClass, windingLattice, caps, *surfaceBits, *box, threads);
   }
   progress(1.0);
   return blocks;

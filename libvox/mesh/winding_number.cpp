@@ -192,6 +192,76 @@ void cutEars(const std::vector<uint32_t>& cycle, const std::vector<uint32_t>& so
 
 }  // namespace
 
+std::vector<LatticePoint> weldNearVertices(const std::vector<LatticePoint>& lattice, int64_t steps) {
+  // Distinct positions, in order of first appearance (equal positions are one
+  // vertex already).
+  std::unordered_map<LatticePoint, uint32_t, PointHash> idOf;
+  std::vector<LatticePoint> points;
+  std::vector<uint32_t> pointOf(lattice.size());
+  for (size_t v = 0; v < lattice.size(); ++v) {
+    auto [it, fresh] = idOf.emplace(lattice[v], uint32_t(points.size()));
+    if (fresh) points.push_back(lattice[v]);
+    pointOf[v] = it->second;
+  }
+  // Cells of side `steps`: two points within `steps` on every axis are in the
+  // same or neighbouring cells.
+  auto cellOf = [&](const LatticePoint& p) {
+    LatticePoint c;
+    for (int k = 0; k < 3; ++k) c[k] = p[k] >= 0 ? p[k] / steps : -((-p[k] + steps - 1) / steps);
+    return c;
+  };
+  constexpr size_t kCrowd = 1024;  // a UV sphere's pole in a soup: one copy per triangle
+  std::unordered_map<LatticePoint, std::vector<uint32_t>, PointHash> cells;
+  for (uint32_t i = 0; i < points.size(); ++i) cells[cellOf(points[i])].push_back(i);
+  std::vector<uint32_t> parent(points.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  auto near = [&](const LatticePoint& a, const LatticePoint& b) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(a[k] - b[k]) > steps) return false;
+    return true;
+  };
+  bool any = false;
+  for (uint32_t i = 0; i < points.size(); ++i) {
+    const LatticePoint c = cellOf(points[i]);
+    const auto& own = cells[c];
+    if (own.size() > kCrowd) continue;  // a crowd: too dense to weld by distance
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == cells.end() || it->second.size() > kCrowd) continue;
+          for (uint32_t j : it->second) {
+            if (j <= i || !near(points[i], points[j])) continue;
+            const uint32_t a = find(i), b = find(j);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b), any = true;
+          }
+        }
+  }
+  if (!any) return {};
+  // Each cluster's extent; wide ones (a chain of near vertices) stay apart.
+  std::vector<LatticePoint> lo(points.size()), hi(points.size());
+  for (uint32_t i = 0; i < points.size(); ++i) lo[i] = hi[i] = points[i];
+  for (uint32_t i = 0; i < points.size(); ++i) {
+    const uint32_t r = find(i);
+    for (int k = 0; k < 3; ++k) lo[r][k] = std::min(lo[r][k], points[i][k]), hi[r][k] = std::max(hi[r][k], points[i][k]);
+  }
+  std::vector<LatticePoint> out(lattice.size());
+  bool moved = false;
+  for (size_t v = 0; v < lattice.size(); ++v) {
+    const uint32_t r = find(pointOf[v]);  // the root is the cluster's lowest index
+    bool narrow = true;
+    for (int k = 0; k < 3; ++k) narrow = narrow && hi[r][k] - lo[r][k] <= 4 * steps;
+    out[v] = narrow ? points[r] : lattice[v];
+    moved = moved || out[v] != lattice[v];
+  }
+  if (!moved) return {};
+  return out;
+}
+
 std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t, 3>>& triangles,
                                           const std::vector<LatticePoint>& lattice) {
   // Weld by lattice position: soups that share positions but not indices are closed.

@@ -44,6 +44,21 @@ struct CapTriangle {
 std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t, 3>>& triangles,
                                           const std::vector<LatticePoint>& lattice);
 
+/// Lattice steps within which distinct vertices count as one for the solid
+/// fill (2^-10 voxel at 2^16 steps per voxel): float noise in a soup's shared
+/// corners (an STL written from transformed coordinates) is a few steps.
+constexpr int64_t kWeldSteps = 64;
+
+/// `lattice` with every cluster of vertices closer than `steps` on every axis
+/// (chained) moved onto its lowest-index member, so that a triangle soup whose
+/// shared corners differ by rounding noise is closed for capBoundaryLoops and
+/// the crossing count, instead of one loop per triangle. A cluster wider than
+/// 4 x `steps` on some axis, or a crowd of more than 1024 distinct positions in
+/// one cell of side `steps`, is left as it is: vertices then move at most
+/// 4 x `steps`. Empty when nothing moves (use `lattice` itself).
+/// Deterministic (no dependence on hashing or threads).
+std::vector<LatticePoint> weldNearVertices(const std::vector<LatticePoint>& lattice, int64_t steps);
+
 /// Signed solid angle of triangle (a, b, c) seen from the origin (Van
 /// Oosterom-Strackee), in steradians, in (-2pi, 2pi).
 double triangleSolidAngle(const double a[3], const double b[3], const double c[3]);
