@@ -142,6 +142,19 @@ TEST(BlockMesh, FacesBetweenTwoBlocksAreCulled) {
   EXPECT_EQ(mesh.quads.back().color, linear({10, 20, 30}));
 }
 
+TEST(BlockMesh, AnEmptyVolumeHasNoFaces) {
+  // No bricks, so no rows to split: the counting pass still runs one piece,
+  // whose offset must exist (it was written one past the array; ASan).
+  for (unsigned threads : {1u, 2u}) {
+    vox::BlockMeshSettings settings;
+    settings.threads = threads;
+    const vox::BlockMesh mesh = vox::meshVisibleFaces(volumeOf({}, box(8)), twoClasses(), settings);
+    EXPECT_TRUE(mesh.quads.empty());
+    EXPECT_EQ(mesh.unitFaces, 0u);
+    EXPECT_TRUE(vox::mergeCoplanarFaces(mesh, threads).quads.empty());
+  }
+}
+
 TEST(BlockMesh, OrderIsTheRenderersLoopAcrossBricks) {
   // y (v) outermost, then z (w), then x (u): (9,0,0) before (0,0,9) before (0,1,0).
   const ClassVolume vol = volumeOf({{{0, 1, 0}}, {{0, 0, 9}}, {{9, 0, 0}}}, box(16));

@@ -177,7 +177,9 @@ BlockMesh meshVisibleFaces(const ClassVolume& volume, const ClassTable& classes,
   // A fixed number of pieces, each written at its place in one array: the
   // result is the serial loop's output whatever the split. Counting first
   // costs a second walk but spares copying (and growing) every quad again.
-  const size_t pieces = std::min<size_t>(rows, 64);
+  // At least one piece: parallelPieces runs one even for no rows (and takes 0
+  // pieces as "one per worker"), which must find its offsets.
+  const size_t pieces = std::max<size_t>(1, std::min<size_t>(rows, 64));
   std::vector<size_t> offset(pieces + 1, 0);
   parallelPieces(rows, settings.threads, pieces, [&](size_t begin, size_t end, size_t p) {
     size_t n = 0;
