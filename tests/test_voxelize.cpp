@@ -329,6 +329,30 @@ TEST(VoxelizeCheck, OracleAgreesAndVolumeIsMeasured) {
   EXPECT_NEAR(windingNumber(sphereMesh({16.2, 15.9, 16.1}, 11.3, 64, true), {16, 16, 16}), -1.0, 1e-9);
 }
 
+TEST(Voxelize, CheckReferenceInDoubleIsTheLongDoubleOne) {
+  // A sphere with its top cut away: w runs continuously through 0.5 across
+  // the hole, so many points sit near the threshold where double and long
+  // double could disagree. insideByWinding must answer as the long double sum.
+  Mesh m = sphereMesh({16.2, 15.9, 16.1}, 11.3, 48);
+  std::vector<std::array<uint32_t, 3>> kept;
+  for (const auto& t : m.triangles) {
+    double z = 0;
+    for (uint32_t v : t) z += m.positions[v][2] / 3;
+    if (z < 22.0) kept.push_back(t);
+  }
+  m.triangles = kept;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> xy(3, 29), zr(10, 32);
+  int nearHalf = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const std::array<double, 3> p{xy(rng), xy(rng), zr(rng)};
+    const double w = windingNumber(m, p);
+    nearHalf += std::abs(std::abs(w) - 0.5) < 0.05;
+    ASSERT_EQ(insideByWinding(m, p), std::abs(w) > 0.5) << p[0] << " " << p[1] << " " << p[2] << " w " << w;
+  }
+  EXPECT_GT(nearHalf, 20) << "the sample reaches the 0.5 level across the hole";
+}
+
 TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
   // A 2 x 2 unit square at z = 0.5 over voxels (0..1, 0..1, 0), textured with a
   // 2 x 2 nearest-filtered texture: each voxel sees one texel.

@@ -53,4 +53,10 @@ SolidCheck checkSolid(const Mesh& mesh, const Scene& scene, uint64_t samples, un
 /// (Van Oosterom-Strackee solid angles summed in long double).
 double windingNumber(const Mesh& mesh, const std::array<double, 3>& p);
 
+/// |windingNumber(mesh, p)| > 0.5, the reference checkSolid compares with:
+/// summed in double, and in long double only where the double sum is within
+/// 1e-6 of 0.5 (its error is ~1e-15 per triangle for points off the surface),
+/// so the answer is the long double one's at about a fifth of the cost.
+bool insideByWinding(const Mesh& mesh, const std::array<double, 3>& p);
+
 }  // namespace vox
