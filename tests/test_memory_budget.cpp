@@ -161,5 +161,37 @@ TEST(MeshFootprint, TiltedAndCurvedSurfaces) {
   expectBlocksNear(sphereMesh(1.0, 40, 100), placed(-1.1, 1.1, 24), 1.5, "sphere 24 (triangles smaller than voxels)");
 }
 
+TEST(MeshFootprint, WindingTablesCountWhereTheyExceedTheBake) {
+  // The winding rule's weld and boundary tables live before the blocks: a
+  // mesh with many vertices in a coarse grid needs them more than its blocks;
+  // the parity rule and the surface fill build no such tables.
+  const Mesh m = sphereMesh(1.0, 200, 100);  // 40,000 triangles at --res 8
+  const std::vector<uint8_t> cls(m.triangles.size(), 0);
+  const SceneHeader coarse = placed(-1.1, 1.1, 8);
+  const SurfaceFootprint f = surfaceFootprint(m, cls, coarse);
+  auto partOf = [](const MemoryEstimate& e, const std::string& name) {
+    for (const MemoryPart& p : e.parts)
+      if (p.name == name) return double(p.bytes);
+    return 0.0;
+  };
+  const std::string tables = "winding boundary tables (before the blocks)";
+  VoxelizeSettings s;
+  s.fill = FillMode::Solid;
+  s.solidRule = SolidRule::Winding;
+  const MemoryEstimate winding = estimateMeshBake(f, m, s);
+  EXPECT_GT(partOf(winding, tables), 0.0);
+  // Bake parts and tables together: the tables' own estimate, with the lattice.
+  EXPECT_NEAR(double(winding.bytes()), double(m.positions.size()) * (520 + 24), 8.0);
+  s.solidRule = SolidRule::Parity;
+  EXPECT_EQ(partOf(estimateMeshBake(f, m, s), tables), 0.0);
+  s.fill = FillMode::Surface;
+  EXPECT_EQ(partOf(estimateMeshBake(f, m, s), tables), 0.0);
+  // A fine grid's blocks outweigh the tables: nothing added.
+  const SceneHeader fine = placed(-1.1, 1.1, 512);
+  s.fill = FillMode::Solid;
+  s.solidRule = SolidRule::Winding;
+  EXPECT_EQ(partOf(estimateMeshBake(surfaceFootprint(m, cls, fine), m, s), tables), 0.0);
+}
+
 }  // namespace
 }  // namespace vox
