@@ -326,19 +326,6 @@ std::vector<CapTriangle> capBoundaryLoops(const std::vector<std::array<uint32_t,
   return caps;
 }
 
-double triangleSolidAngle(const double a[3], const double b[3], const double c[3]) {
-  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-  const double det =
-      a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-  const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  const double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
-  const double ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
-  const double den = la * lb * lc + ab * lc + bc * la + ca * lb;
-  return 2.0 * std::atan2(det, den);
-}
-
 namespace {
 
 double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -60,8 +61,21 @@ constexpr int64_t kWeldSteps = 64;
 std::vector<LatticePoint> weldNearVertices(const std::vector<LatticePoint>& lattice, int64_t steps);
 
 /// Signed solid angle of triangle (a, b, c) seen from the origin (Van
-/// Oosterom-Strackee), in steradians, in (-2pi, 2pi).
-double triangleSolidAngle(const double a[3], const double b[3], const double c[3]);
+/// Oosterom-Strackee), in steradians, in (-2pi, 2pi). Inline: it is the inner
+/// loop of the caps' field and of --check's reference (out of line, --check
+/// took 1.4x the time).
+inline double triangleSolidAngle(const double a[3], const double b[3], const double c[3]) {
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  const double det =
+      a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+  const double ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
+  const double den = la * lb * lc + ab * lc + bc * la + ca * lb;
+  return 2.0 * std::atan2(det, den);
+}
 
 /// The caps' solid-angle field with a bound over balls, in voxel units.
 ///

@@ -6,6 +6,7 @@
 
 #include "libvox/core/parallel.h"
 #include "libvox/mesh/voxelize.h"
+#include "libvox/mesh/winding_number.h"
 
 namespace vox {
 
@@ -104,14 +105,7 @@ bool insideByWinding(const Mesh& mesh, const std::array<double, 3>& p) {
       b[k] = mesh.positions[t[1]][k] - p[k];
       c[k] = mesh.positions[t[2]][k] - p[k];
     }
-    const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                       a[2] * (b[0] * c[1] - b[1] * c[0]);
-    const double den = la * lb * lc + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-                       (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la + (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
-    total += 2.0 * std::atan2(det, den);
+    total += triangleSolidAngle(a, b, c);  // the same Van Oosterom-Strackee formula, in double
   }
   const double w = std::abs(total / (4.0 * M_PI));
   if (std::abs(w - 0.5) > 1e-6) return w > 0.5;
