@@ -59,6 +59,11 @@ struct IndexBox {
   bool operator==(const IndexBox&) const = default;
 };
 
+/// The whole domain of a scene, [0, dims) as an inclusive box.
+inline IndexBox domainBox(const Dims& dims) {
+  return {{0, 0, 0}, {int32_t(dims.x) - 1, int32_t(dims.y) - 1, int32_t(dims.z) - 1}};
+}
+
 /// 8-bit sRGB-encoded colour, as stored in class tables and images.
 struct Rgb8 {
   uint8_t r = 0, g = 0, b = 0;

@@ -17,10 +17,6 @@ bool overlaps(const openvdb::Coord& leafOrigin, const IndexBox& box) {
 
 }  // namespace
 
-IndexBox domainBox(const Dims& dims) {
-  return {{0, 0, 0}, {int32_t(dims.x) - 1, int32_t(dims.y) - 1, int32_t(dims.z) - 1}};
-}
-
 ClassVolume classVolumeFromScene(const Scene& scene, const IndexBox& box, bool withColor, unsigned threads) {
   ClassVolume volume(box, withColor);
   const SceneGrids& g = scene.grids();

@@ -13,7 +13,4 @@ namespace vox {
 /// depend on `threads`.
 ClassVolume classVolumeFromScene(const Scene& scene, const IndexBox& box, bool withColor, unsigned threads);
 
-/// The whole domain of a scene, [0, dims) as an inclusive box.
-IndexBox domainBox(const Dims& dims);
-
 }  // namespace vox

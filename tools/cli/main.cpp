@@ -95,6 +95,13 @@ int main(int argc, char** argv) {
     const int code = runModule("VOX_RENDER_MODULE", "vox-render.so", "vox_render_main", dir, argc, argv, errors);
     if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
   }
+  // Exports of page files and of scenes voxbake wrote to meshes and point
+  // files run in the light export module (no OpenVDB); it defers .vdb
+  // volumes, pyramids and other scene files before writing anything.
+  if (argc >= 2 && std::strcmp(argv[1], "export") == 0) {
+    const int code = runModule("VOX_EXPORT_MODULE", "vox-export.so", "vox_export_main", dir, argc, argv, errors);
+    if (code != kNoModule && code != voxcli::kDeferToFullModule) return code;
+  }
   const int code = runModule("VOX_CMDS_MODULE", "vox-cmds.so", "vox_cli_main", dir, argc, argv, errors);
   if (code != kNoModule) return code;
   std::fprintf(stderr,

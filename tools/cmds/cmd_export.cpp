@@ -1,165 +1,24 @@
-// vox export INPUT -o OUT: a scene, a pyramid level or a page file level as
-// files other tools open (docs/export.md): glTF block meshes (face-culled as the
-// block renderer builds them, or merged with --greedy), PLY voxel centres,
-// MagicaVoxel models, OpenVDB fog volumes and level sets for renderers.
+// vox export INPUT -o OUT in the full module (docs/export.md): the command of
+// export_command.h with what needs OpenVDB: pyramids and any scene
+// readSceneVdb accepts as inputs, and OpenVDB fog volumes and level sets for
+// renderers as outputs. The light module (export_main.cpp) runs the rest.
 #include <CLI/CLI.hpp>
-#include <chrono>
-#include <filesystem>
 
-#include "formats/core/file_kinds.h"
-#include "formats/core/file_util.h"
-#include "formats/export/gltf_writer.h"
-#include "formats/export/magicavoxel_writer.h"
-#include "formats/export/ply_writer.h"
 #include "formats/export/vdb_volume_writer.h"
-#include "formats/pagefile/pagefile.h"
-#include "formats/pagefile/pagefile_class_volume.h"
-#include "formats/pagefile/pagefile_meta.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
-#include "libvox/core/block_mesh.h"
-#include "libvox/core/color_quantize.h"
-#include "libvox/core/voxel_colors.h"
 #include "libvox/core/error.h"
-#include "libvox/core/version.h"
 #include "libvox/scene/class_volume_scene.h"
-#include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
-#include "tools/cli/enum_option.h"
+#include "tools/cmds/export_command.h"
 
 namespace voxcli {
 
 namespace {
 
-enum class ExportFormat { FromExtension, Glb, Gltf, Ply, MagicaVoxel, Vdb };
-enum class Split { None, Classes };
-
-struct ExportOptions {
-  std::string input;
-  std::string output;
-  ExportFormat format = ExportFormat::FromExtension;
-  int level = 0;
-  std::string region;  // "umin,vmin,wmin,umax,vmax,wmax", inclusive
-  vox::FaceColor color = vox::FaceColor::Palette;
-  Split split = Split::None;
-  bool dedup = false;
-  bool greedy = false;
-  bool fog = false, levelSet = false;
-  int halfWidth = 3;
-  bool quantize = false;
-  CommonOptions common;
-};
-
-const EnumNames<ExportFormat>& formatNames() {
-  static const EnumNames<ExportFormat> names{{"glb", ExportFormat::Glb},
-                                             {"gltf", ExportFormat::Gltf},
-                                             {"ply", ExportFormat::Ply},
-                                             {"vox", ExportFormat::MagicaVoxel},
-                                             {"vdb", ExportFormat::Vdb}};
-  return names;
-}
-
-const EnumNames<vox::FaceColor>& colorNames() {
-  static const EnumNames<vox::FaceColor> names{{"palette", vox::FaceColor::Palette}, {"voxel", vox::FaceColor::Voxel}};
-  return names;
-}
-
-const EnumNames<Split>& splitNames() {
-  static const EnumNames<Split> names{{"none", Split::None}, {"classes", Split::Classes}};
-  return names;
-}
-
-/// --format, or the output's extension (".glb" for glb, and so on).
-ExportFormat outputFormat(const ExportOptions& o) {
-  if (o.format != ExportFormat::FromExtension) return o.format;
-  for (const auto& [name, format] : formatNames())
-    if (vox::hasExtension(o.output, "." + name)) return format;
-  vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it .glb .gltf .ply .vox .vdb"
-                  " or give --format");
-}
-
-bool isGltf(ExportFormat f) { return f == ExportFormat::Glb || f == ExportFormat::Gltf; }
-
-/// The options that only some formats take.
-void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
-  if (!isGltf(f) && (o.dedup || o.greedy || o.split != Split::None))
-    vox::throwUsage("--dedup, --greedy and --split apply to glTF block meshes (.glb, .gltf)");
-  if (f == ExportFormat::Vdb) {
-    if (o.fog == o.levelSet) vox::throwUsage("a .vdb export is a fog volume or a level set: give --fog or --level-set");
-    if (o.color != vox::FaceColor::Palette) vox::throwUsage("--color: a .vdb volume has no colour");
-  } else if (o.fog || o.levelSet) {
-    vox::throwUsage("--fog and --level-set are .vdb volumes");
-  }
-  if (o.halfWidth < 1 || o.halfWidth > 64) vox::throwUsage("--half-width must be 1..64 voxels");
-  if (o.quantize && f != ExportFormat::MagicaVoxel) vox::throwUsage("--quantize applies to MagicaVoxel palettes (.vox)");
-  if (o.level < 0) vox::throwUsage("--level must be >= 0");
-}
-
-std::optional<vox::IndexBox> parseRegion(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  std::vector<int64_t> v;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = std::min(text.find(',', pos), text.size());
-    const std::string item = text.substr(pos, comma - pos);
-    char* end = nullptr;
-    const long long n = std::strtoll(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0' || n < INT32_MIN || n > INT32_MAX)
-      vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
-    v.push_back(n);
-    pos = comma + 1;
-  }
-  if (v.size() != 6) vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
-  vox::IndexBox box{{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])}, {int32_t(v[3]), int32_t(v[4]), int32_t(v[5])}};
-  if (box.empty()) vox::throwUsage("--region " + text + ": each min must be <= its max (the box is inclusive)");
-  return box;
-}
-
-/// What is exported: the blocks of the chosen level inside the region.
-struct ExportInput {
-  std::string kind;  // "scene", "pyramid", "pages"
-  vox::Dims dims;    // of the level
-  vox::GridFrame frame;
-  vox::ClassTable classes;
-  vox::IndexBox box;
-  std::optional<vox::ClassVolume> volume;
-};
-
-vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Dims& dims, const std::string& path) {
-  const vox::IndexBox domain = vox::domainBox(dims);
-  if (!region) return domain;
-  const vox::IndexBox& r = *region;
-  if (r.min.u < 0 || r.min.v < 0 || r.min.w < 0 || r.max.u > domain.max.u || r.max.v > domain.max.v ||
-      r.max.w > domain.max.w)
-    vox::throwBadInput(path + ": the region " + vox::toString(r.min) + " .. " + vox::toString(r.max) +
-                       " is not inside the scene's index box (0, 0, 0) .. " + vox::toString(domain.max));
-  return r;
-}
-
-ExportInput readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& region, bool withColor, Run& run) {
-  run.input(o.input);
-  vox::requireRegularFile(o.input);
-  ExportInput in;
-  if (vox::pagefile::looksLikePageFile(o.input)) {
-    in.kind = "pages";
-    const vox::pagefile::Reader reader = vox::pagefile::Reader::open(o.input);
-    const vox::pagefile::Header& h = reader.header();
-    if (o.level >= int(h.levelCount))
-      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input + " holds levels 0.." +
-                      std::to_string(h.levelCount - 1));
-    const auto d = h.levelDims(o.level);
-    in.dims = {d[0], d[1], d[2]};
-    in.frame.origin = h.origin;
-    in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
-    in.classes = vox::pagefile::readPageMeta(reader.metaJson(), o.input).classes;
-    in.box = regionIn(region, in.dims, o.input);
-    run.phase("volume");
-    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
-    return in;
-  }
-  if (!vox::looksLikeVdb(o.input))
-    vox::throwBadInput(o.input + ": not a scene: expected " + vox::describe(vox::FileKind::Vdb) + " or " +
-                       vox::describe(vox::FileKind::PageFile));
+/// A scene or a pyramid level, read with OpenVDB.
+bool readVdbScene(const ExportOptions& o, const std::optional<vox::IndexBox>& region, bool withColor, Run& run,
+                  ExportInput& in) {
   std::optional<vox::Scene> scene;
   if (vox::isPyramidVdb(o.input)) {
     in.kind = "pyramid";
@@ -185,158 +44,7 @@ ExportInput readInput(const ExportOptions& o, const std::optional<vox::IndexBox>
     vox::throwBadInput(o.input + ": the scene has no baked colours; export the class palette (--color palette)");
   run.phase("volume");
   in.volume.emplace(vox::classVolumeFromScene(*scene, in.box, withColor, run.threads()));
-  return in;
-}
-
-std::string stemOf(const std::string& path) { return std::filesystem::path(path).stem().string(); }
-
-nlohmann::json boxJson(const vox::IndexBox& b) {
-  return {{"min", {b.min.u, b.min.v, b.min.w}}, {"max", {b.max.u, b.max.v, b.max.w}}};
-}
-
-/// Meshes the blocks (culled, then merged with --greedy) and writes glTF.
-void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& in, Run& run) {
-  run.phase("mesh");
-  vox::BlockMeshSettings ms;
-  ms.color = o.color;
-  ms.threads = run.threads();
-  vox::BlockMesh mesh = vox::meshVisibleFaces(*in.volume, in.classes, ms);
-  const uint64_t culledQuads = mesh.quads.size();
-  if (o.greedy) {
-    run.phase("merge");
-    mesh = vox::mergeCoplanarFaces(mesh, run.threads());
-  }
-  run.phase("write");
-  vox::GltfScene scene;
-  scene.name = stemOf(o.input);
-  scene.generator = "voxbake " + vox::versionString() + " vox export";
-  scene.frame = in.frame;
-  scene.indexed = o.dedup;
-  scene.threads = run.threads();
-  std::vector<std::vector<vox::BlockQuad>> groups;
-  if (o.split == Split::Classes) {
-    groups = vox::quadsByClass(mesh);
-    for (const auto& g : groups) {
-      const vox::ClassInfo* c = in.classes.find(g.front().classId);
-      scene.materials.push_back({c->name, c->id});
-      scene.primitives.push_back({g, scene.materials.size() - 1});
-    }
-  } else if (!mesh.quads.empty()) {
-    scene.materials.push_back({"blocks", std::nullopt});
-    scene.primitives.push_back({mesh.quads, 0});
-  }
-  vox::GltfWriteResult written;
-  if (format == ExportFormat::Glb) {
-    written = vox::writeGlb(scene, run.output(o.output));
-  } else {
-    const std::string bin = (std::filesystem::path(o.output).parent_path() / (stemOf(o.output) + ".bin")).string();
-    const std::string json = run.output(o.output);
-    written = vox::writeGltf(scene, json, mesh.quads.empty() ? "" : run.output(bin), stemOf(o.output) + ".bin");
-  }
-  nlohmann::json& c = run.counts();
-  c["faces"] = mesh.unitFaces;
-  c["quads"] = mesh.quads.size();
-  c["triangles"] = written.triangles;
-  c["vertices"] = written.vertices;
-  c["indices"] = written.indices;
-  c["primitives"] = scene.primitives.size();
-  c["buffer_bytes"] = written.bufferBytes;
-  c["bytes"] = written.fileBytes;
-  if (o.dedup) {
-    c["buffer_bytes_without_dedup"] = written.unindexedBufferBytes;
-    c["dedup_size_cut"] = written.unindexedBufferBytes
-                              ? 1.0 - double(written.bufferBytes) / double(written.unindexedBufferBytes)
-                              : 0.0;
-  }
-  if (o.greedy) {
-    c["culled_triangles"] = 2 * culledQuads;
-    c["greedy_triangle_ratio"] = mesh.quads.empty() ? 1.0 : double(culledQuads) / double(mesh.quads.size());
-  }
-  if (ms.color == vox::FaceColor::Voxel) c["faces_without_voxel_colour"] = mesh.uncoloredFaces;
-  if (mesh.uncoloredFaces)
-    run.note("warning: " + std::to_string(mesh.uncoloredFaces) +
-             " faces belong to voxels without a baked colour; they have their class's palette colour");
-  std::string what = std::to_string(mesh.unitFaces) + " faces, " + std::to_string(written.triangles) + " triangles";
-  if (o.greedy)
-    what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
-            std::to_string(c["greedy_triangle_ratio"].get<double>()).substr(0, 5) + ")";
-  run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
-}
-
-void noteUncolored(uint64_t voxels, Run& run) {
-  run.counts()["voxels_without_colour"] = voxels;
-  if (voxels)
-    run.note("warning: " + std::to_string(voxels) +
-             " voxels have no baked colour; they have their class's display colour");
-}
-
-/// Voxel centres with colour and class, binary PLY.
-void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
-  run.phase("write");
-  const vox::PlyWriteResult r =
-      vox::writeVoxelPly(*in.volume, in.classes, o.color, in.frame, run.output(o.output));
-  run.counts()["points"] = r.points;
-  run.counts()["bytes"] = r.bytes;
-  if (o.color == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
-  run.note("wrote " + o.output + ": " + std::to_string(r.points) + " points, " + std::to_string(r.bytes) + " bytes");
-}
-
-/// MagicaVoxel models; the palette is the class table (index = class id) or
-/// the voxels' colours, quantised to 255 with --quantize.
-void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) {
-  run.phase("palette");
-  std::array<vox::Rgb8, 255> palette{};
-  std::function<uint8_t(const vox::ClassVolume::Brick&, int)> indexOf;
-  vox::QuantizedPalette q;
-  vox::VoxelColors colors(in.classes, vox::FaceColor::Voxel);  // for indexOf
-  nlohmann::json& c = run.counts();
-  if (o.color == vox::FaceColor::Palette) {
-    std::array<bool, 256> known{};
-    for (const vox::ClassInfo& k : in.classes.classes()) {
-      palette[k.id - 1] = k.color;
-      known[k.id] = true;
-    }
-    indexOf = [known](const vox::ClassVolume::Brick& b, int i) {
-      const uint8_t cls = b.classes[size_t(i)];
-      if (!known[cls]) vox::throwClassNotInTable(cls, b.at(i));
-      return cls;
-    };
-    c["palette"] = "classes";
-  } else {
-    vox::ColorHistogram histogram;
-    vox::VoxelColors counted(in.classes, vox::FaceColor::Voxel);
-    for (const vox::ClassVolume::Brick& b : in.volume->bricks())
-      for (int i = 0; i < vox::ClassVolume::kBrickVoxels; ++i)
-        if (b.classes[size_t(i)]) ++histogram[vox::packRgb(counted(b, i))];
-    noteUncolored(counted.uncolored(), run);
-    if (histogram.size() > palette.size() && !o.quantize)
-      vox::throwBadInput(o.input + ": the voxels have " + std::to_string(histogram.size()) +
-                         " distinct colours and a .vox palette holds 255; quantise them (--quantize) or export "
-                         "the class palette (--color palette)");
-    q = vox::quantizeColors(histogram, palette.size());
-    for (size_t k = 0; k < q.colors.size(); ++k) palette[k] = q.colors[k];
-    indexOf = [&q, &colors](const vox::ClassVolume::Brick& b, int i) {
-      return uint8_t(1 + q.slotOf.at(vox::packRgb(colors(b, i))));
-    };
-    c["palette"] = "colours";
-    c["distinct_colours"] = histogram.size();
-    c["palette_colours"] = q.colors.size();
-    run.error()["quantization"] = {{"exact", q.exact},
-                                   {"mean_srgb8_distance", q.meanError},
-                                   {"max_srgb8_distance", q.maxError}};
-    if (!q.exact)
-      run.note("quantised " + std::to_string(histogram.size()) + " colours to " + std::to_string(q.colors.size()) +
-               ": mean error " + std::to_string(q.meanError) + ", max " + std::to_string(q.maxError) +
-               " (8-bit sRGB units)");
-  }
-  run.phase("write");
-  const vox::MagicaVoxelResult r = vox::writeMagicaVoxel(*in.volume, palette, indexOf, run.output(o.output));
-  c["models"] = r.models;
-  c["points"] = r.voxels;
-  c["size"] = r.size;
-  c["bytes"] = r.bytes;
-  run.note("wrote " + o.output + ": " + std::to_string(r.voxels) + " voxels in " + std::to_string(r.models) +
-           " models, " + std::to_string(r.bytes) + " bytes");
+  return true;
 }
 
 /// A fog volume or a level set of the occupancy, for renderers.
@@ -355,67 +63,17 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
            std::to_string(r.activeVoxels) + " active voxels");
 }
 
-int runExport(const ExportOptions& o) {
-  const ExportFormat format = outputFormat(o);
-  checkOptionsFit(o, format);
-  const std::optional<vox::IndexBox> region = parseRegion(o.region);
-  Run run("export", o.common);
-  run.phase("read");
-  const ExportInput in = readInput(o, region, o.color == vox::FaceColor::Voxel, run);
-  // Faces, vertices and the encoded file, per exposed voxel face (measured).
-  run.checkWorkMemory("exporting " + o.input, 1.0);
-  nlohmann::json& c = run.counts();
-  c["input_kind"] = in.kind;
-  c["level"] = o.level;
-  c["dims"] = {in.dims.x, in.dims.y, in.dims.z};
-  c["region"] = boxJson(in.box);
-  c["voxel_size"] = in.frame.voxelSize;
-  c["voxels"] = in.volume->occupiedCount();
-  if (in.volume->occupiedCount() == 0)
-    run.note("warning: " + o.input + ": no occupied voxel in the region; writing an empty file");
-  switch (format) {
-    case ExportFormat::Glb:
-    case ExportFormat::Gltf: exportGltf(o, format, in, run); break;
-    case ExportFormat::Ply: exportPly(o, in, run); break;
-    case ExportFormat::MagicaVoxel: exportMagicaVoxel(o, in, run); break;
-    case ExportFormat::Vdb: exportVdbVolume(o, in, run); break;
-    case ExportFormat::FromExtension: throw vox::Error(vox::ErrorKind::Internal, "export: no format chosen");
-  }
-  return run.finish();
-}
-
 }  // namespace
 
 Command registerExport(CLI::App& root) {
   auto opts = std::make_shared<ExportOptions>();
-  CLI::App* cmd = root.add_subcommand("export", "Write a scene as files other tools open (glTF, PLY, MagicaVoxel, OpenVDB)");
-  cmd->footer(
-      "Formats (by the output's extension, or --format):\n"
-      "  .glb .gltf  the visible block faces as the block renderer builds them: per face its corners in\n"
-      "              drawing order, normal, texture coordinates and the class's top/bottom/side palette\n"
-      "              colour (COLOR_0, linear RGB), at (index + corner) * voxel size + origin; faces\n"
-      "              between two occupied voxels are culled. .gltf writes OUT.bin beside it.\n"
-      "Input: a scene .vdb, a pyramid .vdb (--level N) or a page file .vpk (--level N); --region\n"
-      "limits the export to an index box (outside it counts as empty). docs/export.md.\n"
-      "Example: vox export hamlet.vdb -o hamlet.glb --split classes --report export.json");
-  cmd->add_option("input", opts->input, "Scene or pyramid (.vdb), or page file (.vpk)")->required();
-  cmd->add_option("-o,--output", opts->output, "Output file (.glb .gltf .ply .vox .vdb)")->required();
-  addEnumOption(*cmd, "--format", opts->format, formatNames(), "Output format (default: from the extension)");
-  cmd->add_option("--level", opts->level, "Pyramid or page file level (0 = full resolution)")->capture_default_str();
-  cmd->add_option("--region", opts->region, "Index box umin,vmin,wmin,umax,vmax,wmax (inclusive), default: all");
-  addEnumOption(*cmd, "--color", opts->color, colorNames(),
-                "Colours: palette (the class's) or voxel (the baked colour)");
-  addEnumOption(*cmd, "--split", opts->split, splitNames(),
-                "glTF: none (one primitive) or classes (one primitive and material per class)");
-  cmd->add_flag("--dedup", opts->dedup, "Indexed triangles: 4 vertices per face instead of 6");
-  cmd->add_flag("--greedy", opts->greedy, "Merge coplanar faces of one class and colour into rectangles");
-  cmd->add_flag("--fog", opts->fog, ".vdb: a fog volume, density 1 in occupied voxels");
-  cmd->add_flag("--level-set", opts->levelSet, ".vdb: a narrow-band level set of the occupied voxels");
-  cmd->add_option("--half-width", opts->halfWidth, ".vdb --level-set: band half width in voxels")
-      ->capture_default_str();
-  cmd->add_flag("--quantize", opts->quantize, ".vox --color voxel: quantise more than 255 colours (median cut)");
-  addCommonOptions(*cmd, opts->common);
-  return {cmd, [opts] { return runExport(*opts); }};
+  CLI::App* cmd = addExportOptions(root, *opts);
+  return {cmd, [opts] {
+            const ExportBackend full{readVdbScene, exportVdbVolume, {}};
+            const std::optional<int> code = runExport(*opts, full);
+            if (!code) throw vox::Error(vox::ErrorKind::Internal, "export: the full module declined the command");
+            return *code;
+          }};
 }
 
 }  // namespace voxcli
