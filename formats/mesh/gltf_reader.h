@@ -25,17 +25,23 @@
 #include <string>
 #include <vector>
 
+#include "formats/mesh/deferred_textures.h"
 #include "formats/mesh/mesh_input.h"
 
 namespace vox {
 
-Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+/// `deferred`: when given (and without options.ignoreMissingMaterials), the
+/// colour textures' images decode there while the caller goes on
+/// (formats/mesh/deferred_textures.h); the mesh's textures get their pixels
+/// from its finish().
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+              DeferredTextures* deferred = nullptr);
 
 /// The same from the file's bytes already in memory (the fuzz target's entry;
 /// readGltf reads the file and calls it). `isBinary`: the bytes are a .glb
 /// container, else .gltf JSON. `path` names the input in messages, and its
 /// directory is where external buffers and images are looked for.
 Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
-                    std::vector<std::string>& warnings);
+                    std::vector<std::string>& warnings, DeferredTextures* deferred = nullptr);
 
 }  // namespace vox

@@ -59,8 +59,9 @@
 // first triangle's class (winding).
 #pragma once
 
-#include <optional>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include "libvox/mesh/mesh.h"
@@ -98,6 +99,16 @@ struct VoxelizeSettings {
   /// solid angle of every cap: both rules are exact on a region. Memory and
   /// time: the box's, plus a pass over every triangle.
   std::optional<IndexBox> region;
+  /// Textures still decoding when the bake starts (a reader that overlaps
+  /// image decoding with the bake: formats/mesh/deferred_textures.h). When
+  /// set, the bake reads nothing of mesh.textures but their count before it
+  /// calls this, once, on the calling thread, after the surface pass's
+  /// geometry; it returns once every texture of the mesh has its pixels (the
+  /// caller's mesh, which it may fill), or throws, which ends the bake with
+  /// its error. Meanwhile the pieces of textured triangles are kept (48 bytes
+  /// each) with their voxels' colour sums. The colours are those of a bake
+  /// whose textures were decoded before: the sums are integers.
+  std::function<void()> awaitTextures;
 };
 
 /// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,
