@@ -485,12 +485,31 @@ struct TexturedPiece {
   uint32_t texture;
 };
 
+/// A tile's textured pieces, in chunks that are never copied (a vector's
+/// growth copied and faulted in its half-million pieces twice over).
+class TexturedPieces {
+ public:
+  static constexpr size_t kChunk = 4096;
+  void push(const TexturedPiece& p) {
+    if (count_ % kChunk == 0) chunks_.push_back(std::make_unique_for_overwrite<TexturedPiece[]>(kChunk));  // no zeroing: each is written
+    chunks_.back()[count_++ % kChunk] = p;
+  }
+  size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  const TexturedPiece& operator[](size_t i) const { return chunks_[i / kChunk][i % kChunk]; }
+  void clear() { *this = TexturedPieces(); }
+
+ private:
+  std::vector<std::unique_ptr<TexturedPiece[]>> chunks_;
+  size_t count_ = 0;
+};
+
 /// One tile's surface voxels: its votes, the colour sums that become its
 /// colours, and the textured pieces still to add to them.
 struct SurfaceOut {
   VoxelBlocks blocks;
   ColorSums colors;
-  std::vector<TexturedPiece> textured;
+  TexturedPieces textured;
 };
 
 double wrapCoord(double x, MeshTexture::Wrap mode) {
@@ -604,7 +623,7 @@ uint64_t q16(float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 
 /// voxelized, their texels scattered over textures far larger than the
 /// caches: each sample's rows are prefetched kAhead pieces early, which
 /// hides most of the misses that sampling during the geometry waited on.
-void addTexturedPieces(const Mesh& mesh, std::vector<TexturedPiece>& pieces) {
+void addTexturedPieces(const Mesh& mesh, TexturedPieces& pieces) {
   constexpr size_t kAhead = 16;
   TexelSpot spots[kAhead];
   auto spotOf = [&](size_t i) {
@@ -625,7 +644,7 @@ void addTexturedPieces(const Mesh& mesh, std::vector<TexturedPiece>& pieces) {
     p.sum->g += p.votes * q16(p.base[1] * tex[1]);
     p.sum->b += p.votes * q16(p.base[2] * tex[2]);
   }
-  pieces = std::vector<TexturedPiece>();
+  pieces.clear();
 }
 
 /// Barycentric coordinates of the vertex average of polygon `P` in triangle (a, b, c).
@@ -713,7 +732,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       ColorSum& sum = out.colors.at(u, v, w);
       sum.w += votes;
       if (texture >= 0) {  // its texel later (addTexturedPieces); the sums are integers, so order does not matter
-        out.textured.push_back({&sum, s, tt, {rgba[0], rgba[1], rgba[2]}, votes, uint32_t(texture)});
+        out.textured.push({&sum, s, tt, {rgba[0], rgba[1], rgba[2]}, votes, uint32_t(texture)});
       } else {
         sum.r += votes * q16(rgba[0]);
         sum.g += votes * q16(rgba[1]);

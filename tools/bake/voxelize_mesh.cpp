@@ -458,6 +458,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
   settings.solidRule = o.solidRule;
+  if (decoding) settings.awaitTextures = [] {};  // as the bake will have one: only its presence counts
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
     vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
