@@ -72,12 +72,13 @@ TEST(DeferredTextures, TheBakeSamplesTexturesOnlyOnceTheyAreAwaited) {
     int calls = 0;
     VoxelizeSettings s;
     s.threads = threads;
-    s.awaitTextures = [&] {
+    s.awaitTextures = [&](bool wait) {
       ++calls;
-      late.textures[0] = pixels;
+      if (wait) late.textures[0] = pixels;  // not decoded when first asked
+      return wait;
     };
     const Colours got = colours(voxelizeMesh(late, cls, squaresHeader(), s));
-    EXPECT_EQ(calls, 1) << "threads " << threads;
+    EXPECT_EQ(calls, 2) << "threads " << threads << ": asked without waiting, then waiting";
     EXPECT_EQ(got, expected) << "threads " << threads << ": colours differ from the bake with pixels from the start";
     // The known texels (a texel taken before the pixels were in would be white).
     ASSERT_TRUE(got.count({2, 13, 0}));
@@ -97,7 +98,10 @@ TEST(DeferredTextures, AnErrorFromTheAwaitEndsTheBake) {
   late.textures[0].rgba.clear();
   VoxelizeSettings s;
   s.threads = 2;
-  s.awaitTextures = [] { throwBadInput("m.glb: image 0 cannot be decoded (test)"); };
+  s.awaitTextures = [](bool wait) {
+    if (wait) throwBadInput("m.glb: image 0 cannot be decoded (test)");
+    return false;
+  };
   EXPECT_THROW(voxelizeMesh(late, std::vector<uint8_t>(late.triangles.size(), 1), squaresHeader(), s), Error);
 }
 

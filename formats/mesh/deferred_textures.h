@@ -9,7 +9,8 @@
 // (tools/cli caps TBB at --threads; at --threads 1 nothing runs before
 // finish(), which then decodes on the calling thread). The voxelizer takes
 // the pixels when it needs them (VoxelizeSettings::awaitTextures calls
-// finish()), after the surface pass's geometry.
+// take()), after the surface pass's geometry: those decoded by then first,
+// while the others finish.
 //
 // The result does not depend on it: the same pixels, and an image that does
 // not decode is the same error (message, exit 3) as when it is decoded while
@@ -18,8 +19,9 @@
 // ignoreMissingMaterials, whose warning for an undecodable image must be
 // known when the read returns.
 //
-// Thread-safety: one owner; finish() and the other members are called from
-// one thread. The decoding tasks touch only their own job's bytes and result.
+// Thread-safety: one owner; take(), finish() and the other members are called
+// from one thread, with nothing reading the mesh's textures meanwhile. The
+// decoding tasks touch only their own job's bytes and result.
 #pragma once
 
 #include <cstdint>
@@ -46,11 +48,15 @@ class DeferredTextures {
   /// texture, read from the images' headers), for the bake's memory estimate.
   uint64_t pendingPixelBytes() const;
 
-  /// Waits for every decode and moves each image's pixels into the textures of
-  /// `mesh` that use it (copies for all but the last). Throws vox::Error
-  /// (BadInput, Setting::IgnoreMissingMaterials) naming the first image, in
-  /// index order, that does not decode: the error a read that decodes first
-  /// throws. Later calls do nothing.
+  /// Moves the pixels of every image decoded by now into the textures of
+  /// `mesh` that use it (copies for all but the last; a texture's width is 0
+  /// until then), and returns whether every image is in. With `wait`, waits
+  /// for every decode first (decoding the images not begun on this thread)
+  /// and throws vox::Error (BadInput, Setting::IgnoreMissingMaterials) naming
+  /// the first image, in index order, that does not decode: the error a read
+  /// that decodes first throws. Once everything is in, calls do nothing.
+  bool take(Mesh& mesh, bool wait);
+  /// take(mesh, true).
   void finish(Mesh& mesh);
 
   /// The images decoded in the background, the seconds their decoding took

@@ -410,7 +410,7 @@ struct SurfaceWork {
   bool color;
   const IndexBox* region;  // a region bake's box (inclusive), or null: the whole domain
   BoxBits* surfaceBits;  // solid fill: marks surface voxels inside the box
-  const std::function<void()>* awaitTextures;  // VoxelizeSettings::awaitTextures, or null
+  const std::function<bool(bool)>* awaitTextures;  // VoxelizeSettings::awaitTextures, or null
 };
 
 /// The colour sums of one tile's surface voxels, per 8^3 block: a slot per
@@ -618,18 +618,21 @@ std::array<float, 4> baseColor(const Mesh& m, size_t t, double l0, double l1, do
 /// A colour channel in [0, 1] as the 16-bit fixed point the sums add.
 uint64_t q16(float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); }
 
-/// Adds the textured pieces' colours (base x texel) to their sums, then
-/// forgets them. The pieces come in the order their triangles were
-/// voxelized, their texels scattered over textures far larger than the
-/// caches: each sample's rows are prefetched kAhead pieces early, which
-/// hides most of the misses that sampling during the geometry waited on.
-void addTexturedPieces(const Mesh& mesh, TexturedPieces& pieces) {
+/// Adds the textured pieces' colours (base x texel) to their sums: all of
+/// them, or with `ready` those whose texture's ready[] is `readyOnes`. The
+/// pieces come in the order their triangles were voxelized, their texels
+/// scattered over textures far larger than the caches: each sample's rows
+/// are prefetched kAhead pieces early, which hides most of the misses that
+/// sampling during the geometry waited on.
+void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces, const std::vector<char>* ready = nullptr,
+                       bool readyOnes = true) {
   constexpr size_t kAhead = 16;
   TexelSpot spots[kAhead];
+  auto wanted = [&](const TexturedPiece& p) { return !ready || bool((*ready)[p.texture]) == readyOnes; };
   auto spotOf = [&](size_t i) {
     const TexturedPiece& p = pieces[i];
     const MeshTexture& tex = mesh.textures[p.texture];
-    if (tex.width == 0 || tex.height == 0) return TexelSpot{};
+    if (!wanted(p) || tex.width == 0 || tex.height == 0) return TexelSpot{};
     const TexelSpot spot = texelSpot(tex, p.s, p.t);
     __builtin_prefetch(tex.rgba.data() + spot.y0 + spot.x0);
     __builtin_prefetch(tex.rgba.data() + spot.y1 + spot.x0);
@@ -638,13 +641,14 @@ void addTexturedPieces(const Mesh& mesh, TexturedPieces& pieces) {
   for (size_t i = 0; i < std::min(kAhead, pieces.size()); ++i) spots[i] = spotOf(i);
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TexturedPiece& p = pieces[i];
-    const std::array<float, 3> tex = sampleTexture(mesh.textures[p.texture], spots[i % kAhead]);
+    const TexelSpot spot = spots[i % kAhead];
     if (i + kAhead < pieces.size()) spots[i % kAhead] = spotOf(i + kAhead);
+    if (!wanted(p)) continue;
+    const std::array<float, 3> tex = sampleTexture(mesh.textures[p.texture], spot);
     p.sum->r += p.votes * q16(p.base[0] * tex[0]);
     p.sum->g += p.votes * q16(p.base[1] * tex[1]);
     p.sum->b += p.votes * q16(p.base[2] * tex[2]);
   }
-  pieces.clear();
 }
 
 /// Barycentric coordinates of the vertex average of polygon `P` in triangle (a, b, c).
@@ -975,7 +979,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
   // The tile's voxels are its own: their colours are final once its textured
   // pieces are added, on its thread.
   auto finishColors = [&](size_t s) {
-    addTexturedPieces(work.mesh, parts[s]->textured);
+    parts[s]->textured.clear();
     parts[s]->colors.writeColors(parts[s]->blocks);
   };
   // Textures still decoding: tiles with textured pieces keep them (and their
@@ -988,14 +992,29 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
         surfaceTriangle(work, tile.triangles[i], tile.from, tile.to, *parts[s]);
         if (i % 4096 == 4095) progress(share * double(done += 4096) / double(std::max<size_t>(1, steps)));
       }
-      if (!texturesLater || parts[s]->textured.empty()) finishColors(s);
+      if (texturesLater && !parts[s]->textured.empty()) continue;
+      addTexturedPieces(work.mesh, parts[s]->textured);
+      finishColors(s);
     }
   });
   if (texturesLater) {
-    (*work.awaitTextures)();
+    // The textures decoded by now first, while the others finish decoding.
+    const bool all = (*work.awaitTextures)(false);
+    std::vector<char> ready(work.mesh.textures.size());
+    for (size_t k = 0; k < ready.size(); ++k) ready[k] = all || work.mesh.textures[k].width > 0;
     parallelForEach(tiles.size(), threads, 1, [&](size_t s) {
-      if (!parts[s]->textured.empty()) finishColors(s);
+      if (parts[s]->textured.empty()) return;
+      addTexturedPieces(work.mesh, parts[s]->textured, &ready, true);
+      if (all) finishColors(s);
     });
+    if (!all) {
+      (*work.awaitTextures)(true);
+      parallelForEach(tiles.size(), threads, 1, [&](size_t s) {
+        if (parts[s]->textured.empty()) return;
+        addTexturedPieces(work.mesh, parts[s]->textured, &ready, false);
+        finishColors(s);
+      });
+    }
   }
   for (size_t t = 1; t < parts.size(); ++t) parts[0]->blocks.merge(std::move(parts[t]->blocks));
   return std::move(parts[0]->blocks);

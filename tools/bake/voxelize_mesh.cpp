@@ -458,7 +458,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
   settings.solidRule = o.solidRule;
-  if (decoding) settings.awaitTextures = [] {};  // as the bake will have one: only its presence counts
+  if (decoding) settings.awaitTextures = [](bool) { return true; };  // as the bake will have one: only its presence counts
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
     vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
@@ -581,7 +581,7 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   auto bar = run.progress("voxelize");
   vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
   if (region) settings.region = region->box;
-  if (textures.pendingImages() > 0) settings.awaitTextures = [&] { textures.finish(p.mesh); };
+  if (textures.pendingImages() > 0) settings.awaitTextures = [&](bool wait) { return textures.take(p.mesh, wait); };
   vox::VoxelBlocks blocks;
   if (!region || !region->box.empty()) blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
   textures.finish(p.mesh);  // a bake that never sampled them still fails on an undecodable image
