@@ -60,8 +60,8 @@ class DeferredTextures {
   void finish(Mesh& mesh);
 
   /// The images decoded in the background, the seconds their decoding took
-  /// (summed over images, each on the thread that decoded it), and the
-  /// seconds finish() waited for them; complete after finish().
+  /// (elapsed on the thread that decoded each, summed over images), and the
+  /// seconds take(mesh, true) waited for them; complete after it.
   size_t decodedImages() const;
   double decodeSeconds() const;
   double waitSeconds() const;
