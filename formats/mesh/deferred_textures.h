@@ -1,20 +1,20 @@
 // Texture images decoded while the mesh is baked instead of before: decoding
 // a photo-like 2048^2 JPEG costs about 28 ms of one core (libjpeg-turbo's
-// entropy decoding, whatever its options), as much as a --res 256 surface
-// bake of a 15 k-triangle model, so a textured bake that decodes first takes
-// twice as long. A mesh read with a DeferredTextures (readMeshFile's last
+// entropy decoding, whatever its options), so the five of the benchmark's
+// model (docs/gltf.md) cost as much as its whole --res 256 bake without
+// them. A mesh read with a DeferredTextures (readMeshFile's last
 // argument) comes back at once with its textures named, sampled and wrapped
 // as the file says but without pixels (width = height = 0), their images
 // decoding on TBB's threads meanwhile, within the process's thread limit
 // (tools/cli caps TBB at --threads; at --threads 1 nothing runs before
-// finish(), which then decodes on the calling thread). The voxelizer takes
+// take(mesh, true), which then decodes on the calling thread). The voxelizer takes
 // the pixels when it needs them (VoxelizeSettings::awaitTextures calls
 // take()), after the surface pass's geometry: those decoded by then first,
 // while the others finish.
 //
 // The result does not depend on it: the same pixels, and an image that does
 // not decode is the same error (message, exit 3) as when it is decoded while
-// the file is read, from finish(). Only glTF colour textures are deferred
+// the file is read, from take(mesh, true). Only glTF colour textures are deferred
 // (OBJ map_Kd files are decoded while read), and never with
 // ignoreMissingMaterials, whose warning for an undecodable image must be
 // known when the read returns.
@@ -41,7 +41,7 @@ class DeferredTextures {
   DeferredTextures(const DeferredTextures&) = delete;
   DeferredTextures& operator=(const DeferredTextures&) = delete;
 
-  /// Images still to be put into the mesh (0 once finish() returned).
+  /// Images still to be put into the mesh (0 once take(mesh, true) returned).
   size_t pendingImages() const;
 
   /// The pixel bytes the pending textures will hold (width x height x 4 per

@@ -11,7 +11,8 @@
 //   KHR_texture_transform applied to the UVs), or KHR_materials_pbrSpecularGlossiness's
 //   diffuseFactor and diffuseTexture; COLOR_0 (vec3/vec4, float or normalized)
 //   multiplies in. Only those images are decoded, once each, in parallel
-//   (formats/mesh/gltf_images.h).
+//   (formats/mesh/gltf_images.h), or during the caller's bake with a
+//   DeferredTextures (formats/mesh/deferred_textures.h).
 // * EXT_mesh_gpu_instancing: one copy of the node's mesh per instance.
 // * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
 // * KHR_draco_mesh_compression: the primitive's Draco data decoded
