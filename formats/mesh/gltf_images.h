@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/mesh/deferred_textures.h"
 #include "formats/mesh/mesh_input.h"
 
 namespace tinygltf {
@@ -36,5 +37,12 @@ void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images);
 /// with options.ignoreMissingMaterials a warning (its textures are left out).
 void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
                   const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+
+/// The same images left to `deferred` (formats/mesh/deferred_textures.h),
+/// whose decoding starts here: their encoded bytes move to it, and
+/// model.images stays undecoded. Returns each image's job in `deferred`, or
+/// -1 for the images not decoded (not needed, or never received).
+std::vector<int> decodeImagesLater(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
+                                   const std::string& path, DeferredTextures& deferred);
 
 }  // namespace vox

@@ -321,22 +321,26 @@ void refuseMissingImages(const tinygltf::Model& model, const EncodedImages& enco
 /// glTF texture `ti` as a MeshTexture (its image as 8-bit RGBA, its sampler),
 /// or nullopt with a warning when its image was not decoded. `lastUse`: no
 /// other texture needs the image's pixels, so they are moved, not copied.
-std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, const std::string& path,
-                                          std::vector<std::string>& warnings) {
+/// `decodingLater`: its image is being decoded by a DeferredTextures, which
+/// puts the pixels in afterwards (none yet).
+std::optional<MeshTexture> convertTexture(tinygltf::Model& model, size_t ti, bool lastUse, bool decodingLater,
+                                          const std::string& path, std::vector<std::string>& warnings) {
   const tinygltf::Texture& tex = model.textures[ti];
   const int src = imageOf(model, tex);
   if (src < 0) return std::nullopt;
   tinygltf::Image& im = model.images[size_t(src)];
-  if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
-        im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
-    warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
-    return std::nullopt;
-  }
   MeshTexture t;
-  t.width = uint32_t(im.width);
-  t.height = uint32_t(im.height);
-  if (lastUse) t.rgba = std::move(im.image);
-  else t.rgba = im.image;
+  if (!decodingLater) {
+    if (!(im.width > 0 && im.height > 0 && im.component == 4 && im.bits == 8 &&
+          im.image.size() == size_t(im.width) * size_t(im.height) * 4)) {
+      warnings.push_back(path + ": texture " + std::to_string(ti) + " could not be decoded to 8-bit RGBA; ignored");
+      return std::nullopt;
+    }
+    t.width = uint32_t(im.width);
+    t.height = uint32_t(im.height);
+    if (lastUse) t.rgba = std::move(im.image);
+    else t.rgba = im.image;
+  }
   t.source = im.uri.empty() ? "image " + std::to_string(src) : im.uri;
   if (tex.sampler >= 0 && size_t(tex.sampler) < model.samplers.size()) {
     const tinygltf::Sampler& s = model.samplers[size_t(tex.sampler)];
@@ -428,9 +432,10 @@ std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, s
 
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
-/// returned.
-uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mesh,
-                      std::vector<std::string>& warnings) {
+/// returned. With `deferred`, the images of jobOf's jobs are decoding there:
+/// their textures get the pixels from it.
+uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mesh, std::vector<std::string>& warnings,
+                      DeferredTextures* deferred = nullptr, const std::vector<int>& jobOf = {}) {
   std::vector<int> meshTextureOf(model.textures.size(), -1);
   // How many base colour textures still need each image's pixels.
   std::vector<int> usesLeft(model.images.size(), 0);
@@ -450,13 +455,14 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
     m.baseColorFactor = cs.factor;
     const int ti = cs.texture;
     if (ti >= 0 && size_t(ti) < model.textures.size()) {
+      const int img = imageOf(model, model.textures[size_t(ti)]);
+      const int job = deferred && img >= 0 && size_t(img) < jobOf.size() ? jobOf[size_t(img)] : -1;
       if (meshTextureOf[size_t(ti)] < 0)
         if (std::optional<MeshTexture> t =
-                convertTexture(model, size_t(ti), imageOf(model, model.textures[size_t(ti)]) >= 0 &&
-                                   --usesLeft[size_t(imageOf(model, model.textures[size_t(ti)]))] == 0,
-                               path, warnings)) {
+                convertTexture(model, size_t(ti), img >= 0 && --usesLeft[size_t(img)] == 0, job >= 0, path, warnings)) {
           mesh.textures.push_back(std::move(*t));
           meshTextureOf[size_t(ti)] = int(mesh.textures.size() - 1);
+          if (job >= 0) deferred->addTexture(size_t(job), mesh.textures.size() - 1);
         }
       m.texture = meshTextureOf[size_t(ti)];
       m.texCoordSet = cs.texCoord;
@@ -812,20 +818,26 @@ void padVertexAttributes(Mesh& mesh) {
 
 }  // namespace
 
-Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+              DeferredTextures* deferred) {
   requireRegularFile(path);
-  return readGltfMemory(readFileBytes(path), path, hasExtension(path, ".glb"), options, warnings);
+  return readGltfMemory(readFileBytes(path), path, hasExtension(path, ".glb"), options, warnings, deferred);
 }
 
 Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
-                    std::vector<std::string>& warnings) {
+                    std::vector<std::string>& warnings, DeferredTextures* deferred) {
   EncodedImages encoded;
   tinygltf::Model model = loadModel(bytes, path, isBinary, encoded, warnings);
   Mesh mesh;
   listFilesRead(model, path, mesh);
   refuseMissingImages(model, encoded, path, options, warnings);
-  decodeImages(model, encoded, colourImages(model), path, options, warnings);
-  const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings);
+  // An undecodable image is a warning with ignoreMissingMaterials, which must
+  // be known when the read returns: those files decode here.
+  if (options.ignoreMissingMaterials) deferred = nullptr;
+  std::vector<int> jobOf;
+  if (deferred) jobOf = decodeImagesLater(model, encoded, colourImages(model), path, *deferred);
+  else decodeImages(model, encoded, colourImages(model), path, options, warnings);
+  const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings, deferred, jobOf);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);
   for (int root : rootNodes(model)) walker.visit(root, identity(), "", 0);
   if (mesh.parts.empty()) mesh.parts.push_back({"", std::filesystem::path(path).filename().string()});

@@ -11,7 +11,8 @@
 //   KHR_texture_transform applied to the UVs), or KHR_materials_pbrSpecularGlossiness's
 //   diffuseFactor and diffuseTexture; COLOR_0 (vec3/vec4, float or normalized)
 //   multiplies in. Only those images are decoded, once each, in parallel
-//   (formats/mesh/gltf_images.h).
+//   (formats/mesh/gltf_images.h), or during the caller's bake with a
+//   DeferredTextures (formats/mesh/deferred_textures.h).
 // * EXT_mesh_gpu_instancing: one copy of the node's mesh per instance.
 // * Parts: one per (node, primitive's mesh): node name path "a/b/c", mesh name.
 // * KHR_draco_mesh_compression: the primitive's Draco data decoded
@@ -25,17 +26,23 @@
 #include <string>
 #include <vector>
 
+#include "formats/mesh/deferred_textures.h"
 #include "formats/mesh/mesh_input.h"
 
 namespace vox {
 
-Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+/// `deferred`: when given (and without options.ignoreMissingMaterials), the
+/// colour textures' images decode there while the caller goes on
+/// (formats/mesh/deferred_textures.h); the mesh's textures get their pixels
+/// from its finish().
+Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+              DeferredTextures* deferred = nullptr);
 
 /// The same from the file's bytes already in memory (the fuzz target's entry;
 /// readGltf reads the file and calls it). `isBinary`: the bytes are a .glb
 /// container, else .gltf JSON. `path` names the input in messages, and its
 /// directory is where external buffers and images are looked for.
 Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
-                    std::vector<std::string>& warnings);
+                    std::vector<std::string>& warnings, DeferredTextures* deferred = nullptr);
 
 }  // namespace vox

@@ -46,8 +46,9 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
     if (invalid[i]) mesh.positions[i] = {0, 0, 0};
 }
 
-Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
-  if (hasExtension(path, ".gltf") || hasExtension(path, ".glb")) return readGltf(path, options, warnings);
+Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+                  DeferredTextures* deferred) {
+  if (hasExtension(path, ".gltf") || hasExtension(path, ".glb")) return readGltf(path, options, warnings, deferred);
   const FileView bytes(path);
   Mesh mesh;
   if (hasExtension(path, ".obj"))

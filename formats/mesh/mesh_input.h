@@ -26,9 +26,14 @@ struct MeshReadOptions {
   bool ignoreMissingMaterials = false;
 };
 
+class DeferredTextures;
+
 /// Reads any supported mesh file by extension. Non-fatal notes (skipped
-/// primitives, dropped triangles) are appended to `warnings`.
-Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
+/// primitives, dropped triangles) are appended to `warnings`. `deferred`:
+/// glTF colour textures decode there, while the caller goes on
+/// (formats/mesh/deferred_textures.h); other formats ignore it.
+Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+                  DeferredTextures* deferred = nullptr);
 
 /// True for the extensions readMeshFile accepts.
 bool isMeshFile(const std::string& path);

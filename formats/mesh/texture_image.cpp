@@ -4,6 +4,7 @@
 #include <stb/stb_image.h>
 #include <webp/decode.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <limits>
@@ -133,6 +134,42 @@ bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& 
   if (isJpeg(bytes)) return decodeJpeg(bytes, out, why);
   if (isWebp(bytes)) return decodeWebp(bytes, out, why);
   return decodeStb(bytes, out, why);
+}
+
+namespace {
+
+bool jpegSize(std::string_view bytes, uint32_t& width, uint32_t& height) {
+  jpeg_decompress_struct cinfo{};
+  JpegError err{};
+  cinfo.err = jpeg_std_error(&err.mgr);
+  err.mgr.error_exit = jpegFail;
+  err.mgr.emit_message = jpegIgnoreWarning;
+  if (setjmp(err.jump)) {
+    jpeg_destroy_decompress(&cinfo);
+    return false;
+  }
+  jpeg_create_decompress(&cinfo);
+  jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
+  jpeg_read_header(&cinfo, TRUE);
+  width = cinfo.image_width, height = cinfo.image_height;
+  jpeg_destroy_decompress(&cinfo);
+  return true;
+}
+
+}  // namespace
+
+bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height) {
+  width = height = 0;
+  int w = 0, h = 0, n = 0;
+  if (isJpeg(bytes)) return jpegSize(bytes, width, height);
+  if (isWebp(bytes)) {
+    if (!WebPGetInfo(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &w, &h)) return false;
+  } else if (bytes.size() > size_t(std::numeric_limits<int>::max()) ||
+             !stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &w, &h, &n)) {
+    return false;
+  }
+  width = uint32_t(std::max(w, 0)), height = uint32_t(std::max(h, 0));
+  return true;
 }
 
 }  // namespace vox

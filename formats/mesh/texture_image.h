@@ -33,4 +33,8 @@ inline constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 28;
 /// JPEG data", ...); `out` is then unspecified.
 bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& why);
 
+/// The pixel size `bytes` announces in its header, without decoding (for a
+/// memory estimate); false when the header does not read.
+bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height);
+
 }  // namespace vox

@@ -59,8 +59,9 @@
 // first triangle's class (winding).
 #pragma once
 
-#include <optional>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include "libvox/mesh/mesh.h"
@@ -98,6 +99,19 @@ struct VoxelizeSettings {
   /// solid angle of every cap: both rules are exact on a region. Memory and
   /// time: the box's, plus a pass over every triangle.
   std::optional<IndexBox> region;
+  /// Textures still decoding when the bake starts (a reader that overlaps
+  /// image decoding with the bake: formats/mesh/deferred_textures.h). When
+  /// set, the bake reads nothing of a texture of width 0 but its place in
+  /// mesh.textures until it has called this, on the calling thread, after the
+  /// surface pass's geometry: first with wait = false (put in the pixels of
+  /// the images decoded by now; the bake adds those textures' texels while
+  /// the others decode), then, unless that returned true, with wait = true
+  /// (return once every texture has its pixels, or throw, which ends the bake
+  /// with its error). It returns whether every texture has its pixels; it may
+  /// fill the caller's mesh. Meanwhile the pieces of textured triangles are
+  /// kept (48 bytes each) with their voxels' colour sums. The colours are
+  /// those of a bake whose textures were decoded before: the sums are integers.
+  std::function<bool(bool wait)> awaitTextures;
 };
 
 /// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,

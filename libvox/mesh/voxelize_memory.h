@@ -48,7 +48,8 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
 /// The parts of a bake's peak beyond what is resident before it (the mesh is
 /// counted by the caller): vote blocks, colour blocks, solid-fill bits and
 /// crossings, interior blocks, and for the winding rule its weld and boundary
-/// tables where they outweigh those (they are gone before the blocks grow).
+/// tables where they outweigh those (they are gone before the blocks grow),
+/// and with settings.awaitTextures the textured pieces kept until it returns.
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings);
 
 }  // namespace vox

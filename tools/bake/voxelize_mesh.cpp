@@ -15,6 +15,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/classes_json.h"
+#include "formats/mesh/deferred_textures.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/scene/scene_vdb_direct.h"
 #include "libvox/mesh/class_compaction.h"
@@ -125,8 +126,10 @@ class InputHasher {
 };
 
 /// The "parse" phase: every input read and appended into one mesh, warnings
-/// noted, inputs (and the files they name) recorded.
-void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
+/// noted, inputs (and the files they name) recorded. `deferred`: a single
+/// glTF input's colour textures decode there (texture indices are the
+/// file's own, so only with one input).
+void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p, vox::DeferredTextures* deferred) {
   run.phase("parse");
   vox::MeshReadOptions ro;
   ro.dropInvalid = o.dropInvalid;
@@ -135,7 +138,7 @@ void readMeshes(const VoxelizeOptions& o, Run& run, PreparedMeshes& p) {
     run.input(in);
     const int64_t size = vox::fileSizeOrMinusOne(in);
     p.bytesRead += uint64_t(size);
-    vox::Mesh m = vox::readMeshFile(in, ro, p.warnings);
+    vox::Mesh m = vox::readMeshFile(in, ro, p.warnings, o.inputs.size() == 1 ? deferred : nullptr);
     for (const std::string& f : m.filesRead) run.input(f), p.filesRead.push_back(f);
     if (o.inputs.size() == 1) p.mesh = std::move(m);
     else p.mesh.append(m);
@@ -379,11 +382,11 @@ std::string voxelSettingsText(const VoxelizeOptions& o, const std::vector<std::s
   return t;
 }
 
-PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run) {
+PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run, vox::DeferredTextures* deferred) {
   PreparedMeshes p;
   for (const std::string& in : o.inputs) vox::requireRegularFile(in);  // before the hasher opens (and a FIFO blocks) it
   InputHasher hasher(o.inputs);
-  readMeshes(o, run, p);
+  readMeshes(o, run, p, deferred);
   run.phase("prepare");  // classes, placement, provenance hashes
   if (p.mesh.triangles.empty())
     throw vox::Error(vox::ErrorKind::BadInput, o.inputs[0] + (o.inputs.size() > 1 ? " (and the other inputs)" : "") +
@@ -447,17 +450,22 @@ void scaleToRegion(vox::SurfaceFootprint& f, const PreparedMeshes& p, const vox:
 
 }  // namespace
 
-void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb) {
+void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
+                         const vox::DeferredTextures* deferred) {
   const uint64_t resident = vox::residentBytesNow();
+  // Textures decoding meanwhile are not all resident yet (counted whole: some are).
+  const uint64_t decoding = deferred ? deferred->pendingPixelBytes() : 0;
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
   settings.solidRule = o.solidRule;
+  if (decoding) settings.awaitTextures = [](bool) { return true; };  // as the bake will have one: only its presence counts
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
     vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
     if (header.region) scaleToRegion(f, p, header);
     vox::MemoryEstimate e;
     e.add("resident before the bake", resident);
+    if (decoding) e.add("textures being decoded", decoding);
     if (sdf) {
       // meshToVolume: a float distance and an int32 closest-triangle grid over a
       // band of 2 voxels each side, with its per-thread working grids (measured).
@@ -523,7 +531,7 @@ vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run,
 }
 
 int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, uint64_t occupied, uint64_t surface,
-                   size_t classesPresent) {
+                   size_t classesPresent, const vox::DeferredTextures* deferred) {
   const vox::Dims d = p.header.dims;
   run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", p.mesh.triangles.size()},
                   {"vertices", p.mesh.positions.size()}, {"input_bytes", p.bytesRead},
@@ -531,6 +539,10 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
                   {"classes_present", classesPresent}, {"method", nameOf(methodNames(), o.method)},
                   {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", p.warnings}};
   if (o.fill == vox::FillMode::Solid) run.counts()["solid_rule"] = nameOf(solidRuleNames(), o.solidRule);
+  if (deferred && deferred->decodedImages() > 0)  // decoded during the voxelize phase, not the parse
+    run.counts()["texture_decode"] = {{"images", deferred->decodedImages()},
+                                      {"decode_seconds", deferred->decodeSeconds()},
+                                      {"wait_seconds", deferred->waitSeconds()}};
   if (p.header.region) {
     const vox::IndexBox& b = p.header.region->box;
     run.counts()["region"] = {{"index", p.header.region->index}, {"count", p.header.region->count},
@@ -543,7 +555,10 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 }
 
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
-  PreparedMeshes p = prepareMeshes(o, run);
+  // A glTF's colour textures decode while the geometry is baked, and are
+  // waited for before their texels are taken (formats/mesh/deferred_textures.h).
+  vox::DeferredTextures textures;
+  PreparedMeshes p = prepareMeshes(o, run, &textures);
   std::optional<vox::SceneRegion> region;
   if (o.isRegionBake()) {
     // The whole bake's class table, without the other regions: the classes
@@ -561,20 +576,22 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
     region = regionRecord(o, p.header, voxelSettingsText(o, p.filesRead));
     p.header.region = region;
   }
-  checkMeshBakeMemory(o, run, p, false);
+  checkMeshBakeMemory(o, run, p, false, &textures);
   run.phase("voxelize");
   auto bar = run.progress("voxelize");
   vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
   if (region) settings.region = region->box;
+  if (textures.pendingImages() > 0) settings.awaitTextures = [&](bool wait) { return textures.take(p.mesh, wait); };
   vox::VoxelBlocks blocks;
   if (!region || !region->box.empty()) blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
+  textures.finish(p.mesh);  // a bake that never sampled them still fails on an undecodable image
   bar->done();
   // Classes whose triangles left no vote (outside --bounds, zero area) are left
   // out too (a region's table was made the whole bake's above).
   if (!region) vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
   run.phase("write");
   const vox::DirectWriteSummary s = vox::writeSceneVdbDirect(p.header, blocks, outputTemp, run.threads());
-  return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size());
+  return finishMeshBake(o, run, p, s.occupied, s.surface, s.classesPresent.size(), &textures);
 }
 
 Command registerVoxelizeLight(CLI::App& root) {

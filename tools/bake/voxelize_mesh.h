@@ -23,6 +23,10 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
 
+namespace vox {
+class DeferredTextures;  // formats/mesh/deferred_textures.h
+}  // namespace vox
+
 namespace voxcli {
 
 /// How meshes become voxels.
@@ -103,20 +107,26 @@ struct PreparedMeshes {
   std::vector<std::string> filesRead;  // files the inputs named (mtllib, textures, buffers)
   uint64_t bytesRead = 0;
 };
-PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run);
+/// `deferred`: a single glTF input's colour textures decode there while the
+/// caller goes on (formats/mesh/deferred_textures.h); its finish() puts the
+/// pixels into the mesh.
+PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run, vox::DeferredTextures* deferred = nullptr);
 
 /// The memory guard of a mesh bake (libvox/mesh/voxelize_memory.h): estimates
 /// the peak before the work and refuses, with the largest --res (or the
 /// smallest --voxel-size) that fits, when it exceeds --max-memory. `openvdb`:
 /// the bake builds OpenVDB trees (--method sdf, --check), not only blocks.
-void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb);
+/// `deferred`: the pixels of textures still decoding count too.
+void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
+                         const vox::DeferredTextures* deferred = nullptr);
 
 /// Voxelizer settings from the options (fill mode, threads), reporting progress to `bar`.
 vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run, ProgressBar& bar);
 
 /// The counts and the closing message of a mesh bake, then run.finish().
+/// `deferred`: textures decoded during the bake, counted as "texture_decode".
 int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, uint64_t occupied, uint64_t surface,
-                   size_t classesPresent);
+                   size_t classesPresent, const vox::DeferredTextures* deferred = nullptr);
 
 /// The mesh bake without OpenVDB: prepare, voxelize into blocks, write the
 /// .vdb directly (formats/scene/scene_vdb_direct.h), report. Returns the exit code.
