@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Benchmarks `vox export` (face-culled .glb, --greedy, --dedup) against reading
+# Benchmarks `vox export` (face-culled .glb, --greedy, --dedup; the culled one
+# also in the full module alone, with OpenVDB loaded) against reading
 # the same scene (`vox info`) and against reading it plus writing as many bytes
 # as the .glb has, durably, as every vox output is committed (`vox info` + dd
 # of N zero bytes with conv=fsync: vox fsyncs each output before renaming it
@@ -24,6 +25,9 @@ done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
+# The same build without its light export module: `vox export` then runs in
+# vox-cmds.so, with OpenVDB loaded (the export before vox-export.so).
+mkdir full && cp "$vox" "$(dirname "$vox")/vox-cmds.so" full/
 
 echo "== scenes" >&2
 "$vox" voxelize demo:hamlet --res 256 -o hamlet256.vdb --quiet
@@ -44,6 +48,7 @@ for s in $scenes; do
     -n "vox info" "$vox info $s.vdb" \
     -n "vox info + write $bytes bytes (fsync)" "sh -c '$vox info $s.vdb >/dev/null && head -c $bytes /dev/zero | dd of=zeros.bin bs=4M iflag=fullblock conv=fsync status=none'" \
     -n "vox export (culled .glb)" "$vox export $s.vdb -o out.glb --threads $threads --quiet" \
+    -n "vox export (culled .glb), full module" "full/vox export $s.vdb -o out.glb --threads $threads --quiet" \
     -n "vox export --greedy" "$vox export $s.vdb -o out.glb --greedy --threads $threads --quiet" \
     -n "vox export --dedup" "$vox export $s.vdb -o out.glb --dedup --threads $threads --quiet" >&2
   cat $s.md
