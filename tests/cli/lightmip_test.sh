@@ -20,49 +20,17 @@
 set -u
 group=$1 vox=$2
 same_bytes=$(dirname "$(realpath "$0")")/vdb_same.py
+here=$(dirname "$(realpath "$0")")
 # shellcheck source=test_lib.sh
-. "$(dirname "$0")/test_lib.sh"
+. "$here/test_lib.sh"
 
-mkdir full && cp "$(dirname "$vox")/vox" "$(dirname "$vox")/vox-cmds.so" full/
-fullvox=$work/full/vox
+command=mip light_module=vox-pack.so
+# shellcheck source=light_lib.sh
+. "$here/light_lib.sh"
 [ -e "$(dirname "$vox")/vox-pack.so" ] || fail "no vox-pack.so beside $vox"
-
-# A sphere with vertex colours, its upper and lower halves of two materials
-# (so two classes), closed (so --fill solid has an inside).
-python3 - >sphere.obj <<'EOF'
-import math
-rings, segs = 14, 20
-for r in range(rings + 1):
-    th = math.pi * r / rings
-    for k in range(segs):
-        ph = 2 * math.pi * k / segs
-        x, y, z = math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph)
-        print('v %.6f %.6f %.6f %.4f %.4f %.4f' % (x, y + 1.2, z, 0.5 + 0.5 * x, 0.5 + 0.5 * y, 0.5 + 0.5 * z))
-for r in range(rings):
-    print('usemtl ' + ('upper' if r < rings // 2 else 'lower'))
-    for k in range(segs):
-        p, q = r * segs + k + 1, r * segs + (k + 1) % segs + 1
-        print('f %d %d %d' % (p, q, q + segs))
-        print('f %d %d %d' % (p, q + segs, p + segs))
-EOF
-printf 'v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nf 1 2 3\n' >tiny.obj
 
 case $group in
 matrix)
-  # Reports without what differs run to run: timings and resident memory
-  # (the memory checks' other parts must agree), argv[0].
-  cat >norm.py <<'EOF'
-import json, sys
-def clean(x):
-    if isinstance(x, dict):
-        return {k: clean(v) for k, v in x.items() if 'seconds' not in k and 'per_second' not in k and k != 'memory'}
-    return [clean(v) for v in x] if isinstance(x, list) else x
-d = json.load(open(sys.argv[1]))
-out = clean(d)
-out['argv'] = d['argv'][1:]
-out['memory_parts'] = [{k: v for k, v in c['parts'].items() if not k.startswith('resident')} for c in d['memory']['checks']]
-print(json.dumps(out, sort_keys=True))
-EOF
   compared=0
   # same NAME ARGS...: `vox mip ARGS` in L1/ and L2/ (the launcher, light
   # module; --threads 1 and 2) and F/ (full module only); compares exit codes,
@@ -91,15 +59,8 @@ EOF
   }
   expect_exit 0 "$vox" voxelize demo:hamlet --res 256 -o hamlet256.vdb --quiet
   expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o hamlet64.vdb --quiet
-  expect_exit 0 "$vox" voxelize sphere.obj --res 50 -o colored.vdb --ignore-missing-materials --quiet
-  expect_exit 0 "$vox" voxelize sphere.obj --res 37 --fill solid -o solid.vdb --ignore-missing-materials --quiet
-  expect_exit 0 "$vox" voxelize tiny.obj --voxel-size 1 --bounds -3.5,-3.5,-3.5,4.5,4.5,4.5 -o one.vdb --quiet
-  expect_exit 0 "$vox" voxelize tiny.obj --voxel-size 1 --bounds 10,10,10,15,15,17 -o empty.vdb --quiet
   expect_exit 0 "$fullvox" mip hamlet64.vdb -o level --split --levels 1 --quiet  # level.mip1.vdb: mip level 1
-  "$vox" info colored.vdb >info.txt 2>&1
-  grep -q "colour .* voxels coloured" info.txt || fail "colored.vdb has no colour: $(cat info.txt)"
-  "$vox" info solid.vdb >info.txt 2>&1
-  grep -q "surface (.*), [1-9][0-9,]* interior" info.txt || fail "solid.vdb has no interior voxels: $(cat info.txt)"
+  bake_small_scenes
 
   for occ in any majority; do
     same "hamlet256 $occ" ../hamlet256.vdb -o m.vdb --levels 8 --occupancy $occ
@@ -118,8 +79,6 @@ EOF
   ;;
 path)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 40 -o h.vdb --quiet
-  # modules LOGFILE: the command modules the run loaded, and whether OpenVDB was among its libraries.
-  modules() { grep -o 'file=[^ ]*\(vox-[a-z]*\.so\|libopenvdb[^ ]*\)' "$1" | sed 's|.*/||; s|file=||' | sort -u | tr '\n' ' '; }
   for args in "-o m.vdb" "-o m.vdb --levels 2 --occupancy majority" "-o parts --split"; do
     # shellcheck disable=SC2086
     LD_DEBUG=files "$vox" mip h.vdb $args --quiet 2>ld.txt
@@ -128,24 +87,6 @@ path)
   done
   [ -e m.vdb ] && [ -e parts.mip1.vdb ] || fail "the light runs wrote nothing"
 
-  # same_outcome NAME ARGS...: `vox mip ARGS` exits, prints and writes as the
-  # full module alone does, each in its own directory.
-  same_outcome() {
-    local name=$1; shift
-    rm -rf L F && mkdir L F
-    (cd L && "$vox" mip "$@" >out.txt 2>err.txt; echo $? >rc)
-    (cd F && "$fullvox" mip "$@" >out.txt 2>err.txt; echo $? >rc)
-    [ "$(cat L/rc)" = "$(cat F/rc)" ] || fail "$name: exit $(cat L/rc) vs $(cat F/rc)"
-    cmp -s L/err.txt F/err.txt || fail "$name: messages differ: $(diff L/err.txt F/err.txt | head -4)"
-    [ "$(cd L && ls)" = "$(cd F && ls)" ] || fail "$name: files differ: $(ls L) / $(ls F)"
-  }
-  # deferred NAME ARGS...: also, the light module leaves the run to vox-cmds.so.
-  deferred() {
-    same_outcome "$@"
-    local name=$1; shift
-    (cd L && LD_DEBUG=files "$vox" mip "$@" 2>ld.txt >/dev/null)
-    modules L/ld.txt | grep -q "vox-cmds.so vox-pack.so" || fail "$name: not deferred: loaded $(modules L/ld.txt)"
-  }
   expect_exit 0 "$vox" mip h.vdb -o pyramid.vdb --levels 2 --quiet
   head -c 3000 h.vdb >cut.vdb
   echo "not a scene" >text.vdb
