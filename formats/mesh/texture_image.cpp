@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "libvox/core/error.h"
+
 namespace vox {
 
 namespace {
@@ -170,6 +172,11 @@ bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height)
   }
   width = uint32_t(std::max(w, 0)), height = uint32_t(std::max(h, 0));
   return true;
+}
+
+void throwUndecodableImage(const std::string& name, const std::string& why) {
+  throwBadInput(name + " cannot be decoded (" + why + "); re-export it, or leave its textures out",
+                Setting::IgnoreMissingMaterials);
 }
 
 }  // namespace vox

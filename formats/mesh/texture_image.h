@@ -37,4 +37,9 @@ bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& 
 /// memory estimate); false when the header does not read.
 bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height);
 
+/// Throws vox::Error (BadInput, Setting::IgnoreMissingMaterials): image
+/// `name` ("model.glb: image 3 'wood.jpg'") does not decode, for reason `why`
+/// (decodeTextureImage's). The one message for it, whenever it is decoded.
+[[noreturn]] void throwUndecodableImage(const std::string& name, const std::string& why);
+
 }  // namespace vox
