@@ -27,12 +27,7 @@ Mesh texturedSquares() {
                             {16, 0, 0.5}, {30, 0, 0.5}, {30, 16, 0.5}, {16, 16, 0.5}},
                            {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
   m.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};  // glTF: t = 0 is the top row
-  MeshTexture tex;
-  tex.width = tex.height = 2;
-  tex.nearest = true;
-  // top row: red, green; bottom row: blue, sRGB 188 grey.
-  tex.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 188, 188, 188, 255};
-  m.textures.push_back(tex);
+  m.textures.push_back(voxtest::quadrantTexture());  // top row: red, green; bottom row: blue, sRGB 188 grey
   m.materials[0].texture = 0;
   m.materials[0].baseColorFactor = {1, 1, 0.5f, 1};
   m.materials.push_back({"plain", {0.25f, 0.5f, 0.75f, 1}, -1, 0});

@@ -358,12 +358,7 @@ TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
   // 2 x 2 nearest-filtered texture: each voxel sees one texel.
   Mesh m = meshOf({{0, 0, 0.5}, {2, 0, 0.5}, {2, 2, 0.5}, {0, 2, 0.5}}, {{0, 1, 2}, {0, 2, 3}});
   m.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};  // glTF: t = 0 is the top row
-  MeshTexture tex;
-  tex.width = tex.height = 2;
-  tex.nearest = true;
-  // top row: red, green; bottom row: blue, sRGB 188 grey.
-  tex.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 188, 188, 188, 255};
-  m.textures.push_back(tex);
+  m.textures.push_back(voxtest::quadrantTexture());  // top row: red, green; bottom row: blue, sRGB 188 grey
   m.materials[0].texture = 0;
   m.materials[0].baseColorFactor = {1, 1, 0.5f, 1};
   SceneHeader h = gridHeader(2);

@@ -32,4 +32,14 @@ inline vox::Mesh meshOf(const std::vector<std::array<double, 3>>& pos, const std
   return m;
 }
 
+/// A 2 x 2 nearest-filtered texture with a known colour per texel: top row red,
+/// green; bottom row blue, sRGB 188 grey (each texel one voxel of a 2 x 2 square).
+inline vox::MeshTexture quadrantTexture() {
+  vox::MeshTexture tex;
+  tex.width = tex.height = 2;
+  tex.nearest = true;
+  tex.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 188, 188, 188, 255};
+  return tex;
+}
+
 }  // namespace voxtest
