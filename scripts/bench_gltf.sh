@@ -9,8 +9,9 @@
 #    base-colour textures), on one thread and on all of them;
 #  * `vox voxelize --res 256` of the textured 15 k-triangle model against the
 #    same model with its textures removed, in one hyperfine run (the ratio),
-#    and the textured run's phases with its decoding time (the images decode
-#    during the voxelize phase, beside the geometry: docs/gltf.md).
+#    and the textured run's phases with its decoding time (the images are
+#    read by rows inside the voxelize phase, after the geometry: docs/gltf.md),
+#    and both bakes' peak memory (/usr/bin/time).
 # Needs oiiotool (openimageio-tools), draco_transcoder (draco), hyperfine.
 # Usage: scripts/bench_gltf.sh [BUILD_DIR]   -> Markdown on stdout
 set -eu
@@ -70,7 +71,11 @@ import json
 j = json.load(open('t.json'))
 ph = {p['name']: p['seconds'] for p in j['phases']}
 d = j['counts'].get('texture_decode', {})
-print(f'textured run: parse {ph[\"parse\"] * 1000:.0f} ms, voxelize {ph[\"voxelize\"] * 1000:.0f} ms (images decoded '
-      f'meanwhile: {d.get(\"decode_seconds\", 0) * 1000:.0f} ms of decoding, {d.get(\"wait_seconds\", 0) * 1000:.0f} ms waited '
-      f'for after the geometry), write {ph[\"write\"] * 1000:.0f} ms')"
+print(f'textured run: parse {ph[\"parse\"] * 1000:.0f} ms, voxelize {ph[\"voxelize\"] * 1000:.0f} ms (of which the '
+      f'images read by rows after the geometry: {d.get(\"decode_seconds\", 0) * 1000:.0f} ms of decoding, summed over '
+      f'the images), write {ph[\"write\"] * 1000:.0f} ms')"
+if [ -x /usr/bin/time ]; then
+  peak() { /usr/bin/time -f %M "$VOX" voxelize "$1" --res 256 -o m.vdb -q --threads "$all" 2>&1 >/dev/null | tail -1; }
+  echo "peak memory (/usr/bin/time): textured $(( $(peak textured.glb) / 1024 )) MB, textures removed $(( $(peak plain.glb) / 1024 )) MB"
+fi
 echo "load average while measuring: $(cut -d' ' -f1-3 /proc/loadavg) on $all cores"

@@ -1,14 +1,20 @@
-// Textures decoded while the mesh is baked (VoxelizeSettings::awaitTextures,
-// formats/mesh/deferred_textures.h): the bake takes texels only after the
-// pixels are in, and its colours are those of a bake whose textures were
-// there from the start, at any thread count.
+// Textures read by rows after the geometry (VoxelizeSettings::textureRows,
+// libvox/mesh/texture_rows.h; formats/mesh/deferred_textures.h for glTF):
+// the colours equal, bit for bit, those of a bake with the pixels in the mesh
+// from the start, at any thread count, for bilinear and nearest samplers,
+// every wrap mode, several textures on one image and images of a few bands;
+// every image is read once, top to bottom, to its end; the first image in
+// index order that cannot be read ends the bake with its error.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <map>
+#include <random>
 #include <tuple>
 
 #include "formats/mesh/deferred_textures.h"
 #include "formats/mesh/gltf_reader.h"
+#include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "test_util.h"
@@ -18,20 +24,101 @@ using namespace vox;
 
 namespace {
 
-/// A 16 x 16 voxel square at z = 0.5 textured by a 2 x 2 nearest-filtered
-/// texture (each quarter of the square one texel), next to an untextured
-/// square of the same material's factor (its pieces are coloured during the
-/// geometry), sharing voxels along x = 16.
+MeshTexture noiseTexture(uint32_t w, uint32_t h, unsigned seed) {
+  MeshTexture t;
+  t.width = w, t.height = h;
+  std::mt19937 rng(seed);
+  t.rgba.resize(size_t(w) * h * 4);
+  for (size_t i = 0; i < t.rgba.size(); ++i) t.rgba[i] = i % 4 == 3 ? 255 : uint8_t(rng() & 0xFF);
+  return t;
+}
+
+/// Four 24 x 24 voxel squares side by side at z = 0.5:
+///  0: image 0 (37 x 53 texels: four bands, the last partial) bilinear, Repeat,
+///     texture coordinates from -0.7 to 1.6 (wrapping both ways, samples on the
+///     last row whose second row is row 0);
+///  1: image 0 again through another texture: nearest, MirroredRepeat x ClampToEdge;
+///  2: image 1 (5 x 33: two bands and a last row alone, so the row after the
+///     second band is the image's last) bilinear, ClampToEdge, coordinates beyond [0, 1];
+///  3: texture 3, whose pixels are in the mesh (sampled by its tile as the geometry ends).
+/// Squares 0 and 1 share the voxels of x = 24.
 Mesh texturedSquares() {
-  Mesh m = voxtest::meshOf({{0, 0, 0.5}, {16, 0, 0.5}, {16, 16, 0.5}, {0, 16, 0.5},  // textured
-                            {16, 0, 0.5}, {30, 0, 0.5}, {30, 16, 0.5}, {16, 16, 0.5}},
-                           {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
-  m.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};  // glTF: t = 0 is the top row
-  m.textures.push_back(voxtest::quadrantTexture());  // top row: red, green; bottom row: blue, sRGB 188 grey
-  m.materials[0].texture = 0;
-  m.materials[0].baseColorFactor = {1, 1, 0.5f, 1};
-  m.materials.push_back({"plain", {0.25f, 0.5f, 0.75f, 1}, -1, 0});
-  m.triangleMaterial = {0, 0, 1, 1};
+  std::vector<std::array<double, 3>> pos;
+  std::vector<std::array<uint32_t, 3>> tris;
+  const double x0[4] = {0, 24, 50, 76};
+  for (int q = 0; q < 4; ++q) {
+    const uint32_t b = uint32_t(pos.size());
+    pos.push_back({x0[q], 0, 0.5}), pos.push_back({x0[q] + 24, 0, 0.5}), pos.push_back({x0[q] + 24, 24, 0.5}),
+        pos.push_back({x0[q], 24, 0.5});
+    tris.push_back({b, b + 1, b + 2}), tris.push_back({b, b + 2, b + 3});
+  }
+  Mesh m = voxtest::meshOf(pos, tris);
+  m.uv0 = {{-0.7, 1.6}, {1.6, 1.6}, {1.6, -0.7}, {-0.7, -0.7},  // square 0
+           {-1.2, 1.3}, {1.9, 1.3}, {1.9, -0.4}, {-1.2, -0.4},  // square 1
+           {-0.2, 1.2}, {1.2, 1.2}, {1.2, -0.2}, {-0.2, -0.2},  // square 2
+           {0, 1}, {1, 1}, {1, 0}, {0, 0}};                     // square 3
+  const MeshTexture image0 = noiseTexture(37, 53, 1), image1 = noiseTexture(5, 33, 2);
+  m.textures.push_back(image0);
+  m.textures.push_back(image0);
+  m.textures[1].nearest = true;
+  m.textures[1].wrapS = MeshTexture::Wrap::MirroredRepeat, m.textures[1].wrapT = MeshTexture::Wrap::ClampToEdge;
+  m.textures.push_back(image1);
+  m.textures[2].wrapS = m.textures[2].wrapT = MeshTexture::Wrap::ClampToEdge;
+  m.textures.push_back(noiseTexture(8, 8, 3));
+  m.materials.clear();
+  for (int q = 0; q < 4; ++q) m.materials.push_back({"m" + std::to_string(q), {1, 0.75f, 0.5f, 1}, q, 0});
+  m.triangleMaterial = {0, 0, 1, 1, 2, 2, 3, 3};
+  return m;
+}
+
+/// Images 0 (textures 0 and 1) and 1 (texture 2) of texturedSquares, handed
+/// out by rows; what was read is recorded, and a read can be made to fail.
+class MemoryRows final : public TextureRowSource {
+ public:
+  explicit MemoryRows(const Mesh& m) : pixels_{m.textures[0], m.textures[2]} {}
+  size_t images() const override { return 2; }
+  const std::vector<size_t>& texturesOf(size_t image) const override { return textures_[image]; }
+  std::array<uint32_t, 2> size(size_t image) const override {
+    return {pixels_[image].width, pixels_[image].height};
+  }
+  std::unique_ptr<TextureRowReader> open(size_t image) override {
+    ++opened[image];
+    if (failOpen[image]) throwBadInput("image " + std::to_string(image) + " has no header");
+    return std::make_unique<Reader>(*this, image);
+  }
+
+  int opened[2] = {0, 0};
+  uint32_t rowsRead[2] = {0, 0};
+  bool outOfOrder = false;
+  bool failOpen[2] = {false, false};
+  uint32_t failAtRow[2] = {~0u, ~0u};
+
+ private:
+  struct Reader final : TextureRowReader {
+    Reader(MemoryRows& s, size_t i) : src(s), image(i) {}
+    uint32_t width() const override { return src.pixels_[image].width; }
+    uint32_t height() const override { return src.pixels_[image].height; }
+    void read(uint8_t* rgba, uint32_t count) override {
+      const MeshTexture& t = src.pixels_[image];
+      uint32_t& next = src.rowsRead[image];
+      if (count == 0 || next + count > t.height) src.outOfOrder = true;
+      if (next + count > src.failAtRow[image]) throwBadInput("image " + std::to_string(image) + " is truncated");
+      std::memcpy(rgba, t.rgba.data() + size_t(next) * t.width * 4, size_t(count) * t.width * 4);
+      next += count;
+    }
+    MemoryRows& src;
+    size_t image;
+  };
+  MeshTexture pixels_[2];
+  std::vector<size_t> textures_[2] = {{0, 1}, {2}};
+};
+
+/// The mesh as a reader leaves it: no pixels in the textures read by rows.
+Mesh withoutPixels(Mesh m) {
+  for (size_t t : {0, 1, 2}) {
+    m.textures[t].width = m.textures[t].height = 0;
+    m.textures[t].rgba.clear();
+  }
   return m;
 }
 
@@ -45,62 +132,66 @@ Colours colours(const Scene& s) {
   return out;
 }
 
-SceneHeader squaresHeader() {
-  SceneHeader h = voxtest::twoClassHeader({32, 16, 1});
-  return h;
-}
-
 }  // namespace
 
-TEST(DeferredTextures, TheBakeSamplesTexturesOnlyOnceTheyAreAwaited) {
+TEST(DeferredTextures, RowsGiveTheColoursOfPixelsInTheMesh) {
   const Mesh ready = texturedSquares();
   const std::vector<uint8_t> cls(ready.triangles.size(), 1);
-  VoxelizeSettings plain;
-  const Colours expected = colours(voxelizeMesh(ready, cls, squaresHeader(), plain));
-  ASSERT_FALSE(expected.empty());
+  const SceneHeader header = voxtest::twoClassHeader({100, 24, 1});
+  const Colours expected = colours(voxelizeMesh(ready, cls, header, VoxelizeSettings{}));
+  ASSERT_EQ(expected.size(), size_t(100 * 24)) << "every voxel of the squares is coloured";
 
-  for (unsigned threads : {1u, 2u}) {
-    Mesh late = texturedSquares();
-    const MeshTexture pixels = late.textures[0];
-    late.textures[0].width = late.textures[0].height = 0;  // as a deferred read leaves it
-    late.textures[0].rgba.clear();
-    int calls = 0;
+  for (unsigned threads : {1u, 2u, 3u}) {
+    const Mesh late = withoutPixels(ready);
+    MemoryRows rows(ready);
     VoxelizeSettings s;
     s.threads = threads;
-    s.awaitTextures = [&](bool wait) {
-      ++calls;
-      if (wait) late.textures[0] = pixels;  // not decoded when first asked
-      return wait;
-    };
-    const Colours got = colours(voxelizeMesh(late, cls, squaresHeader(), s));
-    EXPECT_EQ(calls, 2) << "threads " << threads << ": asked without waiting, then waiting";
+    s.textureRows = &rows;
+    const Colours got = colours(voxelizeMesh(late, cls, header, s));
     EXPECT_EQ(got, expected) << "threads " << threads << ": colours differ from the bake with pixels from the start";
-    // The known texels (a texel taken before the pixels were in would be white).
-    ASSERT_TRUE(got.count({2, 13, 0}));
-    EXPECT_EQ(got.at({2, 13, 0})[0], 1.0f) << "top-left texel: red";
-    EXPECT_EQ(got.at({2, 13, 0})[1], 0.0f);
-    EXPECT_EQ(got.at({13, 13, 0})[1], 1.0f) << "top-right texel: green";
-    EXPECT_EQ(got.at({13, 13, 0})[0], 0.0f);
-    EXPECT_NEAR(got.at({2, 2, 0})[2], 0.5f, 1e-4) << "bottom-left: blue x factor 0.5";
-    EXPECT_NEAR(got.at({13, 2, 0})[0], 0.50289f, 1e-3) << "sRGB 188 decodes to linear 0.5029";
-    EXPECT_NEAR(got.at({24, 8, 0})[1], 0.5f, 1e-4) << "the untextured square keeps its factor";
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_EQ(rows.opened[i], 1) << "image " << i << " opened once";
+      EXPECT_EQ(rows.rowsRead[i], ready.textures[i == 0 ? 0 : 2].height) << "image " << i << " read to its end";
+    }
+    EXPECT_FALSE(rows.outOfOrder) << "a read of no rows or past the end";
+  }
+  // The textures make the colours: without them (white) other colours come out.
+  Mesh white = withoutPixels(ready);
+  EXPECT_NE(colours(voxelizeMesh(white, cls, header, VoxelizeSettings{})), expected);
+}
+
+TEST(DeferredTextures, ImagesNoPieceSamplesAreStillRead) {
+  Mesh m = texturedSquares();
+  m.triangleMaterial = {3, 3, 3, 3, 3, 3, 3, 3};  // every square on the texture with pixels
+  MemoryRows rows(m);
+  VoxelizeSettings s;
+  s.textureRows = &rows;
+  voxelizeMesh(withoutPixels(m), std::vector<uint8_t>(8, 1), voxtest::twoClassHeader({100, 24, 1}), s);
+  EXPECT_EQ(rows.rowsRead[0], 53u);
+  EXPECT_EQ(rows.rowsRead[1], 33u);
+}
+
+TEST(DeferredTextures, TheFirstImageThatCannotBeReadEndsTheBake) {
+  const Mesh ready = texturedSquares();
+  const std::vector<uint8_t> cls(ready.triangles.size(), 1);
+  for (unsigned threads : {1u, 2u}) {
+    MemoryRows rows(ready);
+    rows.failAtRow[0] = 40;  // image 0 fails in its third band, image 1 at its header
+    rows.failOpen[1] = true;
+    VoxelizeSettings s;
+    s.threads = threads;
+    s.textureRows = &rows;
+    try {
+      voxelizeMesh(withoutPixels(ready), cls, voxtest::twoClassHeader({100, 24, 1}), s);
+      ADD_FAILURE() << "the bake went on";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), "image 0 is truncated") << "threads " << threads;
+    }
+    EXPECT_EQ(rows.opened[1], 1) << "every image is tried";
   }
 }
 
-TEST(DeferredTextures, AnErrorFromTheAwaitEndsTheBake) {
-  Mesh late = texturedSquares();
-  late.textures[0].width = late.textures[0].height = 0;
-  late.textures[0].rgba.clear();
-  VoxelizeSettings s;
-  s.threads = 2;
-  s.awaitTextures = [](bool wait) {
-    if (wait) throwBadInput("m.glb: image 0 cannot be decoded (test)");
-    return false;
-  };
-  EXPECT_THROW(voxelizeMesh(late, std::vector<uint8_t>(late.triangles.size(), 1), squaresHeader(), s), Error);
-}
-
-TEST(DeferredTextures, AGltfReadLeavesThePixelsToFinish) {
+TEST(DeferredTextures, AGltfReadLeavesItsImagesToTheBake) {
   // A 2 x 2 RGBA PNG (red, green / blue, white) as a data URI on a textured triangle.
   const std::string png =
       "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAEklEQVR4nGP4z8DwHwyBNBgAAEnICff5q7YNAAAAAElFTkSuQmCC";
@@ -124,14 +215,19 @@ TEST(DeferredTextures, AGltfReadLeavesThePixelsToFinish) {
   DeferredTextures deferred;
   Mesh later = readGltf(dir.file("ok.gltf"), {}, warnings, &deferred);
   ASSERT_EQ(later.textures.size(), 1u);
-  EXPECT_EQ(later.textures[0].width, 0u) << "no pixels before finish()";
-  EXPECT_EQ(deferred.pendingImages(), 1u);
-  EXPECT_EQ(deferred.pendingPixelBytes(), 16u) << "2 x 2 RGBA, from the header";
-  deferred.finish(later);
-  EXPECT_EQ(deferred.pendingImages(), 0u);
+  EXPECT_EQ(later.textures[0].width, 0u) << "no pixels in the mesh";
+  ASSERT_EQ(deferred.images(), 1u);
+  EXPECT_EQ(deferred.texturesOf(0), std::vector<size_t>{0});
+  EXPECT_EQ(deferred.size(0), (std::array<uint32_t, 2>{2, 2})) << "from the header";
+  EXPECT_GT(deferred.readingBytes(2), 0u);
+  const std::unique_ptr<TextureRowReader> reader = deferred.open(0);
+  std::vector<uint8_t> rows(16);
+  reader->read(rows.data(), 1);
+  reader->read(rows.data() + 8, 1);
+  EXPECT_EQ(rows, now.textures[0].rgba) << "the rows are the pixels a decoding read gives";
+  EXPECT_THROW(deferred.open(0), Error) << "an image is read once";
+  deferred.finish();
   EXPECT_EQ(deferred.decodedImages(), 1u);
-  EXPECT_EQ(later.textures[0].width, 2u);
-  EXPECT_EQ(later.textures[0].rgba, now.textures[0].rgba);
 
   // An image that does not decode: the read succeeds, finish() throws what a decoding read throws.
   voxtest::writeText(dir.file("bad.gltf"), gltf("Z2FyYmFnZSBieXRlcw=="));
@@ -144,8 +240,17 @@ TEST(DeferredTextures, AGltfReadLeavesThePixelsToFinish) {
   ASSERT_NE(direct.find("cannot be decoded"), std::string::npos) << direct;
   DeferredTextures failing;
   Mesh bad = readGltf(dir.file("bad.gltf"), {}, warnings, &failing);
+  EXPECT_EQ(failing.size(0), (std::array<uint32_t, 2>{0, 0})) << "no header to read";
   try {
-    failing.finish(bad);
+    failing.open(0);
+    ADD_FAILURE() << "open() accepted an undecodable image";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), direct) << "the error a decoding read gives";
+  }
+  DeferredTextures unread;
+  readGltf(dir.file("bad.gltf"), {}, warnings, &unread);
+  try {
+    unread.finish();
     ADD_FAILURE() << "finish() accepted an undecodable image";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), direct);

@@ -32,7 +32,7 @@ std::vector<uint8_t> testPattern(int w, int h) {
 }
 
 std::string encodeJpeg(const std::vector<uint8_t>& pixels, int w, int h, int components, J_COLOR_SPACE space,
-                       int quality) {
+                       int quality, bool subsampled = false, bool progressive = false) {
   jpeg_compress_struct c{};
   jpeg_error_mgr err{};
   c.err = jpeg_std_error(&err);
@@ -46,7 +46,9 @@ std::string encodeJpeg(const std::vector<uint8_t>& pixels, int w, int h, int com
   c.in_color_space = space;
   jpeg_set_defaults(&c);
   jpeg_set_quality(&c, quality, TRUE);
-  c.comp_info[0].h_samp_factor = c.comp_info[0].v_samp_factor = 1;  // 4:4:4: the loss is the quantisation only
+  // 4:4:4 unless asked: the loss is the quantisation only.
+  if (!subsampled) c.comp_info[0].h_samp_factor = c.comp_info[0].v_samp_factor = 1;
+  if (progressive) jpeg_simple_progression(&c);
   jpeg_start_compress(&c, TRUE);
   while (c.next_scanline < c.image_height) {
     JSAMPROW row = const_cast<uint8_t*>(&pixels[size_t(c.next_scanline) * w * components]);
@@ -59,7 +61,64 @@ std::string encodeJpeg(const std::vector<uint8_t>& pixels, int w, int h, int com
   return bytes;
 }
 
+/// libjpeg's whole-image decode with the settings the decoder documents
+/// (RGBA out, exact integer IDCT), independently of TextureRowDecoder.
+std::vector<uint8_t> libjpegRgba(const std::string& jpeg) {
+  jpeg_decompress_struct d{};
+  jpeg_error_mgr err{};
+  d.err = jpeg_std_error(&err);
+  jpeg_create_decompress(&d);
+  jpeg_mem_src(&d, reinterpret_cast<const unsigned char*>(jpeg.data()), static_cast<unsigned long>(jpeg.size()));
+  jpeg_read_header(&d, TRUE);
+  d.out_color_space = JCS_EXT_RGBA;
+  d.dct_method = JDCT_ISLOW;
+  jpeg_start_decompress(&d);
+  std::vector<uint8_t> rgba(size_t(d.output_width) * d.output_height * 4);
+  while (d.output_scanline < d.output_height) {
+    JSAMPROW row = &rgba[size_t(d.output_scanline) * d.output_width * 4];
+    jpeg_read_scanlines(&d, &row, 1);
+  }
+  jpeg_finish_decompress(&d);
+  jpeg_destroy_decompress(&d);
+  return rgba;
+}
+
 }  // namespace
+
+TEST(TextureImage, RowsComeOutAsTheWholeDecodeInAnyChunks) {
+  const int w = 97, h = 61;
+  const std::vector<uint8_t> rgb = testPattern(w, h);
+  for (const auto& [subsampled, progressive] : {std::pair{false, false}, {true, false}, {true, true}}) {
+    const std::string jpeg = encodeJpeg(rgb, w, h, 3, JCS_RGB, 90, subsampled, progressive);
+    const std::vector<uint8_t> expected = libjpegRgba(jpeg);
+    for (uint32_t chunk : {1u, 7u, 16u, 61u}) {
+      TextureRowDecoder decoder;
+      std::string why;
+      ASSERT_TRUE(decoder.open(jpeg, why)) << why;
+      ASSERT_EQ(decoder.width(), uint32_t(w));
+      ASSERT_EQ(decoder.height(), uint32_t(h));
+      std::vector<uint8_t> got(expected.size());
+      for (uint32_t y = 0; y < uint32_t(h); y += chunk) {
+        const uint32_t n = std::min(chunk, uint32_t(h) - y);
+        ASSERT_TRUE(decoder.read(got.data() + size_t(y) * w * 4, n, why)) << why;
+        EXPECT_EQ(decoder.rowsRead(), y + n);
+      }
+      EXPECT_EQ(got, expected) << "subsampled " << subsampled << ", progressive " << progressive << ", chunks of "
+                               << chunk;
+    }
+    TextureImage whole;
+    std::string why;
+    ASSERT_TRUE(decodeTextureImage(jpeg, whole, why)) << why;
+    EXPECT_EQ(whole.rgba, expected) << "decodeTextureImage reads the same rows";
+    // The decoder's memory: a baseline JPEG's row buffers, a progressive one's coefficients.
+    EXPECT_EQ(textureDecoderBytes(jpeg), progressive ? uint64_t(w) * h * 3 * 2 : uint64_t(w) * 4 * 32);
+  }
+  // What decodeTextureImage refuses, open() refuses with the same reason.
+  TextureRowDecoder bad;
+  std::string why;
+  EXPECT_FALSE(bad.open("not an image at all", why));
+  EXPECT_NE(why.find("not a PNG, JPEG or WebP"), std::string::npos) << why;
+}
 
 TEST(TextureImage, JpegDecodesToItsPixelsWithinTheLoss) {
   const int w = 96, h = 64;
@@ -138,4 +197,12 @@ TEST(TextureImage, WebpStillDecodes) {
   std::string why;
   ASSERT_TRUE(decodeTextureImage(webp, image, why)) << why;
   EXPECT_EQ(image.rgba, rgba);  // lossless
+  // Decoded whole when opened, then handed out by rows.
+  TextureRowDecoder rows;
+  ASSERT_TRUE(rows.open(webp, why)) << why;
+  std::vector<uint8_t> got(rgba.size());
+  ASSERT_TRUE(rows.read(got.data(), 5, why)) << why;
+  ASSERT_TRUE(rows.read(got.data() + size_t(w) * 5 * 4, h - 5, why)) << why;
+  EXPECT_EQ(got, rgba);
+  EXPECT_EQ(textureDecoderBytes(webp), uint64_t(w) * h * 4 * 2);
 }

@@ -1,125 +1,129 @@
 #include "formats/mesh/deferred_textures.h"
 
-#include <tbb/task_group.h>
-
-#include <atomic>
+#include <algorithm>
 #include <chrono>
+#include <functional>
 
 #include "formats/mesh/texture_image.h"
+#include "libvox/core/error.h"
 
 namespace vox {
 
-struct DeferredTextures::Job {
+struct DeferredTextures::Image {
   std::string bytes, name;
-  std::vector<size_t> textures;  // the mesh's textures that take its pixels
-  uint64_t pixelBytes = 0;       // from the header, per texture
-  bool taken = false;            // its pixels are in the mesh
-  // Written by the decoding task only, before it sets `done`:
-  struct {
-    TextureImage image;
-    std::string why;
-    bool ok = false;
-  } result;
-  double seconds = 0;
-  std::atomic<bool> done{false};
+  std::vector<size_t> textures;  // the mesh textures whose pixels it is
+  uint32_t width = 0, height = 0;  // from the header (0: it does not read)
+  uint64_t decoderBytes = 0;       // textureDecoderBytes
+  bool opened = false;             // a reader was opened for it
+  std::string error;               // why it did not decode ("" while it did)
+  double seconds = 0;              // decoding, on the threads that read it
 };
 
-struct DeferredTextures::State {
-  std::vector<std::unique_ptr<Job>> jobs;
-  tbb::task_group group;
-  bool started = false, finished = false;
-  double waited = 0;
-};
+namespace {
 
-DeferredTextures::DeferredTextures() : s_(std::make_unique<State>()) {}
-
-DeferredTextures::~DeferredTextures() {
-  if (s_->started && !s_->finished) {
-    s_->group.cancel();  // tasks not begun are dropped
-    s_->group.wait();
-  }
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+}  // namespace
+
+class DeferredTextures::Reader final : public TextureRowReader {
+ public:
+  explicit Reader(Image& image) : image_(image) {}
+  void start() { run([&](std::string& why) { return decoder_.open(image_.bytes, why); }); }
+  uint32_t width() const override { return decoder_.width(); }
+  uint32_t height() const override { return decoder_.height(); }
+  void read(uint8_t* rgba, uint32_t count) override {
+    run([&](std::string& why) { return decoder_.read(rgba, count, why); });
+    if (decoder_.rowsRead() == decoder_.height()) image_.bytes = std::string();  // read to its end
+  }
+
+ private:
+  void run(const std::function<bool(std::string&)>& step) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string why;
+    const bool ok = step(why);
+    image_.seconds += secondsSince(t0);
+    if (ok) return;
+    image_.error = why;
+    throwUndecodableImage(image_.name, why);
+  }
+  Image& image_;
+  TextureRowDecoder decoder_;
+};
+
+DeferredTextures::DeferredTextures() = default;
+DeferredTextures::~DeferredTextures() = default;
 
 size_t DeferredTextures::addImage(std::string bytes, std::string name) {
-  auto job = std::make_unique<Job>();
-  uint32_t w = 0, h = 0;
-  if (textureImageSize(job->bytes = std::move(bytes), w, h)) job->pixelBytes = uint64_t(w) * h * 4;
-  job->name = std::move(name);
-  s_->jobs.push_back(std::move(job));
-  return s_->jobs.size() - 1;
+  auto image = std::make_unique<Image>();
+  image->bytes = std::move(bytes);
+  image->name = std::move(name);
+  if (!textureImageSize(image->bytes, image->width, image->height)) image->width = image->height = 0;
+  image->decoderBytes = textureDecoderBytes(image->bytes);
+  images_.push_back(std::move(image));
+  return images_.size() - 1;
 }
 
-void DeferredTextures::addTexture(size_t job, size_t meshTexture) { s_->jobs[job]->textures.push_back(meshTexture); }
+void DeferredTextures::addTexture(size_t image, size_t meshTexture) { images_[image]->textures.push_back(meshTexture); }
 
-void DeferredTextures::start() {
-  if (s_->started) return;
-  s_->started = true;
-  // One task per image, as decodeImages: a large texture on one thread, several in parallel.
-  for (const std::unique_ptr<Job>& j : s_->jobs)
-    s_->group.run([job = j.get()] {
-      const auto t0 = std::chrono::steady_clock::now();
-      job->result.ok = decodeTextureImage(job->bytes, job->result.image, job->result.why);
-      job->bytes = std::string();
-      job->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      job->done.store(true, std::memory_order_release);
-    });
+size_t DeferredTextures::images() const { return images_.size(); }
+
+const std::vector<size_t>& DeferredTextures::texturesOf(size_t image) const { return images_[image]->textures; }
+
+std::array<uint32_t, 2> DeferredTextures::size(size_t image) const {
+  return {images_[image]->width, images_[image]->height};
 }
 
-size_t DeferredTextures::pendingImages() const {
-  size_t n = 0;
-  for (const std::unique_ptr<Job>& job : s_->jobs) n += !job->taken;
-  return n;
+std::unique_ptr<TextureRowReader> DeferredTextures::open(size_t image) {
+  Image& im = *images_[image];
+  if (im.opened) throw Error(ErrorKind::Internal, "texture image " + std::to_string(image) + " opened twice");
+  im.opened = true;
+  auto reader = std::make_unique<Reader>(im);
+  reader->start();
+  return reader;
 }
 
-uint64_t DeferredTextures::pendingPixelBytes() const {
+void DeferredTextures::finish() {
+  for (const std::unique_ptr<Image>& im : images_) {
+    if (im->opened) continue;
+    // Read through a few rows at a time, as the bake would have.
+    std::unique_ptr<TextureRowReader> reader;
+    try {
+      reader = open(size_t(&im - images_.data()));
+      std::vector<uint8_t> rows(size_t(reader->width()) * 4 * kTextureBandRows);
+      for (uint32_t y = 0; y < reader->height(); y += kTextureBandRows)
+        reader->read(rows.data(), std::min(kTextureBandRows, reader->height() - y));
+    } catch (const Error&) {
+      // Its error is thrown below, in index order with the others.
+    }
+  }
+  for (const std::unique_ptr<Image>& im : images_)
+    if (!im->error.empty()) throwUndecodableImage(im->name, im->error);
+}
+
+uint64_t DeferredTextures::readingBytes(unsigned threads) const {
+  std::vector<uint64_t> each;
+  for (const std::unique_ptr<Image>& im : images_) {
+    // The bake's band, the row after it and row 0, and the decoder's own.
+    each.push_back(uint64_t(im->width) * 4 * (kTextureBandRows + 2) + im->decoderBytes);
+  }
+  std::sort(each.rbegin(), each.rend());
   uint64_t bytes = 0;
-  for (const std::unique_ptr<Job>& job : s_->jobs)
-    if (!job->taken) bytes += job->pixelBytes * job->textures.size();
+  for (size_t i = 0; i < each.size() && i < std::max(threads, 1u); ++i) bytes += each[i];
   return bytes;
 }
 
-bool DeferredTextures::take(Mesh& mesh, bool wait) {
-  if (s_->finished) return true;
-  start();
-  if (wait) {
-    const auto t0 = std::chrono::steady_clock::now();
-    s_->group.wait();
-    s_->waited += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    s_->finished = true;
-    // The first image in index order that does not decode, as decodeImages says it.
-    for (const std::unique_ptr<Job>& job : s_->jobs)
-      if (!job->result.ok) throwUndecodableImage(job->name, job->result.why);
-  }
-  bool all = true;
-  for (const std::unique_ptr<Job>& job : s_->jobs) {
-    if (job->taken) continue;
-    if (!job->done.load(std::memory_order_acquire) || !job->result.ok) {  // a failure waits for its turn above
-      all = false;
-      continue;
-    }
-    for (size_t k = 0; k < job->textures.size(); ++k) {
-      MeshTexture& t = mesh.textures[job->textures[k]];
-      t.width = job->result.image.width;
-      t.height = job->result.image.height;
-      if (k + 1 == job->textures.size()) t.rgba = std::move(job->result.image.rgba);
-      else t.rgba = job->result.image.rgba;
-    }
-    job->taken = true;
-  }
-  return all;
+size_t DeferredTextures::decodedImages() const {
+  size_t n = 0;
+  for (const std::unique_ptr<Image>& im : images_) n += im->opened;
+  return n;
 }
-
-void DeferredTextures::finish(Mesh& mesh) { take(mesh, true); }
-
-size_t DeferredTextures::decodedImages() const { return s_->jobs.size(); }
 
 double DeferredTextures::decodeSeconds() const {
   double sum = 0;
-  if (s_->finished)
-    for (const std::unique_ptr<Job>& job : s_->jobs) sum += job->seconds;
+  for (const std::unique_ptr<Image>& im : images_) sum += im->seconds;
   return sum;
 }
-
-double DeferredTextures::waitSeconds() const { return s_->waited; }
 
 }  // namespace vox

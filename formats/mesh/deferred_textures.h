@@ -1,27 +1,25 @@
-// Texture images decoded while the mesh is baked instead of before: decoding
-// a photo-like 2048^2 JPEG costs about 28 ms of one core (libjpeg-turbo's
-// entropy decoding, whatever its options), so the five of the benchmark's
-// model (docs/gltf.md) cost as much as its whole --res 256 bake without
-// them. A mesh read with a DeferredTextures (readMeshFile's last
-// argument) comes back at once with its textures named, sampled and wrapped
-// as the file says but without pixels (width = height = 0), their images
-// decoding on TBB's threads meanwhile, within the process's thread limit
-// (tools/cli caps TBB at --threads; at --threads 1 nothing runs before
-// take(mesh, true), which then decodes on the calling thread). The voxelizer takes
-// the pixels when it needs them (VoxelizeSettings::awaitTextures calls
-// take()), after the surface pass's geometry: those decoded by then first,
-// while the others finish.
+// Texture images decoded by the bake, row by row, instead of while the file
+// is read: a photo-like 2048^2 JPEG costs about 28 ms of one core to decode
+// (libjpeg-turbo's entropy decoding, whatever its options) and 16 MB as RGBA,
+// and on the VMs we measure on faulting that memory in cost about as much
+// again. A mesh read with a DeferredTextures (readMeshFile's last argument)
+// comes back at once with its textures named, sampled and wrapped as the file
+// says but without pixels (width = height = 0); the bake
+// (VoxelizeSettings::textureRows, libvox/mesh/texture_rows.h) reads each image
+// once after its geometry, a band of rows at a time, one image per task, so a
+// JPEG texture is never held whole (PNG, WebP and the other formats are
+// decoded whole when opened: formats/mesh/texture_image.h).
 //
 // The result does not depend on it: the same pixels, and an image that does
 // not decode is the same error (message, exit 3) as when it is decoded while
-// the file is read, from take(mesh, true). Only glTF colour textures are deferred
-// (OBJ map_Kd files are decoded while read), and never with
-// ignoreMissingMaterials, whose warning for an undecodable image must be
+// the file is read, for the first such image in index order. Only glTF colour
+// textures are deferred (OBJ map_Kd files are decoded while read), and never
+// with ignoreMissingMaterials, whose warning for an undecodable image must be
 // known when the read returns.
 //
-// Thread-safety: one owner; take(), finish() and the other members are called
-// from one thread, with nothing reading the mesh's textures meanwhile. The
-// decoding tasks touch only their own job's bytes and result.
+// Thread-safety: open() may run concurrently for different images, and the
+// readers on the threads that opened them; the other members are called from
+// one thread while no reader is in use.
 #pragma once
 
 #include <cstdint>
@@ -29,56 +27,54 @@
 #include <string>
 #include <vector>
 
-#include "libvox/mesh/mesh.h"
+#include "libvox/mesh/texture_rows.h"
 
 namespace vox {
 
-class DeferredTextures {
+class DeferredTextures final : public TextureRowSource {
  public:
   DeferredTextures();
-  /// Waits for decodes still running (a bake that failed elsewhere); their pixels are dropped.
-  ~DeferredTextures();
+  ~DeferredTextures() override;
   DeferredTextures(const DeferredTextures&) = delete;
   DeferredTextures& operator=(const DeferredTextures&) = delete;
 
-  /// Images still to be put into the mesh (0 once take(mesh, true) returned).
-  size_t pendingImages() const;
+  // TextureRowSource: the images, the mesh textures each is the pixels of,
+  // their header sizes, and reading one (throws vox::Error (BadInput,
+  // Setting::IgnoreMissingMaterials) naming the image when it does not
+  // decode, as a read that decodes first does).
+  size_t images() const override;
+  const std::vector<size_t>& texturesOf(size_t image) const override;
+  std::array<uint32_t, 2> size(size_t image) const override;
+  std::unique_ptr<TextureRowReader> open(size_t image) override;
 
-  /// The pixel bytes the pending textures will hold (width x height x 4 per
-  /// texture, read from the images' headers), for the bake's memory estimate.
-  uint64_t pendingPixelBytes() const;
+  /// Decodes, and drops, every image no reader was opened for (a bake that
+  /// never needed them, such as a region that no triangle reaches), and
+  /// throws the error of the first image in index order that does not
+  /// decode, read or not: a file with an undecodable colour image is refused
+  /// whatever the bake needed.
+  void finish();
 
-  /// Moves the pixels of every image decoded by now into the textures of
-  /// `mesh` that use it (copies for all but the last; a texture's width is 0
-  /// until then), and returns whether every image is in. With `wait`, waits
-  /// for every decode first (decoding the images not begun on this thread)
-  /// and throws vox::Error (BadInput, Setting::IgnoreMissingMaterials) naming
-  /// the first image, in index order, that does not decode: the error a read
-  /// that decodes first throws. Once everything is in, calls do nothing.
-  bool take(Mesh& mesh, bool wait);
-  /// take(mesh, true).
-  void finish(Mesh& mesh);
+  /// The memory reading the images takes at the most, for the bake's memory
+  /// estimate: `threads` images read at once, each its band of rows and the
+  /// decoder's own rows (JPEG), or its whole pixels (formats decoded whole).
+  uint64_t readingBytes(unsigned threads) const;
 
-  /// The images decoded in the background, the seconds their decoding took
-  /// (elapsed on the thread that decoded each, summed over images), and the
-  /// seconds take(mesh, true) waited for them; complete after it.
+  /// The images decoded, and the seconds their decoding took (elapsed on the
+  /// threads that read them, summed over images); complete after finish().
   size_t decodedImages() const;
   double decodeSeconds() const;
-  double waitSeconds() const;
 
-  // For the readers (formats/mesh/gltf_images.cpp): one job per image.
-  struct Job;
+  // For the readers (formats/mesh/gltf_images.cpp): one image each.
   /// Adds an image to decode: its encoded bytes, and `name` for the error
-  /// message ("model.glb: image 3 'wood.jpg'"). Returns its job index.
+  /// message ("model.glb: image 3 'wood.jpg'"). Returns its index.
   size_t addImage(std::string bytes, std::string name);
-  /// Texture `meshTexture` of the mesh being read uses job `job`'s pixels.
-  void addTexture(size_t job, size_t meshTexture);
-  /// Starts decoding every job added (once; no job may be added afterwards).
-  void start();
+  /// Texture `meshTexture` of the mesh being read uses image `image`'s pixels.
+  void addTexture(size_t image, size_t meshTexture);
 
  private:
-  struct State;
-  std::unique_ptr<State> s_;
+  struct Image;
+  class Reader;
+  std::vector<std::unique_ptr<Image>> images_;
 };
 
 }  // namespace vox

@@ -82,7 +82,6 @@ std::vector<int> decodeImagesLater(tinygltf::Model& model, EncodedImages& images
   for (size_t i = 0; i < needed.size() && i < model.images.size(); ++i)
     if (needed[i] && images.received[i])
       jobOf[i] = int(deferred.addImage(std::move(images.bytes[i]), imageName(path, i, model.images[i])));
-  deferred.start();
   return jobOf;
 }
 

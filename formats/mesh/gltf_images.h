@@ -39,9 +39,9 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
                   const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
 
 /// The same images left to `deferred` (formats/mesh/deferred_textures.h),
-/// whose decoding starts here: their encoded bytes move to it, and
-/// model.images stays undecoded. Returns each image's job in `deferred`, or
-/// -1 for the images not decoded (not needed, or never received).
+/// which the bake decodes: their encoded bytes move to it, and model.images
+/// stays undecoded. Returns each image's index in `deferred`, or -1 for the
+/// images not decoded (not needed, or never received).
 std::vector<int> decodeImagesLater(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
                                    const std::string& path, DeferredTextures& deferred);
 

@@ -432,8 +432,8 @@ std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, s
 
 /// Every material (base colour factor and texture; each texture converted
 /// once), then the white material of primitives without one, whose index is
-/// returned. With `deferred`, the images of jobOf's jobs are decoding there:
-/// their textures get the pixels from it.
+/// returned. With `deferred`, the images of jobOf's indices are decoded by
+/// the bake from there: their textures are named to it.
 uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mesh, std::vector<std::string>& warnings,
                       DeferredTextures* deferred = nullptr, const std::vector<int>& jobOf = {}) {
   std::vector<int> meshTextureOf(model.textures.size(), -1);

@@ -32,9 +32,9 @@
 namespace vox {
 
 /// `deferred`: when given (and without options.ignoreMissingMaterials), the
-/// colour textures' images decode there while the caller goes on
-/// (formats/mesh/deferred_textures.h); the mesh's textures get their pixels
-/// from its finish().
+/// colour textures' images are left undecoded to it, for the bake to read by
+/// rows (formats/mesh/deferred_textures.h); the mesh's textures then have no
+/// pixels.
 Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
               DeferredTextures* deferred = nullptr);
 

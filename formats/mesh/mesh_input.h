@@ -30,7 +30,7 @@ class DeferredTextures;
 
 /// Reads any supported mesh file by extension. Non-fatal notes (skipped
 /// primitives, dropped triangles) are appended to `warnings`. `deferred`:
-/// glTF colour textures decode there, while the caller goes on
+/// glTF colour textures are left undecoded to it, for the bake to read by rows
 /// (formats/mesh/deferred_textures.h); other formats ignore it.
 Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
                   DeferredTextures* deferred = nullptr);

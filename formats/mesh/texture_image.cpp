@@ -1,12 +1,15 @@
 #include "formats/mesh/texture_image.h"
 
 #include <jpeglib.h>
+// after jpeglib.h, which it needs
+#include <jerror.h>
 #include <stb/stb_image.h>
 #include <webp/decode.h>
 
 #include <algorithm>
 #include <csetjmp>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 
 #include "libvox/core/error.h"
@@ -46,45 +49,17 @@ struct JpegError {
 
 void jpegIgnoreWarning(j_common_ptr, int) {}
 
-bool decodeJpeg(std::string_view bytes, TextureImage& out, std::string& why) {
-  jpeg_decompress_struct cinfo{};
-  JpegError err{};
-  cinfo.err = jpeg_std_error(&err.mgr);
-  err.mgr.error_exit = jpegFail;
-  err.mgr.emit_message = jpegIgnoreWarning;  // a corrupt-data warning still decodes, as stb_image does
-  // Everything that must survive a longjmp lives outside this frame's registers.
-  TextureImage* volatile target = &out;
-  if (setjmp(err.jump)) {
-    why = std::string("JPEG: ") + err.message;
-    jpeg_destroy_decompress(&cinfo);
-    return false;
+/// Reads `count` rows of `cinfo` into `rgba` (`stride` bytes each), counting
+/// them in `next`; libjpeg's errors longjmp out of it.
+void readJpegRows(jpeg_decompress_struct& cinfo, uint8_t* rgba, size_t stride, uint32_t count, uint32_t& next) {
+  while (count > 0) {
+    JSAMPROW rows[16];
+    const uint32_t n = std::min<uint32_t>(count, 16);
+    for (uint32_t i = 0; i < n; ++i) rows[i] = rgba + stride * i;
+    const JDIMENSION got = jpeg_read_scanlines(&cinfo, rows, n);
+    if (got == 0) ERREXIT(&cinfo, JERR_INPUT_EMPTY);  // cannot happen with an in-memory source: it pads with EOI
+    rgba += stride * got, count -= got, next += got;
   }
-  jpeg_create_decompress(&cinfo);
-  jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
-  jpeg_read_header(&cinfo, TRUE);
-  if (cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK) {
-    why = "a CMYK JPEG (save it as RGB)";
-    jpeg_destroy_decompress(&cinfo);
-    return false;
-  }
-  if (tooLarge(cinfo.image_width, cinfo.image_height, why)) {
-    jpeg_destroy_decompress(&cinfo);
-    return false;
-  }
-  cinfo.out_color_space = JCS_EXT_RGBA;  // libjpeg-turbo: RGBA written directly, alpha 255
-  cinfo.dct_method = JDCT_ISLOW;         // exact integer IDCT: the same pixels on every CPU
-  jpeg_start_decompress(&cinfo);
-  target->width = cinfo.output_width;
-  target->height = cinfo.output_height;
-  target->rgba.resize(size_t(cinfo.output_width) * cinfo.output_height * 4);
-  const size_t stride = size_t(cinfo.output_width) * 4;
-  while (cinfo.output_scanline < cinfo.output_height) {
-    JSAMPROW row = target->rgba.data() + stride * cinfo.output_scanline;
-    jpeg_read_scanlines(&cinfo, &row, 1);
-  }
-  jpeg_finish_decompress(&cinfo);
-  jpeg_destroy_decompress(&cinfo);
-  return true;
 }
 
 bool decodeWebp(std::string_view bytes, TextureImage& out, std::string& why) {
@@ -127,20 +102,99 @@ bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
 
 }  // namespace
 
-bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& why) {
-  out = TextureImage{};
+struct TextureRowDecoder::State {
+  bool jpeg = false;
+  // JPEG: libjpeg's state, alive from open() to the destructor.
+  jpeg_decompress_struct cinfo{};
+  JpegError err{};
+  bool created = false;
+  // Other formats: the whole image, decoded by open().
+  TextureImage whole;
+  uint32_t width = 0, height = 0, next = 0;
+  ~State() {
+    if (created) jpeg_destroy_decompress(&cinfo);
+  }
+};
+
+TextureRowDecoder::TextureRowDecoder() : s_(std::make_unique<State>()) {}
+TextureRowDecoder::~TextureRowDecoder() = default;
+uint32_t TextureRowDecoder::width() const { return s_->width; }
+uint32_t TextureRowDecoder::height() const { return s_->height; }
+uint32_t TextureRowDecoder::rowsRead() const { return s_->next; }
+
+bool TextureRowDecoder::open(std::string_view bytes, std::string& why) {
+  State& s = *s_;
   if (bytes.empty()) {
     why = "the image is empty";
     return false;
   }
-  if (isJpeg(bytes)) return decodeJpeg(bytes, out, why);
-  if (isWebp(bytes)) return decodeWebp(bytes, out, why);
-  return decodeStb(bytes, out, why);
+  if (!isJpeg(bytes)) {
+    if (!(isWebp(bytes) ? decodeWebp(bytes, s.whole, why) : decodeStb(bytes, s.whole, why))) return false;
+    s.width = s.whole.width, s.height = s.whole.height;
+    return true;
+  }
+  s.jpeg = true;
+  s.cinfo.err = jpeg_std_error(&s.err.mgr);
+  s.err.mgr.error_exit = jpegFail;
+  s.err.mgr.emit_message = jpegIgnoreWarning;  // a corrupt-data warning still decodes, as stb_image does
+  // Only State (on the heap) is touched between here and a longjmp back.
+  if (setjmp(s.err.jump)) {
+    why = std::string("JPEG: ") + s.err.message;
+    return false;
+  }
+  jpeg_create_decompress(&s.cinfo);
+  s.created = true;
+  jpeg_mem_src(&s.cinfo, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
+  jpeg_read_header(&s.cinfo, TRUE);
+  if (s.cinfo.jpeg_color_space == JCS_CMYK || s.cinfo.jpeg_color_space == JCS_YCCK) {
+    why = "a CMYK JPEG (save it as RGB)";
+    return false;
+  }
+  if (tooLarge(s.cinfo.image_width, s.cinfo.image_height, why)) return false;
+  s.cinfo.out_color_space = JCS_EXT_RGBA;  // libjpeg-turbo: RGBA written directly, alpha 255
+  s.cinfo.dct_method = JDCT_ISLOW;         // exact integer IDCT: the same pixels on every CPU
+  jpeg_start_decompress(&s.cinfo);
+  s.width = s.cinfo.output_width, s.height = s.cinfo.output_height;
+  return true;
+}
+
+bool TextureRowDecoder::read(uint8_t* rgba, uint32_t count, std::string& why) {
+  State& s = *s_;
+  count = std::min(count, s.height - s.next);
+  if (count == 0) return true;  // the end was read (and finished) already
+  const size_t stride = size_t(s.width) * 4;
+  if (!s.jpeg) {
+    std::memcpy(rgba, s.whole.rgba.data() + stride * s.next, stride * count);
+    if ((s.next += count) == s.height) s.whole = TextureImage{};
+    return true;
+  }
+  if (setjmp(s.err.jump)) {
+    why = std::string("JPEG: ") + s.err.message;
+    return false;
+  }
+  readJpegRows(s.cinfo, rgba, stride, count, s.next);
+  if (s.next == s.height) jpeg_finish_decompress(&s.cinfo);
+  return true;
+}
+
+bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& why) {
+  out = TextureImage{};
+  TextureRowDecoder decoder;
+  if (!decoder.open(bytes, why)) return false;
+  if (!decoder.s_->jpeg) {  // decoded whole already
+    out = std::move(decoder.s_->whole);
+    return true;
+  }
+  out.width = decoder.width();
+  out.height = decoder.height();
+  out.rgba.resize(size_t(out.width) * out.height * 4);
+  return decoder.read(out.rgba.data(), out.height, why);
 }
 
 namespace {
 
-bool jpegSize(std::string_view bytes, uint32_t& width, uint32_t& height) {
+/// The header of a JPEG: its size and whether it is progressive.
+bool jpegHeader(std::string_view bytes, uint32_t& width, uint32_t& height, bool& progressive, int& components) {
   jpeg_decompress_struct cinfo{};
   JpegError err{};
   cinfo.err = jpeg_std_error(&err.mgr);
@@ -154,8 +208,16 @@ bool jpegSize(std::string_view bytes, uint32_t& width, uint32_t& height) {
   jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
   jpeg_read_header(&cinfo, TRUE);
   width = cinfo.image_width, height = cinfo.image_height;
+  progressive = cinfo.progressive_mode;
+  components = cinfo.num_components;
   jpeg_destroy_decompress(&cinfo);
   return true;
+}
+
+bool jpegSize(std::string_view bytes, uint32_t& width, uint32_t& height) {
+  bool progressive = false;
+  int components = 0;
+  return jpegHeader(bytes, width, height, progressive, components);
 }
 
 }  // namespace
@@ -172,6 +234,18 @@ bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height)
   }
   width = uint32_t(std::max(w, 0)), height = uint32_t(std::max(h, 0));
   return true;
+}
+
+uint64_t textureDecoderBytes(std::string_view bytes) {
+  uint32_t w = 0, h = 0;
+  if (isJpeg(bytes)) {
+    bool progressive = false;
+    int components = 0;
+    if (!jpegHeader(bytes, w, h, progressive, components)) return 0;
+    return progressive ? uint64_t(w) * h * uint64_t(std::max(components, 1)) * 2 : uint64_t(w) * 4 * 32;
+  }
+  if (!textureImageSize(bytes, w, h)) return 0;
+  return uint64_t(w) * h * 4 * 2;
 }
 
 void throwUndecodableImage(const std::string& name, const std::string& why) {

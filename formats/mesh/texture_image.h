@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,9 +34,52 @@ inline constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 28;
 /// JPEG data", ...); `out` is then unspecified.
 bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& why);
 
+/// An image read top to bottom, some rows at a time, so that a bake can take
+/// its texels band by band without holding the whole image
+/// (formats/mesh/deferred_textures.h): a JPEG is decoded row by row (a
+/// 2048^2 texture is 16 MB as RGBA, and on the VMs we measure on fresh memory
+/// costs about as much to fault in as the decoding itself); the other formats
+/// (PNG, WebP, ...) are decoded whole by open() and handed out from there.
+/// The pixels and the errors are decodeTextureImage's, which reads through it.
+///
+/// Thread-safety: one decoder per thread; decoders are independent.
+class TextureRowDecoder {
+ public:
+  TextureRowDecoder();
+  ~TextureRowDecoder();
+  TextureRowDecoder(const TextureRowDecoder&) = delete;
+  TextureRowDecoder& operator=(const TextureRowDecoder&) = delete;
+
+  /// Reads the header (and decodes a format read whole). `bytes` must outlive
+  /// the decoder. False with `why` set as decodeTextureImage's.
+  bool open(std::string_view bytes, std::string& why);
+  uint32_t width() const;
+  uint32_t height() const;
+  /// The rows handed out so far.
+  uint32_t rowsRead() const;
+  /// The next `count` rows (RGBA8, width x 4 bytes each, no padding) into
+  /// `rgba`; count <= height - rowsRead(). The read that returns the last row
+  /// also reads the end of the data. False with `why` set on a decoding error
+  /// (the decoder can then only be destroyed).
+  bool read(uint8_t* rgba, uint32_t count, std::string& why);
+
+ private:
+  friend bool decodeTextureImage(std::string_view, TextureImage&, std::string&);  // takes a whole image as it is
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
 /// The pixel size `bytes` announces in its header, without decoding (for a
 /// memory estimate); false when the header does not read.
 bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height);
+
+/// The memory TextureRowDecoder holds while it reads `bytes`, beyond the rows
+/// it hands out, for a memory estimate (an upper bound; 0 when the header
+/// does not read): a baseline JPEG is decoded row by row (libjpeg's row
+/// buffers, under 32 rows of RGBA), a progressive JPEG keeps every
+/// coefficient (2 bytes per sample), other formats are decoded whole (their
+/// RGBA, and stb_image's own copy while it converts).
+uint64_t textureDecoderBytes(std::string_view bytes);
 
 /// Throws vox::Error (BadInput, Setting::IgnoreMissingMaterials): image
 /// `name` ("model.glb: image 3 'wood.jpg'") does not decode, for reason `why`

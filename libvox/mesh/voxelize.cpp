@@ -25,6 +25,7 @@
 #include "libvox/core/error.h"
 #include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/texture_sampling.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/mesh/winding_number.h"
 
@@ -171,10 +172,6 @@ i64 floorDiv(i128 a, i128 b) {  // b > 0
   if ((a % b != 0) && (a < 0)) --q;
   return i64(q);
 }
-
-struct ColorSum {
-  uint64_t r = 0, g = 0, b = 0, w = 0;
-};
 
 uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
   return (uint64_t(uint32_t(u)) << 42) | (uint64_t(uint32_t(v)) << 21) | uint64_t(uint32_t(w));
@@ -410,7 +407,8 @@ struct SurfaceWork {
   bool color;
   const IndexBox* region;  // a region bake's box (inclusive), or null: the whole domain
   BoxBits* surfaceBits;  // solid fill: marks surface voxels inside the box
-  const std::function<bool(bool)>* awaitTextures;  // VoxelizeSettings::awaitTextures, or null
+  const RowSampling* sampling;  // how each texture is sampled
+  TextureRowSource* textureRows;  // VoxelizeSettings::textureRows, or null
 };
 
 /// The colour sums of one tile's surface voxels, per 8^3 block: a slot per
@@ -473,122 +471,16 @@ class ColorSums {
   Block* last_ = nullptr;
 };
 
-/// A piece of a textured triangle whose texel is added to its voxel's colour
-/// sum after the tile's geometry (TexturedPieces): its sum (ColorSums' chunks
-/// never move) and votes, the colour before the texture (base colour factor x
-/// vertex colour) and where it samples.
-struct TexturedPiece {
-  ColorSum* sum;
-  double s, t;
-  std::array<float, 3> base;
-  uint32_t votes;
-  uint32_t texture;
-};
-
-/// A tile's textured pieces, in chunks that are never copied (a vector's
-/// growth copied the pieces and faulted their memory in about twice over:
-/// 520 k pieces on the textured benchmark model).
-class TexturedPieces {
- public:
-  static constexpr size_t kChunk = 4096;
-  void push(const TexturedPiece& p) {
-    if (count_ % kChunk == 0) chunks_.push_back(std::make_unique_for_overwrite<TexturedPiece[]>(kChunk));  // no zeroing: each is written
-    chunks_.back()[count_++ % kChunk] = p;
-  }
-  size_t size() const { return count_; }
-  bool empty() const { return count_ == 0; }
-  const TexturedPiece& operator[](size_t i) const { return chunks_[i / kChunk][i % kChunk]; }
-  void clear() { *this = TexturedPieces(); }
-
- private:
-  std::vector<std::unique_ptr<TexturedPiece[]>> chunks_;
-  size_t count_ = 0;
-};
-
 /// One tile's surface voxels: its votes, the colour sums that become its
-/// colours, and the textured pieces still to add to them.
+/// colours, and the textured pieces still to add to them: those of textures
+/// with pixels (added once the tile's geometry is done) and those of images
+/// read by rows after every tile's geometry (libvox/mesh/texture_sampling.h).
 struct SurfaceOut {
   VoxelBlocks blocks;
   ColorSums colors;
   TexturedPieces textured;
+  RowPieces byRows;
 };
-
-double wrapCoord(double x, MeshTexture::Wrap mode) {
-  switch (mode) {
-    case MeshTexture::Wrap::ClampToEdge: return std::clamp(x, 0.0, 1.0);
-    case MeshTexture::Wrap::MirroredRepeat: {
-      double f = std::fmod(std::abs(x), 2.0);
-      return f > 1.0 ? 2.0 - f : f;
-    }
-    default: return x - std::floor(x);
-  }
-}
-
-/// Where a texture is sampled at (s, t) in glTF conventions (t = 0 at the
-/// top row): the texels' offsets in rgba (x0/x1 along a row, y0/y1 rows, in
-/// bytes) and the bilinear weights; nearest samples use (x0, y0) alone.
-struct TexelSpot {
-  size_t x0, x1, y0, y1;
-  float fx, fy;
-};
-
-TexelSpot texelSpot(const MeshTexture& tex, double s, double t) {
-  const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
-  // Wrapped texel index i and i + 1: one division for Repeat, not one per texel.
-  auto wrap2 = [](int64_t i, uint32_t n, MeshTexture::Wrap m, size_t& a, size_t& b) {
-    if (m == MeshTexture::Wrap::Repeat) {
-      a = size_t(((i % n) + n) % n);
-      b = a + 1 == n ? 0 : a + 1;
-    } else {
-      a = size_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
-      b = size_t(std::clamp<int64_t>(i + 1, 0, int64_t(n) - 1));
-    }
-  };
-  TexelSpot p;
-  if (tex.nearest) {
-    wrap2(int64_t(std::floor(x + 0.5)), tex.width, tex.wrapS, p.x0, p.x1);
-    wrap2(int64_t(std::floor(y + 0.5)), tex.height, tex.wrapT, p.y0, p.y1);
-    p.fx = p.fy = 0;
-  } else {
-    const int64_t x0 = int64_t(std::floor(x)), y0 = int64_t(std::floor(y));
-    p.fx = float(x - double(x0)), p.fy = float(y - double(y0));
-    wrap2(x0, tex.width, tex.wrapS, p.x0, p.x1);
-    wrap2(y0, tex.height, tex.wrapT, p.y0, p.y1);
-  }
-  const size_t row = size_t(tex.width) * 4;
-  p.x0 *= 4, p.x1 *= 4, p.y0 *= row, p.y1 *= row;
-  return p;
-}
-
-/// srgb8ToLinear as a table here: the texel loop calls it 12 times a sample.
-const std::array<float, 256>& srgbToLinearTable() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb8ToLinear(uint8_t(i));
-    return t;
-  }();
-  return table;
-}
-
-/// Linear RGB of a texture at `p` (texelSpot), bilinear unless the sampler
-/// asks for nearest; a texture without pixels is white.
-std::array<float, 3> sampleTexture(const MeshTexture& tex, const TexelSpot& p) {
-  if (tex.width == 0 || tex.height == 0) return {1, 1, 1};
-  const std::array<float, 256>& lin = srgbToLinearTable();
-  const uint8_t* px = tex.rgba.data();
-  std::array<float, 3> r;
-  if (tex.nearest) {
-    for (int k = 0; k < 3; ++k) r[size_t(k)] = lin[px[p.y0 + p.x0 + size_t(k)]];
-    return r;
-  }
-  const float fx = p.fx, fy = p.fy;
-  for (size_t k = 0; k < 3; ++k) {
-    const float a = lin[px[p.y0 + p.x0 + k]], b = lin[px[p.y0 + p.x1 + k]], c = lin[px[p.y1 + p.x0 + k]],
-                d = lin[px[p.y1 + p.x1 + k]];
-    r[k] = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy;
-  }
-  return r;
-}
 
 /// Linear colour of triangle t at barycentric (l0, l1, l2) before its
 /// texture: base colour factor x vertex colour, interpolated at that point.
@@ -614,42 +506,6 @@ std::array<float, 4> baseColor(const Mesh& m, size_t t, double l0, double l1, do
     }
   }
   return c;
-}
-
-/// A colour channel in [0, 1] as the 16-bit fixed point the sums add.
-uint64_t q16(float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); }
-
-/// Adds the textured pieces' colours (base x texel) to their sums: all of
-/// them, or with `ready` those whose texture's ready[] is `readyOnes`. The
-/// pieces come in the order their triangles were voxelized, their texels
-/// scattered over textures far larger than the caches: each sample's rows
-/// are prefetched kAhead pieces early, which hides most of the misses that
-/// sampling during the geometry waited on.
-void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces, const std::vector<char>* ready = nullptr,
-                       bool readyOnes = true) {
-  constexpr size_t kAhead = 16;
-  TexelSpot spots[kAhead];
-  auto wanted = [&](const TexturedPiece& p) { return !ready || bool((*ready)[p.texture]) == readyOnes; };
-  auto spotOf = [&](size_t i) {
-    const TexturedPiece& p = pieces[i];
-    const MeshTexture& tex = mesh.textures[p.texture];
-    if (!wanted(p) || tex.width == 0 || tex.height == 0) return TexelSpot{};
-    const TexelSpot spot = texelSpot(tex, p.s, p.t);
-    __builtin_prefetch(tex.rgba.data() + spot.y0 + spot.x0);
-    __builtin_prefetch(tex.rgba.data() + spot.y1 + spot.x0);
-    return spot;
-  };
-  for (size_t i = 0; i < std::min(kAhead, pieces.size()); ++i) spots[i] = spotOf(i);
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    const TexturedPiece& p = pieces[i];
-    const TexelSpot spot = spots[i % kAhead];
-    if (i + kAhead < pieces.size()) spots[i % kAhead] = spotOf(i + kAhead);
-    if (!wanted(p)) continue;
-    const std::array<float, 3> tex = sampleTexture(mesh.textures[p.texture], spot);
-    p.sum->r += p.votes * q16(p.base[0] * tex[0]);
-    p.sum->g += p.votes * q16(p.base[1] * tex[1]);
-    p.sum->b += p.votes * q16(p.base[2] * tex[2]);
-  }
 }
 
 /// Barycentric coordinates of the vertex average of polygon `P` in triangle (a, b, c).
@@ -736,8 +592,20 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       const std::array<float, 4> rgba = baseColor(W.mesh, t, l0, l1, l2, texture, s, tt);
       ColorSum& sum = out.colors.at(u, v, w);
       sum.w += votes;
-      if (texture >= 0) {  // its texel later (addTexturedPieces); the sums are integers, so order does not matter
-        out.textured.push({&sum, s, tt, {rgba[0], rgba[1], rgba[2]}, votes, uint32_t(texture)});
+      if (texture >= 0) {  // its texel later (texture_sampling.h); the sums are integers, so order does not matter
+        const TextureSampling& sampling = W.sampling->sampling(uint32_t(texture));
+        TexturedPiece piece;
+        piece.sum = &sum;
+        piece.spot = sampling.width > 0 && sampling.height > 0 ? texelSpot(sampling, s, tt) : TexelSpot{};
+        piece.base = {rgba[0], rgba[1], rgba[2]};
+        piece.votes = votes;
+        piece.texture = uint32_t(texture);
+        // A texture read by rows whose header did not read has no size: its
+        // image fails to open, which ends the bake; the piece stays white meanwhile.
+        if (W.sampling->imageOf(piece.texture) >= 0 && sampling.height > 0)
+          out.byRows.push(piece, W.sampling->band(piece.texture, piece.spot.y0), W.sampling->bands());
+        else
+          out.textured.push(piece);
       } else {
         sum.r += votes * q16(rgba[0]);
         sum.g += votes * q16(rgba[1]);
@@ -978,14 +846,9 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
   size_t steps = 0;
   for (const Tile& s : tiles) steps += s.triangles.size();
   // The tile's voxels are its own: their colours are final once its textured
-  // pieces are added, on its thread.
-  auto finishColors = [&](size_t s) {
-    parts[s]->textured.clear();
-    parts[s]->colors.writeColors(parts[s]->blocks);
-  };
-  // Textures still decoding: tiles with textured pieces keep them (and their
-  // sums) until the geometry of every tile is done and the pixels are in.
-  const bool texturesLater = work.awaitTextures && *work.awaitTextures;
+  // pieces are added, on its thread: at once for textures with pixels, after
+  // every tile's geometry for those read by rows.
+  auto finishColors = [&](size_t s) { parts[s]->colors.writeColors(parts[s]->blocks); };
   parallelPieces(tiles.size(), threads, tiles.size(), [&](size_t b, size_t e, size_t) {
     for (size_t s = b; s < e; ++s) {
       const Tile& tile = tiles[s];
@@ -993,29 +856,23 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
         surfaceTriangle(work, tile.triangles[i], tile.from, tile.to, *parts[s]);
         if (i % 4096 == 4095) progress(share * double(done += 4096) / double(std::max<size_t>(1, steps)));
       }
-      if (texturesLater && !parts[s]->textured.empty()) continue;
       addTexturedPieces(work.mesh, parts[s]->textured);
-      finishColors(s);
+      parts[s]->textured.clear();
+      if (parts[s]->byRows.pieces.empty()) finishColors(s);
     }
   });
-  if (texturesLater) {
-    // The textures decoded by now first, while the others finish decoding.
-    const bool all = (*work.awaitTextures)(false);
-    std::vector<char> ready(work.mesh.textures.size());
-    for (size_t k = 0; k < ready.size(); ++k) ready[k] = all || work.mesh.textures[k].width > 0;
+  if (work.textureRows) {
+    // Every image read once, band by band (also those no piece samples: an
+    // undecodable image ends the bake whatever it needs).
+    std::vector<RowPieces*> byRows(parts.size());
+    for (size_t s = 0; s < parts.size(); ++s) byRows[s] = &parts[s]->byRows;
+    sampleFromRows(*work.sampling, byRows, *work.textureRows, threads);
     parallelForEach(tiles.size(), threads, 1, [&](size_t s) {
-      if (parts[s]->textured.empty()) return;
-      addTexturedPieces(work.mesh, parts[s]->textured, &ready, true);
-      if (all) finishColors(s);
+      if (parts[s]->byRows.pieces.empty()) return;
+      addSampledPieces(parts[s]->byRows.pieces);
+      parts[s]->byRows = RowPieces();
+      finishColors(s);
     });
-    if (!all) {
-      (*work.awaitTextures)(true);
-      parallelForEach(tiles.size(), threads, 1, [&](size_t s) {
-        if (parts[s]->textured.empty()) return;
-        addTexturedPieces(work.mesh, parts[s]->textured, &ready, false);
-        finishColors(s);
-      });
-    }
   }
   for (size_t t = 1; t < parts.size(); ++t) parts[0]->blocks.merge(std::move(parts[t]->blocks));
   return std::move(parts[0]->blocks);
@@ -1676,8 +1533,9 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
 
   const double surfaceShare = box ? 0.5 : 1.0;
   const IndexBox* region = settings.region ? &*settings.region : nullptr;
-  const SurfaceWork work{mesh,   triangleClass,       lattice, header.dims, mesh.hasColor(),
-                         region, surfaceBits.get(), &settings.awaitTextures};
+  const RowSampling sampling(mesh, settings.textureRows);
+  const SurfaceWork work{mesh,   triangleClass,     lattice,   header.dims,          mesh.hasColor(),
+                         region, surfaceBits.get(), &sampling, settings.textureRows};
   VoxelBlocks blocks = voxelizeSurface(work, threads, progress, surfaceShare);
   if (box && settings.solidRule == SolidRule::Parity) {
     const SolidRays rays = castRays(mesh, triangleClass, lattice, *box, threads);

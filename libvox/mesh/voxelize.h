@@ -68,6 +68,7 @@
 #include "libvox/core/progress.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/class_compaction.h"
+#include "libvox/mesh/texture_rows.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -99,19 +100,16 @@ struct VoxelizeSettings {
   /// solid angle of every cap: both rules are exact on a region. Memory and
   /// time: the box's, plus a pass over every triangle.
   std::optional<IndexBox> region;
-  /// Textures still decoding when the bake starts (a reader that overlaps
-  /// image decoding with the bake: formats/mesh/deferred_textures.h). When
-  /// set, the bake reads nothing of a texture of width 0 but its place in
-  /// mesh.textures until it has called this, on the calling thread, after the
-  /// surface pass's geometry: first with wait = false (put in the pixels of
-  /// the images decoded by now; the bake adds those textures' texels while
-  /// the others decode), then, unless that returned true, with wait = true
-  /// (return once every texture has its pixels, or throw, which ends the bake
-  /// with its error). It returns whether every texture has its pixels; it may
-  /// fill the caller's mesh. Meanwhile the pieces of textured triangles are
-  /// kept (48 bytes each) with their voxels' colour sums. The colours are
-  /// those of a bake whose textures were decoded before: the sums are integers.
-  std::function<bool(bool wait)> awaitTextures;
+  /// Texture images read row by row (libvox/mesh/texture_rows.h), for the
+  /// mesh textures without pixels that it names: after the surface pass's
+  /// geometry the bake reads every one of its images once, top to bottom, a
+  /// band of rows at a time, on up to `threads` tasks, and the textured pieces
+  /// (48 bytes each, plus 8 for their sorting) are kept with their voxels'
+  /// colour sums until then. An image that cannot be read ends the bake with
+  /// its error (the first in index order). The colours are those of a bake
+  /// whose textures were decoded before: the sums are integers. Not owned;
+  /// each image is opened once, so a source serves one bake.
+  TextureRowSource* textureRows = nullptr;
 };
 
 /// Voxelizes `mesh` into blocks (no OpenVDB involved) with `header` (dims,

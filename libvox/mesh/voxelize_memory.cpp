@@ -180,12 +180,13 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
                         f.surfaceVoxels * 1.4 * sizeof(uint32_t)) * kShared);
   if (mesh.hasColor()) e.add("colour blocks", f.blocks * (kBlockVoxels * 3 * sizeof(float) + kMalloc) * kShared);
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
-  if (settings.awaitTextures && !mesh.textures.empty()) {
-    // Textures decoding during the bake: every tile keeps its textured pieces
-    // (48 bytes, 1.7 per surface voxel on the textured benchmark model) and
-    // colour sums (2 KB a block, 32 bytes a voxel) until they are in.
-    e.add("textured pieces kept until the textures are decoded",
-          f.surfaceVoxels * (1.7 * 48 + 32) + f.blocks * 2048);
+  if (settings.textureRows && !mesh.textures.empty()) {
+    // Textures read by rows after the geometry: every tile keeps its textured
+    // pieces (48 bytes and an 8-byte reference to sort them by row; 1.7 per
+    // surface voxel on the textured benchmark model) and colour sums (2 KB a
+    // block, 32 bytes a voxel) until then. The rows being read: the caller's.
+    e.add("textured pieces kept until the textures are read",
+          f.surfaceVoxels * (1.7 * (48 + 8) + 32) + f.blocks * 2048);
   }
   if (settings.fill == FillMode::Solid) {
     const bool parity = settings.solidRule == SolidRule::Parity;

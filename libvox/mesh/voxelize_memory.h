@@ -49,7 +49,7 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
 /// counted by the caller): vote blocks, colour blocks, solid-fill bits and
 /// crossings, interior blocks, and for the winding rule its weld and boundary
 /// tables where they outweigh those (they are gone before the blocks grow),
-/// and with settings.awaitTextures the textured pieces kept until it returns.
+/// and with settings.textureRows the textured pieces kept until they are read.
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings);
 
 }  // namespace vox

@@ -1,9 +1,11 @@
 #!/bin/bash
-# glTF colour textures decoded while the mesh is baked (formats/mesh/deferred_textures.h):
+# glTF colour textures read by rows after the geometry (formats/mesh/deferred_textures.h):
 # the scene is byte-identical to the bake that decodes them while reading the
-# file (--ignore-missing-materials keeps that path) at --threads 1 and 2, the
-# report counts the images decoded in the background, and an image that does
-# not decode is refused as before: exit 3, its name on stderr, nothing written.
+# file (--ignore-missing-materials keeps that path) at --threads 1 and 2, for
+# PNG textures (decoded whole, then handed out by rows) and JPEG ones
+# (decoded row by row, baseline and progressive), the report counts the
+# images decoded during the bake, and an image that does not decode is
+# refused as before: exit 3, its name on stderr, nothing written.
 # Usage: texoverlap_test.sh VOX TESTS_DIR
 set -u
 vox=$1
@@ -23,15 +25,28 @@ def png(path, w, h, seed):
                            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 for i in range(5):
     png(f"t{i}.png", 64, 64, i)
+png("big.png", 301, 211, 9)  # JPEG below: 14 bands of rows, the last partial
 EOF
 python3 "$tests/../bench/make_textured_glb.py" sphere.glb plain.glb t0.png t1.png t2.png t3.png t4.png ||
   fail "make_textured_glb.py failed"
+inputs="sphere.glb box.gltf"
+if command -v oiiotool >/dev/null; then
+  oiiotool big.png -o big.jpg && oiiotool t1.png -o t1.jpg && oiiotool t2.png --attrib jpeg:progressive 1 -o t2p.jpg ||
+    fail "oiiotool could not write the JPEGs"
+  python3 "$tests/../bench/make_textured_glb.py" sphere-jpeg.glb plain-jpeg.glb big.jpg t1.jpg t2p.jpg t3.png t4.png ||
+    fail "make_textured_glb.py failed (JPEG)"
+  python3 -c "import sys; d = open('t2p.jpg', 'rb').read(); sys.exit(0 if b'\xff\xc2' in d else 1)" ||
+    fail "t2p.jpg is not a progressive JPEG"
+  inputs="$inputs sphere-jpeg.glb"
+else
+  echo "SKIP: oiiotool (openimageio-tools) not found: JPEG textures not tested"
+fi
 python3 "$tests/gltfext/make_gltf.py" required "" box.gltf || fail "make_gltf.py failed"
 
-for f in sphere.glb box.gltf; do
+for f in $inputs; do
   for t in 1 2; do
     expect_exit 0 "$vox" voxelize "$f" --res 48 --threads $t -o "later$t.vdb" --report "later$t.json"
-    jcheck "later$t.json" "assert d['counts']['texture_decode']['images'] == (5 if '$f' == 'sphere.glb' else 1), d['counts']"
+    jcheck "later$t.json" "assert d['counts']['texture_decode']['images'] == (1 if '$f' == 'box.gltf' else 5), d['counts']"
   done
   # The reference: the same images decoded while the file is read.
   expect_exit 0 "$vox" voxelize "$f" --res 48 --threads 2 --ignore-missing-materials -o first.vdb --report first.json

@@ -453,19 +453,20 @@ void scaleToRegion(vox::SurfaceFootprint& f, const PreparedMeshes& p, const vox:
 void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
                          const vox::DeferredTextures* deferred) {
   const uint64_t resident = vox::residentBytesNow();
-  // Textures decoding meanwhile are not all resident yet (counted whole: some are).
-  const uint64_t decoding = deferred ? deferred->pendingPixelBytes() : 0;
+  // Textures read by rows after the geometry, `threads` images at a time.
+  const uint64_t decoding = deferred && deferred->images() > 0 ? deferred->readingBytes(run.threads()) : 0;
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
   settings.solidRule = o.solidRule;
-  if (decoding) settings.awaitTextures = [](bool) { return true; };  // as the bake will have one: only its presence counts
+  vox::DeferredTextures none;  // as the bake will have a source: only its presence counts
+  if (deferred && deferred->images() > 0) settings.textureRows = &none;
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
     vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
     if (header.region) scaleToRegion(f, p, header);
     vox::MemoryEstimate e;
     e.add("resident before the bake", resident);
-    if (decoding) e.add("textures being decoded", decoding);
+    if (decoding) e.add("texture rows being read", decoding);
     if (sdf) {
       // meshToVolume: a float distance and an int32 closest-triangle grid over a
       // band of 2 voxels each side, with its per-thread working grids (measured).
@@ -541,8 +542,7 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
   if (o.fill == vox::FillMode::Solid) run.counts()["solid_rule"] = nameOf(solidRuleNames(), o.solidRule);
   if (deferred && deferred->decodedImages() > 0)  // decoded during the voxelize phase, not the parse
     run.counts()["texture_decode"] = {{"images", deferred->decodedImages()},
-                                      {"decode_seconds", deferred->decodeSeconds()},
-                                      {"wait_seconds", deferred->waitSeconds()}};
+                                      {"decode_seconds", deferred->decodeSeconds()}};
   if (p.header.region) {
     const vox::IndexBox& b = p.header.region->box;
     run.counts()["region"] = {{"index", p.header.region->index}, {"count", p.header.region->count},
@@ -555,8 +555,8 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
 }
 
 int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
-  // A glTF's colour textures decode while the geometry is baked, and are
-  // waited for before their texels are taken (formats/mesh/deferred_textures.h).
+  // A glTF's colour textures are read by rows after the geometry, so no image
+  // is held whole (formats/mesh/deferred_textures.h).
   vox::DeferredTextures textures;
   PreparedMeshes p = prepareMeshes(o, run, &textures);
   std::optional<vox::SceneRegion> region;
@@ -581,10 +581,10 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   auto bar = run.progress("voxelize");
   vox::VoxelizeSettings settings = voxelizeSettings(o, run, *bar);
   if (region) settings.region = region->box;
-  if (textures.pendingImages() > 0) settings.awaitTextures = [&](bool wait) { return textures.take(p.mesh, wait); };
+  if (textures.images() > 0) settings.textureRows = &textures;
   vox::VoxelBlocks blocks;
   if (!region || !region->box.empty()) blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
-  textures.finish(p.mesh);  // a bake that never sampled them still fails on an undecodable image
+  textures.finish();  // a bake that never read them still fails on an undecodable image
   bar->done();
   // Classes whose triangles left no vote (outside --bounds, zero area) are left
   // out too (a region's table was made the whole bake's above).

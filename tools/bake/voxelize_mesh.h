@@ -107,16 +107,15 @@ struct PreparedMeshes {
   std::vector<std::string> filesRead;  // files the inputs named (mtllib, textures, buffers)
   uint64_t bytesRead = 0;
 };
-/// `deferred`: a single glTF input's colour textures decode there while the
-/// caller goes on (formats/mesh/deferred_textures.h); its finish() puts the
-/// pixels into the mesh.
+/// `deferred`: a single glTF input's colour textures are left undecoded there,
+/// for the bake to read by rows (formats/mesh/deferred_textures.h).
 PreparedMeshes prepareMeshes(const VoxelizeOptions& o, Run& run, vox::DeferredTextures* deferred = nullptr);
 
 /// The memory guard of a mesh bake (libvox/mesh/voxelize_memory.h): estimates
 /// the peak before the work and refuses, with the largest --res (or the
 /// smallest --voxel-size) that fits, when it exceeds --max-memory. `openvdb`:
 /// the bake builds OpenVDB trees (--method sdf, --check), not only blocks.
-/// `deferred`: the pixels of textures still decoding count too.
+/// `deferred`: the rows of textures the bake reads count too.
 void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
                          const vox::DeferredTextures* deferred = nullptr);
 

@@ -1,0 +1,226 @@
+#include "libvox/mesh/texture_sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "libvox/core/color.h"
+#include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
+
+namespace vox {
+
+namespace {
+
+double wrapCoord(double x, MeshTexture::Wrap mode) {
+  switch (mode) {
+    case MeshTexture::Wrap::ClampToEdge: return std::clamp(x, 0.0, 1.0);
+    case MeshTexture::Wrap::MirroredRepeat: {
+      double f = std::fmod(std::abs(x), 2.0);
+      return f > 1.0 ? 2.0 - f : f;
+    }
+    default: return x - std::floor(x);
+  }
+}
+
+/// srgb8ToLinear as a table here: the texel loop calls it 12 times a sample.
+const std::array<float, 256>& srgbToLinearTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb8ToLinear(uint8_t(i));
+    return t;
+  }();
+  return table;
+}
+
+/// Linear RGB at `p` from the spot's two rows (`row0` holds y0, `row1` y1),
+/// bilinear unless `nearest`.
+std::array<float, 3> sampleRows(const uint8_t* row0, const uint8_t* row1, const TexelSpot& p, bool nearest) {
+  const std::array<float, 256>& lin = srgbToLinearTable();
+  const size_t x0 = size_t(p.x0) * 4, x1 = size_t(p.x1) * 4;
+  std::array<float, 3> r;
+  if (nearest) {
+    for (size_t k = 0; k < 3; ++k) r[k] = lin[row0[x0 + k]];
+    return r;
+  }
+  const float fx = p.fx, fy = p.fy;
+  for (size_t k = 0; k < 3; ++k) {
+    const float a = lin[row0[x0 + k]], b = lin[row0[x1 + k]], c = lin[row1[x0 + k]], d = lin[row1[x1 + k]];
+    r[k] = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy;
+  }
+  return r;
+}
+
+std::array<uint16_t, 3> sampledColor(const TexturedPiece& p, const std::array<float, 3>& texel) {
+  return {uint16_t(q16(p.base[0] * texel[0])), uint16_t(q16(p.base[1] * texel[1])),
+          uint16_t(q16(p.base[2] * texel[2]))};
+}
+
+void addToSum(const TexturedPiece& p, const std::array<uint16_t, 3>& c) {
+  p.sum->r += p.votes * uint64_t(c[0]);
+  p.sum->g += p.votes * uint64_t(c[1]);
+  p.sum->b += p.votes * uint64_t(c[2]);
+}
+
+}  // namespace
+
+TextureSampling samplingOf(const MeshTexture& t) { return {t.width, t.height, t.wrapS, t.wrapT, t.nearest}; }
+
+TexelSpot texelSpot(const TextureSampling& tex, double s, double t) {
+  const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
+  // Wrapped texel index i and i + 1: one division for Repeat, not one per texel.
+  auto wrap2 = [](int64_t i, uint32_t n, MeshTexture::Wrap m, uint32_t& a, uint32_t& b) {
+    if (m == MeshTexture::Wrap::Repeat) {
+      a = uint32_t(((i % n) + n) % n);
+      b = a + 1 == n ? 0 : a + 1;
+    } else {
+      a = uint32_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
+      b = uint32_t(std::clamp<int64_t>(i + 1, 0, int64_t(n) - 1));
+    }
+  };
+  TexelSpot p;
+  if (tex.nearest) {
+    wrap2(int64_t(std::floor(x + 0.5)), tex.width, tex.wrapS, p.x0, p.x1);
+    wrap2(int64_t(std::floor(y + 0.5)), tex.height, tex.wrapT, p.y0, p.y1);
+    p.fx = p.fy = 0;
+  } else {
+    const int64_t x0 = int64_t(std::floor(x)), y0 = int64_t(std::floor(y));
+    p.fx = float(x - double(x0)), p.fy = float(y - double(y0));
+    wrap2(x0, tex.width, tex.wrapS, p.x0, p.x1);
+    wrap2(y0, tex.height, tex.wrapT, p.y0, p.y1);
+  }
+  return p;
+}
+
+uint64_t q16(float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); }
+
+void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces) {
+  // The pieces come in the order their triangles were voxelized, their texels
+  // scattered over textures far larger than the caches: each sample's rows are
+  // prefetched kAhead pieces early, which hides most of the misses that
+  // sampling during the geometry waited on.
+  constexpr size_t kAhead = 16;
+  auto rowsOf = [&](const TexturedPiece& p, const uint8_t*& row0, const uint8_t*& row1) {
+    const MeshTexture& tex = mesh.textures[p.texture];
+    if (tex.width == 0 || tex.height == 0) return false;
+    const size_t stride = size_t(tex.width) * 4;
+    row0 = tex.rgba.data() + stride * p.spot.y0, row1 = tex.rgba.data() + stride * p.spot.y1;
+    return true;
+  };
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    if (i + kAhead < pieces.size()) {
+      const uint8_t *a, *b;
+      if (rowsOf(pieces[i + kAhead], a, b)) {
+        __builtin_prefetch(a + size_t(pieces[i + kAhead].spot.x0) * 4);
+        __builtin_prefetch(b + size_t(pieces[i + kAhead].spot.x0) * 4);
+      }
+    }
+    const TexturedPiece& p = pieces[i];
+    const uint8_t *row0, *row1;
+    const std::array<float, 3> texel =
+        rowsOf(p, row0, row1) ? sampleRows(row0, row1, p.spot, mesh.textures[p.texture].nearest)
+                              : std::array<float, 3>{1, 1, 1};  // a texture without pixels is white
+    addToSum(p, sampledColor(p, texel));
+  }
+}
+
+RowSampling::RowSampling(const Mesh& mesh, const TextureRowSource* source)
+    : imageOf_(mesh.textures.size(), -1), firstBand_(1, 0) {
+  sampling_.reserve(mesh.textures.size());
+  for (const MeshTexture& t : mesh.textures) sampling_.push_back(samplingOf(t));
+  if (!source) return;
+  for (size_t i = 0; i < source->images(); ++i) {
+    const std::array<uint32_t, 2> size = source->size(i);
+    for (size_t t : source->texturesOf(i)) {
+      imageOf_[t] = int(i);
+      sampling_[t].width = size[0], sampling_[t].height = size[1];
+    }
+    firstBand_.push_back(firstBand_[i] + (size[1] + kTextureBandRows - 1) / kTextureBandRows);
+  }
+}
+
+void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tiles, TextureRowSource& source,
+                    unsigned threads) {
+  // Every tile's pieces by band, band by band, in tile order within a band.
+  const size_t nBands = rows.bands();
+  std::vector<size_t> start(nBands + 1, 0);
+  std::vector<std::vector<size_t>> cursor(tiles.size());
+  for (size_t k = 0; k < tiles.size(); ++k)
+    if (!tiles[k]->perBand.empty())
+      for (size_t b = 0; b < nBands; ++b) start[b + 1] += tiles[k]->perBand[b];
+  for (size_t b = 0; b < nBands; ++b) start[b + 1] += start[b];
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (size_t k = 0; k < tiles.size(); ++k) {
+    if (tiles[k]->perBand.empty()) continue;
+    cursor[k] = next;
+    for (size_t b = 0; b < nBands; ++b) next[b] += tiles[k]->perBand[b];
+  }
+  const auto refs = std::make_unique_for_overwrite<TexturedPiece*[]>(start[nBands]);
+  parallelForEach(tiles.size(), threads, 1, [&](size_t k) {
+    TexturedPieces& pieces = tiles[k]->pieces;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      TexturedPiece& p = pieces[i];
+      refs[cursor[k][rows.band(p.texture, p.spot.y0)]++] = &p;
+    }
+  });
+
+  // Each image on its own task, top to bottom: the window holds band b's rows
+  // and the row after it (a bilinear sample's second row), `top` row 0 (the
+  // second row of samples on the last row of a Repeat-wrapped texture).
+  const size_t nImages = source.images();
+  std::vector<std::exception_ptr> errors(nImages);
+  parallelForEach(nImages, threads, 1, [&](size_t image) {
+    try {
+      const std::unique_ptr<TextureRowReader> reader = source.open(image);
+      const uint32_t w = reader->width(), h = reader->height();
+      const std::array<uint32_t, 2> announced = source.size(image);
+      if (w != announced[0] || h != announced[1])
+        throw Error(ErrorKind::Internal, "texture image " + std::to_string(image) + " decodes to " +
+                                             std::to_string(w) + " x " + std::to_string(h) + " pixels, its header said " +
+                                             std::to_string(announced[0]) + " x " + std::to_string(announced[1]));
+      constexpr uint32_t R = kTextureBandRows;
+      const size_t stride = size_t(w) * 4;
+      std::vector<uint8_t> window((R + 1) * stride), top(stride);
+      reader->read(window.data(), std::min(h, R + 1));
+      std::memcpy(top.data(), window.data(), stride);
+      const uint32_t bands = (h + R - 1) / R, first = rows.firstBand(image);
+      for (uint32_t b = 0; b < bands; ++b) {
+        const uint32_t y = b * R;  // the image row in the window's first row
+        // A band's pieces lie all over the tiles' chunks: each is prefetched
+        // kAhead pieces early (both its cache lines), where waiting on each
+        // miss was a third of the sampling.
+        constexpr size_t kAhead = 16;
+        const size_t end = start[first + b + 1];
+        for (size_t r = start[first + b]; r < end; ++r) {
+          if (r + kAhead < end) {
+            const char* ahead = reinterpret_cast<const char*>(refs[r + kAhead]);
+            __builtin_prefetch(ahead, 1);
+            __builtin_prefetch(ahead + sizeof(TexturedPiece) - 1, 1);
+          }
+          TexturedPiece& p = *refs[r];
+          const TexelSpot spot = p.spot;
+          const uint8_t* row0 = window.data() + size_t(spot.y0 - y) * stride;
+          const uint8_t* row1 = spot.y1 >= y ? window.data() + size_t(spot.y1 - y) * stride : top.data();
+          p.sampled = sampledColor(p, sampleRows(row0, row1, spot, rows.sampling(p.texture).nearest));
+        }
+        if (b + 1 < bands) {  // rows y + R + 1 .. y + 2R after row y + R, which moves first
+          std::memmove(window.data(), window.data() + size_t(R) * stride, stride);
+          const uint32_t more = std::min(R, h - (y + R + 1));  // 0 when row y + R is the last
+          if (more > 0) reader->read(window.data() + stride, more);
+        }
+      }
+    } catch (...) {
+      errors[image] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+void addSampledPieces(const TexturedPieces& pieces) {
+  for (size_t i = 0; i < pieces.size(); ++i) addToSum(pieces[i], pieces[i].sampled);
+}
+
+}  // namespace vox
