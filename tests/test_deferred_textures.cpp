@@ -7,7 +7,10 @@
 // index order that cannot be read ends the bake with its error.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <random>
 #include <tuple>
@@ -16,6 +19,7 @@
 #include "formats/mesh/gltf_reader.h"
 #include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
+#include "libvox/mesh/texture_sampling.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "test_util.h"
 #include "voxelize_test_meshes.h"
@@ -256,4 +260,23 @@ TEST(DeferredTextures, AGltfReadLeavesItsImagesToTheBake) {
     EXPECT_EQ(std::string(e.what()), direct);
     EXPECT_EQ(e.kind, ErrorKind::BadInput);
   }
+}
+
+TEST(TextureSampling, Q16RoundsAsLround) {
+  // q16 replaced std::lround(clamp(x) * 65535) (checked over every float in
+  // [0, 1] when it was written); here every 61st float and the neighbours of
+  // every half-way point k + 0.5.
+  auto reference = [](float x) { return uint64_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
+  size_t checked = 0;
+  for (uint32_t bits = 0; bits <= std::bit_cast<uint32_t>(1.0f); bits += 61, ++checked)
+    ASSERT_EQ(q16(std::bit_cast<float>(bits)), reference(std::bit_cast<float>(bits))) << std::bit_cast<float>(bits);
+  for (int k = 0; k < 65535; ++k) {
+    float x = float((k + 0.5) / 65535.0);
+    for (int step = 0; step < 4; ++step) x = std::nextafter(x, 0.0f);
+    for (int step = 0; step < 8; ++step, x = std::nextafter(x, 1.0f), ++checked) ASSERT_EQ(q16(x), reference(x)) << x;
+  }
+  EXPECT_GT(checked, size_t(17000000));
+  EXPECT_EQ(q16(-0.5f), 0u);
+  EXPECT_EQ(q16(2.0f), 65535u);
+  EXPECT_EQ(q16(std::numeric_limits<float>::quiet_NaN()), 0u) << "NaN is black, not lround's unspecified value";
 }
