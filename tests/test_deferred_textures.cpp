@@ -280,3 +280,27 @@ TEST(TextureSampling, Q16RoundsAsLround) {
   EXPECT_EQ(q16(2.0f), 65535u);
   EXPECT_EQ(q16(std::numeric_limits<float>::quiet_NaN()), 0u) << "NaN is black, not lround's unspecified value";
 }
+
+TEST(TextureSampling, RepeatWrapsAsTheModulo) {
+  // texelSpot wraps Repeat indices by a branch where i is in [-1, n]; the
+  // definition is ((i mod n) + n) mod n of the texel below (bilinear) or
+  // nearest the wrapped coordinate, and i + 1 wrapped.
+  auto wrapped = [](int64_t i, uint32_t n) { return uint32_t(((i % n) + n) % n); };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-3.0, 3.0);
+  std::vector<double> values = {0.0, 1.0, -1.0, 2.0, -1e-20, 1e-20, 1.0 - 1e-17, 0.5, -0.5};
+  for (int k = 0; k < 20000; ++k) values.push_back(coord(rng));
+  for (uint32_t n : {1u, 2u, 7u, 2048u}) {
+    for (bool nearest : {false, true}) {
+      TextureSampling t{n, n, MeshTexture::Wrap::Repeat, MeshTexture::Wrap::Repeat, nearest};
+      for (double s : values) {
+        const double x = (s - std::floor(s)) * n - 0.5;
+        const int64_t i = int64_t(std::floor(nearest ? x + 0.5 : x));
+        const TexelSpot p = texelSpot(t, s, s);
+        ASSERT_EQ(p.x0, wrapped(i, n)) << "s " << s << ", n " << n << ", nearest " << nearest;
+        ASSERT_EQ(p.x1, wrapped(i + 1, n)) << "s " << s << ", n " << n;
+        ASSERT_EQ(p.y0, p.x0);
+      }
+    }
+  }
+}

@@ -70,10 +70,15 @@ TextureSampling samplingOf(const MeshTexture& t) { return {t.width, t.height, t.
 
 TexelSpot texelSpot(const TextureSampling& tex, double s, double t) {
   const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
-  // Wrapped texel index i and i + 1: one division for Repeat, not one per texel.
+  // Wrapped texel index i and i + 1. For Repeat the wrapped coordinate is in
+  // [0, 1], so i is in [-1, n]: a branch instead of two int64 divisions
+  // (a piece each, during the geometry), the modulo for anything else.
   auto wrap2 = [](int64_t i, uint32_t n, MeshTexture::Wrap m, uint32_t& a, uint32_t& b) {
     if (m == MeshTexture::Wrap::Repeat) {
-      a = uint32_t(((i % n) + n) % n);
+      if (i >= 0 && i < int64_t(n)) a = uint32_t(i);
+      else if (i == -1) a = n - 1;
+      else if (i == int64_t(n)) a = 0;
+      else a = uint32_t(((i % n) + n) % n);
       b = a + 1 == n ? 0 : a + 1;
     } else {
       a = uint32_t(std::clamp<int64_t>(i, 0, int64_t(n) - 1));
