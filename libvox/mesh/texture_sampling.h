@@ -72,8 +72,7 @@ struct TexturedPiece {
 
 /// A tile's textured pieces, in chunks that are never copied (a vector's
 /// growth copied the pieces and faulted their memory in about twice over:
-/// 520 k pieces on the textured benchmark model). With `bands`, it also
-/// counts its pieces per band of rows (sampleFromRows' buckets).
+/// 520 k pieces on the textured benchmark model).
 class TexturedPieces {
  public:
   static constexpr size_t kChunk = 4096;
