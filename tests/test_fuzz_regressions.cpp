@@ -15,6 +15,7 @@
 #include "formats/image/image.h"
 #include "formats/mesh/gltf_reader.h"
 #include "libvox/core/error.h"
+#include "test_util.h"
 
 #define VOX_FUZZ_DECLARE(name) int voxFuzz_##name(const uint8_t* data, size_t size);
 VOX_FUZZ_DECLARE(gltf)
@@ -35,7 +36,7 @@ namespace fs = std::filesystem;
 /// The files of tests/fuzz/<kind>/<target>/, sorted (none when the folder is absent).
 std::vector<fs::path> inputsOf(const std::string& kind, const std::string& target) {
   std::vector<fs::path> files;
-  const fs::path dir = fs::path(VOX_SOURCE_DIR) / "tests" / "fuzz" / kind / target;
+  const fs::path dir = fs::path(voxtest::sourceDir()) / "tests" / "fuzz" / kind / target;
   if (fs::is_directory(dir))
     for (const auto& e : fs::directory_iterator(dir))
       if (e.is_regular_file()) files.push_back(e.path());

@@ -22,16 +22,13 @@
 #include "formats/mesh/mesh_input.h"
 #include "test_util.h"
 
-#ifndef VOX_SHARED_DATA_DIR
-#define VOX_SHARED_DATA_DIR "../shared/data"
-#endif
 
 using namespace vox;
 using nlohmann::json;
 
 namespace {
 
-const std::string kData = VOX_SHARED_DATA_DIR;
+const std::string kData = voxtest::sharedDataDir();
 
 Mesh read(const std::string& path, std::vector<std::string>* warnings = nullptr) {
   std::vector<std::string> w;

@@ -149,7 +149,7 @@ TEST(ImageIo, ExrHeaderOpenExrWouldReadAsAHugeAttributeIsRefusedWithoutAllocatin
 #else
   // Found by the fuzzer (from an atlas written by vox).
   const std::string path =
-      std::string(VOX_SOURCE_DIR) + "/tests/fuzz/regressions/exr/box2i_declared_126_bytes_then_1_6GB_attribute.exr";
+      voxtest::sourceDir() + "/tests/fuzz/regressions/exr/box2i_declared_126_bytes_then_1_6GB_attribute.exr";
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {

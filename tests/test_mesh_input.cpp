@@ -22,7 +22,7 @@ Mesh read(const std::string& path, bool drop = false) {
 ::testing::AssertionResult rejects(const std::string& path, std::initializer_list<std::string> needles) {
   return voxtest::throwsVoxError([&] { read(path); }, ErrorKind::BadInput, needles);
 }
-const std::string kData = VOX_SHARED_DATA_DIR;
+const std::string kData = voxtest::sharedDataDir();
 bool haveData() { return std::filesystem::exists(kData + "/MANIFEST.md"); }
 }  // namespace
 

@@ -15,9 +15,6 @@
 #include "formats/mesh/mesh_input.h"
 #include "test_util.h"
 
-#ifndef VOX_SHARED_DATA_DIR
-#define VOX_SHARED_DATA_DIR "../shared/data"
-#endif
 
 using namespace vox;
 
@@ -120,7 +117,7 @@ std::array<double, 3> normal(const Mesh& m, size_t t) {
   return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
 }
 
-const std::string kData = VOX_SHARED_DATA_DIR;
+const std::string kData = voxtest::sharedDataDir();
 bool haveData() { return std::filesystem::exists(kData + "/MANIFEST.md"); }
 
 }  // namespace

@@ -539,7 +539,7 @@ TEST(PageFileLayouts, UnknownLayoutByteIsRefused) {
 
 // The field offsets the writer and the reader share are those PAGEFILE.md gives.
 std::map<std::string, size_t> specOffsets(const std::string& section) {
-  std::ifstream in(std::string(VOX_SOURCE_DIR) + "/formats/pagefile/PAGEFILE.md");
+  std::ifstream in(voxtest::sourceDir() + "/formats/pagefile/PAGEFILE.md");
   std::map<std::string, size_t> out;
   const std::regex row(R"(^\| (\d+) \| [^|]+ \| `?([a-z0-9_]+)`? \|)");
   bool inSection = false;

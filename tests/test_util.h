@@ -11,6 +11,13 @@
 
 namespace voxtest {
 
+/// The checkout's root: fixtures, regression inputs and docs the tests read.
+std::string sourceDir();
+
+/// ../shared/data beside the checkout. It may be absent: tests that need it
+/// skip with a message.
+std::string sharedDataDir();
+
 /// A fresh directory under the system temp dir, removed with its content.
 class TempDir {
  public:

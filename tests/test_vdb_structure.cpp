@@ -392,7 +392,7 @@ TEST(VdbStructure, FuzzSeedsReadAndRegressionInputsAreRefusedCleanly) {
   namespace fs = std::filesystem;
   int seeds = 0, regressions = 0;
   for (const char* sub : {"tests/fuzz/vdb_seeds", "tests/fuzz/vdb_regressions"}) {
-    const fs::path d = fs::path(VOX_SOURCE_DIR) / sub;
+    const fs::path d = fs::path(voxtest::sourceDir()) / sub;
     if (!fs::is_directory(d)) continue;
     for (const auto& e : fs::directory_iterator(d)) {
       const std::string path = e.path().string();
@@ -424,7 +424,7 @@ TEST(VdbStructure, FuzzSeedsReadAndRegressionInputsAreRefusedCleanly) {
   EXPECT_GE(seeds, 6);
   // What each regression input is refused for (it crashed or was undefined
   // behaviour before the fix).
-  const fs::path reg = fs::path(VOX_SOURCE_DIR) / "tests/fuzz/vdb_regressions";
+  const fs::path reg = fs::path(voxtest::sourceDir()) / "tests/fuzz/vdb_regressions";
   for (const char* f : {"leaf_block_size_negative.vdb", "leaf_block_size_negative_1g.vdb"}) {
     const std::string path = (reg / f).string();
     EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(path); }, ErrorKind::BadInput, {path, "leaf at (", "uncompressed block"}));

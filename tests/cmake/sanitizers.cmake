@@ -2,7 +2,8 @@
 # in the unit tests too, so a plain ctest there is as strict as scripts/test-sanitizers.sh.
 if(VOX_SANITIZE)
   target_sources(vox_unit_tests PRIVATE ${VOX_SANITIZER_DEFAULTS})
-  target_compile_definitions(vox_unit_tests PRIVATE ${VOX_SANITIZER_DEFINE})
+  # On that file only (the root CMakeLists.txt says why).
+  set_source_files_properties(${VOX_SANITIZER_DEFAULTS} PROPERTIES COMPILE_DEFINITIONS "${VOX_SANITIZER_DEFINE}")
 endif()
 
 # The sorting of a sanitizer run's failures that decides which tests
@@ -17,7 +18,6 @@ if(VOX_SANITIZE)
   add_library(vox_dynamic_tls_module MODULE ${CMAKE_CURRENT_SOURCE_DIR}/sanitizers/dynamic_tls_module.cpp)
   add_executable(vox_dynamic_tls_probe ${CMAKE_CURRENT_SOURCE_DIR}/sanitizers/dynamic_tls_probe.cpp
                                        ${VOX_SANITIZER_DEFAULTS})
-  target_compile_definitions(vox_dynamic_tls_probe PRIVATE ${VOX_SANITIZER_DEFINE})
   target_link_libraries(vox_dynamic_tls_probe PRIVATE ${CMAKE_DL_LIBS})
   add_test(NAME sanitizers.dynamic_tls
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/sanitizers/dynamic_tls_test.sh
