@@ -161,6 +161,28 @@ TEST(MeshFootprint, TiltedAndCurvedSurfaces) {
   expectBlocksNear(sphereMesh(1.0, 40, 100), placed(-1.1, 1.1, 24), 1.5, "sphere 24 (triangles smaller than voxels)");
 }
 
+TEST(MeshFootprint, SameAtAnyThreadCount) {
+  // 40,000 triangles: four pieces counted apart and merged, at the fine cells
+  // and with a piece budget that makes the cells coarser.
+  const Mesh m = sphereMesh(1.0, 200, 100);
+  std::vector<uint8_t> cls(m.triangles.size());
+  for (size_t t = 0; t < cls.size(); ++t) cls[t] = uint8_t(t / 997 % 6);  // class borders through cells
+  for (uint64_t budget : {uint64_t(1) << 22, uint64_t(5000)}) {
+    const SceneHeader h = placed(-1.1, 1.1, 300);
+    const SurfaceFootprint one = surfaceFootprint(m, cls, h, budget, 1);
+    EXPECT_GT(one.blocks, 0.0);
+    EXPECT_GT(one.blockClasses, one.blocks);  // several classes in some blocks
+    for (unsigned threads : {2u, 3u, 0u}) {
+      const SurfaceFootprint f = surfaceFootprint(m, cls, h, budget, threads);
+      EXPECT_EQ(f.blocks, one.blocks) << threads << " threads, budget " << budget;
+      EXPECT_EQ(f.blockClasses, one.blockClasses) << threads << " threads";
+      EXPECT_EQ(f.area, one.area) << threads << " threads";
+      EXPECT_EQ(f.enclosedVoxels, one.enclosedVoxels) << threads << " threads";
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(f.crossings[k], one.crossings[k]) << threads << " threads";
+    }
+  }
+}
+
 TEST(MeshFootprint, WindingTablesCountWhereTheyExceedTheBake) {
   // The winding rule's weld and boundary tables live before the blocks: a
   // mesh with many vertices in a coarse grid needs them more than its blocks;

@@ -204,11 +204,12 @@ void VoxelBlocks::setColor(Coord3 c, RgbLinear color) {
 
 void VoxelBlocks::merge(VoxelBlocks&& other) {
   outOfRange_ = outOfRange_ || other.outOfRange_;
-  for (auto& [key, theirs] : other.blocks_) {
+  blocks_.reserve(blocks_.size() + other.blocks_.size());
+  other.blocks_.forEach([&](uint64_t key, std::unique_ptr<VoxelBlock>& theirs) {
     auto& slot = blocks_[key];
     if (!slot) {
       slot = std::move(theirs);
-      continue;
+      return;
     }
     VoxelBlock& mine = *slot;
     if (theirs->hasRuns()) {
@@ -244,7 +245,7 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
           mine.colored[i >> 6] |= uint64_t(1) << (i & 63);
         }
     }
-  }
+  });
   other.blocks_.clear();
   other.lastKey_ = ~uint64_t(0);
   other.last_ = nullptr;
@@ -255,7 +256,7 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
 std::vector<VoxelBlock*> VoxelBlocks::sortedBlocks(BlockOrder less) {
   std::vector<VoxelBlock*> out;
   out.reserve(blocks_.size());
-  for (auto& [key, b] : blocks_) out.push_back(b.get());
+  blocks_.forEach([&](uint64_t, std::unique_ptr<VoxelBlock>& b) { out.push_back(b.get()); });
   if (!less) less = [](const VoxelBlock* a, const VoxelBlock* b) { return a->origin < b->origin; };
   std::sort(out.begin(), out.end(), less);
   return out;
@@ -266,7 +267,7 @@ void VoxelBlocks::validate(const Dims& d, const ClassTable& classes) {
     throw Error(ErrorKind::Internal, "scene dims must be >= 1 on every axis, got " + toString(d));
   if (outOfRange_) throw Error(ErrorKind::Internal, "a voxel lies outside the scene domain " + toString(d));
   const uint32_t dim[3] = {d.x, d.y, d.z};
-  for (const auto& [key, b] : blocks_) {
+  blocks_.forEach([&](uint64_t, const std::unique_ptr<VoxelBlock>& b) {
     const auto& o = b->origin;
     for (int k = 0; k < 3; ++k)
       if (o[k] < 0 || uint32_t(o[k] + kBlockDim - 1) >= dim[k]) {
@@ -287,7 +288,7 @@ void VoxelBlocks::validate(const Dims& d, const ClassTable& classes) {
       if (!classes.find(cb->classId))
         throw Error(ErrorKind::Internal,
                     "class id " + std::to_string(cb->classId) + " has votes but is not in the class table");
-  }
+  });
 }
 
 void VoxelBlocks::release(VoxelBlock& block) {

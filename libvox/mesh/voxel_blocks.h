@@ -18,9 +18,9 @@
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
+#include "libvox/core/flat_map64.h"
 #include "libvox/core/scene_header.h"
 
 namespace vox {
@@ -171,7 +171,7 @@ class VoxelBlocks {
 
  private:
   VoxelBlock& block(int32_t x, int32_t y, int32_t z);
-  std::unordered_map<uint64_t, std::unique_ptr<VoxelBlock>> blocks_;
+  FlatMap64<std::unique_ptr<VoxelBlock>, PackedCoordHome> blocks_;  // block key -> block (which never moves)
   uint64_t lastKey_ = ~uint64_t(0);
   VoxelBlock* last_ = nullptr;
   bool outOfRange_ = false;

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
+#include "libvox/core/flat_map64.h"
+#include "libvox/core/parallel.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -19,12 +20,35 @@ P3 cross(const P3& a, const P3& b) {
 double len(const P3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 P3 mid(const P3& a, const P3& b) { return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}; }
 
-/// Halvings until the longest edge is at most `side`.
+double len2(const P3& a) { return a[0] * a[0] + a[1] * a[1] + a[2] * a[2]; }
+
+/// Halvings until the longest edge is at most `side` (squared lengths: no
+/// square root per edge).
 int splitDepth(const P3 t[3], double side) {
-  const double l = std::max({len(sub(t[1], t[0])), len(sub(t[2], t[1])), len(sub(t[0], t[2]))});
+  const double l2 = std::max({len2(sub(t[1], t[0])), len2(sub(t[2], t[1])), len2(sub(t[0], t[2]))});
   int d = 0;
-  for (double e = l; e > side && d < 30; e /= 2) ++d;
+  for (double e2 = l2; e2 > side * side && d < 30; e2 /= 4) ++d;
   return d;
+}
+
+/// floor and ceil of a grid coordinate as integers, without libm calls (the
+/// build targets baseline x86-64, which has no rounding instruction), clamped
+/// to +-2^52 (far beyond any grid: the caller clamps to the grid).
+int64_t floorToInt(double x) {
+  if (!(x > -0x1p52)) return -(int64_t(1) << 52);
+  if (!(x < 0x1p52)) return int64_t(1) << 52;
+  const int64_t i = int64_t(x);  // toward zero
+  return double(i) > x ? i - 1 : i;
+}
+int64_t ceilToInt(double x) { return -floorToInt(-x); }
+
+/// std::round (halves away from zero) without its libm call, which was a
+/// tenth of the estimate's time: exact for every double.
+double roundHalfAway(double x) {
+  if (!(std::abs(x) < 0x1p52)) return x;  // already an integer (or NaN)
+  const double whole = double(int64_t(x));  // toward zero, exact
+  const double frac = x - whole;            // exact
+  return frac >= 0.5 ? whole + 1 : frac <= -0.5 ? whole - 1 : whole;
 }
 
 /// What one cell of the count holds.
@@ -32,6 +56,13 @@ struct Cell {
   double areaL1 = 0;                // sum of area * |n|_1 of the pieces given to it
   std::array<uint8_t, 4> classes{};  // the first classes seen (enough to tell 1, 2, 3, 4+)
   uint8_t classCount = 0;
+
+  void addClass(uint8_t cls) {
+    for (int i = 0; i < std::min<int>(classCount, 4); ++i)
+      if (classes[size_t(i)] == cls) return;
+    if (classCount < 4) classes[classCount] = cls;
+    if (classCount < 255) ++classCount;
+  }
 };
 
 class CellCounter {
@@ -39,7 +70,7 @@ class CellCounter {
   /// `pieces`: how many pieces will be added; sizes the table (a small mesh
   /// does not pay for zeroing a large one).
   CellCounter(const Dims& dims, double side, uint64_t pieces) : side_(side), dims_(dims) {
-    cells_.reserve(size_t(std::min<uint64_t>(pieces, 1 << 16)));
+    cells_.reserve(size_t(std::min<uint64_t>(pieces, 1 << 16)) / 8);
   }
 
   /// One piece: its bounding box's voxels (closed boxes: a vertex on a voxel
@@ -49,7 +80,7 @@ class CellCounter {
     const uint32_t d[3] = {dims_.x, dims_.y, dims_.z};
     for (int k = 0; k < 3; ++k) {
       const double mn = std::min({t[0][k], t[1][k], t[2][k]}), mx = std::max({t[0][k], t[1][k], t[2][k]});
-      int64_t a = int64_t(std::ceil(mn)) - 1, b = int64_t(std::floor(mx));
+      int64_t a = ceilToInt(mn) - 1, b = floorToInt(mx);
       a = std::max<int64_t>(a, 0);
       b = std::min<int64_t>(b, int64_t(d[k]) - 1);
       if (a > b) return;  // outside the grid (cropped by --bounds)
@@ -59,15 +90,23 @@ class CellCounter {
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z) {
-          Cell& c = cells_[uint64_t(x) << 42 | uint64_t(y) << 21 | uint64_t(z)];
+          Cell& c = cells_[uint64_t(x) << 42 | uint64_t(y) << 21 | uint64_t(z)];  // x, y, z < 2^21: never the empty key
           c.areaL1 += areaL1 / n;
-          bool seen = false;
-          for (int i = 0; i < std::min<int>(c.classCount, 4); ++i) seen |= c.classes[size_t(i)] == cls;
-          if (!seen) {
-            if (c.classCount < 4) c.classes[c.classCount] = cls;
-            if (c.classCount < 255) ++c.classCount;
-          }
+          c.addClass(cls);
         }
+  }
+
+  /// Adds `other`'s cells (its classes beyond the four it names count as
+  /// classes not seen here: an estimate of 4+).
+  void merge(CellCounter&& other) {
+    cells_.reserve(cells_.size() + other.cells_.size());
+    other.cells_.forEach([&](uint64_t key, const Cell& theirs) {
+      Cell& c = cells_[key];
+      c.areaL1 += theirs.areaL1;
+      for (int i = 0; i < std::min<int>(theirs.classCount, 4); ++i) c.addClass(theirs.classes[size_t(i)]);
+      if (theirs.classCount > 4) c.classCount = uint8_t(std::min(255, c.classCount + theirs.classCount - 4));
+    });
+    other.cells_.clear();
   }
 
   void split(const P3 t[3], int depth, double areaL1PerPiece, uint8_t cls) {
@@ -87,26 +126,26 @@ class CellCounter {
   std::pair<double, double> blocks() const {
     const double perSide = side_ / kBlockDim, most = perSide * perSide * perSide;
     double blocks = 0, classes = 0;
-    for (const auto& [key, c] : cells_) {
+    cells_.forEach([&](uint64_t, const Cell& c) {
       const double b = perSide <= 1 ? 1.0 : std::clamp(c.areaL1 / (kBlockDim * kBlockDim) + 0.5, 1.0, most);
       blocks += b;
       // Blocks of a cell with several classes: about half of them hold the
       // second class, and so on (class borders run through cells).
       classes += b * (1 + 0.5 * std::max(0, int(c.classCount) - 1));
-    }
+    });
     return {blocks, classes};
   }
 
  private:
   double side_;
   Dims dims_;
-  std::unordered_map<uint64_t, Cell> cells_;
+  FlatMap64<Cell, PackedCoordHome> cells_;
 };
 
 }  // namespace
 
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
-                                  uint64_t maxPieces) {
+                                  uint64_t maxPieces, unsigned threads) {
   SurfaceFootprint f;
   const size_t nt = mesh.triangles.size();
   if (nt == 0) return f;
@@ -115,21 +154,64 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   // beyond the grid's last voxel boundary still touches the last voxel.
   std::vector<P3> g(mesh.positions.size());
   const double lattice = double(int64_t(1) << kSubvoxelBits);
-  for (size_t i = 0; i < g.size(); ++i)
-    for (int k = 0; k < 3; ++k)
-      g[i][k] = std::round((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
+  parallelForEach((g.size() + 4095) / 4096, threads, 1, [&](size_t chunk) {
+    for (size_t i = chunk * 4096; i < std::min(g.size(), (chunk + 1) * 4096); ++i)
+      for (int k = 0; k < 3; ++k)
+        g[i][k] = roundHalfAway((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
+  });
 
+  // The triangles in up to 4 fixed pieces (whatever --threads; at least 8192
+  // triangles each), each summed and counted on its own and merged in piece
+  // order, so the estimate does not depend on the thread count. Few pieces:
+  // each keeps its own cells until the merge (about one table's worth when
+  // the file's triangles are spatially coherent, at most 4).
+  const size_t nPieces = std::min<size_t>(4, (nt + 8191) / 8192);
+  auto tri = [&](size_t i, P3 t[3]) {
+    for (int k = 0; k < 3; ++k) t[k] = g[mesh.triangles[i][size_t(k)]];
+  };
+
+  // Sums, and every triangle's split depth at cells of one block (8 voxels).
+  struct Sums {
+    double area = 0, crossings[3] = {0, 0, 0}, volume6 = 0;
+    P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    uint64_t splitPieces = 0;
+  };
+  double side = kBlockDim;
+  std::vector<int> depth(nt);
+  std::vector<Sums> sums(nPieces);
+  auto countPieces = [&](size_t b, size_t e, Sums& s) {
+    s.splitPieces = 0;
+    for (size_t i = b; i < e && s.splitPieces <= maxPieces; ++i) {
+      P3 t[3];
+      tri(i, t);
+      depth[i] = splitDepth(t, side);
+      s.splitPieces += depth[i] >= 31 ? maxPieces + 1 : uint64_t(1) << (2 * depth[i]);
+    }
+  };
+  parallelPieces(nt, threads, nPieces, [&](size_t b, size_t e, size_t piece) {
+    Sums& s = sums[piece];
+    for (size_t i = b; i < e; ++i) {
+      P3 t[3];
+      tri(i, t);
+      const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));  // |n| = 2 area
+      s.area += len(n) / 2;
+      for (int k = 0; k < 3; ++k) s.crossings[k] += std::abs(n[k]) / 2;
+      s.volume6 += t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) - t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
+                   t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0]);
+      for (const P3& p : t)
+        for (int k = 0; k < 3; ++k) s.lo[k] = std::min(s.lo[k], p[k]), s.hi[k] = std::max(s.hi[k], p[k]);
+    }
+    countPieces(b, e, s);
+  });
   P3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   double volume6 = 0;
-  for (const auto& tri : mesh.triangles) {
-    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));  // |n| = 2 area
-    f.area += len(n) / 2;
-    for (int k = 0; k < 3; ++k) f.crossings[k] += std::abs(n[k]) / 2;
-    volume6 += t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[2][1]) - t[0][1] * (t[1][0] * t[2][2] - t[1][2] * t[2][0]) +
-               t[0][2] * (t[1][0] * t[2][1] - t[1][1] * t[2][0]);
-    for (const P3& p : t)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  uint64_t pieces = 0;
+  for (const Sums& s : sums) {
+    f.area += s.area;
+    for (int k = 0; k < 3; ++k) f.crossings[k] += s.crossings[k];
+    volume6 += s.volume6;
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.lo[k]), hi[k] = std::max(hi[k], s.hi[k]);
+    pieces = std::min(maxPieces + 1, pieces + s.splitPieces);
   }
   f.enclosedVoxels = std::abs(volume6) / 6;
   const uint32_t dims[3] = {header.dims.x, header.dims.y, header.dims.z};
@@ -140,39 +222,39 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   f.surfaceVoxels = f.crossings[0] + f.crossings[1] + f.crossings[2];
 
   // The cell side: 8 voxels (one block) unless the pieces would be too many.
-  double side = kBlockDim;
-  std::vector<int> depth(nt);
-  uint64_t pieces = 0;
-  for (;;) {
-    pieces = 0;
-    for (size_t i = 0; i < nt && pieces <= maxPieces; ++i) {
-      const auto& tri = mesh.triangles[i];
-      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-      depth[i] = splitDepth(t, side);
-      pieces += depth[i] >= 31 ? maxPieces + 1 : uint64_t(1) << (2 * depth[i]);
-    }
-    if (pieces <= maxPieces || side > 1e9) break;
+  while (pieces > maxPieces && side <= 1e9) {
     side *= 2;
+    parallelPieces(nt, threads, nPieces, [&](size_t b, size_t e, size_t piece) { countPieces(b, e, sums[piece]); });
+    pieces = 0;
+    for (const Sums& s : sums) pieces = std::min(maxPieces + 1, pieces + s.splitPieces);
   }
-  CellCounter counter(header.dims, side, pieces);
-  for (size_t i = 0; i < nt; ++i) {
-    const auto& tri = mesh.triangles[i];
-    const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
-    const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
-    const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
-    counter.split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])), i < triangleClass.size() ? triangleClass[i] : 0);
-  }
-  std::tie(f.blocks, f.blockClasses) = counter.blocks();
+  // Each piece's cells, then merged into the first in piece order.
+  std::vector<CellCounter> counters;
+  counters.reserve(nPieces);
+  for (size_t p = 0; p < nPieces; ++p) counters.emplace_back(header.dims, side, pieces / nPieces + 1);
+  parallelPieces(nt, threads, nPieces, [&](size_t b, size_t e, size_t piece) {
+    for (size_t i = b; i < e; ++i) {
+      P3 t[3];
+      tri(i, t);
+      const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+      const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
+      counters[piece].split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])),
+                            i < triangleClass.size() ? triangleClass[i] : 0);
+    }
+  });
+  for (size_t p = 1; p < nPieces; ++p) counters[0].merge(std::move(counters[p]));
+  std::tie(f.blocks, f.blockClasses) = counters[0].blocks();
   return f;
 }
 
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings) {
   MemoryEstimate e;
-  // Heap blocks carry ~16 bytes of malloc header; a hash-map entry is a node
-  // (key, pointer, next, cached hash) plus a bucket pointer. Blocks on the
+  // Heap blocks carry ~16 bytes of malloc header; the block map's entry is a
+  // key and a pointer in a flat table 1/4 to 1/2 full (flat_map64.h). Blocks on the
   // border of two threads' triangles exist twice until merged, and the
   // writer's compression buffers come on top: +20% (measured, docs/reliability.md).
-  constexpr double kMalloc = 16, kMapEntry = 48 + 8, kShared = 1.20;
+  constexpr double kMalloc = 16, kShared = 1.20;
+  constexpr double kMapEntry = double(FlatMap64<std::unique_ptr<VoxelBlock>, PackedCoordHome>::slotBytesPerKey());
   e.add("surface blocks", f.blocks * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * kShared);
   // A class block keeps a count per voted voxel (grown in doublings from 16:
   // about 1.4x the counts on average, and 16 at least).

@@ -41,9 +41,10 @@ struct SurfaceFootprint {
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
-/// dims). `maxPieces` bounds the work (coarser cells beyond it).
+/// dims). `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
+/// `threads` workers (0: every core); the result does not depend on them.
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
-                                  uint64_t maxPieces = uint64_t(1) << 22);
+                                  uint64_t maxPieces = uint64_t(1) << 22, unsigned threads = 1);
 
 /// The parts of a bake's peak beyond what is resident before it (the mesh is
 /// counted by the caller): vote blocks, colour blocks, solid-fill bits and

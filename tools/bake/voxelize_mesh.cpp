@@ -462,7 +462,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   if (deferred && deferred->images() > 0) settings.textureRows = &none;
   const bool sdf = o.method == VoxelizeMethod::Sdf;
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
-    vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces);
+    vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces, run.threads());
     if (header.region) scaleToRegion(f, p, header);
     vox::MemoryEstimate e;
     e.add("resident before the bake", resident);
