@@ -10,7 +10,10 @@
 namespace vox {
 
 struct DeferredTextures::Image {
-  std::string bytes, name;
+  std::string owned;                 // the encoded bytes when they were handed over
+  std::shared_ptr<const void> owner;  // or what keeps them alive where they are
+  std::string_view bytes;            // the encoded bytes, in `owned` or `owner`'s memory
+  std::string name;
   std::vector<size_t> textures;  // the mesh textures whose pixels it is
   uint32_t width = 0, height = 0;  // from the header (0: it does not read)
   uint64_t decoderBytes = 0;       // textureDecoderBytes
@@ -35,7 +38,11 @@ class DeferredTextures::Reader final : public TextureRowReader {
   uint32_t height() const override { return decoder_.height(); }
   void read(uint8_t* rgba, uint32_t count) override {
     run([&](std::string& why) { return decoder_.read(rgba, count, why); });
-    if (decoder_.rowsRead() == decoder_.height()) image_.bytes = std::string();  // read to its end
+    if (decoder_.rowsRead() == decoder_.height()) {  // read to its end: its bytes are no longer needed
+      image_.bytes = {};
+      image_.owned = std::string();
+      image_.owner.reset();
+    }
   }
 
  private:
@@ -57,8 +64,21 @@ DeferredTextures::~DeferredTextures() = default;
 
 size_t DeferredTextures::addImage(std::string bytes, std::string name) {
   auto image = std::make_unique<Image>();
-  image->bytes = std::move(bytes);
+  image->owned = std::move(bytes);
+  image->bytes = image->owned;  // the Image never moves (held by pointer)
   image->name = std::move(name);
+  return add(std::move(image));
+}
+
+size_t DeferredTextures::addImage(std::shared_ptr<const void> owner, std::string_view bytes, std::string name) {
+  auto image = std::make_unique<Image>();
+  image->owner = std::move(owner);
+  image->bytes = bytes;
+  image->name = std::move(name);
+  return add(std::move(image));
+}
+
+size_t DeferredTextures::add(std::unique_ptr<Image> image) {
   if (!textureImageSize(image->bytes, image->width, image->height)) image->width = image->height = 0;
   image->decoderBytes = textureDecoderBytes(image->bytes);
   images_.push_back(std::move(image));

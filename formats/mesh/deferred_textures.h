@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "libvox/mesh/texture_rows.h"
@@ -68,12 +69,17 @@ class DeferredTextures final : public TextureRowSource {
   /// Adds an image to decode: its encoded bytes, and `name` for the error
   /// message ("model.glb: image 3 'wood.jpg'"). Returns its index.
   size_t addImage(std::string bytes, std::string name);
+  /// The same for bytes that stay where they are, in memory `owner` keeps
+  /// alive (a glTF model's buffer): no copy; `owner` is let go once the image
+  /// has been read.
+  size_t addImage(std::shared_ptr<const void> owner, std::string_view bytes, std::string name);
   /// Texture `meshTexture` of the mesh being read uses image `image`'s pixels.
   void addTexture(size_t image, size_t meshTexture);
 
  private:
   struct Image;
   class Reader;
+  size_t add(std::unique_ptr<Image> image);
   std::vector<std::unique_ptr<Image>> images_;
 };
 

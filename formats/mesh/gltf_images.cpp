@@ -16,12 +16,15 @@ bool keepEncoded(tinygltf::Image* image, const int index, std::string*, std::str
                  const unsigned char* bytes, int size, void* user) {
   auto& images = *static_cast<EncodedImages*>(user);
   if (index < 0) return false;
-  if (size_t(index) >= images.bytes.size()) {
-    images.bytes.resize(size_t(index) + 1);
-    images.received.resize(size_t(index) + 1, 0);
+  if (size_t(index) >= images.received.size()) images.resize(size_t(index) + 1);
+  const size_t n = size_t(std::max(size, 0));
+  if (image->bufferView >= 0) {  // `bytes` lies in the model's buffer, which outlives the load
+    images.inModel[size_t(index)] = std::string_view(reinterpret_cast<const char*>(bytes), n);
+    images.received[size_t(index)] = 2;
+  } else {
+    images.owned[size_t(index)].assign(reinterpret_cast<const char*>(bytes), n);
+    images.received[size_t(index)] = 1;
   }
-  images.bytes[size_t(index)].assign(reinterpret_cast<const char*>(bytes), size_t(std::max(size, 0)));
-  images.received[size_t(index)] = 1;
   image->width = image->height = image->component = image->bits = -1;  // not decoded (yet)
   return true;
 }
@@ -43,8 +46,7 @@ void deferImageDecoding(tinygltf::TinyGLTF& loader, EncodedImages& images) { loa
 
 void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
                   const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings) {
-  images.bytes.resize(model.images.size());
-  images.received.resize(model.images.size(), 0);
+  images.resize(model.images.size());
   std::vector<size_t> todo;
   for (size_t i = 0; i < needed.size() && i < model.images.size(); ++i)
     if (needed[i] && images.received[i]) todo.push_back(i);
@@ -52,11 +54,11 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
   std::vector<Decoded> out(todo.size());
   tbb::parallel_for(
       size_t(0), todo.size(),
-      [&](size_t k) { out[k].ok = decodeTextureImage(images.bytes[todo[k]], out[k].image, out[k].why); },
+      [&](size_t k) { out[k].ok = decodeTextureImage(images.bytes(todo[k]), out[k].image, out[k].why); },
       tbb::simple_partitioner());
   for (size_t k = 0; k < todo.size(); ++k) {
     tinygltf::Image& im = model.images[todo[k]];
-    images.bytes[todo[k]] = std::string();
+    images.owned[todo[k]] = std::string();
     if (!out[k].ok) {
       const std::string what = imageName(path, todo[k], im) + " cannot be decoded (" + out[k].why + ")";
       if (options.ignoreMissingMaterials) {
@@ -74,14 +76,17 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
   }
 }
 
-std::vector<int> decodeImagesLater(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
-                                   const std::string& path, DeferredTextures& deferred) {
-  images.bytes.resize(model.images.size());
-  images.received.resize(model.images.size(), 0);
-  std::vector<int> jobOf(model.images.size(), -1);
-  for (size_t i = 0; i < needed.size() && i < model.images.size(); ++i)
-    if (needed[i] && images.received[i])
-      jobOf[i] = int(deferred.addImage(std::move(images.bytes[i]), imageName(path, i, model.images[i])));
+std::vector<int> decodeImagesLater(const std::shared_ptr<tinygltf::Model>& model, EncodedImages& images,
+                                   const std::vector<char>& needed, const std::string& path, DeferredTextures& deferred) {
+  const size_t n = model->images.size();
+  images.resize(n);
+  std::vector<int> jobOf(n, -1);
+  for (size_t i = 0; i < needed.size() && i < n; ++i) {
+    if (!needed[i] || !images.received[i]) continue;
+    std::string name = imageName(path, i, model->images[i]);
+    jobOf[i] = int(images.isInModel(i) ? deferred.addImage(model, images.bytes(i), std::move(name))
+                                       : deferred.addImage(std::move(images.owned[i]), std::move(name)));
+  }
   return jobOf;
 }
 

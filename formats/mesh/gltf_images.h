@@ -7,7 +7,9 @@
 // The result does not depend on the thread count: each image is decoded on its own.
 #pragma once
 
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "formats/mesh/deferred_textures.h"
@@ -20,11 +22,24 @@ class TinyGLTF;
 
 namespace vox {
 
-/// Every image's encoded bytes as tinygltf found them (a data URI, a
-/// bufferView, an external file), by image index.
+/// Every image's encoded bytes as tinygltf found them, by image index: a
+/// bufferView's bytes are not copied but seen where they are, in the model's
+/// buffer (valid while the model lives: a textured .glb's images are most of
+/// its bytes, and copying them cost as much fresh memory again); a data URI's
+/// or an external file's, which tinygltf frees after handing them over, are
+/// kept here.
 struct EncodedImages {
-  std::vector<std::string> bytes;
+  std::vector<std::string> owned;             // data URIs and external files
+  std::vector<std::string_view> inModel;      // bufferView images: their bytes in model.buffers
   std::vector<char> received;  // 0: tinygltf never delivered the image (an external file it could not read)
+
+  std::string_view bytes(size_t i) const { return received[i] == 2 ? inModel[i] : std::string_view(owned[i]); }
+  bool isInModel(size_t i) const { return received[i] == 2; }
+  void resize(size_t n) {
+    owned.resize(n);
+    inModel.resize(n);
+    received.resize(n, 0);
+  }
 };
 
 /// Makes `loader` store each image's bytes in `images` instead of decoding it.
@@ -39,10 +54,11 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
                   const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings);
 
 /// The same images left to `deferred` (formats/mesh/deferred_textures.h),
-/// which the bake decodes: their encoded bytes move to it, and model.images
-/// stays undecoded. Returns each image's index in `deferred`, or -1 for the
-/// images not decoded (not needed, or never received).
-std::vector<int> decodeImagesLater(tinygltf::Model& model, EncodedImages& images, const std::vector<char>& needed,
-                                   const std::string& path, DeferredTextures& deferred);
+/// which the bake decodes: their encoded bytes move to it (those in the
+/// model's buffers stay there, and `model` is kept alive until they are
+/// read), and model.images stays undecoded. Returns each image's index in
+/// `deferred`, or -1 for the images not decoded (not needed, or never received).
+std::vector<int> decodeImagesLater(const std::shared_ptr<tinygltf::Model>& model, EncodedImages& images,
+                                   const std::vector<char>& needed, const std::string& path, DeferredTextures& deferred);
 
 }  // namespace vox

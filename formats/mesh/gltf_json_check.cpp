@@ -224,7 +224,7 @@ class Checker {
 
 // The .glb header is checked here only as far as finding the JSON chunk needs;
 // tinygltf checks the rest.
-std::string gltfJsonText(const std::string& bytes, bool isBinary) {
+std::string_view gltfJsonText(std::string_view bytes, bool isBinary) {
   if (!isBinary) return bytes;
   uint32_t header[5] = {};
   if (bytes.size() < sizeof header) return {};
@@ -239,9 +239,9 @@ void checkGltfJson(const std::string& path) {
   checkGltfJsonBytes(readFileBytes(path), path, hasExtension(path, ".glb"));
 }
 
-void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary) {
-  const std::string text = gltfJsonText(bytes, isBinary);
-  const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
+void checkGltfJsonBytes(std::string_view bytes, const std::string& path, bool isBinary) {
+  const std::string_view text = gltfJsonText(bytes, isBinary);
+  const json doc = json::parse(text.data(), text.data() + text.size(), nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object()) return;  // tinygltf names the parse error
   Checker(doc, path).run();
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 namespace vox {
 
@@ -22,10 +23,11 @@ void checkGltfJson(const std::string& path);
 
 /// The same on the file's bytes already in memory: `isBinary` says they are a
 /// .glb container; `path` is used in messages only.
-void checkGltfJsonBytes(const std::string& bytes, const std::string& path, bool isBinary);
+void checkGltfJsonBytes(std::string_view bytes, const std::string& path, bool isBinary);
 
 /// The JSON text of a glTF file's bytes: all of a .gltf, or the JSON chunk of
-/// a .glb (empty when the .glb header or first chunk is not well formed).
-std::string gltfJsonText(const std::string& bytes, bool isBinary);
+/// a .glb (empty when the .glb header or first chunk is not well formed); a
+/// view into `bytes`.
+std::string_view gltfJsonText(std::string_view bytes, bool isBinary);
 
 }  // namespace vox

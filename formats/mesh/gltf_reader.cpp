@@ -176,12 +176,13 @@ bool readWholeGltfFile(std::vector<unsigned char>* out, std::string* err, const 
 ///   that use it are decoded from the compressed buffer, gltf_meshopt.h).
 /// Returns the file's bytes rewritten (the .glb container rebuilt around the
 /// new JSON chunk), or nullopt when nothing needs it.
-std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBinary) {
-  if (bytes.find("KHR_draco_mesh_compression") == std::string::npos &&
-      bytes.find("EXT_meshopt_compression") == std::string::npos)
+std::optional<std::string> tinygltfReadable(std::string_view bytes, bool isBinary) {
+  // Only the JSON can name an extension (a binary chunk may hold the words by chance).
+  const std::string_view text = gltfJsonText(bytes, isBinary);
+  if (text.find("KHR_draco_mesh_compression") == std::string_view::npos &&
+      text.find("EXT_meshopt_compression") == std::string_view::npos)
     return std::nullopt;
-  const std::string text = gltfJsonText(bytes, isBinary);
-  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  nlohmann::json doc = nlohmann::json::parse(text.data(), text.data() + text.size(), nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object()) return std::nullopt;
   bool changed = false;
   auto hasExtension = [](const nlohmann::json& o, const char* name) {
@@ -224,16 +225,18 @@ std::optional<std::string> tinygltfReadable(const std::string& bytes, bool isBin
   while (json.size() % 4) json.push_back(' ');
   uint32_t oldLength;
   std::memcpy(&oldLength, bytes.data() + 12, 4);
-  const std::string rest = bytes.substr(20 + size_t(oldLength));
+  const std::string_view rest = bytes.substr(20 + size_t(oldLength));
   const uint32_t header[5] = {0x46546C67u, 2, uint32_t(20 + json.size() + rest.size()), uint32_t(json.size()), 0x4E4F534Au};
   std::string out(reinterpret_cast<const char*>(header), sizeof header);
-  return out + json + rest;
+  out += json;
+  out += rest;
+  return out;
 }
 
 /// Loads the container (tinygltf: JSON or GLB, buffers; images kept encoded in `images`) from
 /// the file's bytes; external buffers and images are read beside `path`.
 /// Checks the JSON first (gltf_json_check.h): unsupported required extensions, malformed ranges and indices are refused by name.
-tinygltf::Model loadModel(const std::string& bytes, const std::string& path, bool isBinary, EncodedImages& images,
+tinygltf::Model loadModel(std::string_view bytes, const std::string& path, bool isBinary, EncodedImages& images,
                           std::vector<std::string>& warnings) {
   tinygltf::TinyGLTF loader;
   deferImageDecoding(loader, images);
@@ -243,7 +246,7 @@ tinygltf::Model loadModel(const std::string& bytes, const std::string& path, boo
   std::string err, warn;
   checkGltfJsonBytes(bytes, path, isBinary);
   const std::optional<std::string> rewritten = tinygltfReadable(bytes, isBinary);
-  const std::string& input = rewritten ? *rewritten : bytes;
+  const std::string_view input = rewritten ? std::string_view(*rewritten) : bytes;
   // tinygltf's base directory of a path (its GetBaseDir): external URIs resolve
   // against it exactly as LoadASCIIFromFile / LoadBinaryFromFile resolve them.
   const size_t slash = path.find_last_of("/\\");
@@ -820,14 +823,19 @@ void padVertexAttributes(Mesh& mesh) {
 
 Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
               DeferredTextures* deferred) {
-  requireRegularFile(path);
-  return readGltfMemory(readFileBytes(path), path, hasExtension(path, ".glb"), options, warnings, deferred);
+  // Mapped, not read: the file's bytes are not copied (tinygltf copies the
+  // .glb's binary chunk once, and the images stay in that copy).
+  const FileView file(path);
+  return readGltfMemory(std::string_view(file.data(), file.size()), path, hasExtension(path, ".glb"), options, warnings,
+                        deferred);
 }
 
-Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
+Mesh readGltfMemory(std::string_view bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
                     std::vector<std::string>& warnings, DeferredTextures* deferred) {
   EncodedImages encoded;
-  tinygltf::Model model = loadModel(bytes, path, isBinary, encoded, warnings);
+  // Shared: images left to `deferred` are read from the model's buffers after this returns.
+  const auto modelPtr = std::make_shared<tinygltf::Model>(loadModel(bytes, path, isBinary, encoded, warnings));
+  tinygltf::Model& model = *modelPtr;
   Mesh mesh;
   listFilesRead(model, path, mesh);
   refuseMissingImages(model, encoded, path, options, warnings);
@@ -835,7 +843,7 @@ Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBi
   // be known when the read returns: those files decode here.
   if (options.ignoreMissingMaterials) deferred = nullptr;
   std::vector<int> jobOf;
-  if (deferred) jobOf = decodeImagesLater(model, encoded, colourImages(model), path, *deferred);
+  if (deferred) jobOf = decodeImagesLater(modelPtr, encoded, colourImages(model), path, *deferred);
   else decodeImages(model, encoded, colourImages(model), path, options, warnings);
   const uint32_t defaultMaterial = addMaterials(model, path, mesh, warnings, deferred, jobOf);
   NodeWalker walker(model, path, defaultMaterial, mesh, warnings);

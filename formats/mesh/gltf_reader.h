@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "formats/mesh/deferred_textures.h"
@@ -42,7 +43,7 @@ Mesh readGltf(const std::string& path, const MeshReadOptions& options, std::vect
 /// readGltf reads the file and calls it). `isBinary`: the bytes are a .glb
 /// container, else .gltf JSON. `path` names the input in messages, and its
 /// directory is where external buffers and images are looked for.
-Mesh readGltfMemory(const std::string& bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
+Mesh readGltfMemory(std::string_view bytes, const std::string& path, bool isBinary, const MeshReadOptions& options,
                     std::vector<std::string>& warnings, DeferredTextures* deferred = nullptr);
 
 }  // namespace vox

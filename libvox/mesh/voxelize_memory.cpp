@@ -139,7 +139,7 @@ class CellCounter {
  private:
   double side_;
   Dims dims_;
-  FlatMap64<Cell, PackedCoordHome> cells_;
+  FlatMap64<Cell> cells_;
 };
 
 }  // namespace
