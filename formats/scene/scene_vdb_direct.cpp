@@ -113,15 +113,20 @@ void appendPod(std::string& out, const T& v) {
 // OpenVDB's bloscToStream: int64 size then the Blosc frame (LZ4, level 9,
 // shuffle, typesize 4, one block), or -size and the raw bytes when Blosc fails.
 void appendBlosc(std::string& out, const void* data, size_t bytes) {
-  std::vector<char> frame(bytes + BLOSC_MAX_OVERHEAD);
-  const int n = blosc_compress_ctx(9, 1, sizeof(float), bytes, data, frame.data(), frame.size(), BLOSC_LZ4_COMPNAME,
+  // One frame buffer per thread, grown and never zeroed: a fresh zeroed
+  // vector per leaf was a malloc, a memset and a free for every leaf written.
+  thread_local std::vector<char> frameBuffer;
+  if (frameBuffer.size() < bytes + BLOSC_MAX_OVERHEAD) frameBuffer.resize(bytes + BLOSC_MAX_OVERHEAD);
+  char* frame = frameBuffer.data();
+  const size_t frameSize = bytes + BLOSC_MAX_OVERHEAD;
+  const int n = blosc_compress_ctx(9, 1, sizeof(float), bytes, data, frame, frameSize, BLOSC_LZ4_COMPNAME,
                                    bytes, 1);
   if (n <= 0) {
     appendPod(out, -int64_t(bytes));
     append(out, data, bytes);
   } else {
     appendPod(out, int64_t(n));
-    append(out, frame.data(), size_t(n));
+    append(out, frame, size_t(n));
   }
 }
 
