@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <random>
 
 #include "formats/image/image.h"
 #include "formats/mesh/mesh_input.h"
@@ -66,6 +67,60 @@ TEST(ObjReader, ErrorsNameTheLine) {
   voxtest::writeText(dir.file("e.obj"), "v 0 0 0\nf 1 1\n");
   EXPECT_TRUE(rejects(dir.file("e.obj"), {"e.obj:2", "at least 3"}));
   EXPECT_EQ(read((voxtest::writeText(dir.file("empty.obj"), ""), dir.file("empty.obj"))).triangleCount(), 0u);
+}
+
+// The parallel pre-pass must not change anything: the same OBJ text split into
+// chunks of 1, 5 and 64 bytes (boundaries inside every kind of line, CRLF
+// included) gives the mesh, warnings and error of one chunk. The texts mix
+// every line form, the pre-pass's and the serial pass's, and errors on
+// either kind of line.
+TEST(ObjReader, SameResultWhateverTheChunks) {
+  const std::vector<std::string> good = {"v 0 0 0", "v 1 0 0", "v 0 1 0", "v 0 0 1", "vt 0 0", "vt 1 1",
+                                         "f 1 2 3", "f -1 -2 -3", "f 1//1 2//2 3//3", "f 1/1 2/2 3/1", "f 1 2 3 4",
+                                         "g part", "o other", "usemtl red", "# c", "", "  ", "v 1 1 1 0.5 0.2 0.1",
+                                         "v 2 2 2 1", "\tv\t3 3 3", "vn 0 0 1", "s off"};
+  const std::vector<std::string> bad = {"f 1 2", "f 1 2 99", "f 0 1 2", "f 1 2 x", "f 1/9 2 3", "f +1 2 3",
+                                        "v 1 2", "v 1 2 nan", "v 1 2 3 x", "v 1e999 0 0", "f 1 2 3 # c",
+                                        "f 99999999999 1 2", "v +1 +2 +3", "f -99 1 2", "f 1//x 2 3"};
+  std::mt19937 rng(3);
+  for (int i = 0; i < 200; ++i) {
+    std::vector<std::string> lines = {"v 0 0 0", "v 1 0 0", "v 0 1 0", "v 0 0 1", "vt 0 0"};
+    for (int k = int(rng() % 40); k > 0; --k) lines.push_back(good[rng() % good.size()]);
+    if (i % 3 == 0) lines.insert(lines.begin() + 5 + rng() % (lines.size() - 4), bad[rng() % bad.size()]);
+    const std::string nl = i % 5 == 0 ? "\r\n" : "\n";
+    std::string text;
+    for (const std::string& l : lines) text += l + nl;
+    if (i % 4 == 0) text.resize(text.size() - nl.size());  // no newline at the end
+    MeshReadOptions options;
+    options.dropInvalid = i % 2 == 0;
+    auto parse = [&](size_t chunkBytes, std::vector<std::string>& warnings, std::string& error) {
+      try {
+        return parseObj(text.data(), text.size(), "t.obj", options, warnings, "", chunkBytes);
+      } catch (const Error& e) {
+        error = e.what();
+        return Mesh{};
+      }
+    };
+    std::vector<std::string> w0;
+    std::string e0;
+    const Mesh m0 = parse(size_t(1) << 20, w0, e0);
+    for (size_t chunkBytes : {size_t(1), size_t(5), size_t(64)}) {
+      std::vector<std::string> w;
+      std::string e;
+      const Mesh m = parse(chunkBytes, w, e);
+      const std::string what = "text " + std::to_string(i) + ", chunks of " + std::to_string(chunkBytes) + " bytes";
+      EXPECT_EQ(e, e0) << what;
+      EXPECT_EQ(w, w0) << what;
+      EXPECT_EQ(m.positions, m0.positions) << what;
+      EXPECT_EQ(m.triangles, m0.triangles) << what;
+      EXPECT_EQ(m.triangleMaterial, m0.triangleMaterial) << what;
+      EXPECT_EQ(m.trianglePart, m0.trianglePart) << what;
+      EXPECT_EQ(m.uv0, m0.uv0) << what;
+      EXPECT_EQ(m.colors, m0.colors) << what;
+      EXPECT_EQ(m.materials.size(), m0.materials.size()) << what;
+      EXPECT_EQ(m.parts.size(), m0.parts.size()) << what;
+    }
+  }
 }
 
 TEST(StlReader, AsciiAndBinaryIncludingASolidHeader) {

@@ -59,3 +59,35 @@ TEST(Parallel, WorkerCount) {
   EXPECT_EQ(vox::workerCount(3), 3u);
   EXPECT_GE(vox::workerCount(0), 1u);
 }
+
+TEST(Parallel, OrderedPipelineConsumesInOrderWithinItsWindow) {
+  for (unsigned threads : {1u, 2u, 4u}) {
+    const size_t n = 500, window = 3;
+    std::vector<std::atomic<int>> produced(n);
+    std::atomic<size_t> ahead{0}, mostAhead{0};
+    std::vector<size_t> order;
+    vox::orderedPipeline(
+        n, threads, window,
+        [&](size_t i) {
+          ++produced[i];
+          const size_t now = ++ahead;
+          for (size_t seen = mostAhead; now > seen && !mostAhead.compare_exchange_weak(seen, now);) {
+          }
+        },
+        [&](size_t i) {
+          ASSERT_EQ(produced[i].load(), 1) << "consumed before (or without) being produced";
+          --ahead;
+          order.push_back(i);
+        });
+    ASSERT_EQ(order.size(), n) << threads << " threads";
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(order[i], i) << threads << " threads";
+    for (size_t i = 0; i < n; ++i) EXPECT_EQ(produced[i].load(), 1);
+    EXPECT_LE(mostAhead.load(), window) << "items produced but not consumed at once, " << threads << " threads";
+  }
+  EXPECT_THROW(vox::orderedPipeline(
+                   100, 2, 4, [](size_t) {}, [](size_t i) { if (i == 40) throw std::runtime_error("z"); }),
+               std::runtime_error);
+  EXPECT_THROW(vox::orderedPipeline(
+                   100, 2, 4, [](size_t i) { if (i == 60) throw std::runtime_error("w"); }, [](size_t) {}),
+               std::runtime_error);
+}

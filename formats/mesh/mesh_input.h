@@ -39,8 +39,13 @@ Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::
 bool isMeshFile(const std::string& path);
 
 // Parsers over bytes in memory (the file readers and the fuzz targets use them).
+/// OBJ: the numbers of "v" and "f" lines are read in parallel, in chunks of
+/// about `chunkBytes` of whole lines (on TBB's threads); the result, warnings
+/// and errors do not depend on the chunks or the threads (tests split files
+/// into tiny chunks to check it).
 Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
-              std::vector<std::string>& warnings, const std::string& baseDir = "");
+              std::vector<std::string>& warnings, const std::string& baseDir = "",
+              size_t chunkBytes = size_t(1) << 20);
 Mesh parseStl(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings);
 Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,

@@ -1,7 +1,12 @@
-// Wavefront OBJ + MTL. Hand-written rather than a library: one pass over the
-// bytes with std::from_chars, no per-line allocation, which is what reaching
-// 100 MB/s takes.
+// Wavefront OBJ + MTL. Hand-written rather than a library: std::from_chars,
+// no per-line allocation, which is what reaching 100 MB/s takes. A large file
+// is read in two passes: its "v" and "f" lines' numbers in parallel, chunk by
+// chunk (the numbers are most of the work), then every line in file order on
+// one thread (index resolution, vertex numbering, materials, errors), so the
+// mesh and every message are those of a single pass.
+#include <array>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -12,7 +17,7 @@
 #include "formats/mesh/mesh_input.h"
 #include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
-
+#include "libvox/core/parallel.h"
 
 namespace vox {
 
@@ -203,6 +208,24 @@ class ObjParser {
     objColors_.push_back(color);
   }
 
+  /// A "v x y z" line the pre-pass read (no w, no colour): what vertex() does with it.
+  void parsedVertex(const std::array<double, 3>& p, size_t line) {
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      if (!invalidVertices_++) firstInvalidLine_ = line, firstInvalidVertex_ = objPositions_.size() + 1;
+    }
+    objPositions_.push_back(p);
+    vertexOfObj_.push_back(UINT32_MAX);
+    objColors_.push_back({1, 1, 1, 1});
+  }
+
+  /// An "f" line of `n` plain vertex indices (as written) that the pre-pass
+  /// read: what face() does with it.
+  void parsedFace(const int32_t* v, size_t n, size_t line) {
+    face_.clear();
+    for (size_t k = 0; k < n; ++k) face_.push_back({resolve(v[k], objPositions_.size(), line, "vertex"), -1});
+    triangulate(line);
+  }
+
   /// "vt s [t]".
   void texcoord(Cursor& c) {
     const float s = float(number(c, name_, "a texture coordinate"));
@@ -215,7 +238,12 @@ class ObjParser {
   /// fan-triangulated, in the current material and part.
   void face(Cursor& c) {
     readCorners(c);
-    if (face_.size() < 3) bad(name_, c.line, "a face needs at least 3 vertices");
+    triangulate(c.line);
+  }
+
+  /// face_ as triangles of the current material and part.
+  void triangulate(size_t line) {
+    if (face_.size() < 3) bad(name_, line, "a face needs at least 3 vertices");
     if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
     const uint32_t first = meshVertex(face_[0]);
     for (size_t k = 1; k + 1 < face_.size(); ++k) {  // fan triangulation
@@ -397,28 +425,159 @@ class ObjParser {
   size_t invalidVertices_ = 0, firstInvalidLine_ = 0, firstInvalidVertex_ = 0;  // NaN/Inf "v" lines
 };
 
+/// One line in the serial pass, as the single pass reads it.
+void parseLine(ObjParser& obj, Cursor& c) {
+  c.skipSpaces();
+  if (c.atEol() || *c.p == '#') return;
+  const std::string_view key = c.word();
+  if (key == "v") obj.vertex(c);
+  else if (key == "vt") obj.texcoord(c);
+  else if (key == "f") obj.face(c);
+  else if (key == "o" || key == "g") obj.part(c);
+  else if (key == "usemtl") obj.useMaterial(c);
+  else if (key == "mtllib") obj.materialLibraries(c);
+}
+
+/// What the parallel pre-pass makes of one chunk of whole lines. Each line is
+/// skipped (blank, comment, a keyword vox ignores), read here (a plain "v x y
+/// z" or an "f" of plain vertex indices, optionally with "//normal"), or left
+/// to the serial pass (every other form, and any line that does not read
+/// cleanly, so its error message is the single pass's).
+struct ObjChunk {
+  static constexpr uint8_t kSkip = 0, kSerial = 1, kVertex = 2;  // 3..255: a face of that many corners
+  const char* begin = nullptr;
+  const char* end = nullptr;
+  std::vector<uint8_t> kind;                    // per line
+  std::vector<const char*> serialLines;         // where each kSerial line starts
+  std::vector<std::array<double, 3>> vertices;  // kVertex lines, in order
+  std::vector<int32_t> corners;                 // face lines' indices as written, in order
+};
+
+/// `number` without throwing: false where it would throw.
+bool tryNumber(Cursor& c, double& v) {
+  c.skipSpaces();
+  const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
+  auto [ptr, ec] = std::from_chars(b, c.end, v);
+  if (ec != std::errc() || ptr == b) return false;
+  c.p = ptr;
+  return true;
+}
+
+/// A "v" line's rest, if it is exactly three numbers (then end of line or a comment).
+bool tryPlainVertex(Cursor& c, std::array<double, 3>& p) {
+  for (int k = 0; k < 3; ++k)
+    if (!tryNumber(c, p[size_t(k)])) return false;
+  c.skipSpaces();
+  return c.atEol() || *c.p == '#';
+}
+
+/// An "f" line's rest, if every corner is "v" or "v//vn" with v in int32 and
+/// 3 to 255 corners; the indices are appended to `out`.
+bool tryPlainFace(Cursor& c, std::vector<int32_t>& out, size_t& n) {
+  n = 0;
+  while (true) {
+    c.skipSpaces();
+    if (c.atEol()) break;
+    int64_t v = 0;
+    auto [ptr, ec] = std::from_chars(c.p, c.end, v);
+    if (ec != std::errc() || v < INT32_MIN || v > INT32_MAX) return false;
+    c.p = ptr;
+    if (c.p < c.end && *c.p == '/') {
+      if (c.p + 1 >= c.end || c.p[1] != '/') return false;  // a texture coordinate: the serial pass
+      c.p += 2;
+      int64_t vn = 0;
+      auto [p3, e3] = std::from_chars(c.p, c.end, vn);
+      if (e3 == std::errc()) c.p = p3;
+    }
+    if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') return false;
+    out.push_back(int32_t(v));
+    if (++n > 255) return false;
+  }
+  return n >= 3;
+}
+
+void prepassChunk(ObjChunk& chunk) {
+  Cursor c{chunk.begin, chunk.end};
+  while (c.p < c.end) {
+    const char* line = c.p;
+    c.skipSpaces();
+    uint8_t kind = ObjChunk::kSkip;
+    if (!c.atEol() && *c.p != '#') {
+      const std::string_view key = c.word();
+      if (key == "v") {
+        std::array<double, 3> p;
+        if (tryPlainVertex(c, p)) {
+          chunk.vertices.push_back(p);
+          kind = ObjChunk::kVertex;
+        } else {
+          kind = ObjChunk::kSerial;
+        }
+      } else if (key == "f") {
+        const size_t before = chunk.corners.size();
+        size_t n = 0;
+        if (tryPlainFace(c, chunk.corners, n)) {
+          kind = uint8_t(n);
+        } else {
+          chunk.corners.resize(before);
+          kind = ObjChunk::kSerial;
+        }
+      } else if (key == "vt" || key == "o" || key == "g" || key == "usemtl" || key == "mtllib") {
+        kind = ObjChunk::kSerial;
+      }
+    }
+    if (kind == ObjChunk::kSerial) chunk.serialLines.push_back(line);
+    chunk.kind.push_back(kind);
+    c.nextLine();
+  }
+}
+
+/// Chunks of about `chunkBytes` of whole lines (the count depends on the file only).
+std::vector<ObjChunk> splitIntoChunks(const char* data, size_t size, size_t chunkBytes) {
+  std::vector<ObjChunk> chunks;
+  for (const char* b = data; b < data + size;) {
+    const char* e = data + std::min(size, size_t(b - data) + std::max<size_t>(1, std::min(chunkBytes, size)));
+    if (e < data + size) {
+      const void* nl = std::memchr(e, '\n', size_t(data + size - e));
+      e = nl ? static_cast<const char*>(nl) + 1 : data + size;
+    }
+    chunks.emplace_back();
+    chunks.back().begin = b;
+    chunks.back().end = e;
+    b = e;
+  }
+  return chunks;
+}
+
 }  // namespace
 
 Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
-              std::vector<std::string>& warnings, const std::string& baseDir) {
+              std::vector<std::string>& warnings, const std::string& baseDir, size_t chunkBytes) {
   ObjParser obj(name, options, warnings, baseDir);
   obj.reserveFor(data, size);
-  Cursor c{data, data + size};
-  while (c.p < c.end) {
-    c.skipSpaces();
-    if (c.atEol() || *c.p == '#') {
-      c.nextLine();
-      continue;
-    }
-    const std::string_view key = c.word();
-    if (key == "v") obj.vertex(c);
-    else if (key == "vt") obj.texcoord(c);
-    else if (key == "f") obj.face(c);
-    else if (key == "o" || key == "g") obj.part(c);
-    else if (key == "usemtl") obj.useMaterial(c);
-    else if (key == "mtllib") obj.materialLibraries(c);
-    c.nextLine();
-  }
+  std::vector<ObjChunk> chunks = splitIntoChunks(data, size, chunkBytes);
+  // Each chunk's numbers on TBB's threads (capped at --threads by the CLI), a
+  // few chunks ahead of the in-order pass, which frees each chunk's arrays
+  // for the next ones: the pre-pass adds a few MB, not a copy of the mesh.
+  size_t line = 1;
+  orderedPipeline(
+      chunks.size(), 0, 2 * size_t(workerCount(0)), [&](size_t i) { prepassChunk(chunks[i]); },
+      [&](size_t i) {
+        ObjChunk& chunk = chunks[i];
+        size_t vertex = 0, corner = 0, serial = 0;
+        for (const uint8_t kind : chunk.kind) {
+          if (kind == ObjChunk::kVertex) {
+            obj.parsedVertex(chunk.vertices[vertex++], line);
+          } else if (kind >= 3) {
+            obj.parsedFace(chunk.corners.data() + corner, kind, line);
+            corner += kind;
+          } else if (kind == ObjChunk::kSerial) {
+            Cursor c{chunk.serialLines[serial++], chunk.end, line};
+            parseLine(obj, c);
+          }
+          ++line;
+        }
+        chunk = ObjChunk();
+      });
   return obj.finish();
 }
 
