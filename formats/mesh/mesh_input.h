@@ -45,7 +45,7 @@ bool isMeshFile(const std::string& path);
 /// into tiny chunks to check it).
 Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings, const std::string& baseDir = "",
-              size_t chunkBytes = size_t(1) << 20);
+              size_t chunkBytes = size_t(1) << 18);
 Mesh parseStl(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings);
 Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,

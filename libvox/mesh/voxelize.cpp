@@ -777,30 +777,54 @@ std::vector<std::array<int32_t, 2>> cutByWork(const std::vector<double>& work, i
 /// when a few large triangles are most of the surface. Where the tiles end
 /// does not change the result (a voxel's pieces do not depend on who clips
 /// them), only the balance.
-std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces) {
+std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces, unsigned threads) {
   const int32_t dimx = int32_t(W.dims.x), dimy = int32_t(W.dims.y);
   const size_t nTri = W.mesh.triangles.size();
+  // The triangles in fixed parts (whatever the thread count), each measured
+  // and listed on its own and merged in part order: the tiles, and so the
+  // scene, do not depend on --threads (nor would they on the tiles anyway).
+  const size_t parts = std::max<size_t>(1, std::min<size_t>(8, (nTri + 8191) / 8192));
   // Candidate boxes are recomputed in each pass rather than kept (24 bytes a
   // triangle would outweigh the index lists for a large scan).
-  std::vector<double> work(size_t((dimx + kBlockDim - 1) / kBlockDim), 0.0);  // per block column
-  for (size_t t = 0; t < nTri; ++t) {
-    const CandidateBox c = candidateBox(W, t);
-    if (c.empty()) continue;
-    addPerBlock(work, c.first[0], c.last[0], double(c.last[1] - c.first[1] + 1) * double(c.last[2] - c.first[2] + 1) + 4);
-  }
+  const size_t columns = size_t((dimx + kBlockDim - 1) / kBlockDim);
+  std::vector<std::vector<double>> partWork(parts, std::vector<double>(columns, 0.0));  // per block column
+  parallelPieces(nTri, threads, parts, [&](size_t b, size_t e, size_t part) {
+    for (size_t t = b; t < e; ++t) {
+      const CandidateBox c = candidateBox(W, t);
+      if (c.empty()) continue;
+      addPerBlock(partWork[part], c.first[0], c.last[0],
+                  double(c.last[1] - c.first[1] + 1) * double(c.last[2] - c.first[2] + 1) + 4);
+    }
+  });
+  std::vector<double> work(columns, 0.0);
+  for (const std::vector<double>& w : partWork)
+    for (size_t k = 0; k < columns; ++k) work[k] += w[k];
   double total = 0;
   for (double w : work) total += w;
   const std::vector<std::array<int32_t, 2>> slabs = cutByWork(work, 0, dimx - 1, pieces);
 
   // Each slab's triangles, then its cuts along y when it holds more than its share.
+  std::vector<std::vector<std::vector<uint32_t>>> partSlabs(parts, std::vector<std::vector<uint32_t>>(slabs.size()));
+  parallelPieces(nTri, threads, parts, [&](size_t b, size_t e, size_t part) {
+    for (size_t t = b; t < e; ++t) {
+      const CandidateBox c = candidateBox(W, t);
+      if (c.empty()) continue;
+      // The first slab ending at or after first[0], then on while they start at or before last[0].
+      auto s = std::lower_bound(slabs.begin(), slabs.end(), c.first[0],
+                                [](const std::array<int32_t, 2>& x, int32_t v) { return x[1] < v; });
+      for (; s != slabs.end() && (*s)[0] <= c.last[0]; ++s)
+        partSlabs[part][size_t(s - slabs.begin())].push_back(uint32_t(t));
+    }
+  });
   std::vector<std::vector<uint32_t>> slabTriangles(slabs.size());
-  for (size_t t = 0; t < nTri; ++t) {
-    const CandidateBox c = candidateBox(W, t);
-    if (c.empty()) continue;
-    // The first slab ending at or after first[0], then on while they start at or before last[0].
-    auto s = std::lower_bound(slabs.begin(), slabs.end(), c.first[0],
-                              [](const std::array<int32_t, 2>& x, int32_t v) { return x[1] < v; });
-    for (; s != slabs.end() && (*s)[0] <= c.last[0]; ++s) slabTriangles[size_t(s - slabs.begin())].push_back(uint32_t(t));
+  for (size_t k = 0; k < slabs.size(); ++k) {
+    size_t n = 0;
+    for (size_t part = 0; part < parts; ++part) n += partSlabs[part][k].size();
+    slabTriangles[k].reserve(n);
+    for (size_t part = 0; part < parts; ++part) {
+      slabTriangles[k].insert(slabTriangles[k].end(), partSlabs[part][k].begin(), partSlabs[part][k].end());
+      partSlabs[part][k] = std::vector<uint32_t>();
+    }
   }
   std::vector<Tile> tiles;
   const int32_t blocksY = (dimy + kBlockDim - 1) / kBlockDim;
@@ -843,7 +867,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
   const size_t pieces = threads > 1 || work.color ? size_t(4) * std::max(threads, 2u) : 1;
   std::vector<Tile> tiles;
   if (pieces > 1) {
-    tiles = surfaceTiles(work, pieces);
+    tiles = surfaceTiles(work, pieces, threads);
   } else {  // one tile: the whole domain, every triangle
     tiles.push_back({{INT32_MIN, INT32_MIN}, {INT32_MAX, INT32_MAX}, std::vector<uint32_t>(nTri)});
     for (size_t t = 0; t < nTri; ++t) tiles[0].triangles[t] = uint32_t(t);
