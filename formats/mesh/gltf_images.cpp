@@ -80,12 +80,25 @@ std::vector<int> decodeImagesLater(const std::shared_ptr<tinygltf::Model>& model
                                    const std::vector<char>& needed, const std::string& path, DeferredTextures& deferred) {
   const size_t n = model->images.size();
   images.resize(n);
+  // The images stay in the model's buffers, which then live until the bake
+  // has read them, when they are most of those buffers (a textured .glb);
+  // when they are not (large geometry, small textures), their bytes are
+  // copied and the buffers go when the read returns.
+  uint64_t imageBytes = 0, bufferBytes = 0;
+  for (size_t i = 0; i < needed.size() && i < n; ++i)
+    if (needed[i] && images.isInModel(i)) imageBytes += images.bytes(i).size();
+  for (const tinygltf::Buffer& b : model->buffers) bufferBytes += b.data.size();
+  const bool keepModel = imageBytes * 2 >= bufferBytes;
   std::vector<int> jobOf(n, -1);
   for (size_t i = 0; i < needed.size() && i < n; ++i) {
     if (!needed[i] || !images.received[i]) continue;
     std::string name = imageName(path, i, model->images[i]);
-    jobOf[i] = int(images.isInModel(i) ? deferred.addImage(model, images.bytes(i), std::move(name))
-                                       : deferred.addImage(std::move(images.owned[i]), std::move(name)));
+    if (images.isInModel(i) && keepModel)
+      jobOf[i] = int(deferred.addImage(model, images.bytes(i), std::move(name)));
+    else if (images.isInModel(i))
+      jobOf[i] = int(deferred.addImage(std::string(images.bytes(i)), std::move(name)));
+    else
+      jobOf[i] = int(deferred.addImage(std::move(images.owned[i]), std::move(name)));
   }
   return jobOf;
 }

@@ -56,7 +56,8 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
 /// The same images left to `deferred` (formats/mesh/deferred_textures.h),
 /// which the bake decodes: their encoded bytes move to it (those in the
 /// model's buffers stay there, and `model` is kept alive until they are
-/// read), and model.images stays undecoded. Returns each image's index in
+/// read, when they are at least half of the buffers' bytes; else they are
+/// copied), and model.images stays undecoded. Returns each image's index in
 /// `deferred`, or -1 for the images not decoded (not needed, or never received).
 std::vector<int> decodeImagesLater(const std::shared_ptr<tinygltf::Model>& model, EncodedImages& images,
                                    const std::vector<char>& needed, const std::string& path, DeferredTextures& deferred);
