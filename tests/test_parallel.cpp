@@ -6,6 +6,7 @@
 #include <thread>
 #include <vector>
 
+#include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
 
 TEST(Parallel, PiecesCoverTheRangeInAFixedSplit) {

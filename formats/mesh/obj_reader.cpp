@@ -17,6 +17,7 @@
 #include "formats/mesh/mesh_input.h"
 #include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
+#include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {

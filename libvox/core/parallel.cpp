@@ -2,7 +2,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_pipeline.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
@@ -41,34 +40,6 @@ void parallelPieces(size_t n, unsigned threads, size_t pieces,
                         for (size_t p = r.begin(); p != r.end(); ++p) piece(p);
                       },
                       tbb::simple_partitioner());
-  });
-}
-
-void orderedPipeline(size_t n, unsigned threads, size_t window, const std::function<void(size_t)>& produce,
-                     const std::function<void(size_t)>& consume) {
-  const unsigned workers = workerCount(threads);
-  if (workers == 1 || n <= 1) {
-    for (size_t i = 0; i < n; ++i) produce(i), consume(i);
-    return;
-  }
-  inArena(workers, [&] {
-    size_t next = 0;
-    tbb::parallel_pipeline(
-        std::max<size_t>(1, window),
-        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                       [&](tbb::flow_control& fc) -> size_t {
-                                         if (next == n) {
-                                           fc.stop();
-                                           return 0;
-                                         }
-                                         return next++;
-                                       }) &
-            tbb::make_filter<size_t, size_t>(tbb::filter_mode::parallel,
-                                             [&](size_t i) {
-                                               produce(i);
-                                               return i;
-                                             }) &
-            tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order, [&](size_t i) { consume(i); }));
   });
 }
 

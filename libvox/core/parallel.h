@@ -32,15 +32,6 @@ unsigned workerCount(unsigned threads);
 void parallelPieces(size_t n, unsigned threads, size_t pieces,
                     const std::function<void(size_t begin, size_t end, size_t piece)>& fn);
 
-/// An ordered pipeline: produce(i) for every i in [0, n) on up to `threads`
-/// workers, at most `window` items ahead of consume(i), which runs for i = 0,
-/// 1, 2, ... in order, one at a time. Use it when a serial, in-order step
-/// follows parallel work per item and the items' intermediate data should not
-/// all exist at once (memory bounded by `window` items, reused as they are
-/// consumed). With one worker: produce(i), consume(i), in order.
-void orderedPipeline(size_t n, unsigned threads, size_t window, const std::function<void(size_t i)>& produce,
-                     const std::function<void(size_t i)>& consume);
-
 /// Calls fn(i) for every i in [0, n), `grain` consecutive indices per task,
 /// on up to `threads` workers, in any order (load-balanced). Use it when every
 /// index writes only its own outputs.
