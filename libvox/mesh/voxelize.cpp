@@ -184,7 +184,7 @@ uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
 /// Lattice values are within 2^20 voxels of the grid (kMaxGridDistance), so
 /// |lattice| < 2^37 and int64 holds every product below; S is a power of two,
 /// so floor division by it is an arithmetic shift (C++20), not the 128-bit
-/// division it was (a tenth of the tiling pass).
+/// division (a library call) it was.
 [[gnu::always_inline]] inline void voxelsTouching(i64 latticeLo, i64 latticeHi, int32_t dim, int32_t& first, int32_t& last) {
   static_assert(kS == (i64(1) << kSubvoxelBits));
   // Voxel k touches iff k*S <= latticeHi and (k+1)*S >= latticeLo.

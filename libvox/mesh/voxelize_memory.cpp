@@ -42,8 +42,8 @@ int64_t floorToInt(double x) {
 }
 int64_t ceilToInt(double x) { return -floorToInt(-x); }
 
-/// std::round (halves away from zero) without its libm call, which was a
-/// tenth of the estimate's time: exact for every double.
+/// std::round (halves away from zero) without a libm call per coordinate:
+/// the same value for every double.
 double roundHalfAway(double x) {
   if (!(std::abs(x) < 0x1p52)) return x;  // already an integer (or NaN)
   const double whole = double(int64_t(x));  // toward zero, exact
