@@ -31,7 +31,9 @@ namespace vox {
 struct EncodedImages {
   std::vector<std::string> owned;             // data URIs and external files
   std::vector<std::string_view> inModel;      // bufferView images: their bytes in model.buffers
-  std::vector<char> received;  // 0: tinygltf never delivered the image (an external file it could not read)
+  // 0: tinygltf never delivered the image (an external file it could not
+  // read); 1: its bytes are in `owned`; 2: in the model (`inModel`).
+  std::vector<char> received;
 
   std::string_view bytes(size_t i) const { return received[i] == 2 ? inModel[i] : std::string_view(owned[i]); }
   bool isInModel(size_t i) const { return received[i] == 2; }

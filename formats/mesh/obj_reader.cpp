@@ -440,10 +440,10 @@ void parseLine(ObjParser& obj, Cursor& c) {
 }
 
 /// What the parallel pre-pass makes of one chunk of whole lines. Each line is
-/// skipped (blank, comment, a keyword vox ignores), read here (a plain "v x y
-/// z" or an "f" of plain vertex indices, optionally with "//normal"), or left
-/// to the serial pass (every other form, and any line that does not read
-/// cleanly, so its error message is the single pass's).
+/// skipped (blank or a comment), read here (a plain "v x y z" or an "f" of
+/// plain vertex indices, optionally with "//normal"), or left to the serial
+/// pass (every other keyword, which parseLine handles or ignores, and any
+/// line that does not read cleanly, so its error message is the single pass's).
 struct ObjChunk {
   static constexpr uint8_t kSkip = 0, kSerial = 1, kVertex = 2;  // 3..255: a face of that many corners
   const char* begin = nullptr;
@@ -522,8 +522,8 @@ void prepassChunk(ObjChunk& chunk) {
           chunk.corners.resize(before);
           kind = ObjChunk::kSerial;
         }
-      } else if (key == "vt" || key == "o" || key == "g" || key == "usemtl" || key == "mtllib") {
-        kind = ObjChunk::kSerial;
+      } else {
+        kind = ObjChunk::kSerial;  // parseLine decides what it is (or ignores it): one list of keywords
       }
     }
     if (kind == ObjChunk::kSerial) chunk.serialLines.push_back(line);

@@ -31,17 +31,6 @@ int splitDepth(const P3 t[3], double side) {
   return d;
 }
 
-/// floor and ceil of a grid coordinate as integers, without libm calls (the
-/// build targets baseline x86-64, which has no rounding instruction), clamped
-/// to +-2^52 (far beyond any grid: the caller clamps to the grid).
-int64_t floorToInt(double x) {
-  if (!(x > -0x1p52)) return -(int64_t(1) << 52);
-  if (!(x < 0x1p52)) return int64_t(1) << 52;
-  const int64_t i = int64_t(x);  // toward zero
-  return double(i) > x ? i - 1 : i;
-}
-int64_t ceilToInt(double x) { return -floorToInt(-x); }
-
 /// std::round (halves away from zero) without a libm call per coordinate:
 /// the same value for every double.
 double roundHalfAway(double x) {
@@ -80,7 +69,7 @@ class CellCounter {
     const uint32_t d[3] = {dims_.x, dims_.y, dims_.z};
     for (int k = 0; k < 3; ++k) {
       const double mn = std::min({t[0][k], t[1][k], t[2][k]}), mx = std::max({t[0][k], t[1][k], t[2][k]});
-      int64_t a = ceilToInt(mn) - 1, b = floorToInt(mx);
+      int64_t a = int64_t(std::ceil(mn)) - 1, b = int64_t(std::floor(mx));
       a = std::max<int64_t>(a, 0);
       b = std::min<int64_t>(b, int64_t(d[k]) - 1);
       if (a > b) return;  // outside the grid (cropped by --bounds)
