@@ -342,6 +342,41 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       const int64_t k = distanceField ? tracked->emptyBricksAround(c[0] >> 3, c[1] >> 3, c[2] >> 3) : 1;
       const int level = k > 0 && distanceField ? 1 : cursor->probe(c[0], c[1], c[2], occ);
       isTracked = occ;
+      if (level == 0 && enteredBelow) {
+        // A brick with tracked voxels, before tLow: every crossing is early
+        // (its key below the depth, no tie), so the cells are stepped here
+        // with the brick's mask read directly (the loop below would look up
+        // the distance field and probe the tree at every cell). Leaves at the
+        // brick's edge, or at the first cell not left before tLow, which the
+        // loop below takes from where this stopped.
+        const RayGrid::Mask512& mask = *cursor->lastBrick();
+        const int64_t brick[3] = {c[0] >> 3, c[1] >> 3, c[2] >> 3};
+        bool sameBrick = true;
+        for (;;) {
+          const int bit = int(((c[0] & 7) << 6) | ((c[1] & 7) << 3) | (c[2] & 7));
+          isTracked = (mask[size_t(bit >> 6)] >> (bit & 63)) & 1;
+          const double tn = std::min(next[0], std::min(next[1], next[2]));
+          if (tn > tLow) break;
+          if (isTracked) {
+            free->addFree(int32_t(c[0]), int32_t(c[1]), int32_t(c[2]));
+            ++out.freeCells;
+          }
+          ++out.steps;
+          bool left = false;
+          for (int a = 0; a < 3; ++a) {
+            if (next[a] != tn) continue;
+            c[a] += step[a];
+            left |= c[a] < 0 || c[a] >= D[a];
+            next[a] = time(a, step[a] > 0 ? c[a] + 1 : c[a]);
+          }
+          if (left) return out;  // the depth lies beyond the grid
+          if ((c[0] >> 3) != brick[0] || (c[1] >> 3) != brick[1] || (c[2] >> 3) != brick[2]) {
+            sameBrick = false;
+            break;
+          }
+        }
+        if (!sameBrick) continue;  // enteredBelow holds: every step was early
+      }
       if (level >= 1) {
         // An empty box around the cell: its brick, region or super-region
         // (level 1, 2, 3), or the bricks closer than the distance field's
@@ -469,6 +504,16 @@ FuseViewStats Fuser::add(const FuseView& view) {
     FuseCounts& counts = pool[slot];
     uint64_t u = 0, amb = 0, nd = 0, ul = 0, zw = 0, out = 0, st = 0, fc = 0;
     std::vector<uint64_t> keys;
+    // The tile's votes are added after its rays, in pixel order (the same
+    // table as adding each at once): their slots are prefetched as the hits
+    // are found, so the table's cache misses overlap the walks.
+    struct PendingVote {
+      uint64_t key;
+      uint32_t weight;
+      uint8_t classId;
+    };
+    std::vector<PendingVote> pending;
+    pending.reserve(kTile * kTile);
     const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     for (size_t y = y0; y < y1; ++y)
@@ -500,11 +545,13 @@ FuseViewStats Fuser::add(const FuseView& view) {
         }
         ++u;
         amb += r.ambiguous ? 1 : 0;
-        counts.addVote(r.voxel, cls, w);
-        if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
         const uint64_t k = FuseCounts::voxelKey(r.voxel);
+        if (pending.empty() || pending.back().key != k || pending.back().classId != cls) counts.prefetchVote(k, cls);
+        pending.push_back(PendingVote{k, w, cls});
+        if (!view.color.empty() && view.color[i] != FuseView::kNoColor) counts.addColor(r.voxel, view.color[i]);
         if (keys.empty() || keys.back() != k) keys.push_back(k);
       }
+    for (const PendingVote& p : pending) counts.addVote(p.key, p.classId, p.weight);
     if (!keys.empty()) {
       std::lock_guard<std::mutex> lock(votedMutex);
       voted.insert(voted.end(), keys.begin(), keys.end());

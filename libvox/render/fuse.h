@@ -84,6 +84,9 @@ class FuseCounts {
     if (c != UINT32_MAX) ++c;
   }
   void addVote(Coord3 c, uint8_t classId, uint32_t weight) { votes_.add(voxelKey(c), classId, weight); }
+  /// The same by voxel key, and a hint that such a vote comes soon (VoteTable::prefetch).
+  void addVote(uint64_t voxelKey, uint8_t classId, uint32_t weight) { votes_.add(voxelKey, classId, weight); }
+  void prefetchVote(uint64_t voxelKey, uint8_t classId) const { votes_.prefetch(voxelKey, classId); }
   /// Adds one colour sample (8-bit sRGB) at `c`: summed in linear light as
   /// integers (1/2^24 units), so the average does not depend on the order.
   void addColor(Coord3 c, uint32_t rgb);

@@ -51,6 +51,16 @@ class VoteTable {
       }
     }
   }
+  /// Asks the cache for the slot where add(voxel, classId, ...) starts
+  /// looking: a hint only (a later add() may have grown the table). The table
+  /// of a large fusion is tens of MB and each pixel's voxel a miss; callers
+  /// that know a few votes ahead overlap those misses with their other work.
+  void prefetch(uint64_t voxel, uint8_t classId) const {
+    if (slots_.empty()) return;
+    const char* at = reinterpret_cast<const char*>(&slots_[hash(voxel, classId)]);
+    __builtin_prefetch(at, 1);
+    __builtin_prefetch(at + sizeof(Entry) - 1, 1);
+  }
   /// Adds every entry of `other`.
   void merge(const VoteTable& other) {
     reserve(size_ + other.size_);
