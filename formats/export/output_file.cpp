@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "formats/core/writeback.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -26,6 +27,13 @@ OutputFile::~OutputFile() {
 void OutputFile::write(const void* data, size_t bytes) {
   if (bytes && std::fwrite(data, 1, bytes, file_) != bytes) fail(path_, "write");
   written_ += bytes;
+  // Each finished MB goes to the kernel's writeback at once: the disk works
+  // while the rest is meshed, and the commit's fsync waits for the tail only.
+  if (written_ - queued_ >= kWritebackStride) {
+    if (std::fflush(file_) != 0) fail(path_, "write");
+    startWriteback(::fileno(file_), queued_, written_);
+    queued_ = written_;
+  }
 }
 
 void OutputFile::u32(uint32_t v) {

@@ -33,6 +33,7 @@ class OutputFile {
   std::string path_;
   std::FILE* file_ = nullptr;
   uint64_t written_ = 0;
+  uint64_t queued_ = 0;  // bytes handed to the kernel's writeback (formats/core/writeback.h)
 };
 
 }  // namespace vox

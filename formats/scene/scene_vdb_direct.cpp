@@ -1,6 +1,7 @@
 #include "formats/scene/scene_vdb_direct.h"
 
 #include "formats/core/file_util.h"
+#include "formats/core/writeback.h"
 
 #include <blosc.h>
 
@@ -12,7 +13,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
 #include <map>
 #include <unordered_map>
 
@@ -65,7 +65,7 @@ class Sink {
     if (n && std::fwrite(p, 1, n, f_) != n) fail();
     if (hashing_) hash(p, n);
     pos_ += n;
-    if (pos_ - queued_ >= kWritebackBytes) startWriteback();
+    if (pos_ - queued_ >= kWritebackStride) startWriteback();
   }
   template <typename T>
   void pod(const T& v) {
@@ -82,16 +82,11 @@ class Sink {
       fail();
   }
   void startHashing() { hashing_ = true; }
-  // The output is flushed to disk before it is renamed into place
-  // (AtomicOutput::commit's fsync), and that wait is on every bake's critical
-  // path. Handing each finished MB to the kernel's writeback as it is written
-  // overlaps the disk with the rest of the writing, so the final fsync waits
-  // only for the tail. A hint: errors still surface at the fsync.
+  // Each finished MB goes to the kernel's writeback at once, so the commit's
+  // fsync waits for the tail only (formats/core/writeback.h).
   void startWriteback() {
     if (std::fflush(f_) != 0) fail();
-#ifdef __linux__
-    ::sync_file_range(::fileno(f_), off64_t(queued_), off64_t(pos_ - queued_), SYNC_FILE_RANGE_WRITE);
-#endif
+    vox::startWriteback(::fileno(f_), queued_, pos_);
     queued_ = pos_;
   }
   std::array<uint32_t, 4> digest() const { return crc_; }
@@ -113,7 +108,6 @@ class Sink {
   }
   std::string path_, what_;
   std::FILE* f_;
-  static constexpr uint64_t kWritebackBytes = uint64_t(1) << 20;
   uint64_t pos_ = 0, queued_ = 0;
   bool hashing_ = false;
   std::array<uint32_t, 4> crc_{0x01234567u, 0x89abcdefu, 0xfedcba98u, 0x76543210u};
