@@ -378,23 +378,20 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
         if (!sameBrick) continue;  // enteredBelow holds: every step was early
       }
       if (level >= 1) {
-        // An empty box around the cell: its brick, region or super-region
-        // (level 1, 2, 3), or the bricks closer than the distance field's
-        // nearest non-empty brick; the later exit of the two.
-        const int shift = level == 1 ? 3 : level == 2 ? 6 : 9;
+        // An empty box around the cell: the bricks closer than the distance
+        // field's nearest non-empty brick, or (without the field) its brick,
+        // region or super-region (level 1, 2, 3). The box of k > 1 bricks
+        // holds the cell's brick, so it is left no earlier (time() is
+        // monotone along an axis): its exit alone is the box's.
         int64_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-          lo[a] = (c[a] >> shift) << shift;
-          hi[a] = lo[a] + (int64_t(1) << shift);
-        }
-        double tb = boxExit(lo, hi);
+        double tb = inf;
         uint32_t boxes = 1;
         if (k > 1) {
           for (int a = 0; a < 3; ++a) {
             lo[a] = ((c[a] >> 3) - k + 1) * 8;
             hi[a] = ((c[a] >> 3) + k) * 8;
           }
-          tb = std::max(tb, boxExit(lo, hi));
+          tb = boxExit(lo, hi);
         } else if (level == 1 && distanceField) {
           // An empty brick next to a tracked one (the common case near a
           // surface): walk on brick by brick (the walk's own plane times at
@@ -420,6 +417,13 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
             if (outside || tracked->emptyBricksAround(b[0], b[1], b[2]) != 1) break;
             ++boxes;
           }
+        } else {
+          const int shift = level == 1 ? 3 : level == 2 ? 6 : 9;
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = (c[a] >> shift) << shift;
+            hi[a] = lo[a] + (int64_t(1) << shift);
+          }
+          tb = boxExit(lo, hi);
         }
         // Only crossings before tLow (all "early": keys below the depth, no
         // tie rules) are jumped; the cells left there hold no tracked voxel.
