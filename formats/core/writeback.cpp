@@ -14,4 +14,12 @@ void startWriteback(int fd, uint64_t from, uint64_t to) {
 #endif
 }
 
+bool handOnWritten(std::FILE* file, uint64_t written, uint64_t& queued) {
+  if (written - queued < kWritebackStride) return true;
+  if (std::fflush(file) != 0) return false;
+  startWriteback(::fileno(file), queued, written);
+  queued = written;
+  return true;
+}
+
 }  // namespace vox

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 
 namespace vox {
 
@@ -20,5 +21,12 @@ inline constexpr uint64_t kWritebackStride = uint64_t(1) << 20;
 /// elsewhere). The caller has flushed its own buffers up to `to`. A hint only:
 /// it never fails, and write errors still surface at the fsync.
 void startWriteback(int fd, uint64_t from, uint64_t to);
+
+/// The step both streaming writers take after each write: once `written`
+/// (bytes written to `file` so far) is a stride past `queued` (bytes already
+/// handed on), flushes `file`'s buffer and hands [queued, written) on.
+/// Returns false when that flush fails (errno set): the caller reports it as
+/// a failed write.
+bool handOnWritten(std::FILE* file, uint64_t written, uint64_t& queued);
 
 }  // namespace vox

@@ -29,11 +29,7 @@ void OutputFile::write(const void* data, size_t bytes) {
   written_ += bytes;
   // Each finished MB goes to the kernel's writeback at once: the disk works
   // while the rest is meshed, and the commit's fsync waits for the tail only.
-  if (written_ - queued_ >= kWritebackStride) {
-    if (std::fflush(file_) != 0) fail(path_, "write");
-    startWriteback(::fileno(file_), queued_, written_);
-    queued_ = written_;
-  }
+  if (!handOnWritten(file_, written_, queued_)) fail(path_, "write");
 }
 
 void OutputFile::u32(uint32_t v) {

@@ -65,7 +65,9 @@ class Sink {
     if (n && std::fwrite(p, 1, n, f_) != n) fail();
     if (hashing_) hash(p, n);
     pos_ += n;
-    if (pos_ - queued_ >= kWritebackStride) startWriteback();
+    // Each finished MB goes to the kernel's writeback at once, so the
+    // commit's fsync waits for the tail only (formats/core/writeback.h).
+    if (!vox::handOnWritten(f_, pos_, queued_)) fail();
   }
   template <typename T>
   void pod(const T& v) {
@@ -82,13 +84,6 @@ class Sink {
       fail();
   }
   void startHashing() { hashing_ = true; }
-  // Each finished MB goes to the kernel's writeback at once, so the commit's
-  // fsync waits for the tail only (formats/core/writeback.h).
-  void startWriteback() {
-    if (std::fflush(f_) != 0) fail();
-    vox::startWriteback(::fileno(f_), queued_, pos_);
-    queued_ = pos_;
-  }
   std::array<uint32_t, 4> digest() const { return crc_; }
   void close() {
     const int bad = std::fflush(f_) != 0 || std::ferror(f_);
