@@ -12,6 +12,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/image/image.h"
+#include "formats/image/png_fast_decode.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -247,6 +248,14 @@ Image readPng(const std::string& path) {
     png_destroy_read_struct(&png, &info, nullptr);
     throwBadInput(path + ": corrupt or truncated PNG: " + (pastEnd.empty() ? std::string("cannot seek") : pastEnd));
   }
+  {
+    const FileView bytes(path);
+    Image fast;
+    if (decodePngFast(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), fast)) {
+      png_destroy_read_struct(&png, &info, nullptr);
+      return fast;
+    }
+  }
   return decodePng(png, info, f.get(), uint64_t(std::filesystem::file_size(path)), path, message);
 }
 
@@ -274,6 +283,10 @@ Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
   if (!pastEnd.empty()) {
     png_destroy_read_struct(&png, &info, nullptr);
     throwBadInput(name + ": corrupt or truncated PNG: " + pastEnd);
+  }
+  if (Image fast; decodePngFast(data, size, fast)) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return fast;
   }
   return decodePng(png, info, f.get(), size, name, message);
 }
