@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <unordered_map>
 
@@ -302,24 +303,39 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   uint32_t lastKey = 0;
   uint8_t lastClass = 0;
   bool haveLast = false;
-  for (uint32_t y = 0; y < label.height; ++y)
+  // An RGBA pixel equal to the one before it (most are) takes its class.
+  uint32_t lastPixel = 0;
+  bool havePixel = false;
+  const bool rgba8 = colour && label.channels == 4;
+  const size_t labelRowBytes = label.rowBytes();
+  for (uint32_t y = 0; y < label.height; ++y) {
+    const uint8_t* labelRow = label.pixels.data() + size_t(y) * labelRowBytes;
     for (uint32_t x = 0; x < label.width; ++x) {
       const size_t i = size_t(y) * label.width + x;
+      uint32_t pixel = 0;
+      if (rgba8) {
+        std::memcpy(&pixel, labelRow + size_t(x) * 4, 4);
+        if (havePixel && pixel == lastPixel) {
+          view.classes[i] = view.classes[i - 1];
+          continue;
+        }
+      }
       uint32_t key = 0;
       bool none = false;
       if (colour) {
-        const uint8_t* p = label.row<uint8_t>(y) + size_t(x) * label.channels;
+        const uint8_t* p = labelRow + size_t(x) * label.channels;
         key = (uint32_t(p[0]) << 16) | (uint32_t(p[1]) << 8) | p[2];
         none = label.channels == 4 && p[3] == 0;
       } else if (label.type == SampleType::U8) {
-        const uint8_t* p = label.row<uint8_t>(y) + size_t(x) * label.channels;
+        const uint8_t* p = labelRow + size_t(x) * label.channels;
         key = p[0];
         none = label.channels == 2 && p[1] == 0;
       } else {
-        const uint16_t* p = label.row<uint16_t>(y) + size_t(x) * label.channels;
+        const uint16_t* p = reinterpret_cast<const uint16_t*>(labelRow) + size_t(x) * label.channels;
         key = p[0];
         none = label.channels == 2 && p[1] == 0;
       }
+      if (rgba8) lastPixel = pixel, havePixel = true;  // set here: pixel i - 1 then has its class when it is reused
       if (none) {
         view.classes[i] = 0;
         continue;
@@ -348,6 +364,7 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
       lastClass = it->second;
       haveLast = true;
     }
+  }
 
   if (!spec.colorPath.empty()) {
     const Image color = readBeside(spec.colorPath, "color");
@@ -384,9 +401,19 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
       bad(where, normalName + ": a normal image is render-canonical's RGBA8 PNG; this one has " +
                      std::to_string(normal.channels) + " channel(s) of " + sampleTypeName(normal.type));
     view.faceAxis.assign(N, -1);
-    for (uint32_t y = 0; y < normal.height; ++y)
+    // A pixel equal to the one before it (most are) takes its axis.
+    uint32_t lastPixel = 0;
+    int8_t lastAxis = -1;
+    for (uint32_t y = 0; y < normal.height; ++y) {
+      const uint8_t* normalRow = normal.pixels.data() + size_t(y) * normal.width * 4;
       for (uint32_t x = 0; x < normal.width; ++x) {
-        const uint8_t* p = normal.row<uint8_t>(y) + size_t(x) * 4;
+        const uint8_t* p = normalRow + size_t(x) * 4;
+        uint32_t pixel;
+        std::memcpy(&pixel, p, 4);
+        if (lastAxis >= 0 && pixel == lastPixel) {
+          view.faceAxis[size_t(y) * normal.width + x] = lastAxis;
+          continue;
+        }
         if (p[3] == 0) continue;
         int axis = -1, off = 0;
         for (int a = 0; a < 3; ++a)
@@ -398,7 +425,9 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
           bad(where, normalName + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                          ") is not an axis normal (components 0, 128 or 255, one of them not 128)");
         view.faceAxis[size_t(y) * normal.width + x] = int8_t(axis);
+        lastPixel = pixel, lastAxis = int8_t(axis);
       }
+    }
   }
   return out;
 }
