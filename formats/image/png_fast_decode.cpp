@@ -1,6 +1,9 @@
 #include "formats/image/png_fast_decode.h"
 
 #include <libdeflate.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include <bit>
 #include <cstdlib>
@@ -47,15 +50,25 @@ bool unfilterRow(uint8_t filter, const uint8_t* raw, const uint8_t* prev, uint8_
     case 0: std::memmove(out, raw, n); return true;
     case 1:
       for (size_t i = 0; i < bpp && i < n; ++i) out[i] = raw[i];
-      if (bpp == 4) {  // RGBA8, the common case: a pixel at a time, bytes added without carries
-        uint32_t left;
+      if (bpp == 4) {  // RGBA8, the common case: running sums of 4-byte pixels
+        size_t i = 4;
+#ifdef __SSE2__
+        // Four pixels at a time: prefix sums within the 16 bytes, plus the
+        // pixel before them. `out` is written only after its 16 bytes of
+        // `raw` are read, and never past them (see above).
+        __m128i left = _mm_cvtsi32_si128(0);
         std::memcpy(&left, out, 4);
-        for (size_t i = 4; i + 4 <= n; i += 4) {
-          uint32_t r;
-          std::memcpy(&r, raw + i, 4);
-          left = (((r & 0x7f7f7f7fu) + (left & 0x7f7f7f7fu)) ^ ((r ^ left) & 0x80808080u));
-          std::memcpy(out + i, &left, 4);
+        left = _mm_shuffle_epi32(left, 0);
+        for (; i + 16 <= n; i += 16) {
+          __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(raw + i));
+          x = _mm_add_epi8(x, _mm_slli_si128(x, 4));
+          x = _mm_add_epi8(x, _mm_slli_si128(x, 8));
+          x = _mm_add_epi8(x, left);
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), x);
+          left = _mm_shuffle_epi32(x, 0xFF);
         }
+#endif
+        for (; i < n; ++i) out[i] = uint8_t(raw[i] + out[i - 4]);
       } else {
         for (size_t i = bpp; i < n; ++i) out[i] = uint8_t(raw[i] + out[i - bpp]);
       }
