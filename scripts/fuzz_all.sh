@@ -40,7 +40,7 @@ sources_of() {
     classtable) echo formats/scene/class_table_json.cpp ;;
     rendermeta) echo formats/image/render_meta.cpp formats/core/camera_json.cpp formats/core/json_fields.cpp ;;
     atlasmeta) echo formats/image/atlas_meta.cpp ;;
-    png) echo formats/image/image_png.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
+    png) echo formats/image/image_png.cpp formats/image/png_fast_decode.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
     exr) echo formats/image/image_exr.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
   esac
 }
@@ -51,7 +51,8 @@ compile() {
   local src=$1 obj=$out/obj/${1//\//_}.o
   if [ ! -f "$obj" ] || [ -n "$(find "$src" formats libvox tests/fuzz -name '*.h' -newer "$obj" -print -quit 2>/dev/null)" ] ||
      [ "$src" -nt "$obj" ]; then
-    clang++ -std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -I. -I/usr/include/Imath -I/usr/include/OpenEXR \
+    clang++ -std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION \
+      -I. -I/usr/include/Imath -I/usr/include/OpenEXR \
       -I/usr/include/stb -c "$src" -o "$obj" || return 4
   fi
   echo "$obj"

@@ -119,7 +119,9 @@ bool decodePngFast(const uint8_t* data, size_t size, Image& out) {
     const uint8_t* type = data + at + 4;
     if (length > size - at - 12) return false;
     const uint8_t* body = data + at + 8;
+#ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION  // the fuzzer's mutations would rarely get past the CRCs
     if (libdeflate_crc32(0, type, size_t(length) + 4) != be32(body + length)) return false;
+#endif
     if (first != isType(type, "IHDR")) return false;
     if (isType(type, "IHDR")) {
       if (length != 13) return false;
