@@ -4,7 +4,8 @@
 # hamlet back into its grid (carving with free counts at voted voxels, the default; at every
 # crossed voxel, --free all; votes only, --carve none), against render-canonical casting the same views
 # (the ratio comes from one hyperfine run), and the fused scene's peak memory.
-# Writes markdown to docs/bench-fuse.md (or $OUT).
+# Writes markdown to docs/bench-fuse.md (or $OUT), keeping what an existing
+# file holds from its "<!-- notes -->" line on.
 #
 # Usage: scripts/bench_fuse.sh
 # Env: BUILD_DIR (default build), RES (grid side, default 256), VIEWS (default 16),
@@ -115,6 +116,12 @@ if 'fuse (old binary)' in mean:
                     mean['fuse --threads 1 (old binary)'] / mean['fuse --threads 1'],
                     cpu['fuse --threads 1 (old binary)'] / cpu['fuse --threads 1'],
                     o['rays_per_second'] / 1e6, tot['rays_per_second'] / 1e6, tot['rays_per_second'] / o['rays_per_second']))
-open(out, 'w').write('\n'.join(lines) + '\n')
+# Hand-written notes from the "<!-- notes -->" line of an existing output on are kept.
+notes = ''
+if os.path.exists(out):
+    old = open(out).read().split('\n')
+    if '<!-- notes -->' in old:
+        notes = '\n' + '\n'.join(old[old.index('<!-- notes -->'):])
+open(out, 'w').write('\n'.join(lines) + '\n' + notes)
 print('\n'.join(lines))
 PY

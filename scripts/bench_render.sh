@@ -150,6 +150,8 @@ PY
   echo "1024^3 voxelized mesh, same thread count. Hit pixels differ a little because vdb_render's level set"
   echo "rounds the voxels' corners; vox's hits are exact (checked against a brute force by \`--check\` and the tests)."
 } >> table.md
+# Hand-written notes from the "<!-- notes -->" line of an existing $out on are kept.
+if [ -f "$out" ] && grep -q '^<!-- notes -->' "$out"; then { echo; sed -n '/^<!-- notes -->/,$p' "$out"; } >> table.md; fi
 cp table.md "$out"
 echo "wrote $out" >&2
 cat "$out"
