@@ -231,8 +231,8 @@ void undoZipPredictor(uint8_t* b, size_t n) {
 /// chunk's bytes (checking the header and the offset table as readPixels
 /// does), libdeflate inflates them, and each line is copied whole. Why not
 /// readPixels: it inflates with zlib and converts every sample through a
-/// function call; a 1024^2 float depth image took 27 ms that way and takes
-/// about 5 ms this way (docs/bench-fuse.md, "Reading views"). The same bytes
+/// function call, 2.7x the CPU time of this for a 1024^2 float depth image
+/// (bench/bench_image_read.cpp; docs/bench-fuse.md, "Reading views"). The same bytes
 /// as readPixels for every file it accepts; returns false, having written
 /// nothing that matters, for any other kind of file (tiled, deep, other
 /// compressions, subsampled channels) or any chunk not as its header says,
