@@ -11,8 +11,7 @@
 //     24 bytes per pixel (its arrays: depth 8, class 1, face 1, colour 4,
 //     weight 2, plus the decoded images: float depth 4, label and normal).
 //   * kept views: the decoded views the second pass reuses (FreeScope::Voted),
-//     at most 10 bytes per pixel (the whole view; `vox fuse` keeps only the
-//     pixels the second pass walks when that is less), up to `keptBudget`.
+//     10 bytes per pixel, up to `keptBudget`.
 //   * votes: per worker piece and once more for the merge and the scene,
 //     64 bytes per voted voxel (the vote table at load <= 1/2 with its growth
 //     copy, and the free bricks of the tracked voxels).

@@ -31,10 +31,9 @@ memory)
   jcheck r.json "c = [x for x in d['memory']['checks'] if x['what'].startswith('fusing 2 views')]; assert c and 'votes' in c[0]['parts'], d['memory']"
   ;;
 reuse)
-  # 14 views of 1024x1024 keep about 47 MiB (13 bytes for each of the ~270,000 pixels a view's
-  # second pass walks); a 150M limit keeps at most 37.5 MiB (a quarter): the last views do not fit
-  # and the second pass reads the images again.
-  render_views 14 1024x1024
+  # 4 views of 1024x1024 keep 40 MiB decoded (10 bytes a pixel); a 150M limit keeps at most 37.5 MiB
+  # (a quarter): the fourth view does not fit and the second pass reads the images again.
+  render_views 4 1024x1024
   expect_exit 0 "$vox" fuse views.json -o kept.vdb --threads 2 --quiet --report kept.json
   jcheck kept.json "assert d['counts']['totals']['second_pass_views'] == 'kept'"
   expect_exit 0 "$vox" fuse views.json -o read.vdb --threads 1 --max-memory 150M --quiet --report read.json
@@ -42,16 +41,16 @@ reuse)
   expect_exit 0 "$vox" diff kept.vdb read.vdb
   # Byte for byte but the file's UUID (bytes 22-57 of an OpenVDB file).
   cmp -i 57 kept.vdb read.vdb >/dev/null || fail "kept and re-read views gave different bytes"
-  # Views of three sizes, one close up (every pixel walks: kept whole) and two that keep only
-  # their walking pixels, their distances read as z so that rays cross voted voxels before their
-  # hits: the kept views carve as counting at every crossed voxel (--free all) does.
+  # Views of three sizes (a close-up where every pixel walks, an orbit view, the top view),
+  # their distances read as z so that rays cross voted voxels before their hits: the kept
+  # views carve as counting at every crossed voxel (--free all) does.
   expect_exit 0 "$vox" render-canonical h.vdb -o close.png --eye 0.1,12,0.3 --target 0,0,0 --size 200x150 \
     --mode depth,class,normal --quiet
   expect_exit 0 "$vox" render-canonical h.vdb -o top.png --view top --size 256x256 --mode depth,class,normal --quiet
   python3 - <<'PY'
 import json
 json.dump({'views': [{'depth': n + '.depth.exr', 'label': n + '.class.png', 'normal': n + '.normal.png'}
-                                        for n in ('close', 'o_001', 'top')]}, open('mixed.json', 'w'))
+                     for n in ('close', 'o_001', 'top')]}, open('mixed.json', 'w'))
 PY
   expect_exit 0 "$vox" fuse mixed.json -o mk.vdb --depth-kind z --threads 2 --quiet --report mk.json
   jcheck mk.json "t = d['counts']['totals']; assert t['second_pass_views'] == 'kept' and t['free_counts'] > 0, t"

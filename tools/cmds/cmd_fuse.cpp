@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iterator>
@@ -70,85 +69,9 @@ bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
   return a.dims == b.dims && a.voxelSize == b.voxelSize && a.origin == b.origin;
 }
 
-/// Bytes of one decoded view's per-pixel arrays but colour.
-uint64_t denseViewBytes(const vox::FuseView& v) {
+/// Bytes of one decoded view kept for the second pass (its per-pixel arrays but colour).
+uint64_t keptViewBytes(const vox::FuseView& v) {
   return v.depth.size() * sizeof(double) + v.classes.size() + v.faceAxis.size() + v.weight.size() * sizeof(uint16_t);
-}
-
-/// A view kept for the second pass. The second pass walks only the pixels
-/// with a depth, a class and a nonzero weight (Fuser::addFree's filter), and
-/// reads only their depth and face axis: those pixels alone are kept (13 bytes
-/// each, or 12 without a normal image) when that takes less than the whole
-/// view (10 bytes a pixel); most renders' sky and background do not walk.
-struct KeptView {
-  std::optional<vox::FuseView> dense;  // the whole view, or:
-  vox::Camera camera;
-  vox::DepthMeasure measure;
-  double far = 0;
-  std::vector<uint32_t> pixels;  // the walking pixels, in order
-  std::vector<double> depths;
-  std::vector<int8_t> faces;     // empty when the view has no normal image
-
-  uint64_t bytes() const {
-    return dense ? denseViewBytes(*dense) : pixels.size() * 4 + depths.size() * 8 + faces.size();
-  }
-};
-
-KeptView keepView(vox::FuseView&& v, uint32_t weight) {
-  KeptView k;
-  const size_t n = v.depth.size();
-  auto walks = [&](size_t i) {  // Fuser::addFree's filter
-    const double d = v.depth[i];
-    if (!(d > 0) || !std::isfinite(d) || (v.far > 0 && d > v.far) || v.classes[i] == 0) return false;
-    return (v.weight.empty() ? weight : weight * v.weight[i]) != 0;
-  };
-  size_t walking = 0;
-  for (size_t i = 0; i < n; ++i) walking += walks(i) ? 1 : 0;
-  const uint64_t compact = walking * (12 + (v.faceAxis.empty() ? 0 : 1));
-  v.color = {};  // the second pass needs no colour
-  if (compact >= denseViewBytes(v)) {
-    k.dense = std::move(v);
-    return k;
-  }
-  k.camera = v.camera, k.measure = v.measure, k.far = v.far;
-  k.pixels.reserve(walking), k.depths.reserve(walking);
-  if (!v.faceAxis.empty()) k.faces.reserve(walking);
-  for (size_t i = 0; i < n; ++i)
-    if (walks(i)) {
-      k.pixels.push_back(uint32_t(i));
-      k.depths.push_back(v.depth[i]);
-      if (!v.faceAxis.empty()) k.faces.push_back(v.faceAxis[i]);
-    }
-  return k;
-}
-
-/// The second pass's view of a kept one: the whole view, or `scratch` (one
-/// buffer for every view, so the pass faults in no fresh memory for them)
-/// holding the kept pixels, every other pixel without depth or class.
-/// forgetKept() clears them again.
-vox::FuseView& viewOfKept(KeptView& k, vox::FuseView& scratch) {
-  if (k.dense) return *k.dense;
-  const size_t n = size_t(k.camera.width) * k.camera.height;
-  if (scratch.depth.size() != n) scratch.depth.assign(n, 0.0), scratch.classes.assign(n, 0), scratch.faceAxis.clear();
-  if (!k.faces.empty() && scratch.faceAxis.size() != n) scratch.faceAxis.assign(n, -1);
-  if (k.faces.empty()) scratch.faceAxis.clear();
-  scratch.camera = k.camera, scratch.measure = k.measure, scratch.far = k.far;
-  scratch.weight.clear();
-  for (size_t j = 0; j < k.pixels.size(); ++j) {
-    scratch.depth[k.pixels[j]] = k.depths[j];
-    scratch.classes[k.pixels[j]] = 1;  // any class: the second pass asks only whether there is one
-    if (!k.faces.empty()) scratch.faceAxis[k.pixels[j]] = k.faces[j];
-  }
-  return scratch;
-}
-void forgetKept(KeptView& k, vox::FuseView& scratch) {
-  if (!k.dense)
-    for (const uint32_t p : k.pixels) {
-      scratch.depth[p] = 0.0;
-      scratch.classes[p] = 0;
-      if (!scratch.faceAxis.empty()) scratch.faceAxis[p] = -1;
-    }
-  k = KeptView();
 }
 
 /// What the second pass may keep decoded: a quarter of the run's memory
@@ -319,7 +242,7 @@ int runFuse(const FuseOptions& o) {
   first.reset();
   uint64_t keptBytes = 0;
   bool keepViews = secondPass;
-  std::vector<KeptView> kept;
+  std::vector<vox::FuseView> kept;
   for (size_t i = 0; i < views.views.size(); ++i) {
     const vox::FuseViewSpec& spec = views.views[i];
     vox::LoadedFuseView loaded = loader.take(i);
@@ -359,11 +282,14 @@ int runFuse(const FuseOptions& o) {
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
     if (keepViews) {
-      KeptView k = keepView(std::move(loaded.view), settings.weight);
-      keptBytes += k.bytes();
+      keptBytes += keptViewBytes(loaded.view);
       keepViews = keptBytes <= keepBudget;
-      if (keepViews) kept.push_back(std::move(k));
-      else kept = {};
+      if (keepViews) {
+        loaded.view.color = {};  // the second pass needs no colour
+        kept.push_back(std::move(loaded.view));
+      } else {
+        kept = {};
+      }
     }
     if (bar) bar->update(double(i + 1) / double(views.views.size()) * (secondPass ? 0.5 : 1.0));
   }
@@ -376,15 +302,11 @@ int runFuse(const FuseOptions& o) {
     fuser.track(extra);
     extra = {};
     loader.reset();
-    vox::FuseView scratch;
     for (size_t i = 0; i < views.views.size(); ++i) {
-      vox::FuseView read;
-      if (!keepViews) read = std::move(loader.take(i).view);
-      const vox::FuseView& view = keepViews ? viewOfKept(kept[i], scratch) : read;
+      vox::FuseView view = keepViews ? std::move(kept[i]) : std::move(loader.take(i).view);
       const auto t0 = std::chrono::steady_clock::now();
       const vox::FuseViewStats s = fuser.addFree(view);
-      if (keepViews) forgetKept(kept[i], scratch);
-      read = {};
+      view = {};
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fuseSeconds += secs;
       nlohmann::json& v = perView[i];
