@@ -117,7 +117,7 @@ bool decodePngFast(const uint8_t* data, size_t size, Image& out) {
   for (bool first = true; at + 12 <= size; first = false) {
     const uint32_t length = be32(data + at);
     const uint8_t* type = data + at + 4;
-    if (length > size - at - 12) return false;
+    if (length > 0x7fffffffu || length > size - at - 12) return false;  // PNG lengths are 31-bit
     const uint8_t* body = data + at + 8;
 #ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION  // the fuzzer's mutations would rarely get past the CRCs
     if (libdeflate_crc32(0, type, size_t(length) + 4) != be32(body + length)) return false;
