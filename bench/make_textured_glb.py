@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The textured model of scripts/bench_gltf.sh: a rippled sphere of about 15 k
-triangles in five bands, each band a material with its own JPEG texture
-(embedded in the GLB's BIN chunk), and the same model with its textures
-removed (same materials as plain colours).
+triangles in five bands, each band a material with its own JPEG (or PNG, by
+the files' extension) texture (embedded in the GLB's BIN chunk), and the same
+model with its textures removed (same materials as plain colours).
 
   make_textured_glb.py OUT_TEXTURED.glb OUT_PLAIN.glb T0.jpg ... T4.jpg
   make_textured_glb.py --plain OUT.glb S R      untextured, S x R quads (2 S R triangles)
@@ -68,7 +68,8 @@ def build(textures, S=96, R=80):  # 96 x 80 quads = 15 360 triangles
            "materials": [{"name": "m%d" % b, "pbrMetallicRoughness": {"baseColorFactor": [1, 0.9, 0.8, 1]}}
                          for b in range(bands)]}
     if textures:
-        doc["images"] = [{"bufferView": view(open(t, "rb").read()), "mimeType": "image/jpeg"} for t in textures]
+        doc["images"] = [{"bufferView": view(open(t, "rb").read()),
+                          "mimeType": "image/png" if t.lower().endswith(".png") else "image/jpeg"} for t in textures]
         doc["textures"] = [{"source": b} for b in range(bands)]
         for b in range(bands):
             doc["materials"][b]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": b}

@@ -40,7 +40,7 @@ sources_of() {
     classtable) echo formats/scene/class_table_json.cpp ;;
     rendermeta) echo formats/image/render_meta.cpp formats/core/camera_json.cpp formats/core/json_fields.cpp ;;
     atlasmeta) echo formats/image/atlas_meta.cpp ;;
-    png) echo formats/image/image_png.cpp formats/image/png_fast_decode.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
+    png) echo formats/image/image_png.cpp formats/mesh/png_fast_decode.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
     exr) echo formats/image/image_exr.cpp formats/image/render_meta.cpp formats/image/atlas_meta.cpp ;;
   esac
 }

@@ -1,6 +1,7 @@
-// The image readers' fast paths (formats/image/png_fast_decode.h, and the
+// The image readers' fast paths (formats/mesh/png_fast_decode.h, and the
 // scanline chunk reader in image_exr.cpp) against the libraries they stand in
-// for: every PNG shape, filter and chunk layout libpng writes, and every EXR
+// for: every PNG shape, filter and chunk layout libpng writes, read as images
+// (against libpng) and as textures (against stb_image), and every EXR
 // compression, sample type, channel set, data window and line order OpenEXR
 // writes, read by vox and by the library itself here, must give the same
 // pixels and text; files the fast paths do not take must still read as the
@@ -13,6 +14,7 @@
 #include <ImfStringAttribute.h>
 #include <gtest/gtest.h>
 #include <png.h>
+#include <stb/stb_image.h>
 
 #include <cstdio>
 #include <cstring>
@@ -21,7 +23,8 @@
 
 #include "formats/core/file_util.h"
 #include "formats/image/image.h"
-#include "formats/image/png_fast_decode.h"
+#include "formats/mesh/png_fast_decode.h"
+#include "formats/mesh/texture_image.h"
 #include "formats/image/png_memory.h"
 #include "libvox/core/error.h"
 #include "test_util.h"
@@ -175,7 +178,7 @@ void expectSameImage(const Image& a, const Image& b, const std::string& what) {
 
 bool fastPathTakes(const std::string& path) {
   const std::string bytes = readFileBytes(path);
-  Image image;
+  DecodedPng image;
   return decodePngFast(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), image);
 }
 
@@ -210,6 +213,41 @@ TEST(ImageFastRead, PngEveryShapeAndFilterReadsAsLibpngReadsIt) {
   // The large images take the fast path; small ones (libpng writes them with
   // zlib windows under 32 KB) go to libpng.
   EXPECT_GE(taken, cases / 3);
+}
+
+// Textures: decodeTextureImage (the fast path, converted to RGBA8) against
+// stb_image's own decoding of the same file.
+TEST(ImageFastRead, PngTexturesDecodeAsStbImageDecodesThem) {
+  voxtest::TempDir dir;
+  int taken = 0;
+  for (int colorType : {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA,
+                        PNG_COLOR_TYPE_PALETTE})
+    for (int depth : {8, 16})
+      for (int filters : {PNG_FILTER_SUB, PNG_FILTER_PAETH, PNG_ALL_FILTERS})
+        for (uint32_t width : {3u, 600u}) {
+          if (colorType == PNG_COLOR_TYPE_PALETTE && depth == 16) continue;
+          PngSpec s;
+          s.colorType = colorType, s.depth = colorType == PNG_COLOR_TYPE_PALETTE ? 4 : depth, s.filters = filters;
+          s.width = width, s.height = width == 3 ? 7 : 80;
+          const std::string what = "colour type " + std::to_string(colorType) + ", " + std::to_string(s.depth) +
+                                   " bit, filters " + std::to_string(filters) + ", width " + std::to_string(width);
+          const std::string path = dir.file("t.png");
+          ASSERT_TRUE(writeWithLibpng(s, path)) << what;
+          const std::string bytes = readFileBytes(path);
+          TextureImage ours;
+          std::string why;
+          ASSERT_TRUE(decodeTextureImage(bytes, ours, why)) << what << ": " << why;
+          int w = 0, h = 0, n = 0;
+          stbi_uc* ref = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &w, &h, &n, 4);
+          ASSERT_NE(ref, nullptr) << what;
+          EXPECT_EQ(ours.width, uint32_t(w)) << what;
+          EXPECT_EQ(ours.height, uint32_t(h)) << what;
+          EXPECT_TRUE(ours.rgba.size() == size_t(w) * h * 4 && std::memcmp(ours.rgba.data(), ref, ours.rgba.size()) == 0)
+              << what;
+          stbi_image_free(ref);
+          if (fastPathTakes(path)) ++taken;
+        }
+  EXPECT_GE(taken, 24);  // the 600-wide images of the four colour types, both depths, three filter sets
 }
 
 TEST(ImageFastRead, PngShapesTheFastPathDeclinesStillRead) {

@@ -12,7 +12,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/image/image.h"
-#include "formats/image/png_fast_decode.h"
+#include "formats/mesh/png_fast_decode.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -202,6 +202,16 @@ void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType
   if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throwIo(outputName(path) + ": cannot write the file: " + std::strerror(errno));
 }
 
+/// The fast path's decoding as an Image (the same pixels libpng's gives).
+Image imageOf(DecodedPng&& d) {
+  Image image;
+  image.width = d.width, image.height = d.height, image.channels = d.channels;
+  image.type = d.bitDepth == 16 ? SampleType::U16 : SampleType::U8;
+  image.pixels = std::move(d.pixels);
+  image.text = std::move(d.text);
+  return image;
+}
+
 /// The pixels and text chunks of the PNG that `f` reads (from its start),
 /// `bytes` long; destroys png/info. Shared by the file and memory readers.
 static Image decodePng(png_structp png, png_infop info, FILE* f, uint64_t bytes, const std::string& name,
@@ -250,10 +260,10 @@ Image readPng(const std::string& path) {
   }
   {
     const FileView bytes(path);
-    Image fast;
+    DecodedPng fast;
     if (decodePngFast(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), fast)) {
       png_destroy_read_struct(&png, &info, nullptr);
-      return fast;
+      return imageOf(std::move(fast));
     }
   }
   return decodePng(png, info, f.get(), uint64_t(std::filesystem::file_size(path)), path, message);
@@ -284,9 +294,9 @@ Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
     png_destroy_read_struct(&png, &info, nullptr);
     throwBadInput(name + ": corrupt or truncated PNG: " + pastEnd);
   }
-  if (Image fast; decodePngFast(data, size, fast)) {
+  if (DecodedPng fast; decodePngFast(data, size, fast)) {
     png_destroy_read_struct(&png, &info, nullptr);
-    return fast;
+    return imageOf(std::move(fast));
   }
   return decodePng(png, info, f.get(), size, name, message);
 }

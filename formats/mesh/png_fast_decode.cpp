@@ -1,4 +1,4 @@
-#include "formats/image/png_fast_decode.h"
+#include "formats/mesh/png_fast_decode.h"
 
 #include <libdeflate.h>
 #ifdef __SSE2__
@@ -22,7 +22,8 @@ bool isType(const uint8_t* type, const char* name) { return std::memcmp(type, na
 // Ancillary chunks libpng reads without changing the pixels or text it gives
 // vox's reader (no gamma, background or shift transform is asked for).
 bool harmlessAncillary(const uint8_t* type) {
-  static const char* const kNames[] = {"gAMA", "sRGB", "pHYs", "tIME", "cHRM", "bKGD", "sBIT"};
+  static const char* const kNames[] = {"gAMA", "sRGB", "cHRM", "iCCP", "pHYs", "oFFs", "pCAL",
+                                       "sCAL", "tIME", "bKGD", "sBIT", "eXIf"};
   for (const char* n : kNames)
     if (isType(type, n)) return true;
   return false;
@@ -39,6 +40,60 @@ uint8_t paeth(uint8_t a, uint8_t b, uint8_t c) {
   const int pa = std::abs(p - int(a)), pb = std::abs(p - int(b)), pc = std::abs(p - int(c));
   return (pa <= pb && pa <= pc) ? a : (pb <= pc ? b : c);
 }
+
+#ifdef __SSE2__
+// The AVG and PAETH filters of 8-bit RGB and RGBA rows, a pixel at a time
+// with its 3 or 4 bytes side by side in 16-bit lanes (each byte depends on
+// the pixel to its left, so the bytes of one pixel are what can go
+// together): the byte-serial loops were most of decoding a photographic
+// PNG texture. Pixels are loaded and stored `bpp` bytes at a time, so the
+// in-place layout below holds as for the scalar loops.
+// A pixel's bytes in the low 16-bit lanes. kLoad 4 for an RGB pixel reads the
+// byte after it too (its lane is never stored): one load instead of a 3-byte
+// copy through the stack, whose store-to-load stall was most of the loop.
+// The caller keeps that byte inside the buffer.
+template <size_t kLoad>
+inline __m128i loadPixel(const uint8_t* p) {
+  uint32_t v = 0;
+  std::memcpy(&v, p, kLoad);
+  return _mm_unpacklo_epi8(_mm_cvtsi32_si128(int(v)), _mm_setzero_si128());
+}
+inline __m128i absDiff16(__m128i x, __m128i y) {
+  const __m128i d = _mm_sub_epi16(x, y);
+  return _mm_max_epi16(d, _mm_sub_epi16(_mm_setzero_si128(), d));
+}
+// PNG's Paeth predictor on 16-bit lanes: a (left), b (up) or c (up left),
+// whichever is closest to a + b - c, ties to a, then b.
+inline __m128i paeth16(__m128i a, __m128i b, __m128i c) {
+  const __m128i pa = absDiff16(b, c), pb = absDiff16(a, c);
+  const __m128i pc = absDiff16(_mm_add_epi16(a, b), _mm_add_epi16(c, c));
+  const __m128i takeA = _mm_andnot_si128(_mm_or_si128(_mm_cmpgt_epi16(pa, pb), _mm_cmpgt_epi16(pa, pc)),
+                                         _mm_set1_epi16(-1));
+  const __m128i takeB = _mm_andnot_si128(_mm_or_si128(takeA, _mm_cmpgt_epi16(pb, pc)), _mm_set1_epi16(-1));
+  const __m128i takeC = _mm_andnot_si128(_mm_or_si128(takeA, takeB), _mm_set1_epi16(-1));
+  return _mm_or_si128(_mm_or_si128(_mm_and_si128(takeA, a), _mm_and_si128(takeB, b)), _mm_and_si128(takeC, c));
+}
+// out[i] = raw[i] + predict(left, up, up left) for the pixels after the first.
+template <size_t kBpp, class Predict>
+void pixelsAfterFirstOf(const uint8_t* raw, const uint8_t* prev, uint8_t* out, size_t n, Predict predict) {
+  __m128i left = loadPixel<kBpp>(out), upLeft = loadPixel<kBpp>(prev);
+  auto pixel = [&](size_t i, __m128i up, __m128i r) {
+    const __m128i x = _mm_add_epi16(r, predict(left, up, upLeft));
+    const __m128i bytes = _mm_packus_epi16(_mm_and_si128(x, _mm_set1_epi16(0xFF)), _mm_setzero_si128());
+    const uint32_t v = uint32_t(_mm_cvtsi128_si32(bytes));
+    std::memcpy(out + i, &v, kBpp);
+    left = _mm_unpacklo_epi8(bytes, _mm_setzero_si128()), upLeft = up;
+  };
+  size_t i = kBpp;
+  for (; i + 4 <= n; i += kBpp) pixel(i, loadPixel<4>(prev + i), loadPixel<4>(raw + i));  // byte i + 3 is in the row
+  for (; i + kBpp <= n; i += kBpp) pixel(i, loadPixel<kBpp>(prev + i), loadPixel<kBpp>(raw + i));
+}
+template <class Predict>
+void pixelsAfterFirst(const uint8_t* raw, const uint8_t* prev, uint8_t* out, size_t n, size_t bpp, Predict predict) {
+  if (bpp == 3) pixelsAfterFirstOf<3>(raw, prev, out, n, predict);
+  else pixelsAfterFirstOf<4>(raw, prev, out, n, predict);
+}
+#endif
 
 // One scanline: `raw` (filtered, without its filter byte) into `out`, given
 // the row above (`prev`, null for the first row). `bpp`: bytes per pixel.
@@ -79,12 +134,28 @@ bool unfilterRow(uint8_t filter, const uint8_t* raw, const uint8_t* prev, uint8_
         for (size_t i = 0; i < n; ++i) out[i] = uint8_t(raw[i] + prev[i]);
       return true;
     case 3:
+#ifdef __SSE2__
+      if (prev && (bpp == 3 || bpp == 4) && n >= bpp) {
+        for (size_t i = 0; i < bpp; ++i) out[i] = uint8_t(raw[i] + (prev[i] >> 1));
+        pixelsAfterFirst(raw, prev, out, n, bpp, [](__m128i a, __m128i b, __m128i) {
+          return _mm_srli_epi16(_mm_add_epi16(a, b), 1);
+        });
+        return true;
+      }
+#endif
       for (size_t i = 0; i < n; ++i) {
         const unsigned left = i >= bpp ? out[i - bpp] : 0, up = prev ? prev[i] : 0;
         out[i] = uint8_t(raw[i] + ((left + up) >> 1));
       }
       return true;
     case 4:
+#ifdef __SSE2__
+      if (prev && (bpp == 3 || bpp == 4) && n >= bpp) {
+        for (size_t i = 0; i < bpp; ++i) out[i] = uint8_t(raw[i] + prev[i]);  // paeth(0, up, 0) = up
+        pixelsAfterFirst(raw, prev, out, n, bpp, paeth16);
+        return true;
+      }
+#endif
       for (size_t i = 0; i < n; ++i) {
         const uint8_t left = i >= bpp ? out[i - bpp] : 0, up = prev ? prev[i] : 0;
         const uint8_t upLeft = (prev && i >= bpp) ? prev[i - bpp] : 0;
@@ -104,7 +175,8 @@ struct Decompressor {
 
 }  // namespace
 
-bool decodePngFast(const uint8_t* data, size_t size, Image& out) {
+bool decodePngFast(const uint8_t* data, size_t size, DecodedPng& out, PngReader reader) {
+  const bool stb = reader == PngReader::StbImage;
   static const uint8_t kMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (size < 8 + 25 || std::memcmp(data, kMagic, 8) != 0) return false;
 
@@ -137,6 +209,8 @@ bool decodePngFast(const uint8_t* data, size_t size, Image& out) {
     } else if (isType(type, "IEND")) {
       ended = true;
       break;
+    } else if (stb && (type[0] & 0x20) && !isType(type, "tRNS")) {
+      // an ancillary chunk stb_image skips
     } else if (isType(type, "tEXt")) {
       if (length > kMaxTextChunk || text.size() >= kMaxTextChunks) return false;
       const void* nul = std::memchr(body, 0, length);
@@ -167,15 +241,16 @@ bool decodePngFast(const uint8_t* data, size_t size, Image& out) {
     for (const auto& [p, n] : idat) joined.insert(joined.end(), p, p + n);
     stream = joined.data(), streamBytes = joined.size();
   }
-  // A window under 32 KB: libpng enforces it, libdeflate does not; such
-  // streams come from small images, which libpng reads quickly enough.
-  if (streamBytes < 2 || (stream[0] >> 4) != 7) return false;
+  // A window under 32 KB: libpng enforces it, libdeflate (like stb_image)
+  // does not; such streams come from small images, which libpng reads
+  // quickly enough.
+  if (streamBytes < 2 || (!stb && (stream[0] >> 4) != 7)) return false;
   // Inflated straight into the image's pixels, then unfiltered in place:
   // no second image-sized buffer (fresh memory costs more than the copy).
   const size_t n = size_t(rowBytes), filtered = (n + 1) * height;
-  Image image;
+  DecodedPng image;
   image.width = width, image.height = height, image.channels = uint32_t(channels);
-  image.type = depth == 16 ? SampleType::U16 : SampleType::U8;
+  image.bitDepth = uint32_t(depth);
   image.pixels.resize(filtered);
   Decompressor inflater;
   if (!inflater.d) return false;
