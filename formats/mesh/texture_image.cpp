@@ -120,7 +120,7 @@ bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   if (stbi_info_from_memory(data, int(bytes.size()), &w, &h, &n) && tooLarge(uint64_t(w), uint64_t(h), why)) return false;
   // PNGs of the common shapes through the libdeflate fast path: stb_image's
-  // own inflate and filters took about twice as long on a 2048^2 RGBA texture
+  // own inflate and filters took 1.5-3x as long on 2048^2 RGB textures
   // (docs/gltf.md, "PNG textures").
   if (DecodedPng png; decodePngFast(data, bytes.size(), png, PngReader::StbImage)) {
     rgbaLikeStb(png, out);
