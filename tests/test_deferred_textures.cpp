@@ -304,3 +304,39 @@ TEST(TextureSampling, RepeatWrapsAsTheModulo) {
     }
   }
 }
+
+TEST(TextureSampling, PackedSpotsGiveBackEverySpot) {
+  // A piece keeps its spot packed (x1 and y1 as 2-bit codes: x0 + 1, 0 or x0);
+  // every spot texelSpot makes, in every wrap mode, at the edges and beyond,
+  // must come back whole, and the piece must stay 32 bytes.
+  static_assert(sizeof(TexturedPiece) == 32);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coord(-2.5, 3.5);
+  std::vector<double> values = {0.0, 1.0, -1.0, 2.0, 1e-20, -1e-20, 1.0 - 1e-17, 0.5, -0.5, 1.5, 0.999, 0.001};
+  for (int k = 0; k < 4000; ++k) values.push_back(coord(rng));
+  const MeshTexture::Wrap modes[] = {MeshTexture::Wrap::Repeat, MeshTexture::Wrap::ClampToEdge,
+                                     MeshTexture::Wrap::MirroredRepeat};
+  size_t checked = 0;
+  std::map<std::tuple<int, int>, size_t> codes;  // (x code, y code) -> count: every code is reached
+  for (uint32_t n : {1u, 2u, 5u, 2048u, 65537u})
+    for (const auto ws : modes)
+      for (const auto wt : modes)
+        for (bool nearest : {false, true}) {
+          const TextureSampling t{n, n + 3, ws, wt, nearest};
+          for (size_t k = 0; k < values.size(); ++k) {
+            const TexelSpot a = texelSpot(t, values[k], values[(k * 7 + 3) % values.size()]);
+            const PackedSpot packed = packSpot(a);
+            const TexelSpot b = unpackSpot(packed);
+            ASSERT_EQ(std::tie(a.x0, a.x1, a.y0, a.y1), std::tie(b.x0, b.x1, b.y0, b.y1))
+                << "n " << n << ", wrap " << int(ws) << "/" << int(wt) << ", nearest " << nearest << ", s "
+                << values[k];
+            ASSERT_EQ(std::bit_cast<uint32_t>(a.fx), std::bit_cast<uint32_t>(b.fx));
+            ASSERT_EQ(std::bit_cast<uint32_t>(a.fy), std::bit_cast<uint32_t>(b.fy));
+            ++codes[{packed.next & 3, packed.next >> 2}];
+            ++checked;
+          }
+        }
+  EXPECT_GT(checked, size_t(350000));
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y) EXPECT_GT((codes[{x, y}]), 0u) << "code pair " << x << ", " << y << " never made";
+}

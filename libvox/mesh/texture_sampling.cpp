@@ -53,20 +53,41 @@ std::array<float, 3> sampleRows(const uint8_t* row0, const uint8_t* row1, const 
   return r;
 }
 
-std::array<uint16_t, 3> sampledColor(const TexturedPiece& p, const std::array<float, 3>& texel) {
-  return {uint16_t(q16(p.base[0] * texel[0])), uint16_t(q16(p.base[1] * texel[1])),
-          uint16_t(q16(p.base[2] * texel[2]))};
+std::array<uint16_t, 3> sampledColor(const PieceLook& look, const std::array<float, 3>& texel) {
+  return {uint16_t(q16(look.base[0] * texel[0])), uint16_t(q16(look.base[1] * texel[1])),
+          uint16_t(q16(look.base[2] * texel[2]))};
 }
 
-void addToSum(const TexturedPiece& p, const std::array<uint16_t, 3>& c) {
-  p.sum->r += p.votes * uint64_t(c[0]);
-  p.sum->g += p.votes * uint64_t(c[1]);
-  p.sum->b += p.votes * uint64_t(c[2]);
+void addToSum(ColorSum& sum, uint32_t votes, const std::array<uint16_t, 3>& c) {
+  sum.r += votes * uint64_t(c[0]);
+  sum.g += votes * uint64_t(c[1]);
+  sum.b += votes * uint64_t(c[2]);
+}
+
+[[noreturn]] void tooManyInTile(const char* what) {
+  throw Error(ErrorKind::Resource, std::string("a tile of the surface pass holds more ") + what + " than 32-bit indices can name" +
+                                       "; bake a smaller region or a lower resolution");
 }
 
 }  // namespace
 
 TextureSampling samplingOf(const MeshTexture& t) { return {t.width, t.height, t.wrapS, t.wrapT, t.nearest}; }
+
+uint32_t ColorSumStore::add() {
+  if (count_ >= UINT32_MAX) tooManyInTile("coloured voxels");
+  if (count_ % kChunk == 0) chunks_.push_back(std::make_unique<ColorSum[]>(kChunk));  // zeroed: sums start at 0
+  return uint32_t(count_++);
+}
+
+void TexturedPieces::addLook(const PieceLook& look) {
+  if (looks_.size() >= UINT32_MAX) tooManyInTile("textured piece colours");
+  looks_.push_back(look);
+}
+
+void TexturedPieces::addChunk() {
+  if (count_ > UINT32_MAX - kChunk) tooManyInTile("textured pieces");  // indices stay below 2^32
+  chunks_.push_back(std::make_unique_for_overwrite<TexturedPiece[]>(kChunk));  // no zeroing: each is written
+}
 
 TexelSpot texelSpot(const TextureSampling& tex, double s, double t) {
   const double x = wrapCoord(s, tex.wrapS) * tex.width - 0.5, y = wrapCoord(t, tex.wrapT) * tex.height - 0.5;
@@ -110,33 +131,37 @@ uint64_t q16(float x) {
   return uint64_t(double(v) + 0.5);
 }
 
-void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces) {
+void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces, ColorSumStore& sums) {
   // The pieces come in the order their triangles were voxelized, their texels
   // scattered over textures far larger than the caches: each sample's rows are
   // prefetched kAhead pieces early, which hides most of the misses that
   // sampling during the geometry waited on.
   constexpr size_t kAhead = 16;
-  auto rowsOf = [&](const TexturedPiece& p, const uint8_t*& row0, const uint8_t*& row1) {
-    const MeshTexture& tex = mesh.textures[p.texture];
+  auto rowsOf = [&](const TexturedPiece& p, const TexelSpot& spot, const uint8_t*& row0, const uint8_t*& row1) {
+    const MeshTexture& tex = mesh.textures[pieces.look(p).texture];
     if (tex.width == 0 || tex.height == 0) return false;
     const size_t stride = size_t(tex.width) * 4;
-    row0 = tex.rgba.data() + stride * p.spot.y0, row1 = tex.rgba.data() + stride * p.spot.y1;
+    row0 = tex.rgba.data() + stride * spot.y0, row1 = tex.rgba.data() + stride * spot.y1;
     return true;
   };
   for (size_t i = 0; i < pieces.size(); ++i) {
     if (i + kAhead < pieces.size()) {
+      const TexturedPiece& ahead = pieces[i + kAhead];
+      const TexelSpot spot = unpackSpot(ahead.spot);
       const uint8_t *a, *b;
-      if (rowsOf(pieces[i + kAhead], a, b)) {
-        __builtin_prefetch(a + size_t(pieces[i + kAhead].spot.x0) * 4);
-        __builtin_prefetch(b + size_t(pieces[i + kAhead].spot.x0) * 4);
+      if (rowsOf(ahead, spot, a, b)) {
+        __builtin_prefetch(a + size_t(spot.x0) * 4);
+        __builtin_prefetch(b + size_t(spot.x0) * 4);
       }
     }
     const TexturedPiece& p = pieces[i];
+    const PieceLook& look = pieces.look(p);
+    const TexelSpot spot = unpackSpot(p.spot);
     const uint8_t *row0, *row1;
-    const std::array<float, 3> texel =
-        rowsOf(p, row0, row1) ? sampleRows(row0, row1, p.spot, mesh.textures[p.texture].nearest)
-                              : std::array<float, 3>{1, 1, 1};  // a texture without pixels is white
-    addToSum(p, sampledColor(p, texel));
+    const std::array<float, 3> texel = rowsOf(p, spot, row0, row1)
+                                           ? sampleRows(row0, row1, spot, mesh.textures[look.texture].nearest)
+                                           : std::array<float, 3>{1, 1, 1};  // a texture without pixels is white
+    addToSum(sums[p.sum], p.votes, sampledColor(look, texel));
   }
 }
 
@@ -157,7 +182,9 @@ RowSampling::RowSampling(const Mesh& mesh, const TextureRowSource* source)
 
 void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tiles, TextureRowSource& source,
                     unsigned threads) {
-  // Every tile's pieces by band, band by band, in tile order within a band.
+  // Every tile's pieces by band, band by band, in tile order within a band:
+  // a reference each (8 bytes; a sort of the pieces in place cost more in
+  // cache misses than the memory it saved).
   const size_t nBands = rows.bands();
   std::vector<size_t> start(nBands + 1, 0);
   std::vector<std::vector<size_t>> cursor(tiles.size());
@@ -171,12 +198,15 @@ void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tile
     cursor[k] = next;
     for (size_t b = 0; b < nBands; ++b) next[b] += tiles[k]->perBand[b];
   }
-  const auto refs = std::make_unique_for_overwrite<TexturedPiece*[]>(start[nBands]);
+  struct Ref {
+    uint32_t tile, piece;  // TexturedPieces stop below 2^32
+  };
+  const auto refs = std::make_unique_for_overwrite<Ref[]>(start[nBands]);
   parallelForEach(tiles.size(), threads, 1, [&](size_t k) {
-    TexturedPieces& pieces = tiles[k]->pieces;
+    const TexturedPieces& pieces = tiles[k]->pieces;
     for (size_t i = 0; i < pieces.size(); ++i) {
-      TexturedPiece& p = pieces[i];
-      refs[cursor[k][rows.band(p.texture, p.spot.y0)]++] = &p;
+      const TexturedPiece& p = pieces[i];
+      refs[cursor[k][rows.band(pieces.look(p).texture, p.spot.y0)]++] = {uint32_t(k), uint32_t(i)};
     }
   });
 
@@ -203,21 +233,19 @@ void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tile
       for (uint32_t b = 0; b < bands; ++b) {
         const uint32_t y = b * R;  // the image row in the window's first row
         // A band's pieces lie all over the tiles' chunks: each is prefetched
-        // kAhead pieces early (both its cache lines), where waiting on each
-        // miss was a third of the sampling.
+        // kAhead pieces early, where waiting on each miss was a third of the
+        // sampling.
         constexpr size_t kAhead = 16;
         const size_t end = start[first + b + 1];
         for (size_t r = start[first + b]; r < end; ++r) {
-          if (r + kAhead < end) {
-            const char* ahead = reinterpret_cast<const char*>(refs[r + kAhead]);
-            __builtin_prefetch(ahead, 1);
-            __builtin_prefetch(ahead + sizeof(TexturedPiece) - 1, 1);
-          }
-          TexturedPiece& p = *refs[r];
-          const TexelSpot spot = p.spot;
+          if (r + kAhead < end) __builtin_prefetch(&tiles[refs[r + kAhead].tile]->pieces[refs[r + kAhead].piece], 1);
+          TexturedPieces& pieces = tiles[refs[r].tile]->pieces;
+          TexturedPiece& p = pieces[refs[r].piece];
+          const PieceLook& look = pieces.look(p);
+          const TexelSpot spot = unpackSpot(p.spot);
           const uint8_t* row0 = window.data() + size_t(spot.y0 - y) * stride;
           const uint8_t* row1 = spot.y1 >= y ? window.data() + size_t(spot.y1 - y) * stride : top.data();
-          p.sampled = sampledColor(p, sampleRows(row0, row1, spot, rows.sampling(p.texture).nearest));
+          p.sampled = sampledColor(look, sampleRows(row0, row1, spot, rows.sampling(look.texture).nearest));
         }
         if (b + 1 < bands) {  // rows y + R + 1 .. y + 2R after row y + R, which moves first
           std::memmove(window.data(), window.data() + size_t(R) * stride, stride);
@@ -233,8 +261,8 @@ void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tile
     if (e) std::rethrow_exception(e);
 }
 
-void addSampledPieces(const TexturedPieces& pieces) {
-  for (size_t i = 0; i < pieces.size(); ++i) addToSum(pieces[i], pieces[i].sampled);
+void addSampledPieces(const TexturedPieces& pieces, ColorSumStore& sums) {
+  for (size_t i = 0; i < pieces.size(); ++i) addToSum(sums[pieces[i].sum], pieces[i].votes, pieces[i].sampled);
 }
 
 }  // namespace vox

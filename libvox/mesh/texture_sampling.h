@@ -54,48 +54,100 @@ TexelSpot texelSpot(const TextureSampling& tex, double s, double t);
 /// A colour channel in [0, 1] as the 16-bit fixed point the sums add.
 uint64_t q16(float x);
 
-/// A piece of a textured triangle whose texel is added to its voxel's sum
-/// after its tile's geometry: the sum (ColorSums' storage never moves), the
-/// colour before the texture (base colour factor x vertex colour), its votes,
-/// its texture and where it samples; once sampled by rows, `sampled` holds
-/// q16 of base x texel per channel in place of the spot.
-struct TexturedPiece {
-  ColorSum* sum;
-  union {
-    TexelSpot spot;
-    std::array<uint16_t, 3> sampled;
-  };
-  std::array<float, 3> base;
-  uint32_t votes;
-  uint32_t texture;
+/// A tile's colour sums, by slot, in chunks that never move (the pieces
+/// below name their sum by slot: 4 bytes where a pointer took 8).
+class ColorSumStore {
+ public:
+  static constexpr size_t kChunk = 4096;
+  /// A new sum, zero; its slot (below 2^32 - 1). Throws vox::Error
+  /// (Resource) past that many sums in one tile.
+  uint32_t add();
+  ColorSum& operator[](uint32_t slot) { return chunks_[slot / kChunk][slot % kChunk]; }
+  const ColorSum& operator[](uint32_t slot) const { return chunks_[slot / kChunk][slot % kChunk]; }
+
+ private:
+  std::vector<std::unique_ptr<ColorSum[]>> chunks_;
+  size_t count_ = 0;
 };
 
+/// What a textured piece's colour is before its texel: the base colour
+/// (base colour factor x vertex colour) and the texture. Pieces of one
+/// triangle without vertex colours share one.
+struct PieceLook {
+  std::array<float, 3> base;
+  uint32_t texture;
+  bool operator==(const PieceLook&) const = default;
+};
+
+/// A TexelSpot in 17 bytes: x1 and y1 are always x0 + 1, 0 or x0 (y likewise),
+/// so a 2-bit code each stands in for them.
+struct PackedSpot {
+  uint32_t x0, y0;
+  float fx, fy;
+  uint8_t next;  // bits 0-1: x1, bits 2-3: y1; 0: +1, 1: 0, 2: the same
+};
+inline PackedSpot packSpot(const TexelSpot& s) {
+  auto code = [](uint32_t a, uint32_t b) { return uint8_t(b == a + 1 ? 0 : b == 0 ? 1 : 2); };  // texelSpot gives no other
+  return {s.x0, s.y0, s.fx, s.fy, uint8_t(code(s.x0, s.x1) | code(s.y0, s.y1) << 2)};
+}
+inline TexelSpot unpackSpot(const PackedSpot& p) {
+  auto next = [](uint32_t a, unsigned code) { return code == 0 ? a + 1 : code == 1 ? 0 : a; };
+  return {p.x0, next(p.x0, p.next & 3u), p.y0, next(p.y0, (p.next >> 2) & 3u), p.fx, p.fy};
+}
+
+/// A piece of a textured triangle whose texel is added to its voxel's sum
+/// after its tile's geometry: its sum's slot, its votes, its look and where
+/// it samples; once sampled by rows, `sampled` holds q16 of base x texel per
+/// channel in place of the spot. 32 bytes (56 before the slots, looks and
+/// packed spots): the textured benchmark model makes 520 k of them, all
+/// fresh memory, which costs more on a VM than the sampling does.
+struct TexturedPiece {
+  uint32_t sum;
+  uint32_t votes;
+  uint32_t look;
+  union {
+    PackedSpot spot;
+    std::array<uint16_t, 3> sampled;
+  };
+};
+static_assert(sizeof(TexturedPiece) == 32);
+
 /// A tile's textured pieces, in chunks that are never copied (a vector's
-/// growth copied the pieces and faulted their memory in about twice over:
-/// 520 k pieces on the textured benchmark model).
+/// growth copied the pieces and faulted their memory in about twice over),
+/// and their looks.
 class TexturedPieces {
  public:
   static constexpr size_t kChunk = 4096;
-  void push(const TexturedPiece& p) {
-    if (count_ % kChunk == 0) chunks_.push_back(std::make_unique_for_overwrite<TexturedPiece[]>(kChunk));  // no zeroing: each is written
-    chunks_.back()[count_++ % kChunk] = p;
+  /// Appends a piece; its look is stored once for a run of pieces that share
+  /// it. Throws vox::Error (Resource) when a tile's pieces or looks would
+  /// outgrow 32-bit indices.
+  void push(uint32_t sum, uint32_t votes, const PieceLook& look, const TexelSpot& spot) {
+    if (looks_.empty() || !(looks_.back() == look)) addLook(look);
+    if (count_ % kChunk == 0) addChunk();
+    TexturedPiece& p = chunks_.back()[count_++ % kChunk];
+    p.sum = sum, p.votes = votes, p.look = uint32_t(looks_.size() - 1);
+    p.spot = packSpot(spot);
   }
   size_t size() const { return count_; }
   bool empty() const { return count_ == 0; }
   TexturedPiece& operator[](size_t i) { return chunks_[i / kChunk][i % kChunk]; }
   const TexturedPiece& operator[](size_t i) const { return chunks_[i / kChunk][i % kChunk]; }
+  const PieceLook& look(const TexturedPiece& p) const { return looks_[p.look]; }
   void clear() { *this = TexturedPieces(); }
 
  private:
+  void addLook(const PieceLook& look);
+  void addChunk();
   std::vector<std::unique_ptr<TexturedPiece[]>> chunks_;
+  std::vector<PieceLook> looks_;
   size_t count_ = 0;
 };
 
-/// Adds each piece's colour (base x texel of mesh.textures[p.texture], white
-/// where the texture has no pixels) to its sum, in order. Pieces of textures
-/// larger than the caches are scattered over them: each sample's rows are
-/// prefetched a few pieces early. Call on the thread that owns the sums.
-void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces);
+/// Adds each piece's colour (base x texel of its look's mesh texture, white
+/// where the texture has no pixels) to its sum in `sums`, in order. Pieces of
+/// textures larger than the caches are scattered over them: each sample's
+/// rows are prefetched a few pieces early. Call on the thread that owns the sums.
+void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces, ColorSumStore& sums);
 
 /// How the bake samples each mesh texture (width and height from the images'
 /// headers for the textures of `source`), which textures are read by rows,
@@ -124,10 +176,11 @@ class RowSampling {
 struct RowPieces {
   TexturedPieces pieces;
   std::vector<uint32_t> perBand;  // RowSampling::bands() entries once a piece is in
-  void push(const TexturedPiece& p, uint32_t band, size_t bands) {
+  void push(uint32_t sum, uint32_t votes, const PieceLook& look, const TexelSpot& spot, uint32_t band,
+            size_t bands) {
     if (perBand.empty()) perBand.assign(bands, 0);
     ++perBand[band];
-    pieces.push(p);
+    pieces.push(sum, votes, look, spot);
   }
 };
 
@@ -141,8 +194,8 @@ struct RowPieces {
 void sampleFromRows(const RowSampling& rows, const std::vector<RowPieces*>& tiles, TextureRowSource& source,
                     unsigned threads);
 
-/// Adds the colours sampleFromRows gave `pieces` to their sums. Call on the
-/// thread that owns the sums.
-void addSampledPieces(const TexturedPieces& pieces);
+/// Adds the colours sampleFromRows gave `pieces` to their sums in `sums`.
+/// Call on the thread that owns the sums.
+void addSampledPieces(const TexturedPieces& pieces, ColorSumStore& sums);
 
 }  // namespace vox

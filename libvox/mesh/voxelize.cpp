@@ -425,7 +425,8 @@ struct SurfaceWork {
 /// map's nodes took.
 class ColorSums {
  public:
-  ColorSum& at(int32_t u, int32_t v, int32_t w) {
+  /// The slot of voxel (u, v, w)'s sum in sums(), made (zero) if new.
+  uint32_t slotAt(int32_t u, int32_t v, int32_t w) {
     const uint64_t key = voxelKey(u >> kBlockLog2, v >> kBlockLog2, w >> kBlockLog2);
     if (key != lastKey_) {
       uint32_t& at = index_[key];  // grid voxels: u, v, w >= 0, so key < 2^63, never the empty key
@@ -437,12 +438,10 @@ class ColorSums {
       lastKey_ = key, last_ = &blocks_[at - 1];
     }
     uint32_t& slot = (*last_->slots)[size_t(blockOffset(u, v, w))];
-    if (slot == 0) {
-      if (count_ % kChunk == 0) chunks_.push_back(std::make_unique<ColorSum[]>(kChunk));
-      slot = uint32_t(++count_);
-    }
-    return chunks_[(slot - 1) / kChunk][(slot - 1) % kChunk];
+    if (slot == 0) slot = sums_.add() + 1;  // add() stops below 2^32 - 1
+    return slot - 1;
   }
+  ColorSumStore& sums() { return sums_; }
 
   /// Gives every voxel with a sum its vote-weighted colour in `blocks` (which
   /// holds the tile's votes, so every such block exists), then frees the sums.
@@ -454,7 +453,7 @@ class ColorSums {
       for (int i = 0; i < kBlockVoxels; ++i) {
         const uint32_t slot = (*cb.slots)[size_t(i)];
         if (slot == 0) continue;
-        const ColorSum& c = chunks_[(slot - 1) / kChunk][(slot - 1) % kChunk];
+        const ColorSum& c = sums_[slot - 1];
         if (c.w == 0) continue;
         const double d = double(c.w) * 65535.0;
         if (!b.color) b.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
@@ -466,15 +465,13 @@ class ColorSums {
   }
 
  private:
-  static constexpr size_t kChunk = 4096;
   struct Block {
     std::array<int32_t, 3> origin;
     std::unique_ptr<std::array<uint32_t, kBlockVoxels>> slots;
   };
   FlatMap64<uint32_t, PackedCoordHome> index_;  // block key -> 1 + its index in blocks_
   std::vector<Block> blocks_;
-  std::vector<std::unique_ptr<ColorSum[]>> chunks_;
-  size_t count_ = 0;
+  ColorSumStore sums_;
   uint64_t lastKey_ = ~uint64_t(0);
   Block* last_ = nullptr;
 };
@@ -598,22 +595,19 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       int texture;
       double s, tt;
       const std::array<float, 4> rgba = baseColor(W.mesh, t, l0, l1, l2, texture, s, tt);
-      ColorSum& sum = out.colors.at(u, v, w);
+      const uint32_t slot = out.colors.slotAt(u, v, w);
+      ColorSum& sum = out.colors.sums()[slot];
       sum.w += votes;
       if (texture >= 0) {  // its texel later (texture_sampling.h); the sums are integers, so order does not matter
         const TextureSampling& sampling = W.sampling->sampling(uint32_t(texture));
-        TexturedPiece piece;
-        piece.sum = &sum;
-        piece.spot = sampling.width > 0 && sampling.height > 0 ? texelSpot(sampling, s, tt) : TexelSpot{};
-        piece.base = {rgba[0], rgba[1], rgba[2]};
-        piece.votes = votes;
-        piece.texture = uint32_t(texture);
+        const TexelSpot spot = sampling.width > 0 && sampling.height > 0 ? texelSpot(sampling, s, tt) : TexelSpot{};
+        const PieceLook look{{rgba[0], rgba[1], rgba[2]}, uint32_t(texture)};
         // A texture read by rows whose header did not read has no size: its
         // image fails to open, which ends the bake; the piece stays white meanwhile.
-        if (W.sampling->imageOf(piece.texture) >= 0 && sampling.height > 0)
-          out.byRows.push(piece, W.sampling->band(piece.texture, piece.spot.y0), W.sampling->bands());
+        if (W.sampling->imageOf(look.texture) >= 0 && sampling.height > 0)
+          out.byRows.push(slot, votes, look, spot, W.sampling->band(look.texture, spot.y0), W.sampling->bands());
         else
-          out.textured.push(piece);
+          out.textured.push(slot, votes, look, spot);
       } else {
         sum.r += votes * q16(rgba[0]);
         sum.g += votes * q16(rgba[1]);
@@ -888,7 +882,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
         surfaceTriangle(work, tile.triangles[i], tile.from, tile.to, *parts[s]);
         if (i % 4096 == 4095) progress(share * double(done += 4096) / double(std::max<size_t>(1, steps)));
       }
-      addTexturedPieces(work.mesh, parts[s]->textured);
+      addTexturedPieces(work.mesh, parts[s]->textured, parts[s]->colors.sums());
       parts[s]->textured.clear();
       if (parts[s]->byRows.pieces.empty()) finishColors(s);
     }
@@ -901,7 +895,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
     sampleFromRows(*work.sampling, byRows, *work.textureRows, threads);
     parallelForEach(tiles.size(), threads, 1, [&](size_t s) {
       if (parts[s]->byRows.pieces.empty()) return;
-      addSampledPieces(parts[s]->byRows.pieces);
+      addSampledPieces(parts[s]->byRows.pieces, parts[s]->colors.sums());
       parts[s]->byRows = RowPieces();
       finishColors(s);
     });
