@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
-#include <filesystem>
 #include <memory>
 
 #include "formats/core/file_util.h"
@@ -242,31 +241,32 @@ static Image decodePng(png_structp png, png_infop info, FILE* f, uint64_t bytes,
   return image;
 }
 
-Image readPng(const std::string& path) {
-  requireRegularFile(path);
-  FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
-  if (!isPngFile(path)) throwBadInput(path + ": not a PNG file (wrong signature)");
+/// A PNG in memory, `name` in messages (`kind`: "file" or "image"): the fast
+/// path where it takes the file (formats/mesh/png_fast_decode.h), else
+/// libpng, which also words every error.
+static Image readPngBytes(const uint8_t* data, size_t size, const std::string& name, const char* kind) {
+  static const uint8_t magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size < 8 || std::memcmp(data, magic, 8) != 0)
+    throwBadInput(name + ": not a PNG " + kind + " (wrong signature)");
+  const std::string pastEnd = chunkPastEnd(size, [&](uint64_t at, uint8_t* h) {
+    std::memcpy(h, data + at, 8);
+    return true;
+  });
+  if (!pastEnd.empty()) throwBadInput(name + ": corrupt or truncated PNG: " + pastEnd);
+  if (DecodedPng fast; decodePngFast(data, size, fast)) return imageOf(std::move(fast));
+  // fmemopen gives libpng the FILE* its reader expects, over the same bytes.
+  FilePtr f(fmemopen(const_cast<uint8_t*>(data), size, "rb"), &std::fclose);
+  if (!f) throwIo(name + ": cannot read the PNG bytes from memory");
   std::string message;
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!info) throwIo(path + ": libpng could not start");
-  const std::string pastEnd = chunkPastEnd(uint64_t(std::filesystem::file_size(path)), [&](uint64_t at, uint8_t* h) {
-    return std::fseek(f.get(), long(at), SEEK_SET) == 0 && std::fread(h, 1, 8, f.get()) == 8;
-  });
-  if (!pastEnd.empty() || std::fseek(f.get(), 0, SEEK_SET) != 0) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throwBadInput(path + ": corrupt or truncated PNG: " + (pastEnd.empty() ? std::string("cannot seek") : pastEnd));
-  }
-  {
-    const FileView bytes(path);
-    DecodedPng fast;
-    if (decodePngFast(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), fast)) {
-      png_destroy_read_struct(&png, &info, nullptr);
-      return imageOf(std::move(fast));
-    }
-  }
-  return decodePng(png, info, f.get(), uint64_t(std::filesystem::file_size(path)), path, message);
+  if (!info) throwIo(name + ": libpng could not start");
+  return decodePng(png, info, f.get(), size, name, message);
+}
+
+Image readPng(const std::string& path) {
+  const FileView bytes(path);  // names the file if it is not a regular, readable one
+  return readPngBytes(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path, "file");
 }
 
 }  // namespace vox
@@ -277,28 +277,7 @@ Image readPng(const std::string& path) {
 namespace vox {
 
 Image readPngMemory(const uint8_t* data, size_t size, const std::string& name) {
-  static const uint8_t magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (size < 8 || std::memcmp(data, magic, 8) != 0) throwBadInput(name + ": not a PNG image (wrong signature)");
-  // fmemopen gives libpng the FILE* its reader expects, over the caller's bytes.
-  FilePtr f(fmemopen(const_cast<uint8_t*>(data), size, "rb"), &std::fclose);
-  if (!f) throwIo(name + ": cannot read the PNG bytes from memory");
-  std::string message;
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, pngError, pngWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!info) throwIo(name + ": libpng could not start");
-  const std::string pastEnd = chunkPastEnd(size, [&](uint64_t at, uint8_t* h) {
-    std::memcpy(h, data + at, 8);
-    return true;
-  });
-  if (!pastEnd.empty()) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throwBadInput(name + ": corrupt or truncated PNG: " + pastEnd);
-  }
-  if (DecodedPng fast; decodePngFast(data, size, fast)) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return imageOf(std::move(fast));
-  }
-  return decodePng(png, info, f.get(), size, name, message);
+  return readPngBytes(data, size, name, "image");
 }
 
 }  // namespace vox
