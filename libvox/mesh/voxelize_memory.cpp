@@ -5,6 +5,7 @@
 
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/texture_sampling.h"
 #include "libvox/mesh/voxel_blocks.h"
 
 namespace vox {
@@ -253,11 +254,11 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
   if (settings.textureRows && !mesh.textures.empty()) {
     // Textures read by rows after the geometry: every tile keeps its textured
-    // pieces (48 bytes and an 8-byte reference to sort them by row; 1.7 per
+    // pieces (32 bytes and an 8-byte reference to sort them by row; 1.7 per
     // surface voxel on the textured benchmark model) and colour sums (2 KB a
     // block, 32 bytes a voxel) until then. The rows being read: the caller's.
     e.add("textured pieces kept until the textures are read",
-          f.surfaceVoxels * (1.7 * (48 + 8) + 32) + f.blocks * 2048);
+          f.surfaceVoxels * (1.7 * double(sizeof(TexturedPiece) + 8) + double(sizeof(ColorSum))) + f.blocks * 2048);
   }
   if (settings.fill == FillMode::Solid) {
     const bool parity = settings.solidRule == SolidRule::Parity;
