@@ -206,3 +206,35 @@ TEST(TextureImage, WebpStillDecodes) {
   EXPECT_EQ(got, rgba);
   EXPECT_EQ(textureDecoderBytes(webp), uint64_t(w) * h * 4 * 2);
 }
+
+TEST(TextureImage, DamagedJpegDecodesWithAWarning) {
+  // A JPEG cut short decodes as far as its data go (libjpeg fills the rest,
+  // as viewers and stb_image show it), and says so: decodeTextureImage's
+  // warning and the row decoder's are libjpeg's first complaint.
+  const int w = 64, h = 48;
+  const std::string jpeg = encodeJpeg(testPattern(w, h), w, h, 3, JCS_RGB, 95);
+  TextureImage sound;
+  std::string why;
+  ASSERT_TRUE(decodeTextureImage(jpeg, sound, why)) << why;
+  EXPECT_TRUE(sound.warning.empty()) << sound.warning;
+
+  const std::string cut = jpeg.substr(0, jpeg.size() * 2 / 3);
+  TextureImage damaged;
+  ASSERT_TRUE(decodeTextureImage(cut, damaged, why)) << why;
+  ASSERT_EQ(damaged.rgba.size(), sound.rgba.size());
+  EXPECT_EQ(damaged.warning.rfind("JPEG: ", 0), 0u) << damaged.warning;
+  EXPECT_NE(damaged.warning.find("remature end"), std::string::npos) << damaged.warning;  // libjpeg: "Premature end of JPEG file"
+  EXPECT_TRUE(std::equal(damaged.rgba.begin(), damaged.rgba.begin() + w * 4 * 8, sound.rgba.begin()))
+      << "the rows before the cut are the sound image's";
+
+  TextureRowDecoder rows;
+  ASSERT_TRUE(rows.open(cut, why)) << why;
+  std::vector<uint8_t> buffer(size_t(w) * 4 * h);
+  ASSERT_TRUE(rows.read(buffer.data(), uint32_t(h), why)) << why;
+  EXPECT_EQ(rows.warning(), damaged.warning);
+  EXPECT_EQ(buffer, damaged.rgba);
+
+  const std::string message = damagedImageWarning("model.glb: image 2", damaged.warning);
+  EXPECT_EQ(message.rfind("model.glb: image 2: damaged image data", 0), 0u) << message;
+  EXPECT_NE(message.find(damaged.warning), std::string::npos) << message;
+}

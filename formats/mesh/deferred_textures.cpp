@@ -19,6 +19,7 @@ struct DeferredTextures::Image {
   uint64_t decoderBytes = 0;       // textureDecoderBytes
   bool opened = false;             // a reader was opened for it
   std::string error;               // why it did not decode ("" while it did)
+  std::string warning;             // TextureImage::warning once read
   double seconds = 0;              // decoding, on the threads that read it
 };
 
@@ -38,6 +39,7 @@ class DeferredTextures::Reader final : public TextureRowReader {
   uint32_t height() const override { return decoder_.height(); }
   void read(uint8_t* rgba, uint32_t count) override {
     run([&](std::string& why) { return decoder_.read(rgba, count, why); });
+    if (image_.warning.empty()) image_.warning = decoder_.warning();
     if (decoder_.rowsRead() == decoder_.height()) {  // read to its end: its bytes are no longer needed
       image_.bytes = {};
       image_.owned = std::string();
@@ -132,6 +134,13 @@ uint64_t DeferredTextures::readingBytes(unsigned threads) const {
   uint64_t bytes = 0;
   for (size_t i = 0; i < each.size() && i < std::max(threads, 1u); ++i) bytes += each[i];
   return bytes;
+}
+
+std::vector<std::string> DeferredTextures::warnings() const {
+  std::vector<std::string> out;
+  for (const std::unique_ptr<Image>& im : images_)
+    if (!im->warning.empty()) out.push_back(damagedImageWarning(im->name, im->warning));
+  return out;
 }
 
 size_t DeferredTextures::decodedImages() const {

@@ -60,6 +60,11 @@ class DeferredTextures final : public TextureRowSource {
   /// decoder's own rows (JPEG), or its whole pixels (formats decoded whole).
   uint64_t readingBytes(unsigned threads) const;
 
+  /// One warning per image whose data were damaged but decoded
+  /// (damagedImageWarning: the same words as when images are decoded while
+  /// the file is read), in index order; complete after finish().
+  std::vector<std::string> warnings() const;
+
   /// The images decoded, and the seconds their decoding took (elapsed on the
   /// threads that read them, summed over images); complete after finish().
   size_t decodedImages() const;

@@ -67,6 +67,8 @@ void decodeImages(tinygltf::Model& model, EncodedImages& images, const std::vect
       }
       throwUndecodableImage(imageName(path, todo[k], im), out[k].why);
     }
+    if (!out[k].image.warning.empty())
+      warnings.push_back(damagedImageWarning(imageName(path, todo[k], im), out[k].image.warning));
     im.width = int(out[k].image.width);
     im.height = int(out[k].image.height);
     im.component = 4;

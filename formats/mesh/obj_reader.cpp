@@ -75,7 +75,8 @@ bool isFile(const std::string& path) {
   return std::filesystem::is_regular_file(path, ec);
 }
 
-MeshTexture loadTexture(const std::string& path, const std::string& mtlName, size_t line) {
+MeshTexture loadTexture(const std::string& path, const std::string& mtlName, size_t line,
+                        std::vector<std::string>& warnings) {
   if (!isFile(path))
     throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path +
                       ": the texture file is missing; restore it, remove the map_Kd line, or leave the texture out",
@@ -85,6 +86,8 @@ MeshTexture loadTexture(const std::string& path, const std::string& mtlName, siz
   std::string why;
   if (!decodeTextureImage(bytes, image, why))
     throwBadInput(mtlName + ":" + std::to_string(line) + ": map_Kd " + path + ": cannot decode the image (" + why + ")");
+  if (!image.warning.empty())
+    warnings.push_back(damagedImageWarning(mtlName + ":" + std::to_string(line) + ": map_Kd " + path, image.warning));
   MeshTexture t;
   t.width = image.width;
   t.height = image.height;
@@ -139,7 +142,7 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
         c.nextLine();
         continue;
       }
-      mesh.textures.push_back(loadTexture(full, path, c.line));
+      mesh.textures.push_back(loadTexture(full, path, c.line, warnings));
       mesh.filesRead.push_back(full);
       mesh.materials[current].texture = int(mesh.textures.size() - 1);
     }

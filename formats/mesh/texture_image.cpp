@@ -40,6 +40,7 @@ struct JpegError {
   jpeg_error_mgr mgr;
   std::jmp_buf jump;
   char message[JMSG_LENGTH_MAX];
+  char warning[JMSG_LENGTH_MAX];  // the first corrupt-data warning ("" while none)
 };
 
 [[noreturn]] void jpegFail(j_common_ptr cinfo) {
@@ -49,6 +50,14 @@ struct JpegError {
 }
 
 void jpegIgnoreWarning(j_common_ptr, int) {}
+
+/// libjpeg's warnings (level -1: corrupt data it decodes past, as stb_image
+/// and image viewers do) are kept, the first one worded; trace messages dropped.
+void jpegKeepWarning(j_common_ptr cinfo, int level) {
+  if (level >= 0) return;
+  auto* err = reinterpret_cast<JpegError*>(cinfo->err);
+  if (cinfo->err->num_warnings++ == 0) (*cinfo->err->format_message)(cinfo, err->warning);
+}
 
 /// Reads `count` rows of `cinfo` into `rgba` (`stride` bytes each), counting
 /// them in `next`; libjpeg's errors longjmp out of it.
@@ -149,6 +158,7 @@ struct TextureRowDecoder::State {
   // Other formats: the whole image, decoded by open().
   TextureImage whole;
   uint32_t width = 0, height = 0, next = 0;
+  std::string warning;  // TextureImage::warning
   ~State() {
     if (created) jpeg_destroy_decompress(&cinfo);
   }
@@ -159,6 +169,7 @@ TextureRowDecoder::~TextureRowDecoder() = default;
 uint32_t TextureRowDecoder::width() const { return s_->width; }
 uint32_t TextureRowDecoder::height() const { return s_->height; }
 uint32_t TextureRowDecoder::rowsRead() const { return s_->next; }
+const std::string& TextureRowDecoder::warning() const { return s_->warning; }
 
 bool TextureRowDecoder::open(std::string_view bytes, std::string& why) {
   State& s = *s_;
@@ -174,7 +185,7 @@ bool TextureRowDecoder::open(std::string_view bytes, std::string& why) {
   s.jpeg = true;
   s.cinfo.err = jpeg_std_error(&s.err.mgr);
   s.err.mgr.error_exit = jpegFail;
-  s.err.mgr.emit_message = jpegIgnoreWarning;  // a corrupt-data warning still decodes, as stb_image does
+  s.err.mgr.emit_message = jpegKeepWarning;  // corrupt data still decode, as stb_image does, with a warning
   // Only State (on the heap) is touched between here and a longjmp back.
   if (setjmp(s.err.jump)) {
     why = std::string("JPEG: ") + s.err.message;
@@ -193,6 +204,7 @@ bool TextureRowDecoder::open(std::string_view bytes, std::string& why) {
   s.cinfo.dct_method = JDCT_ISLOW;         // exact integer IDCT: the same pixels on every CPU
   jpeg_start_decompress(&s.cinfo);
   s.width = s.cinfo.output_width, s.height = s.cinfo.output_height;
+  if (s.err.warning[0] && s.warning.empty()) s.warning = std::string("JPEG: ") + s.err.warning;
   return true;
 }
 
@@ -212,6 +224,7 @@ bool TextureRowDecoder::read(uint8_t* rgba, uint32_t count, std::string& why) {
   }
   readJpegRows(s.cinfo, rgba, stride, count, s.next);
   if (s.next == s.height) jpeg_finish_decompress(&s.cinfo);
+  if (s.err.warning[0] && s.warning.empty()) s.warning = std::string("JPEG: ") + s.err.warning;
   return true;
 }
 
@@ -226,7 +239,14 @@ bool decodeTextureImage(std::string_view bytes, TextureImage& out, std::string& 
   out.width = decoder.width();
   out.height = decoder.height();
   out.rgba.resize(size_t(out.width) * out.height * 4);
-  return decoder.read(out.rgba.data(), out.height, why);
+  if (!decoder.read(out.rgba.data(), out.height, why)) return false;
+  out.warning = decoder.warning();
+  return true;
+}
+
+std::string damagedImageWarning(const std::string& name, const std::string& why) {
+  return name + ": damaged image data, decoded as far as they go (" + why +
+         "); its colours may be wrong: re-export the image";
 }
 
 namespace {

@@ -25,6 +25,11 @@ namespace vox {
 struct TextureImage {
   uint32_t width = 0, height = 0;
   std::vector<uint8_t> rgba;  // width * height * 4, row 0 = the image's top row
+  /// Not empty: the data are damaged (a JPEG cut short, or with corrupt
+  /// entropy data) but decoded as far as they go, as image viewers and
+  /// stb_image show them; the decoder's first complaint. Callers warn with
+  /// damagedImageWarning.
+  std::string warning;
 };
 
 /// The largest image decoded, in pixels (a 16384 x 16384 texture: 1 GiB as RGBA);
@@ -59,6 +64,8 @@ class TextureRowDecoder {
   uint32_t height() const;
   /// The rows handed out so far.
   uint32_t rowsRead() const;
+  /// TextureImage::warning for what was decoded so far ("" while the data are sound).
+  const std::string& warning() const;
   /// The next `count` rows (RGBA8, width x 4 bytes each, no padding) into
   /// `rgba`; count <= height - rowsRead(). The read that returns the last row
   /// also reads the end of the data. False with `why` set on a decoding error
@@ -82,6 +89,10 @@ bool textureImageSize(std::string_view bytes, uint32_t& width, uint32_t& height)
 /// coefficient (2 bytes per sample), other formats are decoded whole (their
 /// RGBA, and stb_image's own copy while it converts).
 uint64_t textureDecoderBytes(std::string_view bytes);
+
+/// The warning for image `name` whose data are damaged but decoded
+/// (TextureImage::warning `why`): the one wording, whenever it is decoded.
+std::string damagedImageWarning(const std::string& name, const std::string& why);
 
 /// Throws vox::Error (BadInput, Setting::IgnoreMissingMaterials): image
 /// `name` ("model.glb: image 3 'wood.jpg'") does not decode, for reason `why`

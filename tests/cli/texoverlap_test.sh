@@ -4,8 +4,9 @@
 # file (--ignore-missing-materials keeps that path) at --threads 1 and 2, for
 # PNG textures (decoded whole, then handed out by rows) and JPEG ones
 # (decoded row by row, baseline and progressive), the report counts the
-# images decoded during the bake, and an image that does not decode is
-# refused as before: exit 3, its name on stderr, nothing written.
+# images decoded during the bake, an image that does not decode is
+# refused as before (exit 3, its name on stderr, nothing written), and a
+# damaged JPEG decodes with a warning naming it.
 # Usage: texoverlap_test.sh VOX TESTS_DIR
 set -u
 vox=$1
@@ -79,5 +80,26 @@ done
 # With --ignore-missing-materials it is a warning and the box bakes untextured.
 expect_exit 0 "$vox" voxelize bad.gltf --res 32 --ignore-missing-materials -o lenient.vdb
 expect_stderr "cannot be decoded"
+
+# A JPEG cut short: decoded as far as its data go (as viewers show it), with
+# a warning naming the image, the same whether decoded during the bake or
+# while reading, and in the report's warnings; a sound JPEG gives none.
+if [ -e big.jpg ]; then
+  python3 -c "d = open('big.jpg', 'rb').read(); open('cut.jpg', 'wb').write(d[:len(d) * 2 // 3])" || fail "could not cut big.jpg"
+  python3 "$tests/../bench/make_textured_glb.py" cut.glb cutplain.glb cut.jpg t1.png t2.png t3.png t4.png ||
+    fail "make_textured_glb.py failed (cut JPEG)"
+  for how in later first; do
+    extra=""
+    [ $how = first ] && extra=--ignore-missing-materials
+    expect_exit 0 "$vox" voxelize cut.glb --res 32 $extra -o "cut-$how.vdb" --report "cut-$how.json"
+    expect_stderr "warning: cut.glb: image 0: damaged image data, decoded as far as they go (JPEG: "
+    jcheck "cut-$how.json" "w = d['counts']['warnings']; assert len(w) == 1 and w[0].startswith('cut.glb: image 0: damaged image data'), w"
+    cp err.txt "cut-$how.err"
+  done
+  cmp -s cut-later.vdb cut-first.vdb || fail "a damaged JPEG bakes differently during the bake and while reading"
+  [ "$(grep -c 'damaged image data' cut-later.err)" = 1 ] || fail "the damaged image is not warned about once"
+  expect_exit 0 "$vox" voxelize sphere-jpeg.glb --res 32 -o sound.vdb
+  if grep -q "damaged image data" err.txt; then fail "a sound JPEG was called damaged"; fi
+fi
 
 [ "$failures" = 0 ] && echo "texoverlap: all passed" || { echo "texoverlap: $failures failure(s)"; exit 1; }

@@ -586,6 +586,10 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
   if (!region || !region->box.empty()) blocks = vox::voxelizeMeshBlocks(p.mesh, p.triangleClass, p.header, settings);
   textures.finish();  // a bake that never read them still fails on an undecodable image
   bar->done();
+  for (const std::string& w : textures.warnings()) {  // as the read's warnings, found only now
+    p.warnings.push_back(w);
+    run.note("warning: " + w);
+  }
   // Classes whose triangles left no vote (outside --bounds, zero area) are left
   // out too (a region's table was made the whole bake's above).
   if (!region) vox::leaveOutClassesWithoutVotes(blocks, p.header.classes, classIdPolicy(o));
