@@ -234,6 +234,17 @@ TEST(TextureImage, DamagedJpegDecodesWithAWarning) {
   EXPECT_EQ(rows.warning(), damaged.warning);
   EXPECT_EQ(buffer, damaged.rgba);
 
+  // A warning that leaves the pixels alone is not one: a JFIF revision
+  // libjpeg does not know (APP0's major version byte set to 2).
+  std::string revised = jpeg;
+  const size_t jfif = revised.find(std::string("JFIF\0", 5));
+  ASSERT_NE(jfif, std::string::npos);
+  revised[jfif + 5] = 2;
+  TextureImage unusual;
+  ASSERT_TRUE(decodeTextureImage(revised, unusual, why)) << why;
+  EXPECT_TRUE(unusual.warning.empty()) << unusual.warning;
+  EXPECT_EQ(unusual.rgba, sound.rgba);
+
   const std::string message = damagedImageWarning("model.glb: image 2", damaged.warning);
   EXPECT_EQ(message.rfind("model.glb: image 2: damaged image data", 0), 0u) << message;
   EXPECT_NE(message.find(damaged.warning), std::string::npos) << message;

@@ -52,9 +52,13 @@ struct JpegError {
 void jpegIgnoreWarning(j_common_ptr, int) {}
 
 /// libjpeg's warnings (level -1: corrupt data it decodes past, as stb_image
-/// and image viewers do) are kept, the first one worded; trace messages dropped.
+/// and image viewers do) are kept, the first one worded; trace messages are
+/// dropped, and so are the two warnings that leave the pixels alone (an
+/// unknown JFIF revision, a bad ICC profile, which vox never applies).
 void jpegKeepWarning(j_common_ptr cinfo, int level) {
   if (level >= 0) return;
+  const int code = cinfo->err->msg_code;
+  if (code == JWRN_JFIF_MAJOR || code == JWRN_BOGUS_ICC) return;
   auto* err = reinterpret_cast<JpegError*>(cinfo->err);
   if (cinfo->err->num_warnings++ == 0) (*cinfo->err->format_message)(cinfo, err->warning);
 }
