@@ -3,6 +3,7 @@
 #include <jpeglib.h>
 // after jpeglib.h, which it needs
 #include <jerror.h>
+#include <libdeflate.h>
 #include <stb/stb_image.h>
 #include <webp/decode.h>
 
@@ -124,6 +125,27 @@ void rgbaLikeStb(const DecodedPng& png, TextureImage& out) {
   }
 }
 
+/// The first damage stb_image reads past in a PNG (it checks no CRC): a
+/// chunk whose CRC fails, before IEND; "" for a sound file or another format.
+std::string pngDamage(std::string_view bytes) {
+  static const char magic[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), magic, 8) != 0) return {};
+  auto be32 = [&](size_t at) {
+    const auto* p = reinterpret_cast<const uint8_t*>(bytes.data()) + at;
+    return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3];
+  };
+  for (size_t at = 8; at + 12 <= bytes.size();) {
+    const uint32_t length = be32(at);
+    if (length > bytes.size() - at - 12) break;  // stb_image decides about a chunk cut short
+    const std::string type(bytes.substr(at + 4, 4));
+    if (libdeflate_crc32(0, bytes.data() + at + 4, size_t(length) + 4) != be32(at + 8 + length))
+      return "PNG: chunk '" + type + "' at byte " + std::to_string(at) + " fails its CRC";
+    if (type == "IEND") break;
+    at += size_t(length) + 12;
+  }
+  return {};
+}
+
 bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
   if (bytes.size() > size_t(std::numeric_limits<int>::max())) {
     why = "the file is larger than 2 GiB";
@@ -148,6 +170,7 @@ bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
   out.height = uint32_t(h);
   out.rgba.assign(px, px + size_t(w) * size_t(h) * 4);
   stbi_image_free(px);
+  out.warning = pngDamage(bytes);  // the fast path declines such files: only here can they decode
   return true;
 }
 
@@ -184,6 +207,7 @@ bool TextureRowDecoder::open(std::string_view bytes, std::string& why) {
   if (!isJpeg(bytes)) {
     if (!(isWebp(bytes) ? decodeWebp(bytes, s.whole, why) : decodeStb(bytes, s.whole, why))) return false;
     s.width = s.whole.width, s.height = s.whole.height;
+    s.warning = s.whole.warning;
     return true;
   }
   s.jpeg = true;

@@ -25,10 +25,10 @@ namespace vox {
 struct TextureImage {
   uint32_t width = 0, height = 0;
   std::vector<uint8_t> rgba;  // width * height * 4, row 0 = the image's top row
-  /// Not empty: the data are damaged (a JPEG cut short, or with corrupt
-  /// entropy data) but decoded as far as they go, as image viewers and
-  /// stb_image show them; the decoder's first complaint. Callers warn with
-  /// damagedImageWarning.
+  /// Not empty: the data are damaged (a JPEG cut short or with corrupt
+  /// entropy data, a PNG chunk whose CRC fails) but decoded as far as they
+  /// go, as image viewers and stb_image show them; the first damage found.
+  /// Callers warn with damagedImageWarning.
   std::string warning;
 };
 
