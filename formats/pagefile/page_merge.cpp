@@ -175,14 +175,16 @@ Scene seamScene(const std::vector<Part>& parts, uint32_t level) {
     const std::array<uint32_t, 3> dims0 = p.reader->header().dims;
     for (size_t i = 0; i < p.meta.regionMips->voxels.size(); ++i) {
       const pagefile::SeamVoxel& v = p.meta.regionMips->voxels[i];
+      const std::string outside = "metadata 'region_mips.voxels[" + std::to_string(i) + "]' lies outside the part's box";
+      if (v.at[0] >= h.dims.x || v.at[1] >= h.dims.y || v.at[2] >= h.dims.z) refuse(*p.reader, outside);
+      // Inside the level's grid, so its level-0 span lies inside dims0: int32 coordinates.
+      auto first = [&](int a) { return int64_t(v.at[size_t(a)]) << level; };
+      auto last = [&](int a) { return std::min<int64_t>(first(a) + (int64_t(1) << level), dims0[size_t(a)]) - 1; };
       IndexBox span;  // the level-0 voxels it covers
-      span.min = {int64_t(v.at[0]) << level, int64_t(v.at[1]) << level, int64_t(v.at[2]) << level};
-      span.max = {std::min<int64_t>(span.min.u + (1 << level), dims0[0]) - 1,
-                  std::min<int64_t>(span.min.v + (1 << level), dims0[1]) - 1,
-                  std::min<int64_t>(span.min.w + (1 << level), dims0[2]) - 1};
-      if (v.at[0] >= h.dims.x || v.at[1] >= h.dims.y || v.at[2] >= h.dims.z || !contains(box, span))
-        refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]' lies outside the part's box");
-      const Coord3 c{int64_t(v.at[0]), int64_t(v.at[1]), int64_t(v.at[2])};
+      span.min = {int32_t(first(0)), int32_t(first(1)), int32_t(first(2))};
+      span.max = {int32_t(last(0)), int32_t(last(1)), int32_t(last(2))};
+      if (!contains(box, span)) refuse(*p.reader, outside);
+      const Coord3 c{int32_t(v.at[0]), int32_t(v.at[1]), int32_t(v.at[2])};
       for (const ClassVotes& cv : v.votes) {
         if (!h.classes.find(cv.classId))
           refuse(*p.reader, "metadata 'region_mips.voxels[" + std::to_string(i) + "]': class " +
@@ -205,11 +207,15 @@ struct OutChunk {
 };
 
 // The level-0 voxel box of chunk `cc` (C^3 at level 0), clipped to the domain.
+// A corner past int32 (a chunk beyond any grid) is held at INT32_MAX, where no
+// part's box reaches.
 IndexBox chunkBox(const std::array<uint32_t, 3>& cc, uint32_t C, const std::array<uint32_t, 3>& dims) {
+  auto held = [](int64_t x) { return int32_t(std::min<int64_t>(x, INT32_MAX)); };
+  auto first = [&](int a) { return int64_t(cc[size_t(a)]) * C; };
+  auto last = [&](int a) { return std::min<int64_t>(first(a) + C, dims[size_t(a)]) - 1; };
   IndexBox b;
-  b.min = {int64_t(cc[0]) * C, int64_t(cc[1]) * C, int64_t(cc[2]) * C};
-  b.max = {std::min<int64_t>(b.min.u + C, dims[0]) - 1, std::min<int64_t>(b.min.v + C, dims[1]) - 1,
-           std::min<int64_t>(b.min.w + C, dims[2]) - 1};
+  b.min = {held(first(0)), held(first(1)), held(first(2))};
+  b.max = {held(last(0)), held(last(1)), held(last(2))};
   return b;
 }
 
