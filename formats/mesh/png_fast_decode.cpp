@@ -19,6 +19,8 @@ uint32_t be32(const uint8_t* p) { return (uint32_t(p[0]) << 24) | (uint32_t(p[1]
 
 bool isType(const uint8_t* type, const char* name) { return std::memcmp(type, name, 4) == 0; }
 
+constexpr uint8_t kMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+
 // Ancillary chunks libpng reads without changing the pixels or text it gives
 // vox's reader (no gamma, background or shift transform is asked for).
 bool harmlessAncillary(const uint8_t* type) {
@@ -175,9 +177,23 @@ struct Decompressor {
 
 }  // namespace
 
+std::string firstFailedPngCrc(const uint8_t* data, size_t size) {
+  if (size < 8 || std::memcmp(data, kMagic, 8) != 0) return {};
+  for (size_t at = 8; at + 12 <= size;) {
+    const uint32_t length = be32(data + at);
+    if (length > size - at - 12) break;  // cut short: the reader decides about that
+    const uint8_t* type = data + at + 4;
+    if (libdeflate_crc32(0, type, size_t(length) + 4) != be32(type + 4 + length))
+      return "PNG: chunk '" + std::string(reinterpret_cast<const char*>(type), 4) + "' at byte " +
+             std::to_string(at) + " fails its CRC";
+    if (isType(type, "IEND")) break;
+    at += size_t(length) + 12;
+  }
+  return {};
+}
+
 bool decodePngFast(const uint8_t* data, size_t size, DecodedPng& out, PngReader reader) {
   const bool stb = reader == PngReader::StbImage;
-  static const uint8_t kMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (size < 8 + 25 || std::memcmp(data, kMagic, 8) != 0) return false;
 
   uint32_t width = 0, height = 0;

@@ -53,4 +53,10 @@ enum class PngReader {
 /// the file could not hold compressed (deflate's 1032:1 times libpng's 32:1).
 bool decodePngFast(const uint8_t* data, size_t size, DecodedPng& out, PngReader reader = PngReader::Libpng);
 
+/// The first chunk of the PNG in `data` whose CRC fails, worded ("PNG:
+/// chunk 'IDAT' at byte 57 fails its CRC"), up to IEND or a chunk cut short;
+/// "" when every CRC holds or `data` is not a PNG. For readers that check
+/// none (stb_image), so that a damaged file they decode can be said to be.
+std::string firstFailedPngCrc(const uint8_t* data, size_t size);
+
 }  // namespace vox

@@ -3,7 +3,6 @@
 #include <jpeglib.h>
 // after jpeglib.h, which it needs
 #include <jerror.h>
-#include <libdeflate.h>
 #include <stb/stb_image.h>
 #include <webp/decode.h>
 
@@ -125,27 +124,6 @@ void rgbaLikeStb(const DecodedPng& png, TextureImage& out) {
   }
 }
 
-/// The first damage stb_image reads past in a PNG (it checks no CRC): a
-/// chunk whose CRC fails, before IEND; "" for a sound file or another format.
-std::string pngDamage(std::string_view bytes) {
-  static const char magic[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), magic, 8) != 0) return {};
-  auto be32 = [&](size_t at) {
-    const auto* p = reinterpret_cast<const uint8_t*>(bytes.data()) + at;
-    return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3];
-  };
-  for (size_t at = 8; at + 12 <= bytes.size();) {
-    const uint32_t length = be32(at);
-    if (length > bytes.size() - at - 12) break;  // stb_image decides about a chunk cut short
-    const std::string type(bytes.substr(at + 4, 4));
-    if (libdeflate_crc32(0, bytes.data() + at + 4, size_t(length) + 4) != be32(at + 8 + length))
-      return "PNG: chunk '" + type + "' at byte " + std::to_string(at) + " fails its CRC";
-    if (type == "IEND") break;
-    at += size_t(length) + 12;
-  }
-  return {};
-}
-
 bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
   if (bytes.size() > size_t(std::numeric_limits<int>::max())) {
     why = "the file is larger than 2 GiB";
@@ -170,7 +148,9 @@ bool decodeStb(std::string_view bytes, TextureImage& out, std::string& why) {
   out.height = uint32_t(h);
   out.rgba.assign(px, px + size_t(w) * size_t(h) * 4);
   stbi_image_free(px);
-  out.warning = pngDamage(bytes);  // the fast path declines such files: only here can they decode
+  // stb_image checks no CRC; the fast path declines a file whose CRC fails,
+  // so only here can a damaged PNG decode.
+  out.warning = firstFailedPngCrc(data, bytes.size());
   return true;
 }
 
