@@ -7,6 +7,7 @@
 // index order that cannot be read ends the bake with its error.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -162,6 +163,107 @@ TEST(DeferredTextures, RowsGiveTheColoursOfPixelsInTheMesh) {
   // The textures make the colours: without them (white) other colours come out.
   Mesh white = withoutPixels(ready);
   EXPECT_NE(colours(voxelizeMesh(white, cls, header, VoxelizeSettings{})), expected);
+}
+
+namespace {
+
+/// `n` squares of 12 x 12 voxels side by side, square i on texture i of its
+/// own image (heights 16..150: one band to ten, widths 3..40), bilinear,
+/// Repeat, texture coordinates from -0.3 to 1.4.
+Mesh squaresOfImages(size_t n) {
+  std::vector<std::array<double, 3>> pos;
+  std::vector<std::array<uint32_t, 3>> tris;
+  for (size_t q = 0; q < n; ++q) {
+    const uint32_t b = uint32_t(pos.size());
+    const double x0 = 14.0 * double(q);
+    pos.push_back({x0, 0, 0.5}), pos.push_back({x0 + 12, 0, 0.5}), pos.push_back({x0 + 12, 12, 0.5}),
+        pos.push_back({x0, 12, 0.5});
+    tris.push_back({b, b + 1, b + 2}), tris.push_back({b, b + 2, b + 3});
+  }
+  Mesh m = voxtest::meshOf(pos, tris);
+  m.materials.clear();
+  for (size_t q = 0; q < n; ++q) {
+    m.uv0.insert(m.uv0.end(), {{-0.3, 1.4}, {1.4, 1.4}, {1.4, -0.3}, {-0.3, -0.3}});
+    m.textures.push_back(noiseTexture(uint32_t(3 + (q * 7) % 38), uint32_t(16 + (q * 37) % 135), unsigned(10 + q)));
+    m.materials.push_back({"m" + std::to_string(q), {1, 1, 1, 1}, int(q), 0});
+    m.triangleMaterial.push_back(uint32_t(q)), m.triangleMaterial.push_back(uint32_t(q));
+  }
+  return m;
+}
+
+/// Every texture of a mesh as an image of its own, handed out by rows; flags
+/// a read out of order and two reads of one image at once.
+class EveryTextureRows final : public TextureRowSource {
+ public:
+  explicit EveryTextureRows(const Mesh& m) : pixels_(m.textures), textures_(m.textures.size()) {
+    for (size_t i = 0; i < textures_.size(); ++i) textures_[i] = {i};
+    rowsRead = std::vector<uint32_t>(textures_.size(), 0);
+    opened = std::vector<int>(textures_.size(), 0);
+    reading_ = std::vector<std::atomic<int>>(textures_.size());
+  }
+  size_t images() const override { return textures_.size(); }
+  const std::vector<size_t>& texturesOf(size_t image) const override { return textures_[image]; }
+  std::array<uint32_t, 2> size(size_t image) const override { return {pixels_[image].width, pixels_[image].height}; }
+  std::unique_ptr<TextureRowReader> open(size_t image) override {
+    ++opened[image];
+    return std::make_unique<Reader>(*this, image);
+  }
+
+  std::vector<int> opened;
+  std::vector<uint32_t> rowsRead;
+  std::atomic<bool> outOfOrder{false}, overlapping{false};
+
+ private:
+  struct Reader final : TextureRowReader {
+    Reader(EveryTextureRows& s, size_t i) : src(s), image(i) {}
+    uint32_t width() const override { return src.pixels_[image].width; }
+    uint32_t height() const override { return src.pixels_[image].height; }
+    void read(uint8_t* rgba, uint32_t count) override {
+      if (src.reading_[image]++ != 0) src.overlapping = true;
+      const MeshTexture& t = src.pixels_[image];
+      uint32_t& next = src.rowsRead[image];
+      if (count == 0 || next + count > t.height) src.outOfOrder = true;
+      std::memcpy(rgba, t.rgba.data() + size_t(next) * t.width * 4, size_t(count) * t.width * 4);
+      next += count;
+      --src.reading_[image];
+    }
+    EveryTextureRows& src;
+    size_t image;
+  };
+  std::vector<MeshTexture> pixels_;
+  std::vector<std::vector<size_t>> textures_;
+  std::vector<std::atomic<int>> reading_;
+};
+
+}  // namespace
+
+TEST(DeferredTextures, ManyImagesSharedBetweenWorkersGiveTheSameColours) {
+  // More images than workers, of different sizes and band counts: every image
+  // is read once, top to bottom, by one worker at a time, and the colours are
+  // those of a bake with the pixels in the mesh, at any thread count.
+  for (size_t n : {3u, 5u, 7u, 12u}) {
+    const Mesh ready = squaresOfImages(n);
+    const std::vector<uint8_t> cls(ready.triangles.size(), 1);
+    const SceneHeader header = voxtest::twoClassHeader({uint32_t(14 * n), 12, 1});
+    const Colours expected = colours(voxelizeMesh(ready, cls, header, VoxelizeSettings{}));
+    ASSERT_GE(expected.size(), size_t(n * 12 * 12)) << "every voxel of the squares is coloured";
+    for (unsigned threads : {1u, 2u, 3u, 4u}) {
+      Mesh late = ready;
+      for (MeshTexture& t : late.textures) t.width = t.height = 0, t.rgba.clear();
+      EveryTextureRows rows(ready);
+      VoxelizeSettings s;
+      s.threads = threads;
+      s.textureRows = &rows;
+      const Colours got = colours(voxelizeMesh(late, cls, header, s));
+      EXPECT_EQ(got, expected) << n << " images, threads " << threads;
+      for (size_t i = 0; i < n; ++i) {
+        EXPECT_EQ(rows.opened[i], 1) << "image " << i << " opened once";
+        EXPECT_EQ(rows.rowsRead[i], ready.textures[i].height) << "image " << i << " read to its end";
+      }
+      EXPECT_FALSE(rows.outOfOrder) << "a read of no rows or past the end";
+      EXPECT_FALSE(rows.overlapping) << "two workers read one image at once";
+    }
+  }
 }
 
 TEST(DeferredTextures, ImagesNoPieceSamplesAreStillRead) {
