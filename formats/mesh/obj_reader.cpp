@@ -1,5 +1,6 @@
-// Wavefront OBJ + MTL. Hand-written rather than a library: std::from_chars,
-// no per-line allocation, which is what reaching 100 MB/s takes. A large file
+// Wavefront OBJ + MTL. Hand-written rather than a library: numbers read as
+// std::from_chars reads them but faster (formats/core/text_numbers.h), no
+// per-line allocation, which is what reaching 100 MB/s takes. A large file
 // is read in two passes: its "v" and "f" lines' numbers in parallel, chunk by
 // chunk (the numbers are most of the work), then every line in file order on
 // one thread (index resolution, vertex numbering, materials, errors), so the
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <unordered_map>
 
+#include "formats/core/text_numbers.h"
 #include "formats/core/file_util.h"
 #include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
@@ -62,7 +64,7 @@ double number(Cursor& c, const std::string& name, const char* what) {
   double v = 0;
   // from_chars rejects a leading '+', which some exporters write.
   const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
-  auto [ptr, ec] = std::from_chars(b, c.end, v);
+  auto [ptr, ec] = parseDouble(b, c.end, v);
   if (ec != std::errc() || ptr == b) bad(name, c.line, std::string("expected a number for ") + what);
   c.p = ptr;
   return v;
@@ -351,14 +353,14 @@ class ObjParser {
       c.skipSpaces();
       if (c.atEol()) break;
       int64_t v = 0, vt = 0;
-      auto [ptr, ec] = std::from_chars(c.p, c.end, v);
+      auto [ptr, ec] = parseInt64(c.p, c.end, v);
       if (ec != std::errc()) bad(name_, c.line, "expected a vertex index in the face");
       c.p = ptr;
       int64_t vtIndex = -1;
       if (c.p < c.end && *c.p == '/') {
         ++c.p;
         if (c.p < c.end && *c.p != '/') {
-          auto [p2, e2] = std::from_chars(c.p, c.end, vt);
+          auto [p2, e2] = parseInt64(c.p, c.end, vt);
           if (e2 != std::errc()) bad(name_, c.line, "expected a texture coordinate index after '/'");
           c.p = p2;
           vtIndex = resolve(vt, texcoords_.size(), c.line, "texture coordinate");
@@ -366,7 +368,7 @@ class ObjParser {
         if (c.p < c.end && *c.p == '/') {  // normal index: read and ignore
           ++c.p;
           int64_t vn = 0;
-          auto [p3, e3] = std::from_chars(c.p, c.end, vn);
+          auto [p3, e3] = parseInt64(c.p, c.end, vn);
           if (e3 == std::errc()) c.p = p3;
         }
       }
@@ -461,7 +463,7 @@ struct ObjChunk {
 bool tryNumber(Cursor& c, double& v) {
   c.skipSpaces();
   const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
-  auto [ptr, ec] = std::from_chars(b, c.end, v);
+  auto [ptr, ec] = parseDouble(b, c.end, v);
   if (ec != std::errc() || ptr == b) return false;
   c.p = ptr;
   return true;
@@ -483,14 +485,14 @@ bool tryPlainFace(Cursor& c, std::vector<int32_t>& out, size_t& n) {
     c.skipSpaces();
     if (c.atEol()) break;
     int64_t v = 0;
-    auto [ptr, ec] = std::from_chars(c.p, c.end, v);
+    auto [ptr, ec] = parseInt64(c.p, c.end, v);
     if (ec != std::errc() || v < INT32_MIN || v > INT32_MAX) return false;
     c.p = ptr;
     if (c.p < c.end && *c.p == '/') {
       if (c.p + 1 >= c.end || c.p[1] != '/') return false;  // a texture coordinate: the serial pass
       c.p += 2;
       int64_t vn = 0;
-      auto [p3, e3] = std::from_chars(c.p, c.end, vn);
+      auto [p3, e3] = parseInt64(c.p, c.end, vn);
       if (e3 == std::errc()) c.p = p3;
     }
     if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') return false;

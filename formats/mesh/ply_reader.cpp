@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
@@ -76,7 +77,7 @@ class Reader {
       double v = 0;
       // from_chars rejects a leading '+', which some writers emit.
       const char* b = p_ < end_ && *p_ == '+' ? p_ + 1 : p_;
-      auto [ptr, ec] = std::from_chars(b, end_, v);
+      auto [ptr, ec] = parseDouble(b, end_, v);
       if (ec != std::errc())
         throwBadInput(name_ + ": " + what() + ": " +
                       (b >= end_ ? "the file ends early (truncated?)" : "expected a number in the ASCII body"));

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/error.h"
 
@@ -88,7 +89,7 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
       std::array<double, 3> v;
       for (int k = 0; k < 3; ++k) {
         skipSpace();
-        auto [ptr, ec] = std::from_chars(p, end, v[k]);
+        auto [ptr, ec] = parseDouble(p, end, v[k]);
         if (ec != std::errc()) throwBadInput(name + ":" + std::to_string(line) + ": expected 3 numbers after 'vertex'");
         p = ptr;
       }
