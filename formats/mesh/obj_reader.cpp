@@ -13,8 +13,8 @@
 #include <filesystem>
 #include <unordered_map>
 
-#include "formats/core/text_numbers.h"
 #include "formats/core/file_util.h"
+#include "formats/core/text_numbers.h"
 #include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
 #include "formats/mesh/texture_image.h"
