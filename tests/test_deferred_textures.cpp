@@ -76,27 +76,33 @@ Mesh texturedSquares() {
   return m;
 }
 
-/// Images 0 (textures 0 and 1) and 1 (texture 2) of texturedSquares, handed
-/// out by rows; what was read is recorded, and a read can be made to fail.
+/// Images in memory handed out by rows, image i the pixels of the mesh
+/// textures texturesOf[i]; what was read is recorded (a read out of order, two
+/// reads of one image at once), and a header or a read can be made to fail.
 class MemoryRows final : public TextureRowSource {
  public:
-  explicit MemoryRows(const Mesh& m) : pixels_{m.textures[0], m.textures[2]} {}
-  size_t images() const override { return 2; }
+  MemoryRows(std::vector<MeshTexture> pixels, std::vector<std::vector<size_t>> texturesOf)
+      : opened(pixels.size(), 0), rowsRead(pixels.size(), 0), failOpen(pixels.size(), false),
+        failAtRow(pixels.size(), ~0u), pixels_(std::move(pixels)), textures_(std::move(texturesOf)),
+        reading_(pixels_.size()) {}
+  /// Images 0 (textures 0 and 1) and 1 (texture 2) of texturedSquares.
+  static std::vector<MeshTexture> squaresImages(const Mesh& m) { return {m.textures[0], m.textures[2]}; }
+  static std::vector<std::vector<size_t>> squaresTextures() { return {{0, 1}, {2}}; }
+
+  size_t images() const override { return pixels_.size(); }
   const std::vector<size_t>& texturesOf(size_t image) const override { return textures_[image]; }
-  std::array<uint32_t, 2> size(size_t image) const override {
-    return {pixels_[image].width, pixels_[image].height};
-  }
+  std::array<uint32_t, 2> size(size_t image) const override { return {pixels_[image].width, pixels_[image].height}; }
   std::unique_ptr<TextureRowReader> open(size_t image) override {
     ++opened[image];
     if (failOpen[image]) throwBadInput("image " + std::to_string(image) + " has no header");
     return std::make_unique<Reader>(*this, image);
   }
 
-  int opened[2] = {0, 0};
-  uint32_t rowsRead[2] = {0, 0};
-  bool outOfOrder = false;
-  bool failOpen[2] = {false, false};
-  uint32_t failAtRow[2] = {~0u, ~0u};
+  std::vector<int> opened;
+  std::vector<uint32_t> rowsRead;
+  std::vector<char> failOpen;
+  std::vector<uint32_t> failAtRow;
+  std::atomic<bool> outOfOrder{false}, overlapping{false};
 
  private:
   struct Reader final : TextureRowReader {
@@ -104,18 +110,24 @@ class MemoryRows final : public TextureRowSource {
     uint32_t width() const override { return src.pixels_[image].width; }
     uint32_t height() const override { return src.pixels_[image].height; }
     void read(uint8_t* rgba, uint32_t count) override {
+      if (src.reading_[image]++ != 0) src.overlapping = true;
       const MeshTexture& t = src.pixels_[image];
       uint32_t& next = src.rowsRead[image];
       if (count == 0 || next + count > t.height) src.outOfOrder = true;
-      if (next + count > src.failAtRow[image]) throwBadInput("image " + std::to_string(image) + " is truncated");
+      if (next + count > src.failAtRow[image]) {
+        --src.reading_[image];
+        throwBadInput("image " + std::to_string(image) + " is truncated");
+      }
       std::memcpy(rgba, t.rgba.data() + size_t(next) * t.width * 4, size_t(count) * t.width * 4);
       next += count;
+      --src.reading_[image];
     }
     MemoryRows& src;
     size_t image;
   };
-  MeshTexture pixels_[2];
-  std::vector<size_t> textures_[2] = {{0, 1}, {2}};
+  std::vector<MeshTexture> pixels_;
+  std::vector<std::vector<size_t>> textures_;
+  std::vector<std::atomic<int>> reading_;
 };
 
 /// The mesh as a reader leaves it: no pixels in the textures read by rows.
@@ -136,36 +148,6 @@ Colours colours(const Scene& s) {
   });
   return out;
 }
-
-}  // namespace
-
-TEST(DeferredTextures, RowsGiveTheColoursOfPixelsInTheMesh) {
-  const Mesh ready = texturedSquares();
-  const std::vector<uint8_t> cls(ready.triangles.size(), 1);
-  const SceneHeader header = voxtest::twoClassHeader({100, 24, 1});
-  const Colours expected = colours(voxelizeMesh(ready, cls, header, VoxelizeSettings{}));
-  ASSERT_EQ(expected.size(), size_t(100 * 24)) << "every voxel of the squares is coloured";
-
-  for (unsigned threads : {1u, 2u, 3u}) {
-    const Mesh late = withoutPixels(ready);
-    MemoryRows rows(ready);
-    VoxelizeSettings s;
-    s.threads = threads;
-    s.textureRows = &rows;
-    const Colours got = colours(voxelizeMesh(late, cls, header, s));
-    EXPECT_EQ(got, expected) << "threads " << threads << ": colours differ from the bake with pixels from the start";
-    for (int i = 0; i < 2; ++i) {
-      EXPECT_EQ(rows.opened[i], 1) << "image " << i << " opened once";
-      EXPECT_EQ(rows.rowsRead[i], ready.textures[i == 0 ? 0 : 2].height) << "image " << i << " read to its end";
-    }
-    EXPECT_FALSE(rows.outOfOrder) << "a read of no rows or past the end";
-  }
-  // The textures make the colours: without them (white) other colours come out.
-  Mesh white = withoutPixels(ready);
-  EXPECT_NE(colours(voxelizeMesh(white, cls, header, VoxelizeSettings{})), expected);
-}
-
-namespace {
 
 /// `n` squares of 12 x 12 voxels side by side, square i on texture i of its
 /// own image (heights 16..150: one band to ten, widths 3..40), bilinear,
@@ -191,51 +173,35 @@ Mesh squaresOfImages(size_t n) {
   return m;
 }
 
-/// Every texture of a mesh as an image of its own, handed out by rows; flags
-/// a read out of order and two reads of one image at once.
-class EveryTextureRows final : public TextureRowSource {
- public:
-  explicit EveryTextureRows(const Mesh& m) : pixels_(m.textures), textures_(m.textures.size()) {
-    for (size_t i = 0; i < textures_.size(); ++i) textures_[i] = {i};
-    rowsRead = std::vector<uint32_t>(textures_.size(), 0);
-    opened = std::vector<int>(textures_.size(), 0);
-    reading_ = std::vector<std::atomic<int>>(textures_.size());
-  }
-  size_t images() const override { return textures_.size(); }
-  const std::vector<size_t>& texturesOf(size_t image) const override { return textures_[image]; }
-  std::array<uint32_t, 2> size(size_t image) const override { return {pixels_[image].width, pixels_[image].height}; }
-  std::unique_ptr<TextureRowReader> open(size_t image) override {
-    ++opened[image];
-    return std::make_unique<Reader>(*this, image);
-  }
-
-  std::vector<int> opened;
-  std::vector<uint32_t> rowsRead;
-  std::atomic<bool> outOfOrder{false}, overlapping{false};
-
- private:
-  struct Reader final : TextureRowReader {
-    Reader(EveryTextureRows& s, size_t i) : src(s), image(i) {}
-    uint32_t width() const override { return src.pixels_[image].width; }
-    uint32_t height() const override { return src.pixels_[image].height; }
-    void read(uint8_t* rgba, uint32_t count) override {
-      if (src.reading_[image]++ != 0) src.overlapping = true;
-      const MeshTexture& t = src.pixels_[image];
-      uint32_t& next = src.rowsRead[image];
-      if (count == 0 || next + count > t.height) src.outOfOrder = true;
-      std::memcpy(rgba, t.rgba.data() + size_t(next) * t.width * 4, size_t(count) * t.width * 4);
-      next += count;
-      --src.reading_[image];
-    }
-    EveryTextureRows& src;
-    size_t image;
-  };
-  std::vector<MeshTexture> pixels_;
-  std::vector<std::vector<size_t>> textures_;
-  std::vector<std::atomic<int>> reading_;
-};
-
 }  // namespace
+
+TEST(DeferredTextures, RowsGiveTheColoursOfPixelsInTheMesh) {
+  const Mesh ready = texturedSquares();
+  const std::vector<uint8_t> cls(ready.triangles.size(), 1);
+  const SceneHeader header = voxtest::twoClassHeader({100, 24, 1});
+  const Colours expected = colours(voxelizeMesh(ready, cls, header, VoxelizeSettings{}));
+  ASSERT_EQ(expected.size(), size_t(100 * 24)) << "every voxel of the squares is coloured";
+
+  for (unsigned threads : {1u, 2u, 3u}) {
+    const Mesh late = withoutPixels(ready);
+    MemoryRows rows(MemoryRows::squaresImages(ready), MemoryRows::squaresTextures());
+    VoxelizeSettings s;
+    s.threads = threads;
+    s.textureRows = &rows;
+    const Colours got = colours(voxelizeMesh(late, cls, header, s));
+    EXPECT_EQ(got, expected) << "threads " << threads << ": colours differ from the bake with pixels from the start";
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_EQ(rows.opened[i], 1) << "image " << i << " opened once";
+      EXPECT_EQ(rows.rowsRead[i], ready.textures[i == 0 ? 0 : 2].height) << "image " << i << " read to its end";
+    }
+    EXPECT_FALSE(rows.outOfOrder) << "a read of no rows or past the end";
+    EXPECT_FALSE(rows.overlapping) << "two workers read one image at once";
+  }
+  // The textures make the colours: without them (white) other colours come out.
+  Mesh white = withoutPixels(ready);
+  EXPECT_NE(colours(voxelizeMesh(white, cls, header, VoxelizeSettings{})), expected);
+}
+
 
 TEST(DeferredTextures, ManyImagesSharedBetweenWorkersGiveTheSameColours) {
   // More images than workers, of different sizes and band counts: every image
@@ -250,7 +216,9 @@ TEST(DeferredTextures, ManyImagesSharedBetweenWorkersGiveTheSameColours) {
     for (unsigned threads : {1u, 2u, 3u, 4u}) {
       Mesh late = ready;
       for (MeshTexture& t : late.textures) t.width = t.height = 0, t.rgba.clear();
-      EveryTextureRows rows(ready);
+      std::vector<std::vector<size_t>> own(n);
+      for (size_t i = 0; i < n; ++i) own[i] = {i};
+      MemoryRows rows(ready.textures, own);
       VoxelizeSettings s;
       s.threads = threads;
       s.textureRows = &rows;
@@ -269,7 +237,7 @@ TEST(DeferredTextures, ManyImagesSharedBetweenWorkersGiveTheSameColours) {
 TEST(DeferredTextures, ImagesNoPieceSamplesAreStillRead) {
   Mesh m = texturedSquares();
   m.triangleMaterial = {3, 3, 3, 3, 3, 3, 3, 3};  // every square on the texture with pixels
-  MemoryRows rows(m);
+  MemoryRows rows(MemoryRows::squaresImages(m), MemoryRows::squaresTextures());
   VoxelizeSettings s;
   s.textureRows = &rows;
   voxelizeMesh(withoutPixels(m), std::vector<uint8_t>(8, 1), voxtest::twoClassHeader({100, 24, 1}), s);
@@ -281,7 +249,7 @@ TEST(DeferredTextures, TheFirstImageThatCannotBeReadEndsTheBake) {
   const Mesh ready = texturedSquares();
   const std::vector<uint8_t> cls(ready.triangles.size(), 1);
   for (unsigned threads : {1u, 2u}) {
-    MemoryRows rows(ready);
+    MemoryRows rows(MemoryRows::squaresImages(ready), MemoryRows::squaresTextures());
     rows.failAtRow[0] = 40;  // image 0 fails in its third band, image 1 at its header
     rows.failOpen[1] = true;
     VoxelizeSettings s;
