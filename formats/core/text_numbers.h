@@ -54,7 +54,10 @@ inline std::from_chars_result parseDouble(const char* first, const char* last, d
   if (!digits || significant > 19 || (p < last && (*p == 'e' || *p == 'E')) || m > (uint64_t(1) << 53) ||
       fraction > 22)
     return std::from_chars(first, last, value);
-  const double v = double(m) / kPow10[fraction];  // exact operands, one correctly rounded division
+  // Exact operands, one correctly rounded division: this needs the default
+  // round-to-nearest mode (nothing in voxbake changes it) and no -ffast-math
+  // (which may turn the division into a multiplication by a rounded reciprocal).
+  const double v = double(m) / kPow10[fraction];
   value = negative ? -v : v;
   return {p, std::errc()};
 }
