@@ -339,6 +339,16 @@ TEST(StlIo, AsciiAndBinaryDetection) {
   const Mesh a = read(dir.file("a.stl"));
   ASSERT_EQ(a.triangleCount(), 2u);
   EXPECT_EQ(a.positions[5][0], -1e-3);
+  // Some exporters write an explicit '+'; the OBJ and PLY readers take it too.
+  voxtest::writeText(dir.file("plus.stl"), "solid p\nfacet normal 0 0 +1\nouter loop\nvertex +0 0 0\n"
+                                           "vertex +1.5 0 0\nvertex 0 +2E+0 0\nendloop\nendfacet\nendsolid p\n");
+  const Mesh plus = read(dir.file("plus.stl"));
+  ASSERT_EQ(plus.triangleCount(), 1u);
+  EXPECT_EQ(plus.positions[1][0], 1.5);
+  EXPECT_EQ(plus.positions[2][1], 2.0);
+  voxtest::writeText(dir.file("plusminus.stl"), "solid p\nfacet normal 0 0 1\nouter loop\nvertex +-1 0 0\n"
+                                                "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid p\n");
+  EXPECT_TRUE(rejects(dir.file("plusminus.stl"), {"plusminus.stl:4", "expected 3 numbers after 'vertex'"}));
 
   auto binary = [](const std::string& header, uint32_t announced, uint32_t written) {
     std::string s = header;

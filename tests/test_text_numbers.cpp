@@ -54,6 +54,34 @@ TEST(TextNumbers, EdgeCases) {
     sameAsFromChars(s);
 }
 
+// The readers' entry point: one optional '+' before what parseDouble reads.
+TEST(TextNumbers, OneLeadingPlusIsTakenAndNothingMore) {
+  for (const std::string s : {"1", "0.25", "1e5", "inf", ".5", "9007199254740993", "7 8", "x", "", "e5"}) {
+    SCOPED_TRACE("'" + s + "'");
+    const std::string plus = "+" + s;
+    double want = 1.5, got = 1.5;
+    const auto w = parseDouble(s.data(), s.data() + s.size(), want);
+    const auto g = parseDoubleAllowingPlus(plus.data(), plus.data() + plus.size(), got);
+    EXPECT_EQ(g.ptr - plus.data(), w.ptr - s.data() + 1) << "on failure too: past the '+'";
+    EXPECT_EQ(int(g.ec), int(w.ec));
+    EXPECT_EQ(std::bit_cast<uint64_t>(got), std::bit_cast<uint64_t>(want));
+    double unsignedGot = 1.5;  // without a '+' it is parseDouble itself
+    const auto u = parseDoubleAllowingPlus(s.data(), s.data() + s.size(), unsignedGot);
+    EXPECT_EQ(u.ptr, w.ptr);
+    EXPECT_EQ(std::bit_cast<uint64_t>(unsignedGot), std::bit_cast<uint64_t>(want));
+  }
+  for (const std::string s : {"+-1", "++1", "+ 1", "+", "-+1"}) {
+    double v = 1.5;
+    const auto r = parseDoubleAllowingPlus(s.data(), s.data() + s.size(), v);
+    EXPECT_NE(int(r.ec), 0) << "'" << s << "' is not a number";
+    EXPECT_EQ(v, 1.5) << "'" << s << "': the value is left alone";
+  }
+  double v = 0;
+  const std::string minus = "-2.5";
+  EXPECT_EQ(int(parseDoubleAllowingPlus(minus.data(), minus.data() + minus.size(), v).ec), 0);
+  EXPECT_EQ(v, -2.5);
+}
+
 TEST(TextNumbers, PrintedDoubles) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);

@@ -62,6 +62,18 @@ inline std::from_chars_result parseDouble(const char* first, const char* last, d
   return {p, std::errc()};
 }
 
+/// parseDouble that also takes one leading '+' ("+1.5"), which some exporters
+/// write and std::from_chars refuses. "+-1" and "++1" are still refused. On
+/// failure ptr is past the '+' when there was one, so a reader can tell text
+/// that ends right there ("file ends early") from text that is not a number.
+inline std::from_chars_result parseDoubleAllowingPlus(const char* first, const char* last, double& value) {
+  if (first < last && *first == '+') {
+    ++first;
+    if (first < last && *first == '-') return {first, std::errc::invalid_argument};
+  }
+  return parseDouble(first, last, value);
+}
+
 /// std::from_chars(first, last, value) for an int64_t in base 10, the same in every case.
 inline std::from_chars_result parseInt64(const char* first, const char* last, int64_t& value) {
   const char* p = first;

@@ -62,10 +62,8 @@ struct Cursor {
 double number(Cursor& c, const std::string& name, const char* what) {
   c.skipSpaces();
   double v = 0;
-  // from_chars rejects a leading '+', which some exporters write.
-  const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
-  auto [ptr, ec] = parseDouble(b, c.end, v);
-  if (ec != std::errc() || ptr == b) bad(name, c.line, std::string("expected a number for ") + what);
+  auto [ptr, ec] = parseDoubleAllowingPlus(c.p, c.end, v);
+  if (ec != std::errc()) bad(name, c.line, std::string("expected a number for ") + what);
   c.p = ptr;
   return v;
 }
@@ -462,9 +460,8 @@ struct ObjChunk {
 /// `number` without throwing: false where it would throw.
 bool tryNumber(Cursor& c, double& v) {
   c.skipSpaces();
-  const char* b = c.p < c.end && *c.p == '+' ? c.p + 1 : c.p;
-  auto [ptr, ec] = parseDouble(b, c.end, v);
-  if (ec != std::errc() || ptr == b) return false;
+  auto [ptr, ec] = parseDoubleAllowingPlus(c.p, c.end, v);
+  if (ec != std::errc()) return false;
   c.p = ptr;
   return true;
 }

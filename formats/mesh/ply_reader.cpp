@@ -75,12 +75,10 @@ class Reader {
     if (format_ == 0) {
       while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) ++p_;
       double v = 0;
-      // from_chars rejects a leading '+', which some writers emit.
-      const char* b = p_ < end_ && *p_ == '+' ? p_ + 1 : p_;
-      auto [ptr, ec] = parseDouble(b, end_, v);
+      auto [ptr, ec] = parseDoubleAllowingPlus(p_, end_, v);
       if (ec != std::errc())
         throwBadInput(name_ + ": " + what() + ": " +
-                      (b >= end_ ? "the file ends early (truncated?)" : "expected a number in the ASCII body"));
+                      (ptr >= end_ ? "the file ends early (truncated?)" : "expected a number in the ASCII body"));
       p_ = ptr;
       return v;
     }

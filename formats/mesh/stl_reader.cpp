@@ -89,7 +89,7 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
       std::array<double, 3> v;
       for (int k = 0; k < 3; ++k) {
         skipSpace();
-        auto [ptr, ec] = parseDouble(p, end, v[k]);
+        auto [ptr, ec] = parseDoubleAllowingPlus(p, end, v[k]);
         if (ec != std::errc()) throwBadInput(name + ":" + std::to_string(line) + ": expected 3 numbers after 'vertex'");
         p = ptr;
       }
