@@ -154,6 +154,34 @@ TEST(ObjIo, NegativeIndicesPolygonsPartsMaterialsAndCrlf) {
   EXPECT_EQ(m.filesRead.size(), 2u) << "obj and mtl";
 }
 
+// What Windows editors and some exporters write: a byte-order mark, lines
+// continued with a backslash (the OBJ specification's), comments after a face.
+TEST(ObjIo, ByteOrderMarkContinuedLinesAndCommentsAfterFaces) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("c.mtl"), "\xEF\xBB\xBFnewmtl Red\nKd 1 0 0\n");
+  voxtest::writeText(dir.file("c.obj"),
+                     "\xEF\xBB\xBFmtllib c.mtl\n"
+                     "# exported to C:\\models\\\n"  // a comment ending in a backslash does not go on
+                     "v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0\r\nv 0 1 0 \\  \r\n\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                     "usemtl Red\nf 1 2 \\\n3 # the first\nf 1/1 3/3 4/2# the second\n");
+  const Mesh m = read(dir.file("c.obj"));
+  ASSERT_EQ(m.triangleCount(), 2u);
+  EXPECT_EQ(m.positions[m.triangles[0][1]], (std::array<double, 3>{1, 0, 0})) << "v 1 0 \\ 0";
+  EXPECT_EQ(m.positions[m.triangles[0][2]], (std::array<double, 3>{1, 1, 0}));
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].name, "Red") << "the byte-order marks hid neither mtllib nor newmtl";
+  EXPECT_EQ(m.triangleMaterial, (std::vector<uint32_t>{0, 0}));
+  EXPECT_EQ(m.positions[m.triangles[1][2]], (std::array<double, 3>{0, 1, 0}));
+  // Messages still name the line as it is in the file: 5 lines, the second
+  // and third continued, then the bad face on line 6.
+  voxtest::writeText(dir.file("n.obj"), "v 0 0 0\nv 1 \\\n0 \\\n0\nv 0 1 0\nf 1 2 4\n");
+  EXPECT_TRUE(rejects(dir.file("n.obj"), {"n.obj:6:", "vertex 4"}));
+  voxtest::writeText(dir.file("e.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\");  // ends inside a continued line
+  EXPECT_TRUE(rejects(dir.file("e.obj"), {"e.obj:4", "at least 3"})) << "as without the backslash";
+  voxtest::writeText(dir.file("x.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 x\n");
+  EXPECT_TRUE(rejects(dir.file("x.obj"), {"x.obj:4"})) << "text after a face that is not a comment is still an error";
+}
+
 TEST(ObjIo, SeveralLibrariesOnOneLineAndWindowsTexturePaths) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("a.mtl"), "newmtl A\nKd 1 0 0\n");
@@ -292,6 +320,10 @@ TEST(PlyIo, AsciiFloatColoursAndZeroFaces) {
                                         "end_header\n0 0 0\n1 1 1\n");
   const Mesh p = read(dir.file("p.ply"));
   EXPECT_EQ(p.triangleCount(), 0u) << "a point cloud is an empty mesh, not an error";
+  voxtest::writeText(dir.file("bom.ply"), "\xEF\xBB\xBFply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                          "property float y\nproperty float z\nelement face 1\n"
+                                          "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(read(dir.file("bom.ply")).triangleCount(), 1u) << "a byte-order mark before 'ply'";
   EXPECT_EQ(p.positions.size(), 2u);
 }
 
@@ -339,6 +371,9 @@ TEST(StlIo, AsciiAndBinaryDetection) {
   const Mesh a = read(dir.file("a.stl"));
   ASSERT_EQ(a.triangleCount(), 2u);
   EXPECT_EQ(a.positions[5][0], -1e-3);
+  voxtest::writeText(dir.file("bom.stl"), "\xEF\xBB\xBFsolid b\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                          "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid b\n");
+  EXPECT_EQ(read(dir.file("bom.stl")).triangleCount(), 1u) << "a byte-order mark before 'solid'";
   // Some exporters write an explicit '+'; the OBJ and PLY readers take it too.
   voxtest::writeText(dir.file("plus.stl"), "solid p\nfacet normal 0 0 +1\nouter loop\nvertex +0 0 0\n"
                                            "vertex +1.5 0 0\nvertex 0 +2E+0 0\nendloop\nendfacet\nendsolid p\n");

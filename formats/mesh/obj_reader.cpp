@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "formats/core/file_util.h"
+#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
@@ -117,7 +118,7 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
   const std::string text = readFileBytes(path);
   mesh.filesRead.push_back(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  Cursor c{text.data(), text.data() + text.size()};
+  Cursor c{text.data() + utf8BomLength(text.data(), text.size()), text.data() + text.size()};
   int current = -1;
   while (c.p < c.end) {
     const std::string_view key = c.word();
@@ -349,7 +350,7 @@ class ObjParser {
     face_.clear();
     while (true) {
       c.skipSpaces();
-      if (c.atEol()) break;
+      if (c.atEol() || *c.p == '#') break;  // a comment may end the line
       int64_t v = 0, vt = 0;
       auto [ptr, ec] = parseInt64(c.p, c.end, v);
       if (ec != std::errc()) bad(name_, c.line, "expected a vertex index in the face");
@@ -371,7 +372,7 @@ class ObjParser {
         }
       }
       face_.push_back({resolve(v, objPositions_.size(), c.line, "vertex"), vtIndex});
-      if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r')
+      if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r' && *c.p != '#')
         bad(name_, c.line, "unexpected character in a face");
     }
   }
@@ -480,7 +481,7 @@ bool tryPlainFace(Cursor& c, std::vector<int32_t>& out, size_t& n) {
   n = 0;
   while (true) {
     c.skipSpaces();
-    if (c.atEol()) break;
+    if (c.atEol() || *c.p == '#') break;
     int64_t v = 0;
     auto [ptr, ec] = parseInt64(c.p, c.end, v);
     if (ec != std::errc() || v < INT32_MIN || v > INT32_MAX) return false;
@@ -492,7 +493,7 @@ bool tryPlainFace(Cursor& c, std::vector<int32_t>& out, size_t& n) {
       auto [p3, e3] = parseInt64(c.p, c.end, vn);
       if (e3 == std::errc()) c.p = p3;
     }
-    if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r') return false;
+    if (c.p < c.end && *c.p != ' ' && *c.p != '\t' && *c.p != '\n' && *c.p != '\r' && *c.p != '#') return false;
     out.push_back(int32_t(v));
     if (++n > 255) return false;
   }
@@ -551,10 +552,69 @@ std::vector<ObjChunk> splitIntoChunks(const char* data, size_t size, size_t chun
   return chunks;
 }
 
+/// Where `p` (a backslash) ends its line: the backslash is followed only by
+/// spaces, tabs or '\r' up to the end of the line or of the file.
+bool endsLine(const char* p, const char* end) {
+  for (++p; p < end && *p != '\n'; ++p)
+    if (*p != ' ' && *p != '\t' && *p != '\r') return false;
+  return true;
+}
+
+/// OBJ's line continuation: a line ending in a backslash goes on on the next
+/// line (the format's specification; some exporters break long face lines so).
+/// Returns false when `data` has none. Else `joined` is the text with every
+/// continued line joined into one, the backslash and line break turned into
+/// spaces, and the line breaks this removes put back after the joined line, so
+/// every later line keeps its number in messages (a joined line has the number
+/// of its first part). A comment line is never continued: one ending in a
+/// Windows path ("# C:\models\") would swallow the line after it.
+bool joinContinuedLines(const char* data, size_t size, std::string& joined) {
+  const char* end = data + size;
+  bool any = false;
+  for (const char* p = data; (p = static_cast<const char*>(std::memchr(p, '\\', size_t(end - p)))) != nullptr; ++p)
+    if (endsLine(p, end)) {
+      any = true;
+      break;
+    }
+  if (!any) return false;
+  joined.clear();
+  joined.reserve(size + 64);
+  size_t pendingBreaks = 0;  // line breaks removed from the logical line being copied
+  bool continuing = false;   // the current physical line continues a logical line
+  for (const char* b = data; b < end;) {
+    const char* nl = static_cast<const char*>(std::memchr(b, '\n', size_t(end - b)));
+    const char* e = nl ? nl : end;
+    const char* first = b;
+    while (first < e && (*first == ' ' || *first == '\t')) ++first;
+    const bool comment = !continuing && first < e && *first == '#';
+    const char* last = e;
+    while (last > b && (last[-1] == ' ' || last[-1] == '\t' || last[-1] == '\r')) --last;
+    if (!comment && last > b && last[-1] == '\\') {
+      joined.append(b, size_t(last - 1 - b));
+      joined += ' ';
+      ++pendingBreaks;
+      continuing = true;
+    } else {
+      joined.append(b, size_t(e - b));
+      if (nl) joined += '\n';
+      joined.append(pendingBreaks, '\n');
+      pendingBreaks = 0;
+      continuing = false;
+    }
+    b = nl ? nl + 1 : end;
+  }
+  if (pendingBreaks) joined.append(pendingBreaks, '\n');  // the file ended inside a continued line
+  return true;
+}
+
 }  // namespace
 
 Mesh parseObj(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings, const std::string& baseDir, size_t chunkBytes) {
+  const size_t bom = utf8BomLength(data, size);
+  data += bom, size -= bom;
+  std::string joined;
+  if (joinContinuedLines(data, size, joined)) data = joined.data(), size = joined.size();
   ObjParser obj(name, options, warnings, baseDir);
   obj.reserveFor(data, size);
   std::vector<ObjChunk> chunks = splitIntoChunks(data, size, chunkBytes);

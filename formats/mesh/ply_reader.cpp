@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/color.h"
@@ -258,6 +259,8 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
 
 Mesh parsePly(const char* data, size_t size, const std::string& name, const MeshReadOptions& options,
               std::vector<std::string>& warnings) {
+  const size_t bom = utf8BomLength(data, size);
+  data += bom, size -= bom;
   const Header header = parseHeader(data, size, name);
   Reader r(data + header.bodyStart, size - header.bodyStart, name, header.format);
   Mesh mesh;

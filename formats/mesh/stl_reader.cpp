@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/error.h"
@@ -23,7 +24,7 @@ bool isBinaryStl(const char* data, size_t size, const std::string& name, std::ve
   std::memcpy(&n, data + 80, 4);
   const uint64_t binarySize = 84 + 50 * uint64_t(n);
   if (uint64_t(size) == binarySize) return true;
-  const char* s = data;
+  const char* s = data + utf8BomLength(data, size);
   while (s < data + size && (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')) ++s;
   const bool solid = size_t(data + size - s) >= 5 && std::strncmp(s, "solid", 5) == 0;
   if (solid && !std::memchr(data, 0, size)) return false;
@@ -60,7 +61,7 @@ void readBinaryStl(const char* data, Mesh& mesh) {
 /// a complete facet without "endsolid" is read with a warning.
 void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& mesh,
                   std::vector<std::string>& warnings) {
-  const char* p = data;
+  const char* p = data + utf8BomLength(data, size);
   const char* end = data + size;
   size_t line = 1;
   auto skipSpace = [&] {
