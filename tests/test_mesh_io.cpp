@@ -374,6 +374,14 @@ TEST(StlIo, AsciiAndBinaryDetection) {
   voxtest::writeText(dir.file("bom.stl"), "\xEF\xBB\xBFsolid b\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
                                           "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid b\n");
   EXPECT_EQ(read(dir.file("bom.stl")).triangleCount(), 1u) << "a byte-order mark before 'solid'";
+  voxtest::writeText(dir.file("upper.stl"), "SOLID PART\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\n"
+                                            "VERTEX 0 1 0\nENDLOOP\nENDFACET\nEndSolid PART\n");
+  const Read upper = readWith(dir.file("upper.stl"));
+  EXPECT_EQ(upper.mesh.triangleCount(), 1u) << "keywords in upper case, as some CAD exporters write them";
+  EXPECT_TRUE(upper.warnings.empty()) << "'EndSolid' ends it";
+  voxtest::writeText(dir.file("named.stl"), "solid facet vertex endsolid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                            "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid facet vertex endsolid\n");
+  EXPECT_EQ(read(dir.file("named.stl")).triangleCount(), 1u) << "the solid's name is a name, whatever its words";
   // Some exporters write an explicit '+'; the OBJ and PLY readers take it too.
   voxtest::writeText(dir.file("plus.stl"), "solid p\nfacet normal 0 0 +1\nouter loop\nvertex +0 0 0\n"
                                            "vertex +1.5 0 0\nvertex 0 +2E+0 0\nendloop\nendfacet\nendsolid p\n");

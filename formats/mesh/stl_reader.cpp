@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 
 #include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
@@ -13,6 +14,15 @@
 namespace vox {
 
 namespace {
+
+/// `word` is the STL keyword `lower` in any case: the format's keywords are
+/// lower case, but some CAD exporters write them in upper case.
+bool keyword(std::string_view word, std::string_view lower) {
+  if (word.size() != lower.size()) return false;
+  for (size_t i = 0; i < word.size(); ++i)
+    if ((word[i] >= 'A' && word[i] <= 'Z' ? char(word[i] - 'A' + 'a') : word[i]) != lower[i]) return false;
+  return true;
+}
 
 /// Is the file binary STL? It is when its size is the 84 + 50 n bytes its
 /// header announces. Otherwise it is ASCII when it is text (no NUL byte) that
@@ -26,7 +36,7 @@ bool isBinaryStl(const char* data, size_t size, const std::string& name, std::ve
   if (uint64_t(size) == binarySize) return true;
   const char* s = data + utf8BomLength(data, size);
   while (s < data + size && (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')) ++s;
-  const bool solid = size_t(data + size - s) >= 5 && std::strncmp(s, "solid", 5) == 0;
+  const bool solid = size_t(data + size - s) >= 5 && keyword(std::string_view(s, 5), "solid");
   if (solid && !std::memchr(data, 0, size)) return false;
   if (uint64_t(size) < binarySize)
     throwBadInput(name + ": " + (solid ? "" : "not ASCII STL (no 'solid'), and as ") + "binary STL it announces " +
@@ -71,8 +81,9 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
     }
   };
   skipSpace();
-  if (size_t(end - p) < 5 || std::strncmp(p, "solid", 5) != 0)
+  if (size_t(end - p) < 5 || !keyword(std::string_view(p, 5), "solid"))
     throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
+  while (p < end && *p != '\n') ++p;  // the solid's name, which may hold any word ("solid facet model")
   size_t corners = 0;
   size_t facetLine = 0;  // line of the open "facet", 0 outside one
   bool ended = false;
@@ -81,12 +92,12 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
     const char* w = p;
     while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
     const std::string_view word(w, size_t(p - w));
-    if (word == "facet") {
+    if (keyword(word, "facet")) {
       if (facetLine)
         throwBadInput(name + ":" + std::to_string(line) + ": a facet starts before the facet of line " +
                       std::to_string(facetLine) + " ended ('endfacet' missing)");
       facetLine = line;
-    } else if (word == "vertex") {
+    } else if (keyword(word, "vertex")) {
       std::array<double, 3> v;
       for (int k = 0; k < 3; ++k) {
         skipSpace();
@@ -96,16 +107,16 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
       }
       mesh.positions.push_back(v);
       ++corners;
-    } else if (word == "endloop") {
+    } else if (keyword(word, "endloop")) {
       if (corners != 3)
         throwBadInput(name + ":" + std::to_string(line) + ": a facet has " + std::to_string(corners) +
                       " vertices; STL facets are triangles");
       const uint32_t b = uint32_t(mesh.positions.size() - 3);
       mesh.triangles.push_back({b, b + 1, b + 2});
       corners = 0;
-    } else if (word == "endfacet") {
+    } else if (keyword(word, "endfacet")) {
       facetLine = 0;
-    } else if (word == "endsolid") {
+    } else if (keyword(word, "endsolid")) {
       ended = true;
       break;
     }
