@@ -29,7 +29,10 @@ usage)
   expect_exit 2 "$vox"
   expect_exit 2 "$vox" no-such-command
   expect_exit 2 "$vox" voxelize demo:hamlet            # no -o
+  expect_stderr "vox voxelize: error: --output is required; see 'vox voxelize --help'"
+  [ "$(wc -l < err.txt)" = 1 ] || fail "a usage error is one line, like every other error: $(cat err.txt)"
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 0
+  expect_stderr "vox voxelize: error: --res"
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res abc
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.png
   expect_stderr "*.vdb"

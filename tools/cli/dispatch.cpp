@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <exception>
@@ -143,7 +144,17 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // One line like every other error ("vox CMD: error: ..."), not CLI11's two,
+    // so a log filtered for "error:" shows usage mistakes too.
+    std::string name = "vox";
+    for (const Command& c : commands)
+      if (c.app->parsed()) {
+        name += " " + c.app->get_name();
+        break;
+      }
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    std::cerr << name << ": error: " << what << "; see '" << name << " --help'\n";
     return kExitUsage;
   }
   for (Command& c : commands) {
