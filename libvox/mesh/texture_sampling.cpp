@@ -120,17 +120,6 @@ TexelSpot texelSpot(const TextureSampling& tex, double s, double t) {
   return p;
 }
 
-uint64_t q16(float x) {
-  // std::lround without its libm call (1.5 M calls on the textured benchmark
-  // model): for a float v in [0, 65535], v + 0.5 is exact in double, so its
-  // truncation is lround's round-half-away-from-zero (the same value for
-  // every float in [0, 1], checked exhaustively). NaN, which lround gave an
-  // unspecified value for, is 0.
-  const float v = std::clamp(x, 0.0f, 1.0f) * 65535.0f;
-  if (!(v >= 0.0f)) return 0;
-  return uint64_t(double(v) + 0.5);
-}
-
 void addTexturedPieces(const Mesh& mesh, const TexturedPieces& pieces, ColorSumStore& sums) {
   // The pieces come in the order their triangles were voxelized, their texels
   // scattered over textures far larger than the caches: each sample's rows are
