@@ -183,6 +183,34 @@ TEST(MeshFootprint, SameAtAnyThreadCount) {
   }
 }
 
+TEST(MeshFootprint, CellBitsCountAsTheCellTableDoes) {
+  // Meshes of at most four classes are counted with a bit per cell and class,
+  // others with the table of cells; both must give the same blocks. A fifth
+  // class on a triangle outside the grid (it touches no cell) sends the same
+  // mesh to the table.
+  for (int classes : {1, 2, 4}) {
+    for (uint32_t res : {24u, 160u, 300u}) {
+      Mesh m = sphereMesh(1.0, 200, 100);
+      std::vector<uint8_t> cls(m.triangles.size());
+      for (size_t t = 0; t < cls.size(); ++t) cls[t] = uint8_t(t / 997 % size_t(classes));
+      const SceneHeader h = placed(-1.1, 1.1, res);
+      const SurfaceFootprint bits = surfaceFootprint(m, cls, h, uint64_t(1) << 22, 2);
+      const uint32_t far = uint32_t(m.positions.size());
+      for (int k = 0; k < 3; ++k) m.positions.push_back({50.0 + k, 50.0, 50.0 + 2 * k});
+      m.triangles.push_back({far, far + 1, far + 2});
+      m.triangleMaterial.push_back(0);
+      m.trianglePart.push_back(0);
+      cls.push_back(200);
+      const SurfaceFootprint table = surfaceFootprint(m, cls, h, uint64_t(1) << 22, 2);
+      EXPECT_EQ(bits.blocks, table.blocks) << classes << " classes at " << res;
+      EXPECT_EQ(bits.blockClasses, table.blockClasses) << classes << " classes at " << res;
+      if (classes > 1) {
+        EXPECT_GT(bits.blockClasses, bits.blocks) << "class borders run through cells";
+      }
+    }
+  }
+}
+
 TEST(MeshFootprint, WindingTablesCountWhereTheyExceedTheBake) {
   // The winding rule's weld and boundary tables live before the blocks: a
   // mesh with many vertices in a coarse grid needs them more than its blocks;

@@ -15,7 +15,10 @@
 // triangles; |volume| for inverted or open meshes).
 //
 // Cost: linear in the triangles plus at most `maxPieces` split pieces (a few
-// tens of ms at the default), no allocation proportional to the grid.
+// tens of ms at the default). The cells are counted with a bit per cell and
+// class where the mesh has at most four classes and the grid at most 2^24
+// cells of one block (a bit set of at most 2 MB per class), else in a table
+// of the cells touched: no allocation grows with the grid beyond that bound.
 // Calibration against measured peaks: docs/reliability.md ("Memory").
 #pragma once
 
