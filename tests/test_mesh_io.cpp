@@ -371,26 +371,28 @@ TEST(StlIo, AsciiAndBinaryDetection) {
   const Mesh a = read(dir.file("a.stl"));
   ASSERT_EQ(a.triangleCount(), 2u);
   EXPECT_EQ(a.positions[5][0], -1e-3);
-  voxtest::writeText(dir.file("bom.stl"), "\xEF\xBB\xBFsolid b\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
-                                          "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid b\n");
+  // One facet in the usual lower-case keywords: its solid line, three vertex lines' numbers, its end line.
+  auto facet = [](const std::string& solid, const char* a, const char* b, const char* c, const std::string& end) {
+    return solid + "\nfacet normal 0 0 1\nouter loop\nvertex " + a + "\nvertex " + b + "\nvertex " + c +
+           "\nendloop\nendfacet\n" + end + "\n";
+  };
+  voxtest::writeText(dir.file("bom.stl"), facet("\xEF\xBB\xBFsolid b", "0 0 0", "1 0 0", "0 1 0", "endsolid b"));
   EXPECT_EQ(read(dir.file("bom.stl")).triangleCount(), 1u) << "a byte-order mark before 'solid'";
   voxtest::writeText(dir.file("upper.stl"), "SOLID PART\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\n"
                                             "VERTEX 0 1 0\nENDLOOP\nENDFACET\nEndSolid PART\n");
   const Read upper = readWith(dir.file("upper.stl"));
   EXPECT_EQ(upper.mesh.triangleCount(), 1u) << "keywords in upper case, as some CAD exporters write them";
   EXPECT_TRUE(upper.warnings.empty()) << "'EndSolid' ends it";
-  voxtest::writeText(dir.file("named.stl"), "solid facet vertex endsolid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
-                                            "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid facet vertex endsolid\n");
+  voxtest::writeText(dir.file("named.stl"), facet("solid facet vertex endsolid", "0 0 0", "1 0 0", "0 1 0",
+                                                  "endsolid facet vertex endsolid"));
   EXPECT_EQ(read(dir.file("named.stl")).triangleCount(), 1u) << "the solid's name is a name, whatever its words";
   // Some exporters write an explicit '+'; the OBJ and PLY readers take it too.
-  voxtest::writeText(dir.file("plus.stl"), "solid p\nfacet normal 0 0 +1\nouter loop\nvertex +0 0 0\n"
-                                           "vertex +1.5 0 0\nvertex 0 +2E+0 0\nendloop\nendfacet\nendsolid p\n");
+  voxtest::writeText(dir.file("plus.stl"), facet("solid p", "+0 0 0", "+1.5 0 0", "0 +2E+0 0", "endsolid p"));
   const Mesh plus = read(dir.file("plus.stl"));
   ASSERT_EQ(plus.triangleCount(), 1u);
   EXPECT_EQ(plus.positions[1][0], 1.5);
   EXPECT_EQ(plus.positions[2][1], 2.0);
-  voxtest::writeText(dir.file("plusminus.stl"), "solid p\nfacet normal 0 0 1\nouter loop\nvertex +-1 0 0\n"
-                                                "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid p\n");
+  voxtest::writeText(dir.file("plusminus.stl"), facet("solid p", "+-1 0 0", "1 0 0", "0 1 0", "endsolid p"));
   EXPECT_TRUE(rejects(dir.file("plusminus.stl"), {"plusminus.stl:4", "expected 3 numbers after 'vertex'"}));
 
   auto binary = [](const std::string& header, uint32_t announced, uint32_t written) {
