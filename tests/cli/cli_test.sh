@@ -347,6 +347,11 @@ OBJ
   expect_stderr "dropped 1 triangles"
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --fill hollow
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
+  # A --bounds box beside the mesh: the empty scene is written, with a warning.
+  expect_exit 0 "$vox" voxelize keep_cube.obj --voxel-size 0.25 --bounds 5,5,5,6,6,6 -o keep_empty_scene.vdb --report empty.json
+  expect_stderr "the scene is empty"
+  expect_stderr "--bounds 5,5,5,6,6,6"
+  jcheck empty.json "assert d['counts']['occupied_voxels']==0 and any('scene is empty' in w for w in d['counts']['warnings'])"
   expect_exit 2 "$vox" voxelize keep_cube.obj demo:hamlet -o x.vdb
   # A missing MTL file: an error naming it, or with --ignore-missing-materials a warning.
   printf 'mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Roof\nf 1 2 3\n' > keep_nomtl.obj

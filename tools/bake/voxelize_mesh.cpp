@@ -534,11 +534,20 @@ vox::VoxelizeSettings voxelizeSettings(const VoxelizeOptions& o, const Run& run,
 int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, uint64_t occupied, uint64_t surface,
                    size_t classesPresent, const vox::DeferredTextures* deferred) {
   const vox::Dims d = p.header.dims;
+  std::vector<std::string> warnings = p.warnings;
+  // An empty scene is written (a later step may expect the file), but never
+  // silently: a --bounds box beside the mesh is the usual cause. A region bake's
+  // empty tile is normal.
+  if (occupied == 0 && !p.header.region) {
+    warnings.push_back(o.output + ": the scene is empty: no triangle touches its " + vox::toString(d) + " voxels" +
+                       (o.bounds.empty() ? "" : "; --bounds " + o.bounds + " may miss the mesh"));
+    run.note("warning: " + warnings.back());
+  }
   run.counts() = {{"dims", {d.x, d.y, d.z}},      {"triangles", p.mesh.triangles.size()},
                   {"vertices", p.mesh.positions.size()}, {"input_bytes", p.bytesRead},
                   {"occupied_voxels", occupied}, {"surface_voxels", surface},
                   {"classes_present", classesPresent}, {"method", nameOf(methodNames(), o.method)},
-                  {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", p.warnings}};
+                  {"fill", nameOf(fillModeNames(), o.fill)}, {"warnings", warnings}};
   if (o.fill == vox::FillMode::Solid) run.counts()["solid_rule"] = nameOf(solidRuleNames(), o.solidRule);
   if (deferred && deferred->decodedImages() > 0)  // decoded during the voxelize phase, not the parse
     run.counts()["texture_decode"] = {{"images", deferred->decodedImages()},
