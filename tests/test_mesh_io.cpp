@@ -327,6 +327,29 @@ TEST(PlyIo, AsciiFloatColoursAndZeroFaces) {
   EXPECT_EQ(p.positions.size(), 2u);
 }
 
+TEST(PlyIo, TriangleStripsKeepTheirWindingAndRestart) {
+  voxtest::TempDir dir;
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+                             "property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 1 0\n";
+  // A strip of two triangles, a restart, then a strip whose last triangle is a
+  // degenerate joint (4 4).
+  voxtest::writeText(dir.file("s.ply"), header + "9 0 1 2 3 -1 3 1 4 4\n");
+  const Mesh m = read(dir.file("s.ply"));
+  ASSERT_EQ(m.triangleCount(), 3u);
+  EXPECT_EQ(m.triangles[0], (std::array<uint32_t, 3>{0, 1, 2}));
+  EXPECT_EQ(m.triangles[1], (std::array<uint32_t, 3>{2, 1, 3})) << "every other triangle flipped";
+  EXPECT_EQ(m.triangles[2], (std::array<uint32_t, 3>{3, 1, 4})) << "the restart starts a new strip";
+  for (const auto& t : m.triangles) {  // all wound the same way: normals along +z
+    const auto& a = m.positions[t[0]];
+    const auto& b = m.positions[t[1]];
+    const auto& c = m.positions[t[2]];
+    EXPECT_GT((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]), 0.0);
+  }
+  voxtest::writeText(dir.file("bad.ply"), header + "4 0 1 2 7\n");
+  EXPECT_TRUE(rejects(dir.file("bad.ply"), {"bad.ply", "tristrips 0", "vertex 7"}));
+}
+
 TEST(PlyIo, HeaderCommentMentioningEndHeader) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("c.ply"),

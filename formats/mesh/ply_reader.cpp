@@ -197,11 +197,30 @@ struct Roles {
   }
 };
 
+/// The triangles of one triangle strip of "tristrips" (older Stanford and
+/// VCG/MeshLab files): index -1 restarts the strip, every other triangle is
+/// flipped to keep the strip's winding, and the degenerate triangles that
+/// join strips (a repeated index) are left out.
+void addStripTriangles(const std::vector<int64_t>& strip, Mesh& mesh) {
+  size_t start = 0;
+  for (size_t j = 0; j < strip.size(); ++j) {
+    if (strip[j] < 0) {
+      start = j + 1;
+      continue;
+    }
+    if (j < start + 2) continue;
+    const uint32_t a = uint32_t(strip[j - 2]), b = uint32_t(strip[j - 1]), c = uint32_t(strip[j]);
+    if (a == b || b == c || a == c) continue;
+    if ((j - start) % 2 == 0) mesh.triangles.push_back({a, b, c});
+    else mesh.triangles.push_back({b, a, c});
+  }
+}
+
 /// Reads every item of element `e` from the body: a "vertex" adds a position
-/// (and colour), a "face" adds its polygon fan-triangulated, any other element
-/// is read past.
+/// (and colour), a "face" adds its polygon fan-triangulated, a "tristrips"
+/// its strips' triangles, any other element is read past.
 void readElement(Reader& r, const Element& e, int format, const std::string& name, Mesh& mesh) {
-  const bool isVertex = e.name == "vertex", isFace = e.name == "face";
+  const bool isVertex = e.name == "vertex", isStrips = e.name == "tristrips", isFace = e.name == "face" || isStrips;
   if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
   const Roles role(e);
   if (isVertex && (role.x < 0 || role.y < 0 || role.z < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
@@ -216,6 +235,7 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
   const bool hasColor = role.red >= 0 && role.green >= 0 && role.blue >= 0;
   std::vector<double> vals(e.props.size());
   std::vector<uint32_t> poly;
+  std::vector<int64_t> strip;
   for (uint64_t i = 0; i < e.count; ++i) {
     r.at(&e.name, i);
     for (size_t k = 0; k < e.props.size(); ++k) {
@@ -229,16 +249,22 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
         throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
       const bool faceIndices = isFace && int(k) == role.faceIndices;
       poly.clear();
+      strip.clear();
       for (int j = 0; j < int(count); ++j) {
         const double v = r.scalar(p.type);
-        if (faceIndices) {
-          if (v < 0 || v >= double(mesh.positions.size()))
-            throwBadInput(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(v)) +
-                          " but there are " + std::to_string(mesh.positions.size()));
-          poly.push_back(uint32_t(v));
+        if (!faceIndices) continue;
+        if (isStrips && v == -1) {  // a strip restarts
+          strip.push_back(-1);
+          continue;
         }
+        if (v < 0 || v >= double(mesh.positions.size()))
+          throwBadInput(name + ": " + (isStrips ? "tristrips " : "face ") + std::to_string(i) + " refers to vertex " +
+                        std::to_string(int64_t(v)) + " but there are " + std::to_string(mesh.positions.size()));
+        if (isStrips) strip.push_back(int64_t(v));
+        else poly.push_back(uint32_t(v));
       }
-      if (faceIndices)
+      if (faceIndices && isStrips) addStripTriangles(strip, mesh);
+      else if (faceIndices)
         for (size_t j = 1; j + 1 < poly.size(); ++j) mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
     }
     if (isVertex) {
