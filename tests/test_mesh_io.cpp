@@ -199,6 +199,24 @@ TEST(ObjIo, SeveralLibrariesOnOneLineAndWindowsTexturePaths) {
   EXPECT_TRUE(r.warnings.empty());
 }
 
+TEST(ObjIo, TextureOptionsAndFileNamesWithSpaces) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("my tex.png"), pngBytes());
+  voxtest::writeText(dir.file("plain.png"), pngBytes());
+  voxtest::writeText(dir.file("m.mtl"),
+                     "newmtl A\nmap_Kd -bm 1 -s 1 1 1 -o 0 0 -clamp on my tex.png\n"   // options at their defaults
+                     "newmtl B\nmap_Kd -o 0.5 0 0 -s 2 2 plain.png\n"                  // a placement not applied
+                     "newmtl C\nmap_Kd -unknown 3 plain.png\n");                        // an unknown option
+  voxtest::writeText(dir.file("m.obj"), "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl A\nf 1 2 3\n");
+  const Read r = readWith(dir.file("m.obj"));
+  ASSERT_EQ(r.mesh.materials.size(), 3u);
+  ASSERT_EQ(r.mesh.textures.size(), 3u) << "every map_Kd found its file";
+  EXPECT_TRUE(anyContains(r.mesh.filesRead, "my tex.png")) << "a file name with a space, after the options";
+  ASSERT_EQ(r.warnings.size(), 1u) << "only B moves its texture";
+  EXPECT_TRUE(anyContains(r.warnings, "m.mtl:4")) << r.warnings[0];
+  EXPECT_TRUE(anyContains(r.warnings, "-o 0.5 0 0 -s 2 2 is not applied")) << r.warnings[0];
+}
+
 TEST(ObjIo, MissingLibraryOrTextureIsAnErrorUnlessIgnored) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib gone.mtl\nusemtl X\nf 1 2 3\n");

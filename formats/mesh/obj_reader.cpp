@@ -112,6 +112,59 @@ std::string resolvePath(const std::string& dir, const std::string& file) {
   return full;
 }
 
+/// A map_Kd statement's rest: its options (the MTL format's "-name args..."),
+/// then the file name, which may hold spaces ("map_Kd -bm 1 my texture.png").
+struct TextureStatement {
+  std::string file;
+  std::string placement;  // the -o, -s and -t options given with values other than their defaults, as written
+};
+
+TextureStatement textureStatement(const std::string& rest) {
+  // Each option and how many words follow it; -o, -s and -t take 1 to 3 numbers.
+  static const std::unordered_map<std::string, int> kArgs = {
+      {"-blendu", 1}, {"-blendv", 1}, {"-bm", 1},      {"-boost", 1}, {"-cc", 1}, {"-clamp", 1},
+      {"-imfchan", 1}, {"-mm", 2},    {"-texres", 1}, {"-type", 1},  {"-o", -3}, {"-s", -3}, {"-t", -3}};
+  TextureStatement st;
+  std::vector<std::string> words;
+  size_t pos = 0;
+  auto nextWord = [&](size_t& at) {
+    while (at < rest.size() && (rest[at] == ' ' || rest[at] == '\t')) ++at;
+    const size_t b = at;
+    while (at < rest.size() && rest[at] != ' ' && rest[at] != '\t') ++at;
+    return rest.substr(b, at - b);
+  };
+  for (;;) {
+    size_t at = pos;
+    const std::string option = nextWord(at);
+    const auto known = kArgs.find(option);
+    if (known == kArgs.end()) break;  // the file name starts here
+    pos = at;
+    if (known->second > 0) {
+      for (int k = 0; k < known->second; ++k) nextWord(pos);
+      continue;
+    }
+    // -o, -s, -t: up to three numbers; a value other than the default (0 for -o
+    // and -t, 1 for -s) moves or scales the texture, which is not applied.
+    const double neutral = option == "-s" ? 1.0 : 0.0;
+    std::string written = option;
+    bool moves = false;
+    for (int k = 0; k < 3; ++k) {
+      size_t after = pos;
+      const std::string w = nextWord(after);
+      double v = 0;
+      const auto [ptr, ec] = parseDoubleAllowingPlus(w.data(), w.data() + w.size(), v);
+      if (w.empty() || ec != std::errc() || ptr != w.data() + w.size()) break;
+      pos = after;
+      written += " " + w;
+      moves |= v != neutral;
+    }
+    if (moves) st.placement += (st.placement.empty() ? "" : " ") + written;
+  }
+  while (pos < rest.size() && (rest[pos] == ' ' || rest[pos] == '\t')) ++pos;
+  st.file = rest.substr(pos);
+  return st;
+}
+
 /// Parses an MTL file into `mesh.materials` (names -> index in `byName`).
 void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::string, uint32_t>& byName,
               const MeshReadOptions& options, std::vector<std::string>& warnings) {
@@ -132,10 +185,19 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
       // OBJ/MTL colours are conventionally linear reflectances.
       for (int k = 0; k < 3; ++k) mesh.materials[current].baseColorFactor[k] = float(number(c, path, "Kd"));
     } else if (key == "map_Kd" && current >= 0) {
-      std::string file = c.rest();
-      // Options such as "-bm 1 file.png" precede the file name: take the last word.
-      if (const size_t sp = file.find_last_of(" \t"); sp != std::string::npos) file = file.substr(sp + 1);
-      const std::string full = resolvePath(dir, file);
+      const TextureStatement st = textureStatement(c.rest());
+      std::string file = st.file;
+      // Files written before options were parsed were read by their last word:
+      // keep reading "map_Kd unknown-option tex.png" so.
+      std::string full = resolvePath(dir, file);
+      if (const size_t sp = file.find_last_of(" \t"); sp != std::string::npos && !isFile(full)) {
+        const std::string last = file.substr(sp + 1);
+        if (isFile(resolvePath(dir, last))) file = last, full = resolvePath(dir, last);
+      }
+      if (!st.placement.empty())
+        warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file + ": " + st.placement +
+                           " is not applied: the texture is placed as without it, so material '" +
+                           mesh.materials[current].name + "' may take colours from other texels than in the exporter");
       if (options.ignoreMissingMaterials && !isFile(full)) {
         warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file +
                            ": the texture file is missing; material '" + mesh.materials[current].name +
