@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -146,7 +147,7 @@ std::string lookAtCameraFileJson(const std::vector<LookAtCamera>& cameras) {
     doc["cameras"] = json::array();
     for (const LookAtCamera& c : cameras) doc["cameras"].push_back(lookAtJson(c));
   }
-  return doc.dump(2) + "\n";
+  return jsonText(doc, 2) + "\n";
 }
 
 std::vector<CameraView> readCameraFile(const std::string& path, std::optional<std::pair<uint32_t, uint32_t>> size) {

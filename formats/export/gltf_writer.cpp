@@ -6,6 +6,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "formats/export/output_file.h"
 #include "libvox/core/error.h"
 
@@ -270,7 +271,7 @@ GltfWriteResult summarize(const BufferPlan& plan) {
 
 GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path) {
   const BufferPlan plan = planBuffer(scene);
-  std::string text = documentJson(scene, plan, "").dump();
+  std::string text = jsonText(documentJson(scene, plan, ""));
   text.append(size_t(align4(text.size()) - text.size()), ' ');  // the JSON chunk is padded with spaces
   const uint64_t total = 12 + 8 + text.size() + (plan.bytes ? 8 + plan.bytes : 0);
   if (total > std::numeric_limits<uint32_t>::max())
@@ -297,7 +298,7 @@ GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path) {
 GltfWriteResult writeGltf(const GltfScene& scene, const std::string& path, const std::string& binPath,
                           const std::string& binUri) {
   const BufferPlan plan = planBuffer(scene);
-  const std::string text = documentJson(scene, plan, binUri).dump(1) + "\n";
+  const std::string text = jsonText(documentJson(scene, plan, binUri), 1) + "\n";
   OutputFile json(path);
   json.write(text);
   json.close();

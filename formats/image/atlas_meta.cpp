@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
 
@@ -63,7 +64,7 @@ json atlasInfoJson(const AtlasImageInfo& i) {
 }
 
 std::vector<std::pair<std::string, std::string>> atlasImageText(const AtlasImageInfo& info) {
-  return {{kAtlasTextKey, atlasInfoJson(info).dump()}, {"Software", versionString()}};
+  return {{kAtlasTextKey, jsonText(atlasInfoJson(info))}, {"Software", versionString()}};
 }
 
 AtlasImageInfo atlasInfoFromJson(const std::string& text, const std::string& context) {
@@ -97,7 +98,7 @@ std::string atlasSidecarJson(const std::string& scene, const AtlasLayout& layout
     entry["file"] = f.file;
     side["files"].push_back(entry);
   }
-  return side.dump(2) + "\n";
+  return jsonText(side, 2) + "\n";
 }
 
 std::vector<AtlasSidecarEntry> atlasSidecarFromJson(const std::string& text, const std::string& context) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
 
@@ -185,7 +186,7 @@ AtlasPreview atlasPreview(const Image& atlas, const AtlasImageInfo& info, const 
       break;
     }
   }
-  out.text = {{kPreviewTextKey, meta.dump()}, {"Software", versionString()}};
+  out.text = {{kPreviewTextKey, jsonText(meta)}, {"Software", versionString()}};
   return result;
 }
 

@@ -4,6 +4,7 @@
 
 #include "formats/core/camera_json.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -44,7 +45,7 @@ std::string renderMetaJson(const RenderMeta& m) {
   if (m.bits) meta["bits"] = *m.bits;
   if (m.level) meta["level"] = *m.level;
   if (m.lookAt) meta["look_at"] = json::parse(lookAtCameraFileJson({*m.lookAt}));
-  return meta.dump();
+  return jsonText(meta);
 }
 
 RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {

@@ -4,6 +4,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
 
@@ -36,7 +37,7 @@ std::string touchedSetJson(const TouchedSet& set) {
                     {"voxels_touched", set.voxelsTouched},
                     {"chunks_touched", set.chunks.size()},
                     {"chunks", chunks}};
-  return doc.dump(1) + "\n";
+  return jsonText(doc, 1) + "\n";
 }
 
 TouchedSet parseTouchedSet(const std::string& text, const std::string& name) {

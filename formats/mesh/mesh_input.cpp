@@ -7,6 +7,7 @@
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_reader.h"
 #include "libvox/core/error.h"
+#include "libvox/core/utf8.h"
 
 namespace vox {
 
@@ -46,8 +47,11 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
     if (invalid[i]) mesh.positions[i] = {0, 0, 0};
 }
 
-Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
-                  DeferredTextures* deferred) {
+namespace {
+
+/// The file's mesh as its reader gives it.
+Mesh readAnyMesh(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+                 DeferredTextures* deferred) {
   if (hasExtension(path, ".gltf") || hasExtension(path, ".glb")) return readGltf(path, options, warnings, deferred);
   const FileView bytes(path);
   Mesh mesh;
@@ -57,6 +61,19 @@ Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::
   else if (hasExtension(path, ".ply")) mesh = parsePly(bytes.data(), bytes.size(), path, options, warnings);
   else throwBadInput(path + ": not " + describe(FileKind::Mesh));
   mesh.filesRead.insert(mesh.filesRead.begin(), path);
+  return mesh;
+}
+
+}  // namespace
+
+Mesh readMeshFile(const std::string& path, const MeshReadOptions& options, std::vector<std::string>& warnings,
+                  DeferredTextures* deferred) {
+  Mesh mesh = readAnyMesh(path, options, warnings, deferred);
+  // Names become class names, matched by --classes rules and written in JSON:
+  // an OBJ's Windows-1252 "Mat\xe9riau" is "Matériau" from here on, and a
+  // file named in Latin-1 names its parts in UTF-8.
+  for (MeshMaterial& m : mesh.materials) m.name = utf8FromLegacy(m.name);
+  for (MeshPart& part : mesh.parts) part.nodeName = utf8FromLegacy(part.nodeName), part.meshName = utf8FromLegacy(part.meshName);
   return mesh;
 }
 

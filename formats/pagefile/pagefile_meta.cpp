@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
 #include "formats/scene/scene_meta.h"
@@ -50,7 +51,7 @@ std::string writePageMeta(const PageMeta& meta) {
                         {"seam_level", meta.regionMips->seamLevel},
                         {"voxels", std::move(voxels)}};
   }
-  return j.dump();
+  return jsonText(j);
 }
 
 namespace {

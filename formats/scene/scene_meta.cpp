@@ -3,6 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "formats/scene/class_table_json.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
@@ -57,18 +58,18 @@ std::string metaTypeName(const MetaValue& value) {
   return std::visit(Name{}, value);
 }
 
-std::string classTableJson(const ClassTable& table) { return classTableToJson(table).dump(); }
+std::string classTableJson(const ClassTable& table) { return jsonText(classTableToJson(table)); }
 
 std::string sourcesJson(const std::vector<SceneSource>& sources) {
   json arr = json::array();
   for (const SceneSource& s : sources)
     arr.push_back({{"path", s.path}, {"kind", s.kind}, {"sha256", s.sha256}, {"bytes", s.bytes}});
-  return arr.dump();
+  return jsonText(arr);
 }
 
 std::string blockWorldJson(const BlockWorldPlacement& p) {
   const json bw = {{"worldScale", p.worldScale}, {"gridSize", {p.gridSize[0], p.gridSize[1], p.gridSize[2]}}};
-  return bw.dump();
+  return jsonText(bw);
 }
 
 std::vector<SceneSource> sourcesFromJson(const json& arr, const std::string& where) {
@@ -111,7 +112,7 @@ std::string regionJson(const SceneRegion& r) {
   json box = nullptr;
   if (!r.box.empty()) box = {r.box.min.u, r.box.min.v, r.box.min.w, r.box.max.u, r.box.max.v, r.box.max.w};
   const json j = {{"index", r.index}, {"count", r.count}, {"box", box}, {"world_key", r.worldKey}};
-  return j.dump();
+  return jsonText(j);
 }
 
 SceneRegion regionFromJson(const json& j, const Dims& dims, const std::string& where) {

@@ -12,6 +12,7 @@
 #include "libvox/mesh/placement.h"
 #include "libvox/scene/scene_grids.h"
 #include "libvox/core/sha256.h"
+#include "libvox/core/utf8.h"
 #include "libvox/mesh/voxelize.h"
 
 namespace vox {
@@ -94,7 +95,7 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   if (!grid)
     throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float grid") : "no grid named '" + o.gridName + "'") +
                   "; grids in the file: " + (available.empty() ? "none" : available));
-  const std::string name = grid->getName().empty() ? "inside" : grid->getName();
+  const std::string name = grid->getName().empty() ? "inside" : utf8FromLegacy(grid->getName());  // the class name, written in JSON
   const bool levelSet = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
   if (!levelSet && !o.threshold)
     throwUsage(path + ": grid '" + name + "' is not a level set (a fog volume?); give the density threshold T above "

@@ -347,6 +347,18 @@ OBJ
   expect_stderr "dropped 1 triangles"
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --fill hollow
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
+  # Names and paths that are not UTF-8 (a Windows-1252 material name, Latin-1
+  # file names) are written transcoded in every JSON, never an internal error.
+  latin=$(printf 'caf\xe9')
+  printf 'newmtl Mat\xe9riau\nKd 1 0 0\n' > "keep_$latin.mtl"
+  printf 'mtllib keep_%s.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Mat\xe9riau\nf 1 2 3\n' "$latin" > "keep_$latin.obj"
+  expect_exit 0 "$vox" voxelize "keep_$latin.obj" --res 8 -o "keep_$latin.vdb" --report latin.json
+  jcheck latin.json "assert d['inputs'][0].endswith('keep_caf\u00e9.obj') and d['outputs'][0].endswith('keep_caf\u00e9.vdb'), d"
+  expect_exit 0 "$vox" info "keep_$latin.vdb" --json
+  jcheck out.txt "assert [c['name'] for c in d['classes']]==['Mat\u00e9riau'], d['classes']"
+  expect_exit 0 "$vox" build-atlas "keep_$latin.vdb" -o "keep_atlas_$latin" --summary --report "atlas_$latin.json"
+  expect_exit 0 "$vox" export "keep_$latin.vdb" -o "keep_$latin.gltf"
+  python3 -c "import json,sys; json.load(open(sys.argv[1], encoding='utf-8'))" "keep_$latin.gltf" || fail "the glTF is not UTF-8 JSON"
   # A --bounds box beside the mesh: the empty scene is written, with a warning.
   expect_exit 0 "$vox" voxelize keep_cube.obj --voxel-size 0.25 --bounds 5,5,5,6,6,6 -o keep_empty_scene.vdb --report empty.json
   expect_stderr "the scene is empty"

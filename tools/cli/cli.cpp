@@ -13,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
 
@@ -221,7 +222,7 @@ int Run::finish(int code) {
     for (const vox::AtomicOutput& o : outputs_) outs.push_back(o.finalPath());
     report_["outputs"] = outs;
     sidecars.emplace_back(options_.reportPath);
-    vox::writeFileBytes(sidecars.back().tempPath(), report_.dump(2) + "\n");
+    vox::writeFileBytes(sidecars.back().tempPath(), vox::jsonText(report_, 2) + "\n");
   }
   std::vector<vox::AtomicOutput*> all;
   for (vox::AtomicOutput& o : outputs_) all.push_back(&o);

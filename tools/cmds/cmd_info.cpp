@@ -8,6 +8,7 @@
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/atlas_preview.h"
 #include "formats/image/image.h"
@@ -206,7 +207,7 @@ int runInfo(const InfoOptions& o) {
       j["kind"] = "preview";
       j["image"] = {{"width", img.width}, {"height", img.height}, {"channels", img.channels}};
       if (o.json) {
-        std::cout << j.dump(2) << "\n";
+        std::cout << vox::jsonText(j, 2) << "\n";
       } else {
         std::cout << o.file << ": preview of " << j.value("atlas", std::string("?")) << " ("
                   << j.value("content", std::string("?")) << "), " << img.width << " x " << img.height
@@ -249,7 +250,7 @@ int runInfo(const InfoOptions& o) {
     for (const vox::VdbGridFrame& g : frame.grids) grids.push_back({{"name", g.uniqueName}, {"type", g.type}});
     j["grids"] = grids;
     if (o.json) {
-      std::cout << j.dump(2) << "\n";
+      std::cout << vox::jsonText(j, 2) << "\n";
     } else {
       std::cout << o.file << ": OpenVDB file (format " << frame.fileVersion << "), not a voxbake scene\n";
       infotext::Table t({{"grid", false, true}, {"type", false}});
@@ -268,7 +269,7 @@ int runInfo(const InfoOptions& o) {
   const nlohmann::json pyramid = pyramidInfoJson(o.file);  // `vox mip` files: the levels above 0
   if (!pyramid.is_null()) j["pyramid"] = pyramid;
   if (o.json)
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   else
     printScene(j);
   if (!o.json && !pyramid.is_null()) std::cout << pyramidInfoText(pyramid);

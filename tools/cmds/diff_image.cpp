@@ -8,6 +8,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_diff.h"
+#include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/image.h"
 #include "formats/image/image_diff.h"
@@ -174,7 +175,7 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
       j["mask_source"] = d.maskSource;
       if (!o.diffImage.empty()) j["diff_image"] = o.diffImage;
     }
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::ostringstream s;
     s << "Comparing \"" << o.a << "\" and \"" << nameB << "\" (" << kind;

@@ -5,6 +5,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_diff.h"
+#include "formats/core/json_text.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/diff_common.h"
 
@@ -38,7 +39,7 @@ int diffJsonFiles(const DiffOptions& o) {
                         {"differences", list}};
     if (!d.differences.empty()) j["first_difference"] = valueJson(d.differences[0]);
     if (d.worstNumber) j["worst_number"] = valueJson(*d.worstNumber);
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::ostringstream s;
     s << (d.same() ? "same" : "DIFFERENT") << ": JSON, " << d.valuesCompared << " values compared, " << d.differing

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "formats/core/json_diff.h"
+#include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
 #include "libvox/core/parallel.h"
 #include "tools/cli/cli.h"
@@ -236,7 +237,7 @@ int diffPageFiles(const DiffOptions& o) {
     for (size_t q = 0; q < results.size() && list.size() < 20; ++q)
       if (results[q].differs) list.push_back(chunkInfo(q));
     j["differing_chunks"] = list;
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::ostringstream s;
     s << (same ? "same" : "DIFFERENT") << ": page files, " << pairs.size() << " chunks compared, " << chunksDiffering

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "formats/core/json_diff.h"
+#include "formats/core/json_text.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
@@ -161,7 +162,7 @@ int diffSceneFiles(const DiffOptions& o) {
       j["kind"] = "scene";
       j["a"] = o.a, j["b"] = o.b;
       if (o.level) j["level"] = *o.level;
-      std::cout << j.dump(2) << "\n";
+      std::cout << vox::jsonText(j, 2) << "\n";
     } else {
       std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
                 << d.voxelsDiffering << " differ (" << (o.level ? "level " + std::to_string(*o.level) + ", " : "")
@@ -202,7 +203,7 @@ int diffSceneFiles(const DiffOptions& o) {
       j["metadata_first_difference"] = {{"pointer", meta.differences[0].pointer},
                                         {"a", meta.differences[0].a},
                                         {"b", meta.differences[0].b}};
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << (same ? "same" : "DIFFERENT") << ": pyramids of " << la.size() << " and " << lb.size()
               << " levels, " << compared << " voxels compared, " << differing << " differ\n";

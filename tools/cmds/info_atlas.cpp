@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_meta.h"
@@ -270,7 +271,7 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
     j["pixel"] = p;
   }
   if (asJson) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
     return kExitOk;
   }
 

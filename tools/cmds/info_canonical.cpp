@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/scene.h"
@@ -94,7 +95,7 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
     j["hit_pixels"] = hits;
   }
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
     return kExitOk;
   }
   using namespace infotext;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/touched_json.h"
 #include "tools/cli/cli.h"
@@ -30,7 +31,7 @@ int infoAtlasSidecar(const std::string& path, bool asJson) {
     nlohmann::json j = nlohmann::json::parse(text);
     j["file"] = path;
     j["kind"] = "atlas_sidecar";
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
     return kExitOk;
   }
   std::ostringstream o;
@@ -67,7 +68,7 @@ int infoTouchedSet(const std::string& path, bool asJson) {
     j["file"] = path;
     j["kind"] = "touched";
     j["summary"] = {{"chunks_touched", t.chunks.size()}, {"chunks_in_grid", gridChunks}, {"max_voxels_in_a_chunk", maxVoxels}};
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
     return kExitOk;
   }
   std::ostringstream o;
@@ -205,7 +206,7 @@ int infoReport(const std::string& path, const nlohmann::json& doc, bool asJson) 
     nlohmann::json j = doc;
     j["file"] = path;
     j["kind"] = "report";
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
     return kExitOk;
   }
   std::ostringstream o;

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_meta.h"
 #include "formats/scene/scene_meta.h"
@@ -118,7 +119,7 @@ int infoPageFile(const std::string& path, bool asJson) {
   const vox::pagefile::PageMeta meta = vox::pagefile::readPageMeta(r.metaJson(), path);
   const nlohmann::json j = pageFileJson(path, r, meta);
   if (asJson)
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   else
     std::cout << pageFileText(path, r.header(), j);
   return kExitOk;

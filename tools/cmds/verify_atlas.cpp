@@ -7,6 +7,7 @@
 #include <iostream>
 #include <unordered_map>
 
+#include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
@@ -142,7 +143,7 @@ int runAtlasCheck(const VerifyBijectionOptions& o) {
   run.counts() = {{"texels_checked", checked}, {"failures", failures}};
   run.error() = {{"failures", failures}, {"max_error", worst ? worst->error : 0.0}};
   if (o.json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << o.atlas << " (" << vox::atlasContentName(info.content) << ", " << info.format << ", layer "
               << info.layer << ") against " << o.scene << ": " << checked << " texels checked, " << failures

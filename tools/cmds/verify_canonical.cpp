@@ -10,6 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_text.h"
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
@@ -180,7 +181,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   run.counts() = {{"pixels", n}, {"hit_pixels", hitPixels}};
   run.error() = j;
   if (o.json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << o.canonical << ": " << n << " pixels, " << hitPixels << " hits; " << decodeFailures
               << " do not decode to an occupied voxel of " << o.scene << "\n";
