@@ -215,6 +215,37 @@ TEST(FileUtil, TemporariesOfDeadRunsAreRemovedByTheNextRun) {
   EXPECT_TRUE(std::filesystem::exists(other)) << "another host's temporary was removed";
 }
 
+TEST(FileUtil, NamesNearTheLimitGetShortTemporaries) {
+  // A 250-byte name is valid (NAME_MAX is 255), but ".NAME.tmp-HOST-PID-N" is
+  // not: its temporary takes a prefix and a hash of the name instead.
+  voxtest::TempDir dir;
+  const std::string name = std::string(246, 'n') + ".vdb", other = std::string(245, 'n') + "x.vdb";
+  std::string firstTemp;
+  {
+    vox::AtomicOutput out(dir.file(name));
+    firstTemp = out.tempPath();
+    EXPECT_LE(std::filesystem::path(out.tempPath()).filename().string().size(), 255u);
+    EXPECT_EQ(vox::outputName(out.tempPath()), dir.file(name)) << "messages name the output";
+    vox::writeFileBytes(out.tempPath(), "scene");
+    out.commit();
+  }
+  EXPECT_EQ(vox::readFileBytes(dir.file(name)), "scene");
+  vox::AtomicOutput second(dir.file(other));  // same first bytes, another name: another temporary
+  const std::string a = std::filesystem::path(second.tempPath()).filename().string();
+  const std::string b = std::filesystem::path(firstTemp).filename().string();
+  EXPECT_NE(a.substr(0, a.rfind(".tmp-")), b.substr(0, b.rfind(".tmp-"))) << "the hash tells them apart";
+  // A dead run's temporary of the long name is found and removed like any other.
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);
+  const size_t pidAt = firstTemp.find('-', firstTemp.rfind(".tmp-") + 5) + 1;
+  const std::string stale = firstTemp.substr(0, pidAt) + std::to_string(child) + "-0";
+  voxtest::writeText(stale, "x");
+  vox::AtomicOutput third(dir.file(name));
+  EXPECT_FALSE(std::filesystem::exists(stale)) << "a dead run's temporary of a long name was kept";
+}
+
 TEST(FileUtil, OutputNameMapsTemporariesToTheirOutput) {
   vox::AtomicOutput out("dir/scene.vdb");
   EXPECT_EQ(vox::outputName(out.tempPath()), "dir/scene.vdb");

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -15,7 +16,10 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "libvox/core/error.h"
 
@@ -42,8 +46,31 @@ uint32_t hostHash() {
   return hash;
 }
 
+// A name near NAME_MAX (255 bytes) leaves no room for the dot and the tag: its
+// temporary takes the name's first bytes and a hash of all of it instead
+// (".NAME-START~HASH.tmp-HOST-PID-N"), the same for every run, so a dead run's
+// temporaries are still found. Names shortened by this process are kept for
+// outputName's messages.
+constexpr size_t kNameMax = 255, kTagMax = 40;  // ".tmp-" + 8 + "-" + pid + "-" + counter, with room
+
+std::mutex gShortenedMutex;
+std::vector<std::pair<std::string, std::string>> gShortened;  // (stem, final name)
+
+std::string temporaryStem(const std::string& name) {
+  if (1 + name.size() + kTagMax <= kNameMax) return name;
+  uint64_t h = 14695981039346656037ull;  // FNV-1a, 64 bits
+  for (const char c : name) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  char hash[20];
+  std::snprintf(hash, sizeof hash, "~%016llx", static_cast<unsigned long long>(h));
+  std::string stem = name.substr(0, kNameMax - 1 - kTagMax - 17) + hash;
+  std::lock_guard<std::mutex> lock(gShortenedMutex);
+  if (std::find_if(gShortened.begin(), gShortened.end(), [&](const auto& e) { return e.first == stem; }) == gShortened.end())
+    gShortened.emplace_back(stem, name);
+  return stem;
+}
+
 struct TemporaryName {
-  std::string finalName;  // NAME
+  std::string finalName;  // NAME (its stem when shortened)
   uint32_t host = 0;
   long pid = 0;
 };
@@ -98,7 +125,7 @@ void untrackTemporary(int slot) {
 // Removes the temporaries of `finalPath` left by runs on this host that no
 // longer exist (killed with SIGKILL, or by the OOM killer).
 void removeStaleTemporaries(const fs::path& finalPath) {
-  const std::string name = finalPath.filename().string();
+  const std::string name = temporaryStem(finalPath.filename().string());
   const fs::path dir = finalPath.parent_path().empty() ? fs::path(".") : finalPath.parent_path();
   std::error_code ec;
   fs::directory_iterator it(dir, ec), end;
@@ -128,7 +155,7 @@ AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath))
   // Same directory, so the rename is atomic; a dot-name keeps it out of globs.
   char tag[64];
   std::snprintf(tag, sizeof tag, ".tmp-%08x-%ld-%u", hostHash(), long(getpid()), counter++);
-  temp_ = (p.parent_path() / ("." + p.filename().string() + tag)).string();
+  temp_ = (p.parent_path() / ("." + temporaryStem(p.filename().string()) + tag)).string();
   slot_ = trackTemporary(temp_);
 }
 
@@ -146,7 +173,11 @@ AtomicOutput::~AtomicOutput() {
 std::string outputName(const std::string& path) {
   const fs::path p(path);
   const std::optional<TemporaryName> t = parseTemporaryName(p.filename().string());
-  return t ? (p.parent_path() / t->finalName).string() : path;
+  if (!t) return path;
+  std::lock_guard<std::mutex> lock(gShortenedMutex);
+  for (const auto& [stem, name] : gShortened)
+    if (stem == t->finalName) return (p.parent_path() / name).string();
+  return (p.parent_path() / t->finalName).string();
 }
 
 void AtomicOutput::sync() const {
