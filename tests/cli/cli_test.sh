@@ -359,6 +359,14 @@ OBJ
   expect_exit 0 "$vox" build-atlas "keep_$latin.vdb" -o "keep_atlas_$latin" --summary --report "atlas_$latin.json"
   expect_exit 0 "$vox" export "keep_$latin.vdb" -o "keep_$latin.gltf"
   python3 -c "import json,sys; json.load(open(sys.argv[1], encoding='utf-8'))" "keep_$latin.gltf" || fail "the glTF is not UTF-8 JSON"
+  # A report or depfile that cannot be written stops the run before any output
+  # is made (it used to fail after the scene had been renamed into place).
+  mkdir -p keep_report_dir.json
+  expect_exit 4 "$vox" voxelize keep_cube.obj --res 8 -o keep_not_made.vdb --report keep_report_dir.json
+  expect_stderr "keep_report_dir.json: cannot write: it is a directory"
+  [ ! -e keep_not_made.vdb ] || fail "the scene was written although its report could not be"
+  expect_exit 4 "$vox" voxelize keep_cube.obj --res 8 -o keep_not_made.vdb --depfile no_such_dir/d.d
+  [ ! -e keep_not_made.vdb ] || fail "the scene was written although its depfile could not be"
   # A --bounds box beside the mesh: the empty scene is written, with a warning.
   expect_exit 0 "$vox" voxelize keep_cube.obj --voxel-size 0.25 --bounds 5,5,5,6,6,6 -o keep_empty_scene.vdb --report empty.json
   expect_stderr "the scene is empty"

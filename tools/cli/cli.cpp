@@ -125,6 +125,21 @@ void ProgressBar::done() {
   std::fputc('\n', stderr);
 }
 
+namespace {
+/// Fails before the work, with the name the user gave, when `finalPath` cannot be created.
+void checkDestination(const std::string& finalPath) {
+  const std::filesystem::path p(finalPath);
+  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' does not exist");
+  if (access(dir.c_str(), W_OK) != 0)
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' is not writable");
+  if (std::filesystem::is_directory(p, ec))
+    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: it is a directory");
+}
+}  // namespace
+
 Run::Run(std::string command, const CommonOptions& options) : command_(std::move(command)), options_(options) {
   const std::vector<std::string>& argv = invocation();
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
@@ -136,6 +151,11 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
   report_ = {{"tool", "vox"},         {"version", vox::kToolVersion}, {"command", command_},
              {"argv", argv},          {"threads", threads_},          {"phases", nlohmann::json::array()},
              {"counts", nlohmann::json::object()}, {"error", nlohmann::json::object()}};
+  // The report and the depfile are committed with the outputs: a destination
+  // that cannot take them must stop the run before any output is made, not
+  // after the outputs were renamed into place.
+  if (!options.reportPath.empty()) checkDestination(options.reportPath);
+  if (!options.depfilePath.empty()) checkDestination(options.depfilePath);
 }
 
 Run::~Run() = default;  // uncommitted AtomicOutputs remove their temporary files
@@ -161,17 +181,9 @@ void Run::input(const std::string& path) {
   if (std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end()) inputs_.push_back(path);
 }
 
+
 std::string Run::output(const std::string& finalPath) {
-  // Fail before the work, with the name the user gave, if the output cannot be created.
-  const std::filesystem::path p(finalPath);
-  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' does not exist");
-  if (access(dir.c_str(), W_OK) != 0)
-    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' is not writable");
-  if (std::filesystem::is_directory(p, ec))
-    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: it is a directory");
+  checkDestination(finalPath);
   outputs_.emplace_back(finalPath);
   return outputs_.back().tempPath();
 }
