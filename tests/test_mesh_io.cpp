@@ -212,6 +212,9 @@ TEST(ObjIo, TextureOptionsAndFileNamesWithSpaces) {
   ASSERT_EQ(r.mesh.materials.size(), 3u);
   ASSERT_EQ(r.mesh.textures.size(), 3u) << "every map_Kd found its file";
   EXPECT_TRUE(anyContains(r.mesh.filesRead, "my tex.png")) << "a file name with a space, after the options";
+  EXPECT_EQ(r.mesh.textures[0].wrapS, MeshTexture::Wrap::ClampToEdge) << "-clamp on";
+  EXPECT_EQ(r.mesh.textures[0].wrapT, MeshTexture::Wrap::ClampToEdge);
+  EXPECT_EQ(r.mesh.textures[1].wrapS, MeshTexture::Wrap::Repeat) << "the default repeats";
   ASSERT_EQ(r.warnings.size(), 1u) << "only B moves its texture";
   EXPECT_TRUE(anyContains(r.warnings, "m.mtl:4")) << r.warnings[0];
   EXPECT_TRUE(anyContains(r.warnings, "-o 0.5 0 0 -s 2 2 is not applied")) << r.warnings[0];

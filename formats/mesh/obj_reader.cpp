@@ -117,6 +117,7 @@ std::string resolvePath(const std::string& dir, const std::string& file) {
 struct TextureStatement {
   std::string file;
   std::string placement;  // the -o, -s and -t options given with values other than their defaults, as written
+  bool clamp = false;     // "-clamp on": texture coordinates clamped to [0, 1] instead of repeated
 };
 
 TextureStatement textureStatement(const std::string& rest) {
@@ -140,7 +141,10 @@ TextureStatement textureStatement(const std::string& rest) {
     if (known == kArgs.end()) break;  // the file name starts here
     pos = at;
     if (known->second > 0) {
-      for (int k = 0; k < known->second; ++k) nextWord(pos);
+      for (int k = 0; k < known->second; ++k) {
+        const std::string arg = nextWord(pos);
+        if (option == "-clamp") st.clamp = arg == "on";
+      }
       continue;
     }
     // -o, -s, -t: up to three numbers; a value other than the default (0 for -o
@@ -206,6 +210,7 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
         continue;
       }
       mesh.textures.push_back(loadTexture(full, path, c.line, warnings));
+      if (st.clamp) mesh.textures.back().wrapS = mesh.textures.back().wrapT = MeshTexture::Wrap::ClampToEdge;
       mesh.filesRead.push_back(full);
       mesh.materials[current].texture = int(mesh.textures.size() - 1);
     }
