@@ -430,6 +430,9 @@ TEST(StlIo, AsciiAndBinaryDetection) {
   voxtest::writeText(dir.file("named.stl"), facet("solid facet vertex endsolid", "0 0 0", "1 0 0", "0 1 0",
                                                   "endsolid facet vertex endsolid"));
   EXPECT_EQ(read(dir.file("named.stl")).triangleCount(), 1u) << "the solid's name is a name, whatever its words";
+  voxtest::writeText(dir.file("oneline.stl"), "solid x facet normal 0 0 1 outer loop vertex 0 0 0 vertex 1 0 0 "
+                                              "vertex 0 1 0 endloop endfacet endsolid x");
+  EXPECT_EQ(read(dir.file("oneline.stl")).triangleCount(), 1u) << "an STL written on one line";
   // Some exporters write an explicit '+'; the OBJ and PLY readers take it too.
   voxtest::writeText(dir.file("plus.stl"), facet("solid p", "+0 0 0", "+1.5 0 0", "0 +2E+0 0", "endsolid p"));
   const Mesh plus = read(dir.file("plus.stl"));

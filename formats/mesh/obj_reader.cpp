@@ -121,12 +121,11 @@ struct TextureStatement {
 };
 
 TextureStatement textureStatement(const std::string& rest) {
-  // Each option and how many words follow it; -o, -s and -t take 1 to 3 numbers.
+  // Each option and how many words follow it; -3: -o, -s and -t take 1 to 3 numbers.
   static const std::unordered_map<std::string, int> kArgs = {
       {"-blendu", 1}, {"-blendv", 1}, {"-bm", 1},      {"-boost", 1}, {"-cc", 1}, {"-clamp", 1},
       {"-imfchan", 1}, {"-mm", 2},    {"-texres", 1}, {"-type", 1},  {"-o", -3}, {"-s", -3}, {"-t", -3}};
   TextureStatement st;
-  std::vector<std::string> words;
   size_t pos = 0;
   auto nextWord = [&](size_t& at) {
     while (at < rest.size() && (rest[at] == ' ' || rest[at] == '\t')) ++at;

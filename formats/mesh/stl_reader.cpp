@@ -83,7 +83,23 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
   skipSpace();
   if (size_t(end - p) < 5 || !keyword(std::string_view(p, 5), "solid"))
     throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
-  while (p < end && *p != '\n') ++p;  // the solid's name, which may hold any word ("solid facet model")
+  // The solid's name: the rest of its line, which may hold any word ("solid
+  // facet model"), unless the first facet starts on that line too (an STL
+  // written on one line): then up to its "facet normal".
+  for (p += 5; p < end && *p != '\n';) {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+    const char* w = p;
+    while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
+    if (!keyword(std::string_view(w, size_t(p - w)), "facet")) continue;
+    const char* n = p;
+    while (n < end && (*n == ' ' || *n == '\t')) ++n;
+    const char* ne = n;
+    while (ne < end && *ne != ' ' && *ne != '\t' && *ne != '\r' && *ne != '\n') ++ne;
+    if (keyword(std::string_view(n, size_t(ne - n)), "normal")) {
+      p = w;
+      break;
+    }
+  }
   size_t corners = 0;
   size_t facetLine = 0;  // line of the open "facet", 0 outside one
   bool ended = false;
