@@ -50,4 +50,10 @@ TEST(Placement, Errors) {
   o.voxelSize = 1e-9;
   EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"limit"}));
   EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }), Setting::VoxelSpacing);
+  // The padding alone too long: it is what the message names, not the voxel size.
+  o.voxelSize = 0;
+  o.resolution = 8;
+  o.pad = 40000;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage,
+                                      {"80008 voxels", "80000 of them the padding", "lower --pad"}));
 }

@@ -31,12 +31,18 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
   uint32_t* out[3] = {&d.x, &d.y, &d.z};
   for (int i = 0; i < 3; ++i) {
     // The longest axis under a resolution gets exactly `resolution` voxels: side / vs == N up to rounding.
-    double n = std::ceil((hi[i] - lo[i]) / vs * (1 - 1e-12));
-    n = std::max(1.0, n) + 2.0 * o.pad;
-    if (n > kMaxGridAxis)
+    const double inside = std::max(1.0, std::ceil((hi[i] - lo[i]) / vs * (1 - 1e-12)));
+    const double n = inside + 2.0 * o.pad;
+    if (n > kMaxGridAxis) {
+      // Name the padding when it alone makes the axis too long (the voxel size is not the problem then).
+      if (inside <= kMaxGridAxis && 2.0 * o.pad > inside)
+        throwUsage("the grid would have " + std::to_string(uint64_t(n)) + " voxels on an axis (limit " +
+                   std::to_string(kMaxGridAxis) + "), " + std::to_string(uint64_t(2.0 * o.pad)) +
+                   " of them the padding; lower --pad");
       throwUsage("the grid would have " + std::to_string(uint64_t(n)) + " voxels on an axis (limit " +
                  std::to_string(kMaxGridAxis) + "); use fewer, larger voxels",
                  Setting::VoxelSpacing);
+    }
     *out[i] = uint32_t(n);
   }
   header.dims = d;
