@@ -220,6 +220,21 @@ TEST(ObjIo, TextureOptionsAndFileNamesWithSpaces) {
   EXPECT_TRUE(anyContains(r.warnings, "-o 0.5 0 0 -s 2 2 is not applied")) << r.warnings[0];
 }
 
+TEST(ObjIo, LibraryAfterTheFacesThatUseItStillColoursThem) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("red.mtl"), "newmtl Red\nKd 1 0 0\n");
+  voxtest::writeText(dir.file("late.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Blue\nf 1 2 3\nusemtl Red\nf 1 2 3\n"
+                                           "mtllib red.mtl\nusemtl Red\nf 1 3 2\n");
+  const Read r = readWith(dir.file("late.obj"));
+  ASSERT_EQ(r.mesh.triangleCount(), 3u);
+  const MeshMaterial& red = r.mesh.materials[r.mesh.triangleMaterial[1]];
+  EXPECT_EQ(red.name, "Red");
+  EXPECT_EQ(red.baseColorFactor[1], 0.0f) << "defined by the library that comes after its first faces";
+  EXPECT_EQ(r.mesh.triangleMaterial[1], r.mesh.triangleMaterial[2]) << "one material, before and after the mtllib";
+  ASSERT_EQ(r.warnings.size(), 1u) << "only Blue is undefined";
+  EXPECT_TRUE(anyContains(r.warnings, "late.obj:4: material 'Blue' is not defined")) << r.warnings[0];
+}
+
 TEST(ObjIo, MissingLibraryOrTextureIsAnErrorUnlessIgnored) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib gone.mtl\nusemtl X\nf 1 2 3\n");

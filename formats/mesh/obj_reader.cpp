@@ -5,6 +5,7 @@
 // chunk (the numbers are most of the work), then every line in file order on
 // one thread (index resolution, vertex numbering, materials, errors), so the
 // mesh and every message are those of a single pass.
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <climits>
@@ -169,8 +170,12 @@ TextureStatement textureStatement(const std::string& rest) {
 }
 
 /// Parses an MTL file into `mesh.materials` (names -> index in `byName`).
+/// `undefined`: materials a "usemtl" named before any library defined them
+/// (index -> the line naming it); a library read later that defines one fills
+/// it in, so the faces before the "mtllib" take its colour as well.
 void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::string, uint32_t>& byName,
-              const MeshReadOptions& options, std::vector<std::string>& warnings) {
+              std::unordered_map<uint32_t, size_t>& undefined, const MeshReadOptions& options,
+              std::vector<std::string>& warnings) {
   const std::string text = readFileBytes(path);
   mesh.filesRead.push_back(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
@@ -181,9 +186,15 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
     if (key == "newmtl") {
       MeshMaterial m;
       m.name = c.rest();
-      current = int(mesh.materials.size());
-      byName[m.name] = uint32_t(current);
-      mesh.materials.push_back(m);
+      const auto named = byName.find(m.name);
+      if (named != byName.end() && undefined.erase(named->second)) {  // named by a "usemtl" before this library
+        current = int(named->second);
+        mesh.materials[size_t(current)] = m;
+      } else {
+        current = int(mesh.materials.size());
+        byName[m.name] = uint32_t(current);
+        mesh.materials.push_back(m);
+      }
     } else if (key == "Kd" && current >= 0) {
       // OBJ/MTL colours are conventionally linear reflectances.
       for (int k = 0; k < 3; ++k) mesh.materials[current].baseColorFactor[k] = float(number(c, path, "Kd"));
@@ -339,7 +350,7 @@ class ObjParser {
     if (it == materialByName_.end()) {
       mesh_.materials.push_back({n, {1, 1, 1, 1}, -1, 0});
       it = materialByName_.emplace(n, uint32_t(mesh_.materials.size() - 1)).first;
-      warnings_.push_back(name_ + ":" + std::to_string(c.line) + ": material '" + n + "' is not defined in any mtllib");
+      undefinedMaterials_.emplace(it->second, c.line);  // a library later in the file may still define it
     }
     currentMaterial_ = it->second;
   }
@@ -369,7 +380,7 @@ class ObjParser {
                           " is missing; restore it, or bake without it (its materials white)",
                       Setting::IgnoreMissingMaterials);
       try {
-        parseMtl(full, mesh_, materialByName_, options_, warnings_);
+        parseMtl(full, mesh_, materialByName_, undefinedMaterials_, options_, warnings_);
       } catch (const Error& e) {
         throwBadInput(name_ + ":" + std::to_string(c.line) + ": mtllib " + file + ": " + e.what(), e.setting);
       }
@@ -379,6 +390,12 @@ class ObjParser {
   /// The mesh, once every line is read: per-vertex arrays completed, and
   /// non-finite vertices refused (naming the first bad "v" line) or dropped.
   Mesh finish() {
+    std::vector<std::pair<size_t, uint32_t>> undefined;  // (line, material), in file order
+    for (const auto& [material, line] : undefinedMaterials_) undefined.emplace_back(line, material);
+    std::sort(undefined.begin(), undefined.end());
+    for (const auto& [line, material] : undefined)
+      warnings_.push_back(name_ + ":" + std::to_string(line) + ": material '" + mesh_.materials[material].name +
+                          "' is not defined in any mtllib");
     if (mesh_.materials.empty()) mesh_.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
     if (!mesh_.uv0.empty()) mesh_.uv0.resize(mesh_.positions.size(), {0, 0});
     if (anyVertexColor_) {  // vertices written without a colour are white
@@ -488,6 +505,7 @@ class ObjParser {
   std::vector<uint32_t> objOfVertex_;  // mesh vertex -> obj position (for vertex colours)
   std::unordered_map<uint64_t, uint32_t> splitIndex_;  // (v, vt) -> mesh vertex
   std::unordered_map<std::string, uint32_t> materialByName_;
+  std::unordered_map<uint32_t, size_t> undefinedMaterials_;  // white until a library defines them: material -> line
   int64_t currentMaterial_ = -1;  // none chosen yet: faces use the default material
   int64_t defaultMaterial_ = -1;
   uint32_t currentPart_ = 0;
