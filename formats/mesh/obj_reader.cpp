@@ -282,7 +282,9 @@ class ObjParser {
     if (n >= 3) {
       for (int k = 0; k < n; ++k)
         if (!(extra[k] >= 0 && extra[k] <= 1))
-          bad(name_, c.line, "vertex colour component " + std::to_string(extra[k]) + " is outside [0, 1]");
+          bad(name_, c.line, "vertex colour component " + std::to_string(extra[k]) +
+                                 " is outside [0, 1]; OBJ vertex colours are read as fractions of 1, as MeshLab writes"
+                                 " them (a file with 0-255 colours needs them divided by 255)");
       for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbToLinear(extra[k]);
       if (n == 4) color[3] = float(extra[3]);
       anyVertexColor_ = true;
