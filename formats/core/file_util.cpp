@@ -214,6 +214,13 @@ void AtomicOutput::commit() {
 
 void commitAll(std::vector<AtomicOutput*> outputs) {
   for (const AtomicOutput* o : outputs) o->sync();
+  // A destination that became a directory meanwhile would fail its rename
+  // after the others were renamed: check them all first.
+  for (const AtomicOutput* o : outputs) {
+    std::error_code ec;
+    if (fs::is_directory(o->finalPath(), ec))
+      throwIo(o->finalPath() + ": cannot move the finished output into place: it is a directory");
+  }
   for (AtomicOutput* o : outputs) o->renameIntoPlace();
 }
 

@@ -59,7 +59,7 @@ int removeUncommittedOutputs() noexcept;
 std::string outputName(const std::string& path);
 
 /// Commits outputs together: syncs every one first, then renames them all.
-/// Nothing is renamed unless every file reached the disk.
+/// Nothing is renamed unless every file reached the disk and no destination is a directory.
 void commitAll(std::vector<AtomicOutput*> outputs);
 
 /// The one check every input file passes before it is opened: it must exist

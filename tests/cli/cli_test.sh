@@ -367,6 +367,11 @@ OBJ
   [ ! -e keep_not_made.vdb ] || fail "the scene was written although its report could not be"
   expect_exit 4 "$vox" voxelize keep_cube.obj --res 8 -o keep_not_made.vdb --depfile no_such_dir/d.d
   [ ! -e keep_not_made.vdb ] || fail "the scene was written although its depfile could not be"
+  # ... but a directory the command itself makes may take them (the demo's atlas report).
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o keep_for_atlas.vdb
+  expect_exit 0 "$vox" build-atlas keep_for_atlas.vdb -o keep_new_dir/atlas --summary \
+    --report keep_new_dir/atlas/report.json --depfile keep_new_dir/atlas/atlas.d
+  [ -s keep_new_dir/atlas/report.json ] && [ -s keep_new_dir/atlas/atlas.d ] || fail "the atlas's report or depfile is missing"
   # A --bounds box beside the mesh: the empty scene is written, with a warning.
   expect_exit 0 "$vox" voxelize keep_cube.obj --voxel-size 0.25 --bounds 5,5,5,6,6,6 -o keep_empty_scene.vdb --report empty.json
   expect_stderr "the scene is empty"

@@ -151,11 +151,16 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
   report_ = {{"tool", "vox"},         {"version", vox::kToolVersion}, {"command", command_},
              {"argv", argv},          {"threads", threads_},          {"phases", nlohmann::json::array()},
              {"counts", nlohmann::json::object()}, {"error", nlohmann::json::object()}};
-  // The report and the depfile are committed with the outputs: a destination
-  // that cannot take them must stop the run before any output is made, not
-  // after the outputs were renamed into place.
-  if (!options.reportPath.empty()) checkDestination(options.reportPath);
-  if (!options.depfilePath.empty()) checkDestination(options.depfilePath);
+  // The report and the depfile are committed with the outputs. A directory in
+  // their place can never take them: say so before the work. (Their own
+  // directory may not exist yet: build-atlas makes its output directory, and
+  // the demo writes the atlas's report into it. If it still does not exist
+  // when the run ends, writing them fails before anything is committed.)
+  for (const std::string* path : {&options.reportPath, &options.depfilePath}) {
+    std::error_code ec;
+    if (!path->empty() && std::filesystem::is_directory(*path, ec))
+      throw vox::Error(vox::ErrorKind::Io, *path + ": cannot write: it is a directory");
+  }
 }
 
 Run::~Run() = default;  // uncommitted AtomicOutputs remove their temporary files
