@@ -15,7 +15,6 @@
 #include <unordered_map>
 
 #include "formats/core/file_util.h"
-#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "libvox/core/color.h"
 #include "formats/mesh/mesh_input.h"
@@ -23,6 +22,7 @@
 #include "libvox/core/error.h"
 #include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
+#include "libvox/core/utf8.h"
 
 namespace vox {
 

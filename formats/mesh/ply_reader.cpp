@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <sstream>
 
-#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
+#include "libvox/core/utf8.h"
 
 namespace vox {
 

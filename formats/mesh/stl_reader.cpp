@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <string_view>
 
-#include "formats/core/text_encoding.h"
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
 #include "libvox/core/error.h"
+#include "libvox/core/utf8.h"
 
 namespace vox {
 
