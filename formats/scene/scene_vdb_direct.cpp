@@ -281,8 +281,7 @@ void leafBuffer(const GridPlan& g, size_t i, const std::array<uint64_t, kBlockWo
   } else {
     std::array<std::array<float, 3>, kBlockVoxels> vals;
     size_t n = 0;
-    for (int k = 0; k < kBlockWords; ++k)
-      for (uint64_t bits = mask[size_t(k)]; bits; bits &= bits - 1) vals[n++] = (*b.color)[size_t(k * 64 + std::countr_zero(bits))];
+    forEachColor(b, mask, [&](int, const std::array<float, 3>& rgb) { vals[n++] = rgb; });
     appendBlosc(out, vals.data(), n * sizeof(vals[0]));
   }
 }
@@ -492,7 +491,7 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
       g.leaves.push_back(b);
       g.votes.push_back(findClassBlock(*b, id));
     }
-    if (b->color) color.leaves.push_back(b);
+    if (!b->colors.empty()) color.leaves.push_back(b);
   }
   grids.push_back(std::move(occ));
   for (auto& [id, g] : votes) {

@@ -53,12 +53,10 @@ std::optional<MipBlocksLevel> mipBlocksFromLeaves(SceneLeaves&& leaves, unsigned
       }
       if (leaves.hasColor && leaves.colorAt[i] != SceneLeaves::kNoLeaf) {
         const SceneLeaf<std::array<float, 3>>& l = leaves.colorLeaves[leaves.colorAt[i]];
-        b->color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
+        size_t count = 0;
+        for (uint64_t w : l.mask) count += size_t(bitCount(w));
         b->colored = l.mask;
-        size_t t = 0;
-        for (int k = 0; k < kBlockWords; ++k)
-          for (uint64_t bits = l.mask[size_t(k)]; bits; bits &= bits - 1)
-            (*b->color)[size_t(k * 64 + __builtin_ctzll(bits))] = l.values[t++];
+        b->colors.assign(l.values.get(), l.values.get() + count);  // the leaf's active values, in voxel order
       }
       level.blocks[i] = std::move(b);
     }

@@ -195,11 +195,19 @@ void VoxelBlocks::setColor(Coord3 c, RgbLinear color) {
     outOfRange_ = true;
     return;
   }
-  VoxelBlock& b = block(c.u, c.v, c.w);
-  const int i = blockOffset(c.u, c.v, c.w);
-  if (!b.color) b.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
-  (*b.color)[i] = {color.r, color.g, color.b};
-  b.colored[i >> 6] |= uint64_t(1) << (i & 63);
+  setBlockColor(block(c.u, c.v, c.w), blockOffset(c.u, c.v, c.w), {color.r, color.g, color.b});
+}
+
+void setBlockColor(VoxelBlock& b, int i, const std::array<float, 3>& rgb) {
+  const size_t rank = colorRank(b, i);
+  uint64_t& word = b.colored[size_t(i >> 6)];
+  const uint64_t bit = uint64_t(1) << (i & 63);
+  if (word & bit) {
+    b.colors[rank] = rgb;
+    return;
+  }
+  b.colors.insert(b.colors.begin() + std::ptrdiff_t(rank), rgb);  // writers set them in voxel order: at the end
+  word |= bit;
 }
 
 void VoxelBlocks::merge(VoxelBlocks&& other) {
@@ -237,13 +245,26 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
         dst.addAll(*cb);
     }
 
-    if (theirs->color) {
-      if (!mine.color) mine.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
-      for (int i = 0; i < kBlockVoxels; ++i)
-        if (((theirs->colored[i >> 6] >> (i & 63)) & 1) && !((mine.colored[i >> 6] >> (i & 63)) & 1)) {
-          (*mine.color)[i] = (*theirs->color)[i];
-          mine.colored[i >> 6] |= uint64_t(1) << (i & 63);
+    if (!theirs->colors.empty()) {
+      // The union of both in voxel order; where both have a colour, ours.
+      std::array<uint64_t, kBlockWords> colored;
+      size_t count = 0;
+      for (int k = 0; k < kBlockWords; ++k) {
+        colored[size_t(k)] = mine.colored[size_t(k)] | theirs->colored[size_t(k)];
+        count += size_t(std::popcount(colored[size_t(k)]));
+      }
+      std::vector<std::array<float, 3>> colors;
+      colors.reserve(count);
+      size_t m = 0, t = 0;
+      for (int k = 0; k < kBlockWords; ++k)
+        for (uint64_t bits = colored[size_t(k)]; bits; bits &= bits - 1) {
+          const uint64_t bit = bits & -bits;
+          const bool inMine = mine.colored[size_t(k)] & bit, inTheirs = theirs->colored[size_t(k)] & bit;
+          colors.push_back(inMine ? mine.colors[m] : theirs->colors[t]);
+          m += inMine, t += inTheirs;
         }
+      mine.colored = colored;
+      mine.colors = std::move(colors);
     }
   });
   other.blocks_.clear();
@@ -294,7 +315,7 @@ void VoxelBlocks::validate(const Dims& d, const ClassTable& classes) {
 void VoxelBlocks::release(VoxelBlock& block) {
   block.classes.clear();
   block.classes.shrink_to_fit();
-  block.color.reset();
+  std::vector<std::array<float, 3>>().swap(block.colors);
 }
 
 }  // namespace vox

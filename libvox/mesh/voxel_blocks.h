@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -102,7 +103,11 @@ struct VoxelBlock {
   std::array<int32_t, 3> origin{0, 0, 0};  // index coordinates of voxel 0, multiples of 8
   std::array<uint64_t, kBlockWords> occupied{}, surface{}, colored{};
   std::vector<std::unique_ptr<ClassBlock>> classes;  // sorted by class id, few
-  std::unique_ptr<std::array<std::array<float, 3>, kBlockVoxels>> color;  // linear RGB, when any voxel has one
+  // Linear RGB of the voxels of `colored`, one per set bit in voxel order
+  // (colorRank): 12 bytes per coloured voxel. One for each of the block's 512
+  // voxels took 6 KB whatever the fill, and a surface block colours about a
+  // tenth of them: most of a coloured bake's memory, all of it fresh pages.
+  std::vector<std::array<float, 3>> colors;
   // Votes that runs without the surface flag added (a solid fill's interior),
   // kept compactly while they share one class and one count: voxel i has
   // `runVotes` more votes for `runClass` when bit i of `runMask` is set, on top
@@ -124,6 +129,30 @@ struct VoxelBlock {
   }
 };
 
+/// The index in `colors` of voxel i's colour: the set bits of `colored` before bit i.
+inline size_t colorRank(const VoxelBlock& b, int i) {
+  size_t r = 0;
+  for (int k = 0; k < (i >> 6); ++k) r += size_t(std::popcount(b.colored[size_t(k)]));
+  return r + size_t(std::popcount(b.colored[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
+}
+/// Voxel i's colour (bit i of `colored` must be set).
+inline const std::array<float, 3>& colorAt(const VoxelBlock& b, int i) { return b.colors[colorRank(b, i)]; }
+/// Sets voxel i's colour; the last one set wins.
+void setBlockColor(VoxelBlock& b, int i, const std::array<float, 3>& rgb);
+/// Calls fn(i, rgb) for every coloured voxel i whose bit is set in `mask`, in voxel order.
+template <typename Fn>
+void forEachColor(const VoxelBlock& b, const std::array<uint64_t, kBlockWords>& mask, Fn&& fn) {
+  size_t before = 0;  // colours of the words before k
+  for (int k = 0; k < kBlockWords; ++k) {
+    const uint64_t colored = b.colored[size_t(k)];
+    for (uint64_t bits = colored & mask[size_t(k)]; bits; bits &= bits - 1) {
+      const int bit = std::countr_zero(bits);
+      fn(k * 64 + bit, b.colors[before + size_t(std::popcount(colored & ((uint64_t(1) << bit) - 1)))]);
+    }
+    before += size_t(std::popcount(colored));
+  }
+}
+
 /// Voxel index of (x, y, z) inside its block.
 inline int blockOffset(int32_t x, int32_t y, int32_t z) {
   return ((x & (kBlockDim - 1)) << (2 * kBlockLog2)) | ((y & (kBlockDim - 1)) << kBlockLog2) | (z & (kBlockDim - 1));
@@ -144,8 +173,8 @@ class VoxelBlocks {
   /// The block holding voxel `c`, created empty when absent (for copying
   /// whole 8^3 leaves in, e.g. from a scene's trees); null when `c` is beyond
   /// +-2^23 (outOfRange() then says so). Masks and values written to it must
-  /// keep the blocks' invariants: votes only where occupied, colours only where
-  /// `colored`, `color` allocated when any bit of `colored` is set.
+  /// keep the blocks' invariants: votes only where occupied, one entry of
+  /// `colors` per bit of `colored` (setBlockColor keeps it).
   VoxelBlock* blockAt(Coord3 c);
   /// Moves `other`'s content into this one; where both have a colour for a voxel, this one's wins.
   void merge(VoxelBlocks&& other);

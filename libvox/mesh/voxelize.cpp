@@ -450,15 +450,28 @@ class ColorSums {
       VoxelBlock* block = blocks.blockAt({cb.origin[0], cb.origin[1], cb.origin[2]});
       if (!block) continue;  // beyond +-2^23: blocks.outOfRange() says so, as for its votes
       VoxelBlock& b = *block;
+      // In voxel order into one allocation of the exact size (the tile's
+      // blocks have no colour yet; setBlockColor keeps any that would).
+      std::array<std::array<float, 3>, kBlockVoxels> colors;
+      std::array<uint64_t, kBlockWords> colored{};
+      size_t n = 0;
       for (int i = 0; i < kBlockVoxels; ++i) {
         const uint32_t slot = (*cb.slots)[size_t(i)];
         if (slot == 0) continue;
         const ColorSum& c = sums_[slot - 1];
         if (c.w == 0) continue;
         const double d = double(c.w) * 65535.0;
-        if (!b.color) b.color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
-        (*b.color)[size_t(i)] = {float(double(c.r) / d), float(double(c.g) / d), float(double(c.b) / d)};
-        b.colored[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+        colors[n++] = {float(double(c.r) / d), float(double(c.g) / d), float(double(c.b) / d)};
+        colored[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+      }
+      if (b.colors.empty()) {
+        b.colors.assign(colors.begin(), colors.begin() + std::ptrdiff_t(n));
+        b.colored = colored;
+      } else {
+        size_t next = 0;
+        for (int k = 0; k < kBlockWords; ++k)
+          for (uint64_t bits = colored[size_t(k)]; bits; bits &= bits - 1)
+            setBlockColor(b, k * 64 + std::countr_zero(bits), colors[next++]);
       }
     }
     *this = ColorSums();
@@ -853,12 +866,7 @@ std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces, unsigned thr
 /// blocks; colours are the vote-weighted averages of the integer sums.
 VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Progress& progress, double share) {
   const size_t nTri = work.mesh.triangles.size();
-  // A few tiles per thread, taken as threads come free. A coloured mesh is
-  // tiled on one thread too: a tile's colour sums live only until its colours
-  // are written, so tiles bound them (box12 at 512: 298 -> 222 MB peak, and
-  // less fresh memory to fault in); without colour one tile saves the clipping
-  // of triangles that straddle tiles (stanford-bunny 256: 2.5% instructions).
-  const size_t pieces = threads > 1 || work.color ? size_t(4) * std::max(threads, 2u) : 1;
+  const size_t pieces = surfaceTileCount(threads, work.color);
   std::vector<Tile> tiles;
   if (pieces > 1) {
     tiles = surfaceTiles(work, pieces, threads);

@@ -339,9 +339,24 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   // about 1.4x the counts on average, and 16 at least).
   e.add("vote blocks", (f.blockClasses * (sizeof(ClassBlock) + 2 * kMalloc + sizeof(void*) + 16 * sizeof(uint32_t)) +
                         f.surfaceVoxels * 1.4 * sizeof(uint32_t)) * kShared);
-  if (mesh.hasColor()) e.add("colour blocks", f.blocks * (kBlockVoxels * 3 * sizeof(float) + kMalloc) * kShared);
+  const bool texturesRead = settings.textureRows && !mesh.textures.empty();
+  if (mesh.hasColor()) {
+    // A tile's colour slot table (2 KB a block) and sums (32 bytes a coloured
+    // voxel) live while its geometry runs and its colours are written, so
+    // `threads` tiles' worth at a time, two on one thread (measured: box12 at
+    // 512 peaks alike at --threads 1 and 2), times 1.5 for tiles of unequal
+    // size; with textures read by rows they all wait for the images (counted
+    // below). The colours (12 bytes a coloured voxel, one allocation of the
+    // exact size per block) stay until the writer.
+    const unsigned threads = std::max(2u, settings.threads);
+    const double alive =
+        texturesRead ? 0.0 : std::min(1.0, 1.5 * threads / double(surfaceTileCount(threads, true)));
+    e.add("colour blocks", (alive * (f.blocks * (kBlockVoxels * sizeof(uint32_t) + kMalloc) +
+                                     f.surfaceVoxels * double(sizeof(ColorSum))) +
+                            f.blocks * kMalloc + f.surfaceVoxels * 3 * sizeof(float)) * kShared);
+  }
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
-  if (settings.textureRows && !mesh.textures.empty()) {
+  if (texturesRead) {
     // Textures read by rows after the geometry: every tile keeps its textured
     // pieces (32 bytes and an 8-byte reference to sort them by row; 1.7 per
     // surface voxel on the textured benchmark model) and colour sums (2 KB a

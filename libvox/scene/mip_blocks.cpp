@@ -163,17 +163,15 @@ MipBlocksLevel reduceBlocks(const MipBlocksLevel& fine, MipOccupancy mode, unsig
           auto& sum = s->votes[size_t(slot)];
           cb->forEach([&](int i, uint32_t n) { sum[map[size_t(i)]] += n; });
         }
-        if (b.color) {
+        if (!b.colors.empty()) {
           // Voxel order within the child, as reduceScene sums: the same doubles.
-          for (int k = 0; k < kBlockWords; ++k)
-            for (uint64_t bits = b.colored[size_t(k)] & b.occupied[size_t(k)]; bits; bits &= bits - 1) {
-              const int i = k * 64 + __builtin_ctzll(bits);
-              const uint16_t to = map[size_t(i)];
-              if (s->colorCount[to] == 0) s->colorSum[to] = {0, 0, 0};
-              for (int a = 0; a < 3; ++a) s->colorSum[to][size_t(a)] += double((*b.color)[size_t(i)][size_t(a)]);
-              ++s->colorCount[to];
-              anyColor = true;
-            }
+          forEachColor(b, b.occupied, [&](int i, const std::array<float, 3>& rgb) {
+            const uint16_t to = map[size_t(i)];
+            if (s->colorCount[to] == 0) s->colorSum[to] = {0, 0, 0};
+            for (int a = 0; a < 3; ++a) s->colorSum[to][size_t(a)] += double(rgb[size_t(a)]);
+            ++s->colorCount[to];
+            anyColor = true;
+          });
         }
       }
       auto block = std::make_unique<VoxelBlock>();
@@ -192,10 +190,9 @@ MipBlocksLevel reduceBlocks(const MipBlocksLevel& fine, MipOccupancy mode, unsig
         block->occupied[size_t(off >> 6)] |= bit;
         block->surface[size_t(off >> 6)] |= s->surface[size_t(off >> 6)] & bit;
         if (anyColor && s->colorCount[size_t(off)]) {
-          if (!block->color) block->color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
           const double k = 1.0 / s->colorCount[size_t(off)];
           const auto& sum = s->colorSum[size_t(off)];
-          (*block->color)[size_t(off)] = {float(sum[0] * k), float(sum[1] * k), float(sum[2] * k)};
+          block->colors.push_back({float(sum[0] * k), float(sum[1] * k), float(sum[2] * k)});  // voxel order
           block->colored[size_t(off >> 6)] |= bit;
         }
       }

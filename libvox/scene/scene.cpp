@@ -280,18 +280,15 @@ Scene SceneBuilder::build() && {
       for (int k = 0; k < kBlockWords; ++k)
         vLeaf->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) = cb->voted[size_t(k)];
     }
-    if (leaf->color) {
+    if (!leaf->colors.empty()) {
       if (!grids->color) {
         grids->color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0, 0, 0));
         colorAcc.emplace(grids->color->getAccessor());
       }
       auto* cLeaf = colorAcc->touchLeaf(o);
-      for (int k = 0; k < kBlockWords; ++k)
-        for (uint64_t bits = leaf->colored[k] & leaf->occupied[k]; bits; bits &= bits - 1) {
-          const int i = k * 64 + __builtin_ctzll(bits);
-          const auto& c = (*leaf->color)[i];
-          cLeaf->setValueOn(openvdb::Index(i), openvdb::Vec3s(c[0], c[1], c[2]));
-        }
+      forEachColor(*leaf, leaf->occupied, [&](int i, const std::array<float, 3>& c) {
+        cLeaf->setValueOn(openvdb::Index(i), openvdb::Vec3s(c[0], c[1], c[2]));
+      });
     }
     VoxelBlocks::release(*leaf);  // the leaf's votes now live in the trees
   }

@@ -80,9 +80,7 @@ std::optional<Coord3> addLeaves(const Scene& scene, const IndexBox* box, VoxelBl
           for (uint64_t bits = cl->getValueMask().template getWord<openvdb::Index64>(openvdb::Index(k)) & occ[size_t(k)];
                bits; bits &= bits - 1) {
             const int i = k * 64 + __builtin_ctzll(bits);
-            if (!b->color) b->color = std::make_unique<std::array<std::array<float, 3>, kBlockVoxels>>();
-            (*b->color)[size_t(i)] = {values[i][0], values[i][1], values[i][2]};
-            b->colored[size_t(k)] |= uint64_t(1) << (i & 63);
+            setBlockColor(*b, i, {values[i][0], values[i][1], values[i][2]});  // voxel order: appended
           }
       }
   }

@@ -458,6 +458,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   vox::VoxelizeSettings settings;
   settings.fill = o.fill;
   settings.solidRule = o.solidRule;
+  settings.threads = run.threads();  // colour sums live per tile, `threads` tiles at a time
   vox::DeferredTextures none;  // as the bake will have a source: only its presence counts
   if (deferred && deferred->images() > 0) settings.textureRows = &none;
   const bool sdf = o.method == VoxelizeMethod::Sdf;
