@@ -20,7 +20,7 @@ using Plain = std::array<std::optional<Rgb>, kBlockVoxels>;
 /// colour, and forEachColor's visits (in voxel order, only the mask's voxels).
 void expectSame(const VoxelBlock& b, const Plain& want, const std::array<uint64_t, kBlockWords>& mask) {
   size_t bits = 0;
-  for (uint64_t w : b.colored) bits += size_t(std::popcount(w));
+  for (uint64_t w : b.colored) bits += size_t(bitCount(w));
   ASSERT_EQ(b.colors.size(), bits);
   for (int i = 0; i < kBlockVoxels; ++i) {
     const bool colored = (b.colored[size_t(i >> 6)] >> (i & 63)) & 1;

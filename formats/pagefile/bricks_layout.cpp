@@ -6,6 +6,7 @@
 
 #include "formats/pagefile/layout_io.h"
 #include "formats/pagefile/pagefile.h"
+#include "libvox/core/bits.h"
 
 namespace vox::pagefile {
 
@@ -64,7 +65,7 @@ const uint8_t* readOccupancy(const ChunkPayload& in, std::vector<DecodedVoxel>& 
   uint64_t count = 0;
   for (uint32_t w = 0; w < N / 64; ++w) {
     uint64_t word = loadLE<uint64_t>(p + 8 * w);
-    count += uint64_t(std::popcount(word));
+    count += uint64_t(bitCount(word));
     while (word) {
       const uint32_t k = w * 64 + uint32_t(std::countr_zero(word));
       word &= word - 1;

@@ -7,6 +7,7 @@
 
 #include "formats/pagefile/layout_io.h"
 #include "formats/pagefile/pagefile.h"
+#include "libvox/core/bits.h"
 #include "libvox/core/error.h"
 
 namespace vox::pagefile {
@@ -203,8 +204,8 @@ void checkMasks(const ChunkPayload& in, const Sections& s) {
   uint64_t solidCount = 0, surfCount = 0;
   for (uint32_t w = 0; w < N / 32; ++w) {
     const uint32_t sw = loadLE<uint32_t>(s.solid + 4 * w), fw = loadLE<uint32_t>(s.surface + 4 * w);
-    solidCount += uint32_t(std::popcount(sw));
-    surfCount += uint32_t(std::popcount(fw));
+    solidCount += uint32_t(bitCount(sw));
+    surfCount += uint32_t(bitCount(fw));
     if (fw & ~sw) in.fail("columns field 'surface_mask': word " + std::to_string(w) + " has a voxel that is not in the solid mask");
     for (uint32_t word = sw; word; word &= word - 1) {
       const uint32_t bit = w * 32 + uint32_t(std::countr_zero(word));

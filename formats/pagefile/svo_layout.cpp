@@ -7,6 +7,7 @@
 #include <string>
 
 #include "formats/pagefile/layout_io.h"
+#include "libvox/core/bits.h"
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
 #include "libvox/core/summary_bytes.h"
@@ -290,8 +291,8 @@ struct NodeRead {
   // The record of brick voxel b: first + the rank of b among the brick's bits.
   uint32_t recordOf(uint32_t b) const {
     uint32_t r = 0;
-    for (uint32_t w = 0; w < b / 64; ++w) r += uint32_t(std::popcount(bits[w]));
-    return first + r + uint32_t(std::popcount(bits[b / 64] & ((uint64_t(1) << (b % 64)) - 1)));
+    for (uint32_t w = 0; w < b / 64; ++w) r += uint32_t(bitCount(bits[w]));
+    return first + r + uint32_t(bitCount(bits[b / 64] & ((uint64_t(1) << (b % 64)) - 1)));
   }
 };
 
@@ -392,7 +393,7 @@ void checkBrickVoxels(const ChunkPayload& in, const Sections& s, uint64_t n, Nod
   uint8_t octants = 0;
   const uint32_t step = 1u << nd.level;
   for (uint32_t w = 0; w < 8; ++w) {
-    count += uint32_t(std::popcount(nd.bits[w]));
+    count += uint32_t(bitCount(nd.bits[w]));
     for (uint64_t word = nd.bits[w]; word; word &= word - 1) {
       const uint32_t b = w * 64 + uint32_t(std::countr_zero(word));
       const uint32_t bx = b & 7, by = (b >> 3) & 7, bz = b >> 6;

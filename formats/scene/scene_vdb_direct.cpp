@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "formats/scene/scene_meta.h"
+#include "libvox/core/bits.h"
 #include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
@@ -345,7 +346,7 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
       masks[i] = mask;
       for (int k = 0; k < kBlockWords; ++k) {
         if (!mask[size_t(k)]) continue;
-        s.voxels += uint64_t(std::popcount(mask[size_t(k)]));
+        s.voxels += uint64_t(bitCount(mask[size_t(k)]));
         // Bounding box of the active voxels: x and y from the word, z from the bits.
         const VoxelBlock& blk = *g.leaves[i];
         const int x = k, yLo = std::countr_zero(mask[size_t(k)]) >> 3, yHi = (63 - std::countl_zero(mask[size_t(k)])) >> 3;
@@ -478,8 +479,8 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
   for (const VoxelBlock* b : sorted) {
     occ.leaves.push_back(b);
     for (int k = 0; k < kBlockWords; ++k) {
-      summary.occupied += uint64_t(std::popcount(b->occupied[size_t(k)]));
-      summary.surface += uint64_t(std::popcount(b->occupied[size_t(k)] & b->surface[size_t(k)]));
+      summary.occupied += uint64_t(bitCount(b->occupied[size_t(k)]));
+      summary.surface += uint64_t(bitCount(b->occupied[size_t(k)] & b->surface[size_t(k)]));
     }
     // The classes with votes in this block: its class blocks and its runs' class.
     std::vector<uint8_t> ids;

@@ -1,8 +1,7 @@
 // Scene leaves -> RayGrid and summary lookups (render_scene.cpp without OpenVDB).
 #include "formats/vdb/vdb_leaves_render.h"
 
-#include <bit>
-
+#include "libvox/core/bits.h"
 #include "libvox/core/color.h"
 
 namespace vox {
@@ -16,8 +15,8 @@ uint64_t leafKey(uint32_t x, uint32_t y, uint32_t z) {
 /// Index of bit `bit` among the set bits of `mask` (the value's slot in a SceneLeaf).
 size_t rankOf(const std::array<uint64_t, 8>& mask, uint32_t bit) {
   size_t r = 0;
-  for (uint32_t w = 0; w < bit >> 6; ++w) r += size_t(std::popcount(mask[w]));
-  return r + size_t(std::popcount(mask[bit >> 6] & ((uint64_t(1) << (bit & 63)) - 1)));
+  for (uint32_t w = 0; w < bit >> 6; ++w) r += size_t(bitCount(mask[w]));
+  return r + size_t(bitCount(mask[bit >> 6] & ((uint64_t(1) << (bit & 63)) - 1)));
 }
 
 bool has(const std::array<uint64_t, 8>& mask, uint32_t bit) { return (mask[bit >> 6] >> (bit & 63)) & 1; }

@@ -10,6 +10,7 @@
 #include "formats/core/file_util.h"
 #include "formats/vdb/vdb_memory.h"
 #include "formats/vdb/vdb_structure.h"
+#include "libvox/core/bits.h"
 #include "libvox/core/error.h"
 
 // No OpenVDB here: `vox pack-chunks` runs in a module that does not load it
@@ -142,7 +143,7 @@ class LeavesSink final : public VdbWalkSink {
 
   static size_t activeCount(const std::array<uint64_t, 8>& mask) {
     size_t n = 0;
-    for (uint64_t w : mask) n += size_t(std::popcount(w));
+    for (uint64_t w : mask) n += size_t(bitCount(w));
     return n;
   }
 

@@ -22,6 +22,7 @@
 #include <tuple>
 
 #include "formats/core/file_util.h"
+#include "libvox/core/bits.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 
@@ -539,7 +540,7 @@ class TreeWalk {
       for (size_t i = 0; i < count / 64; ++i) {
         uint64_t bits;
         std::memcpy(&bits, mask + i * 8, 8);
-        n += size_t(std::popcount(bits));
+        n += size_t(bitCount(bits));
       }
     }
     f.count = n;

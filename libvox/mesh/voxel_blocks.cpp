@@ -103,7 +103,7 @@ void materializeRuns(VoxelBlock& b) {
   uint16_t seen = 0;
   for (int k = 0; k < kBlockWords; ++k) {
     runs.before[size_t(k)] = seen;
-    seen = uint16_t(seen + __builtin_popcountll(b.runMask[size_t(k)]));
+    seen = uint16_t(seen + bitCount(b.runMask[size_t(k)]));
   }
   runs.voted = b.runMask;
   runs.counts.assign(seen, std::min(b.runVotes, kMaxVotesPerClass));
@@ -251,7 +251,7 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
       size_t count = 0;
       for (int k = 0; k < kBlockWords; ++k) {
         colored[size_t(k)] = mine.colored[size_t(k)] | theirs->colored[size_t(k)];
-        count += size_t(std::popcount(colored[size_t(k)]));
+        count += size_t(bitCount(colored[size_t(k)]));
       }
       std::vector<std::array<float, 3>> colors;
       colors.reserve(count);

@@ -21,6 +21,7 @@
 #include <memory>
 #include <vector>
 
+#include "libvox/core/bits.h"
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/scene_header.h"
 
@@ -35,15 +36,6 @@ inline constexpr int kBlockWords = kBlockVoxels / 64;
 inline uint32_t saturatingVotes(uint32_t a, uint32_t b) {
   const uint64_t s = uint64_t(a) + b;
   return s > kMaxVotesPerClass ? kMaxVotesPerClass : uint32_t(s);
-}
-
-/// Set bits of `x`, inline (the build targets baseline x86-64, without the
-/// POPCNT instruction, where __builtin_popcountll is a library call).
-inline int bitCount(uint64_t x) {
-  x = x - ((x >> 1) & 0x5555555555555555ull);
-  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
-  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
-  return int((x * 0x0101010101010101ull) >> 56);
 }
 
 /// Votes of one class in one block: the voxels with votes (bit i of `voted`,
@@ -132,8 +124,8 @@ struct VoxelBlock {
 /// The index in `colors` of voxel i's colour: the set bits of `colored` before bit i.
 inline size_t colorRank(const VoxelBlock& b, int i) {
   size_t r = 0;
-  for (int k = 0; k < (i >> 6); ++k) r += size_t(std::popcount(b.colored[size_t(k)]));
-  return r + size_t(std::popcount(b.colored[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
+  for (int k = 0; k < (i >> 6); ++k) r += size_t(bitCount(b.colored[size_t(k)]));
+  return r + size_t(bitCount(b.colored[size_t(i >> 6)] & ((uint64_t(1) << (i & 63)) - 1)));
 }
 /// Voxel i's colour (bit i of `colored` must be set).
 inline const std::array<float, 3>& colorAt(const VoxelBlock& b, int i) { return b.colors[colorRank(b, i)]; }
@@ -142,15 +134,10 @@ void setBlockColor(VoxelBlock& b, int i, const std::array<float, 3>& rgb);
 /// Calls fn(i, rgb) for every coloured voxel i whose bit is set in `mask`, in voxel order.
 template <typename Fn>
 void forEachColor(const VoxelBlock& b, const std::array<uint64_t, kBlockWords>& mask, Fn&& fn) {
-  size_t before = 0;  // colours of the words before k
-  for (int k = 0; k < kBlockWords; ++k) {
-    const uint64_t colored = b.colored[size_t(k)];
-    for (uint64_t bits = colored & mask[size_t(k)]; bits; bits &= bits - 1) {
-      const int bit = std::countr_zero(bits);
-      fn(k * 64 + bit, b.colors[before + size_t(std::popcount(colored & ((uint64_t(1) << bit) - 1)))]);
-    }
-    before += size_t(std::popcount(colored));
-  }
+  size_t rank = 0;  // walks every colour, so no bit count per voxel
+  for (int k = 0; k < kBlockWords; ++k)
+    for (uint64_t bits = b.colored[size_t(k)]; bits; bits &= bits - 1, ++rank)
+      if (mask[size_t(k)] & bits & (~bits + 1)) fn(k * 64 + std::countr_zero(bits), b.colors[rank]);
 }
 
 /// Voxel index of (x, y, z) inside its block.

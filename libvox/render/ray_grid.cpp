@@ -154,7 +154,7 @@ void RayGrid::finish() {
       uint32_t sum = 0;
       for (int i = 0; i < 8; ++i) {
         n.prefix[size_t(i)] = uint16_t(sum);
-        sum += uint32_t(std::popcount(n.mask[size_t(i)]));
+        sum += uint32_t(bitCount(n.mask[size_t(i)]));
       }
     }
   };
@@ -180,7 +180,7 @@ void RayGrid::finish() {
   }
   occupied_ = 0;
   for (const Mask512& b : bricks_)
-    for (uint64_t m : b) occupied_ += uint64_t(std::popcount(m));
+    for (uint64_t m : b) occupied_ += uint64_t(bitCount(m));
 }
 
 void RayGrid::buildDistanceField(const std::vector<uint64_t>& brickKeys) {

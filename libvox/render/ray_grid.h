@@ -26,18 +26,10 @@
 #include <functional>
 #include <vector>
 
+#include "libvox/core/bits.h"
 #include "libvox/core/types.h"
 
 namespace vox {
-
-/// Bit count without a libgcc call: Debian's x86-64 baseline has no POPCNT, and
-/// __builtin_popcountll then becomes a function call in the hottest loop.
-inline uint32_t popcount64(uint64_t x) {
-  x = x - ((x >> 1) & 0x5555555555555555ull);
-  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
-  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
-  return uint32_t((x * 0x0101010101010101ull) >> 56);
-}
 
 class RayGrid {
   struct Node;  // defined below
@@ -127,7 +119,7 @@ class RayGrid {
     uint32_t child(int bit) const {
       const int word = bit >> 6, b = bit & 63;
       const uint64_t below = b ? (mask[size_t(word)] & ((uint64_t(1) << b) - 1)) : 0;
-      return base + prefix[size_t(word)] + popcount64(below);
+      return base + prefix[size_t(word)] + uint32_t(bitCount(below));
     }
     bool has(int bit) const { return (mask[bit >> 6] >> (bit & 63)) & 1; }
   };

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <unordered_map>
 
+#include "libvox/core/bits.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/scene/scene_grids.h"
@@ -68,7 +69,7 @@ uint64_t Scene::surfaceCount() const {
     const auto& mask = leaf->getValueMask();
     const openvdb::Index64* value = leaf->buffer().data();
     for (openvdb::Index k = 0; k < 8; ++k)
-      n += uint64_t(__builtin_popcountll(mask.template getWord<openvdb::Index64>(k) & value[k]));
+      n += uint64_t(bitCount(mask.template getWord<openvdb::Index64>(k) & value[k]));
   }
   return n;
 }
