@@ -455,14 +455,21 @@ class ColorSums {
       std::array<std::array<float, 3>, kBlockVoxels> colors;
       std::array<uint64_t, kBlockWords> colored{};
       size_t n = 0;
-      for (int i = 0; i < kBlockVoxels; ++i) {
-        const uint32_t slot = (*cb.slots)[size_t(i)];
-        if (slot == 0) continue;
+      auto add = [&](int i, uint32_t slot) {
         const ColorSum& c = sums_[slot - 1];
-        if (c.w == 0) continue;
+        if (c.w == 0) return;
         const double d = double(c.w) * 65535.0;
         colors[n++] = {float(double(c.r) / d), float(double(c.g) / d), float(double(c.b) / d)};
         colored[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+      };
+      if (cb.slots) {
+        for (int i = 0; i < kBlockVoxels; ++i)
+          if (const uint32_t slot = (*cb.slots)[size_t(i)]) add(i, slot);
+      } else {
+        size_t next = 0;
+        for (int k = 0; k < kBlockWords; ++k)
+          for (uint64_t bits = cb.withSum[size_t(k)]; bits; bits &= bits - 1)
+            add(k * 64 + std::countr_zero(bits), cb.compact[next++]);
       }
       if (b.colors.empty()) {
         b.colors.assign(colors.begin(), colors.begin() + std::ptrdiff_t(n));
@@ -477,10 +484,35 @@ class ColorSums {
     *this = ColorSums();
   }
 
+  /// Once the tile's geometry is done and its sums wait for the textures read
+  /// by rows (after every tile's geometry): each block's slot table (2 KB)
+  /// becomes the slots of its voxels with a sum, in voxel order (4 bytes
+  /// each), and the block index goes. slotAt may not be called after it.
+  void compactSlots() {
+    for (Block& cb : blocks_) {
+      if (!cb.slots) continue;
+      size_t n = 0;
+      for (int i = 0; i < kBlockVoxels; ++i)
+        if ((*cb.slots)[size_t(i)]) {
+          cb.withSum[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+          ++n;
+        }
+      cb.compact.reserve(n);
+      for (int i = 0; i < kBlockVoxels; ++i)
+        if (const uint32_t slot = (*cb.slots)[size_t(i)]) cb.compact.push_back(slot);
+      cb.slots.reset();
+    }
+    index_ = FlatMap64<uint32_t, PackedCoordHome>();
+    lastKey_ = ~uint64_t(0), last_ = nullptr;
+  }
+
  private:
   struct Block {
     std::array<int32_t, 3> origin;
-    std::unique_ptr<std::array<uint32_t, kBlockVoxels>> slots;
+    std::unique_ptr<std::array<uint32_t, kBlockVoxels>> slots;  // 1 + the sum's slot per voxel, 0: none
+    // After compactSlots: the voxels with a sum and their slots (1 + slot) in voxel order.
+    std::array<uint64_t, kBlockWords> withSum{};
+    std::vector<uint32_t> compact;
   };
   FlatMap64<uint32_t, PackedCoordHome> index_;  // block key -> 1 + its index in blocks_
   std::vector<Block> blocks_;
@@ -893,6 +925,7 @@ VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Pro
       addTexturedPieces(work.mesh, parts[s]->textured, parts[s]->colors.sums());
       parts[s]->textured.clear();
       if (parts[s]->byRows.pieces.empty()) finishColors(s);
+      else parts[s]->colors.compactSlots();  // the sums wait for the images; their voxels need 2 KB a block less
     }
   });
   if (work.textureRows) {

@@ -340,29 +340,33 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   e.add("vote blocks", (f.blockClasses * (sizeof(ClassBlock) + 2 * kMalloc + sizeof(void*) + 16 * sizeof(uint32_t)) +
                         f.surfaceVoxels * 1.4 * sizeof(uint32_t)) * kShared);
   const bool texturesRead = settings.textureRows && !mesh.textures.empty();
+  // A tile's colour slot table (2 KB a block) lives while its geometry runs
+  // and its colours are written, so `threads` tiles' tables at a time, two on
+  // one thread (measured: box12 at 512 peaks alike at --threads 1 and 2),
+  // times 1.5 for tiles of unequal size.
+  const unsigned threads = std::max(2u, settings.threads);
+  const double tablesAlive = std::min(1.0, 1.5 * threads / double(surfaceTileCount(threads, true)));
+  const double slotTables = tablesAlive * f.blocks * (kBlockVoxels * sizeof(uint32_t) + kMalloc);
   if (mesh.hasColor()) {
-    // A tile's colour slot table (2 KB a block) and sums (32 bytes a coloured
-    // voxel) live while its geometry runs and its colours are written, so
-    // `threads` tiles' worth at a time, two on one thread (measured: box12 at
-    // 512 peaks alike at --threads 1 and 2), times 1.5 for tiles of unequal
-    // size; with textures read by rows they all wait for the images (counted
+    // The tables, and the sums (32 bytes a coloured voxel) as long as the
+    // tables (with textures read by rows they all wait for the images: counted
     // below). The colours (12 bytes a coloured voxel, one allocation of the
     // exact size per block) stay until the writer.
-    const unsigned threads = std::max(2u, settings.threads);
-    const double alive =
-        texturesRead ? 0.0 : std::min(1.0, 1.5 * threads / double(surfaceTileCount(threads, true)));
-    e.add("colour blocks", (alive * (f.blocks * (kBlockVoxels * sizeof(uint32_t) + kMalloc) +
-                                     f.surfaceVoxels * double(sizeof(ColorSum))) +
-                            f.blocks * kMalloc + f.surfaceVoxels * 3 * sizeof(float)) * kShared);
+    const double sums = texturesRead ? 0.0 : tablesAlive * f.surfaceVoxels * double(sizeof(ColorSum));
+    e.add("colour blocks",
+          (slotTables + sums + f.blocks * kMalloc + f.surfaceVoxels * 3 * sizeof(float)) * kShared);
   }
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
   if (texturesRead) {
     // Textures read by rows after the geometry: every tile keeps its textured
     // pieces (32 bytes and an 8-byte reference to sort them by row; 1.7 per
-    // surface voxel on the textured benchmark model) and colour sums (2 KB a
-    // block, 32 bytes a voxel) until then. The rows being read: the caller's.
+    // surface voxel on the textured benchmark model) and colour sums (32
+    // bytes a voxel, and its slot in voxel order once the tile's slot tables
+    // are compacted: 4 bytes, and a 64-byte mask a block) until then. The
+    // rows being read: the caller's.
     e.add("textured pieces kept until the textures are read",
-          f.surfaceVoxels * (1.7 * double(sizeof(TexturedPiece) + 8) + double(sizeof(ColorSum))) + f.blocks * 2048);
+          f.surfaceVoxels * (1.7 * double(sizeof(TexturedPiece) + 8) + double(sizeof(ColorSum)) + 4) +
+              f.blocks * (kBlockWords * 8 + 2 * kMalloc));
   }
   if (settings.fill == FillMode::Solid) {
     const bool parity = settings.solidRule == SolidRule::Parity;
