@@ -106,6 +106,18 @@ open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
   # Both written by OpenVDB (random UUIDs): the same pyramid.
   "$vox" diff L/m.vdb F/m.vdb >diff.txt 2>&1 || fail "foreign grid metadata: outputs differ: $(head -c 300 diff.txt)"
 
+  # What the pyramid holds, in words: its levels, the smallest size and the
+  # occupancy rule; a scene of one occupied voxel has no coarser level and is
+  # written all the same.
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >tri.obj
+  expect_exit 0 "$vox" voxelize tri.obj --res 1 -o one.vdb --quiet
+  "$vox" mip one.vdb -o one_m.vdb 2>one.txt || fail "one voxel: exit $?"
+  grep -q "wrote one_m.vdb: no coarser level: the scene has one occupied voxel" one.txt || fail "one voxel: $(cat one.txt)"
+  [ -e one_m.vdb ] || fail "one voxel: nothing written"
+  "$vox" mip h.vdb -o words.vdb --levels 2 --occupancy majority 2>words.txt || fail "levels: exit $?"
+  grep -q "wrote words.vdb: 2 levels coarser than the input, down to 10 x 10 x 10; a coarse voxel is occupied where most of its children are" words.txt ||
+    fail "levels: $(cat words.txt)"
+
   # Help and usage errors, as the full module prints them.
   for args in "--help" "h.vdb -o x.txt" "h.vdb -o x.vdb --levels -1" "h.vdb -o / --split" \
               "h.vdb -o x.vdb --occupancy most" "h.vdb" "h.vdb -o x.vdb --bogus"; do

@@ -67,9 +67,22 @@ void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t level
   run.counts()["occupancy"] = vox::mipOccupancyName(o.occupancy);
   run.counts()["base_occupied"] = baseOccupied;
   const std::string stem = o.split ? splitStem(o.output) : std::string();
+  // Say what the levels are: how many coarser ones, down to which size, and
+  // the occupancy rule in words.
+  std::string what;
+  if (levelCount == 0) {
+    // Without --levels the pyramid stops at a level of one occupied voxel.
+    what = std::string("no coarser level: the scene has ") + (baseOccupied == 0 ? "no occupied voxel" : "one occupied voxel");
+  } else {
+    const nlohmann::json& last = perLevel.back()["dims"];
+    what = std::to_string(levelCount) + (levelCount == 1 ? " level" : " levels") + " coarser than the input, down to " +
+           vox::toString(vox::Dims{last[0].get<uint32_t>(), last[1].get<uint32_t>(), last[2].get<uint32_t>()}) +
+           "; a coarse voxel is occupied where " +
+           (o.occupancy == vox::MipOccupancy::Majority ? "most of its children are" : "any of its children is");
+  }
   run.note("wrote " + (o.split ? std::to_string(levelCount) + " level files " + (levelCount == 0 ? std::string() : splitName(stem, 1) + "...")
                                : o.output) +
-           ": " + std::to_string(levelCount) + " levels (" + vox::mipOccupancyName(o.occupancy) + ")");
+           ": " + what);
 }
 
 namespace {
