@@ -258,7 +258,7 @@ void VoxelBlocks::merge(VoxelBlocks&& other) {
       size_t m = 0, t = 0;
       for (int k = 0; k < kBlockWords; ++k)
         for (uint64_t bits = colored[size_t(k)]; bits; bits &= bits - 1) {
-          const uint64_t bit = bits & -bits;
+          const uint64_t bit = bits & (~bits + 1);
           const bool inMine = mine.colored[size_t(k)] & bit, inTheirs = theirs->colored[size_t(k)] & bit;
           colors.push_back(inMine ? mine.colors[m] : theirs->colors[t]);
           m += inMine, t += inTheirs;

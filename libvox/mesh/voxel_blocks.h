@@ -1,4 +1,4 @@
-// Sparse voxel accumulation in dense 8^3 blocks, without OpenVDB.
+// Sparse voxel accumulation in 8^3 blocks (masks, and values only for the voxels that have them), without OpenVDB.
 //
 // VoxelBlocks is where builders put votes, surface flags and colours before a
 // scene exists: SceneBuilder wraps one and turns it into OpenVDB trees
