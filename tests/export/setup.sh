@@ -17,5 +17,15 @@ if [ -d "$dir/node_modules/gltf-validator" ] && [ -d "$dir/node_modules/vox-read
 fi
 cp "$here/package.json" "$here/package-lock.json" "$dir/"
 cd "$dir"
-npm ci --no-audit --no-fund --loglevel=error
+if ! npm ci --no-audit --no-fund --loglevel=error >npm.log 2>&1; then
+  cat npm.log >&2
+  echo "setup.sh: npm could not install the export test tools from $(npm config get registry) (log above);" \
+       "the export tests need them and do not run without them" >&2
+  if grep -q "CERT\|certificate" npm.log; then
+    echo "setup.sh: the registry's TLS certificate was not trusted: behind a proxy that re-signs TLS," \
+         "give npm its CA (npm config set cafile /path/to/ca.crt, or NODE_EXTRA_CA_CERTS)" >&2
+  fi
+  exit 4
+fi
+rm -f npm.log
 echo "setup.sh: installed export test tools in $dir"
