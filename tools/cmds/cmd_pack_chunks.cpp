@@ -145,7 +145,7 @@ int runMerge(const PackOptions& o) {
                     {"total", total}}},
                   {"merge_mb_per_s", total > 0 ? double(res.fileBytes) / 1e6 / total : 0.0}};
   run.note("merged " + std::to_string(o.merge.size()) + " parts into " + o.output + ": " +
-           std::to_string(res.levels.size()) + " level(s), " + std::to_string(chunks) + " chunks (" +
+           std::to_string(res.levels.size()) + (res.levels.size() == 1 ? " level, " : " levels, ") + std::to_string(chunks) + " chunks (" +
            std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded, " +
            std::to_string(st.rebuiltChunks) + " rebuilt from the seam level), " +
            std::to_string(res.fileBytes) + " bytes");
