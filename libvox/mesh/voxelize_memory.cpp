@@ -340,18 +340,17 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   e.add("vote blocks", (f.blockClasses * (sizeof(ClassBlock) + 2 * kMalloc + sizeof(void*) + 16 * sizeof(uint32_t)) +
                         f.surfaceVoxels * 1.4 * sizeof(uint32_t)) * kShared);
   const bool texturesRead = settings.textureRows && !mesh.textures.empty();
-  // A tile's colour slot table (2 KB a block) lives while its geometry runs
-  // and its colours are written, so `threads` tiles' tables at a time, two on
-  // one thread (measured: box12 at 512 peaks alike at --threads 1 and 2),
-  // times 1.5 for tiles of unequal size.
-  const unsigned threads = std::max(2u, settings.threads);
-  const double tablesAlive = std::min(1.0, 1.5 * threads / double(surfaceTileCount(threads, true)));
-  const double slotTables = tablesAlive * f.blocks * (kBlockVoxels * sizeof(uint32_t) + kMalloc);
   if (mesh.hasColor()) {
-    // The tables, and the sums (32 bytes a coloured voxel) as long as the
-    // tables (with textures read by rows they all wait for the images: counted
-    // below). The colours (12 bytes a coloured voxel, one allocation of the
-    // exact size per block) stay until the writer.
+    // A tile's colour slot table (2 KB a block) lives while its geometry runs
+    // and its colours are written, so `threads` tiles' tables at a time, two
+    // on one thread (measured: box12 at 512 peaks alike at --threads 1 and 2),
+    // times 1.5 for tiles of unequal size; its sums (32 bytes a coloured
+    // voxel) as long (with textures read by rows they all wait for the
+    // images: counted below). The colours (12 bytes a coloured voxel, one
+    // allocation of the exact size per block) stay until the writer.
+    const unsigned threads = std::max(2u, settings.threads);
+    const double tablesAlive = std::min(1.0, 1.5 * threads / double(surfaceTileCount(threads, true)));
+    const double slotTables = tablesAlive * f.blocks * (kBlockVoxels * sizeof(uint32_t) + kMalloc);
     const double sums = texturesRead ? 0.0 : tablesAlive * f.surfaceVoxels * double(sizeof(ColorSum));
     e.add("colour blocks",
           (slotTables + sums + f.blocks * kMalloc + f.surfaceVoxels * 3 * sizeof(float)) * kShared);
