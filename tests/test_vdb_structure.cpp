@@ -260,6 +260,13 @@ TEST(VdbStructure, AcceptsEveryValueTypeCompressionAndTransformOpenVdbWrites) {
       EXPECT_EQ(got->activeVoxelCount(), want->activeVoxelCount()) << want->getName() << " compression " << compression;
       EXPECT_EQ(got->baseTree().leafCount(), want->baseTree().leafCount()) << want->getName();
       EXPECT_EQ(got->transform().mapType(), want->transform().mapType()) << want->getName();
+      // The walk's counts, which the memory guards use before any grid is read.
+      const auto g = std::find_if(frame.grids.begin(), frame.grids.end(),
+                                  [&](const VdbGridFrame& f) { return f.uniqueName == want->getName(); });
+      ASSERT_NE(g, frame.grids.end()) << want->getName();
+      if (!g->instanceParent.empty()) continue;
+      EXPECT_EQ(g->leafCount, want->baseTree().leafCount()) << want->getName();
+      EXPECT_EQ(g->activeLeafVoxels, want->baseTree().activeLeafVoxelCount()) << want->getName();
     }
   }
 }

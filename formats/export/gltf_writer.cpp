@@ -195,8 +195,9 @@ json documentJson(const GltfScene& scene, const BufferPlan& plan, const std::str
 // kernel's copy of the bytes into the file, so with threads > 1 the next
 // batch is expanded on a second thread while this one is written; the bytes
 // and their order are the same either way.
+constexpr size_t kBatchQuads = 1 << 15;  // 8.6 MB of vertices unindexed
+
 void writeBuffer(const GltfScene& scene, const BufferPlan& plan, OutputFile& out) {
-  constexpr size_t kBatchQuads = 1 << 15;  // 8.6 MB of vertices unindexed
   struct Batch {
     std::span<const BlockQuad> quads;
     std::vector<BlockVertex> vertices;
@@ -268,6 +269,13 @@ GltfWriteResult summarize(const BufferPlan& plan) {
 }
 
 }  // namespace
+
+
+uint64_t gltfWriteBufferBytes(bool indexed) {
+  // Each batch reserves six vertices a quad, indexed or not (expand above).
+  const uint64_t vertices = 2 * uint64_t(kBatchQuads) * 6 * sizeof(BlockVertex);
+  return vertices + (indexed ? uint64_t(kBatchQuads) * 6 * 4 : 0);
+}
 
 GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path) {
   const BufferPlan plan = planBuffer(scene);

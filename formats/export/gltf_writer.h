@@ -59,6 +59,11 @@ struct GltfWriteResult {
   uint64_t fileBytes = 0;         // .glb, or .gltf + .bin
 };
 
+/// The bytes the writers hold besides the scene's quads while they write:
+/// two batches of vertices (one being written, the next expanded beside it)
+/// and, when indexed, a batch of indices. For memory guards.
+uint64_t gltfWriteBufferBytes(bool indexed);
+
 /// Writes `scene` as a .glb to `path`. Throws vox::Error (Io) when writing fails.
 GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path);
 

@@ -1,5 +1,7 @@
 #include "formats/vdb/vdb_memory.h"
 
+#include <algorithm>
+
 #include "formats/scene/scene_meta.h"
 #include "libvox/core/memory_budget.h"
 
@@ -21,14 +23,39 @@ uint64_t vdbLeafBytes(const std::string& type) {
   return 512 * valueBytes + kMalloc + kLeafHeader + kInternalShare;
 }
 
-void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path) {
+double vdbPackedLeafBytes(const std::string& type, double activeVoxels) {
+  // x86-64 glibc: a heap block is its size plus 8 bytes rounded up to 16, at
+  // least 32. The leaf record: origin, 512-bit mask and the values' pointer
+  // (88 bytes), or origin and two masks for the occupancy (144 bytes, values
+  // as bits); a 4-byte join entry per occupancy leaf for every other grid.
+  constexpr double kBlockOverhead = 8 + 8;  // the block's size word and half a rounding on average
+  constexpr double kJoin = 4;
+  // The occupancy's record and, while the grids are joined, its entry in the
+  // origin map (a 32-byte node and a bucket).
+  if (type.find("_bool_") != std::string::npos || type.find("_mask_") != std::string::npos) return 144 + 48;
+  double valueBytes = 4;
+  if (type.find("vec3d") != std::string::npos) valueBytes = 24;
+  else if (type.find("vec3") != std::string::npos) valueBytes = 12;
+  else if (type.find("double") != std::string::npos || type.find("int64") != std::string::npos) valueBytes = 8;
+  return 88 + kJoin + std::max(32.0, activeVoxels * valueBytes + kBlockOverhead);
+}
+
+void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path, SceneReadForm form,
+                          uint64_t fileBytes) {
   MemoryEstimate e;
   e.add("resident before reading", residentBytesNow());
   double grids = 0;
-  for (const VdbGridFrame& g : frame.grids)
-    if (g.checked && g.instanceParent.empty() && (!occupancyOnly || g.uniqueName == kOccupancyGridName))
+  for (const VdbGridFrame& g : frame.grids) {
+    if (!g.checked || !g.instanceParent.empty() || (occupancyOnly && g.uniqueName != kOccupancyGridName)) continue;
+    if (form == SceneReadForm::Trees) {
       grids += double(g.leafCount) * double(vdbLeafBytes(g.type));
+    } else if (g.leafCount > 0) {
+      const double perLeaf = double(g.activeLeafVoxels) / double(g.leafCount);
+      grids += double(g.leafCount) * vdbPackedLeafBytes(g.type, perLeaf);
+    }
+  }
   e.add("grids", grids);
+  if (form == SceneReadForm::PackedLeaves) e.add("the file, mapped", double(fileBytes));
   checkProcessMemory(e, "reading " + path);
 }
 

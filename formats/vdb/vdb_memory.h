@@ -15,10 +15,26 @@ namespace vox {
 /// its buffer allocation and its share of the internal nodes included.
 uint64_t vdbLeafBytes(const std::string& treeType);
 
+/// Resident bytes of one leaf as the leaf reader keeps it (SceneLeaf or
+/// OccupancyLeaf, vdb_scene_leaves.h: origin, masks and a heap block of its
+/// active values only), `activeVoxels` being the leaves' active voxels on
+/// average; its join entries included.
+double vdbPackedLeafBytes(const std::string& treeType, double activeVoxels);
+
+/// What a read keeps of each leaf: OpenVDB trees (readSceneVdb and the
+/// one-pass reader: 512 values a leaf whatever its active count) or the leaf
+/// reader's packed leaves (readSceneLeaves: the active values only, the file
+/// mapped while it reads).
+enum class SceneReadForm { Trees, PackedLeaves };
+
 /// The guard of a scene read, before any grid is read: resident bytes now
 /// plus the grids of `frame` the read loads (checked, not instances; with
-/// `occupancyOnly` the `occupancy` grid only). Throws vox::Error (Resource)
-/// "reading PATH needs about ..." over the limit.
-void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path);
+/// `occupancyOnly` the `occupancy` grid only) in `form`; for packed leaves
+/// also the `fileBytes` of the mapped file, whose pages count while they are
+/// read. Throws vox::Error (Resource) "reading PATH needs about ..." over the
+/// limit. The estimate's "grids" part is what commands scale their working
+/// copies by (Run::checkWorkMemory).
+void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path,
+                          SceneReadForm form = SceneReadForm::Trees, uint64_t fileBytes = 0);
 
 }  // namespace vox

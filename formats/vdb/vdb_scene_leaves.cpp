@@ -77,7 +77,8 @@ MetaEntries parseMeta(const uint8_t* p, size_t n) {
 /// NotOfTheForm: the caller reads the file the usual way, which names it.
 class LeavesSink final : public VdbWalkSink {
  public:
-  LeavesSink(const std::string& path, bool occupancyOnly) : path_(path), occupancyOnly_(occupancyOnly) {}
+  LeavesSink(const std::string& path, bool occupancyOnly, uint64_t fileBytes)
+      : path_(path), occupancyOnly_(occupancyOnly), fileBytes_(fileBytes) {}
 
   void fileMetadata(const uint8_t* bytes, size_t size) override {
     meta_ = bytes;
@@ -201,7 +202,7 @@ class LeavesSink final : public VdbWalkSink {
     }
     out_.metadata = parseMeta(meta_, metaBytes_);
     out_.header = sceneHeaderFromMetadata(out_.metadata, path_);
-    checkSceneReadMemory(frame, occupancyOnly_, path_);
+    checkSceneReadMemory(frame, occupancyOnly_, path_, SceneReadForm::PackedLeaves, fileBytes_);
     roles_.resize(frame.grids.size());
     bool occupancy = false;
     for (size_t i = 0; i < frame.grids.size(); ++i) {
@@ -312,6 +313,7 @@ class LeavesSink final : public VdbWalkSink {
 
   std::string path_;
   bool occupancyOnly_;
+  uint64_t fileBytes_ = 0;  // the mapped file's size, for the memory guard
   const uint8_t* meta_ = nullptr;
   size_t metaBytes_ = 0;
   std::vector<Role> roles_;
@@ -324,7 +326,7 @@ class LeavesSink final : public VdbWalkSink {
 std::optional<SceneLeaves> readSceneLeaves(const std::string& path, SceneLeafParts parts) {
   checkVdbFileOpenable(path);
   const FileView file(path);  // mapped
-  LeavesSink sink(path, parts == SceneLeafParts::OccupancyOnly);
+  LeavesSink sink(path, parts == SceneLeafParts::OccupancyOnly, file.size());
   try {
     walkVdbInto(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, sink);
     return sink.take();

@@ -95,7 +95,8 @@ enum class SceneLeafParts { All, OccupancyOnly };
 /// above or fails a scene check (read it with readSceneVdb, which says why).
 /// Throws vox::Error like readSceneVdb for what the walk refuses (BadInput:
 /// missing, non-VDB, truncated or corrupt files) and for the memory guard
-/// (Resource; the estimate is readSceneVdb's for the same parts). Leaves are
+/// (Resource; the estimate counts these packed leaves, their active values
+/// from the walk's leaf masks, and the mapped file: vdb_memory.h). Leaves are
 /// decoded on the TBB workers the process allows; the result does not depend
 /// on their number.
 std::optional<SceneLeaves> readSceneLeaves(const std::string& path, SceneLeafParts parts = SceneLeafParts::All);

@@ -453,6 +453,7 @@ class TreeWalk {
 
   void setTopologyBase(const uint8_t* base) { topoBytes_ = base; }
   uint64_t leafCount() const { return leaves_.size(); }
+  uint64_t activeLeafVoxels() const { return activeVoxels_; }
   const uint8_t* background() const { return background_; }
   bool leavesOnly() const { return leavesOnly_; }
 
@@ -515,6 +516,11 @@ class TreeWalk {
           w.origin = c;
           const uint8_t* mask = r_.take(kLeafValues / 8, "leaf value mask");
           leaves_.push_back({c, size_t(mask - topoBytes_)});
+          for (size_t k = 0; k < kLeafValues / 64; ++k) {
+            uint64_t bits;
+            std::memcpy(&bits, mask + k * 8, 8);
+            activeVoxels_ += uint64_t(bitCount(bits));
+          }
           w.node = "internal node (16^3 children)";
           w.origin = origin;
         }
@@ -624,6 +630,7 @@ class TreeWalk {
   const uint8_t* background_ = nullptr;
   bool leavesOnly_ = true;
   std::vector<Leaf> leaves_;
+  uint64_t activeVoxels_ = 0;  // set bits of the leaves' value masks
   std::vector<uint8_t> scratch_;
 };
 
@@ -696,6 +703,7 @@ GridWalk walkGridTopology(Reader& r, VdbGridFrame& g, const std::vector<VdbGridF
     w.fail("the topology ends at byte " + std::to_string(r.pos()) + ", not at the grid's block offset " +
            std::to_string(g.blockPos));
   g.leafCount = out.tree->leafCount();
+  g.activeLeafVoxels = out.tree->activeLeafVoxels();
   g.checked = true;
   out.layout.halfFloat = halfSuffix;
   out.layout.background = out.tree->background();

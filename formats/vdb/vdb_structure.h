@@ -53,6 +53,7 @@ struct VdbGridFrame {
   bool checked = false;       // the payload was walked (Full): OpenVDB may read it
   std::string uncheckedWhy;   // why not, when !checked
   uint64_t leafCount = 0;     // leaves walked (Full)
+  uint64_t activeLeafVoxels = 0;  // active voxels of those leaves (their value masks' set bits; tiles not counted)
 };
 
 struct VdbFrame {

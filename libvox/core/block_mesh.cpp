@@ -190,6 +190,7 @@ BlockMesh meshVisibleFaces(const ClassVolume& volume, const ClassTable& classes,
     offset[p + 1] = n;
   });
   for (size_t p = 0; p < pieces; ++p) offset[p + 1] += offset[p];
+  if (settings.beforeAllocating) settings.beforeAllocating(offset[pieces]);
   BlockMesh mesh;
   mesh.quads.resize(offset[pieces]);
   std::vector<uint64_t> uncolored(pieces, 0);
@@ -228,7 +229,14 @@ BlockMesh mergeCoplanarFaces(const BlockMesh& culled, unsigned threads) {
       return std::tie(plane, row, col, index) < std::tie(o.plane, o.row, o.col, o.index);
     }
   };
+  // Memory: the keys and the quads in plane order are allocated at their
+  // final size and freed as soon as they are used, so at most the culled
+  // quads and two more copies' worth are alive (the export's guard counts on
+  // this bound).
   std::array<std::vector<SortKey>, 6> byFace;
+  std::array<size_t, 6> perFace{};
+  for (const BlockQuad& q : culled.quads) ++perFace[size_t(q.face)];
+  for (size_t f = 0; f < 6; ++f) byFace[f].reserve(perFace[f]);
   for (size_t i = 0; i < culled.quads.size(); ++i) {
     const BlockQuad& q = culled.quads[i];
     const int n = kBlockFaces[size_t(q.face)].axis();
@@ -246,11 +254,19 @@ BlockMesh mergeCoplanarFaces(const BlockMesh& culled, unsigned threads) {
       faces.push_back(culled.quads[keys[k].index]);
     }
   starts.push_back(faces.size());
+  byFace = {};
   const size_t buckets = starts.size() - 1;
   std::vector<std::vector<BlockQuad>> merged(buckets);
   parallelForEach(buckets, threads, 1, [&](size_t k) { mergeBucket(faces, starts[k], starts[k + 1], merged[k]); });
+  faces = {};
   BlockMesh out;
-  for (auto& m : merged) out.quads.insert(out.quads.end(), m.begin(), m.end());
+  size_t total = 0;
+  for (const auto& m : merged) total += m.size();
+  out.quads.reserve(total);
+  for (auto& m : merged) {
+    out.quads.insert(out.quads.end(), m.begin(), m.end());
+    m = {};
+  }
   out.unitFaces = culled.unitFaces;
   out.uncoloredFaces = culled.uncoloredFaces;
   return out;

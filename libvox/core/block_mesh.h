@@ -29,6 +29,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "libvox/core/block_faces.h"
@@ -61,6 +62,10 @@ struct BlockMesh {
 struct BlockMeshSettings {
   FaceColor color = FaceColor::Palette;
   unsigned threads = 1;
+  /// Called once by meshVisibleFaces with the exact number of quads, after
+  /// counting them and before allocating them: a caller's memory guard
+  /// (libvox/core/memory_budget.h) throws here to refuse the mesh. Optional.
+  std::function<void(uint64_t quads)> beforeAllocating;
 };
 
 /// The culled mesh of `volume`. Throws vox::Error (BadInput) when a voxel's

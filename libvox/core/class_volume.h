@@ -68,6 +68,12 @@ class ClassVolume {
   /// Throws vox::Error (Internal) on a misaligned or repeated brick origin.
   void finish();
 
+  /// Heap bytes of a volume of `bricks` non-empty bricks (each brick's record
+  /// and, `withColor`, its 512 colours): for memory guards before building.
+  static uint64_t bytesFor(uint64_t bricks, bool withColor) {
+    return bricks * (sizeof(Brick) + (withColor ? kBrickVoxels * sizeof(RgbLinear) + 16 : 0));
+  }
+
   const std::vector<Brick>& bricks() const { return bricks_; }
   uint64_t occupiedCount() const { return occupied_; }
   /// The class at `c` (0 when empty or outside the box). O(log bricks): for

@@ -7,8 +7,10 @@
 #              two materials (so two classes), closed (so --fill solid has
 #              an inside); tiny.obj, one small triangle;
 #   norm.py    REPORT: the report without what differs run to run (timings,
-#              rates and resident memory; the memory checks' other parts must
-#              agree), argv[0] dropped.
+#              rates and resident memory) or by the reader (the grids read
+#              and the working copies scaled by them: the light modules keep
+#              packed leaves, vox-cmds.so OpenVDB trees; the mapped file);
+#              the memory checks' other parts must agree; argv[0] dropped.
 # Uses $vox (the launcher under test), $work (test_lib.sh), and $command and
 # $light_module (e.g. mip, vox-pack.so), set before sourcing.
 
@@ -42,7 +44,9 @@ def clean(x):
 d = json.load(open(sys.argv[1]))
 out = clean(d)
 out['argv'] = d['argv'][1:]
-out['memory_parts'] = [{k: v for k, v in c['parts'].items() if not k.startswith('resident')} for c in d['memory']['checks']]
+by_reader = ('grids', 'working copies', 'the file, mapped')
+out['memory_parts'] = [{k: v for k, v in c['parts'].items() if not k.startswith('resident') and k not in by_reader}
+                       for c in d['memory']['checks']]
 print(json.dumps(out, sort_keys=True))
 PY
 

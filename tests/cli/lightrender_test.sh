@@ -24,8 +24,10 @@ mkdir full && cp "$(dirname "$vox")/vox" "$(dirname "$vox")/vox-cmds.so" full/
 fullvox=$work/full/vox
 [ -e "$(dirname "$vox")/vox-render.so" ] || fail "no vox-render.so beside $vox"
 
-# Reports without what differs run to run: timings, rates and resident memory
-# (the memory checks' grid estimates must agree), argv[0] and output names.
+# Reports without what differs run to run (timings, rates and resident memory)
+# or by the reader (the grids read and the working copies scaled by them: the
+# light module keeps packed leaves, vox-cmds.so OpenVDB trees; the mapped
+# file); the memory checks' other parts must agree; argv[0] and output names.
 cat >norm.py <<'EOF'
 import json, sys
 def clean(x):
@@ -35,7 +37,9 @@ def clean(x):
         return [clean(v) for v in x]
     return x
 d = json.load(open(sys.argv[1]))
-mem = [{k: v for k, v in c['parts'].items() if not k.startswith('resident')} for c in d['memory']['checks']]
+by_reader = ('grids', 'working copies', 'the file, mapped')
+mem = [{k: v for k, v in c['parts'].items() if not k.startswith('resident') and k not in by_reader}
+       for c in d['memory']['checks']]
 d['argv'] = d['argv'][1:]
 out = clean(d)
 out['memory_parts'] = mem

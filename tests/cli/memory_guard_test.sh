@@ -149,6 +149,25 @@ estimates)
   within2x "hamlet 256" h.json
   measured "$vox" build-atlas h.vdb -o ha --all --report ha.json
   within2x "build-atlas hamlet 256 --all" ha.json
+  # The commands that read a scene as packed leaves, on a coloured surface
+  # (12 bytes a voxel where an OpenVDB leaf holds 6 KB: estimated as OpenVDB
+  # trees, a mip of it came out 3.5x its peak) and on the hamlet's classes.
+  sed 's/^v \([01]\) \([01]\) \([01]\)$/v \1 \2 \3 \1 0.5 \3/' cube.obj >colour.obj
+  measured "$vox" voxelize colour.obj --res 384 -o cc.vdb --report cc.json
+  within2x "coloured cube surface 384" cc.json
+  "$vox" info cc.vdb | grep -q "colour" || fail "cc.vdb has no colour: $("$vox" info cc.vdb 2>&1 | head -5)"
+  for scene in cc h; do
+    measured "$vox" mip $scene.vdb -o ${scene}m.vdb --report ${scene}m.json
+    within2x "mip $scene" ${scene}m.json
+    measured "$vox" pack-chunks $scene.vdb -o $scene.vpk --report ${scene}p.json
+    within2x "pack-chunks $scene" ${scene}p.json
+    measured "$vox" export $scene.vdb -o $scene.glb --report ${scene}e.json
+    within2x "export $scene glb" ${scene}e.json
+    measured "$vox" export $scene.vdb -o ${scene}g.glb --greedy --report ${scene}g.json
+    within2x "export $scene glb --greedy" ${scene}g.json
+    measured "$vox" render-canonical $scene.vdb -o $scene.png --view iso --size 512x512 --mode class --report ${scene}r.json
+    within2x "render-canonical $scene" ${scene}r.json
+  done
   if [ -d "$data/common-3d-test-models" ]; then
     measured "$vox" voxelize "$data/common-3d-test-models/fandisk.obj" --res 512 -o f.vdb --report f.json
     within2x "fandisk surface 512" f.json

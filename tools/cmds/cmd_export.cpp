@@ -8,6 +8,7 @@
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
+#include "libvox/scene/scene_grids.h"
 #include "libvox/scene/class_volume_scene.h"
 #include "tools/cli/commands.h"
 #include "tools/cmds/export_command.h"
@@ -43,6 +44,7 @@ bool readVdbScene(const ExportOptions& o, const std::optional<vox::IndexBox>& re
   if (withColor && !scene->hasColor())
     vox::throwBadInput(o.input + ": the scene has no baked colours; export the class palette (--color palette)");
   run.phase("volume");
+  checkVolumeMemory(run, o.input, scene->grids().occupancy->tree().leafCount(), withColor);
   in.volume.emplace(vox::classVolumeFromScene(*scene, in.box, withColor, run.threads()));
   return true;
 }

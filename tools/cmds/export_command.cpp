@@ -13,6 +13,7 @@
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/color_quantize.h"
 #include "libvox/core/error.h"
+#include "libvox/core/memory_budget.h"
 #include "libvox/core/version.h"
 #include "libvox/core/voxel_colors.h"
 #include "tools/cli/enum_option.h"
@@ -113,6 +114,20 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   vox::BlockMeshSettings ms;
   ms.color = o.color;
   ms.threads = run.threads();
+  ms.beforeAllocating = [&](uint64_t quads) {
+    // The quads, counted exactly, and the writer's batches. --greedy holds,
+    // per culled quad at most, the quad and either its copy in plane order or
+    // the joined merged quads, plus the merged quads of the planes (up to
+    // twice their count while they grow; mergeCoplanarFaces); --split one
+    // copy by class.
+    const double quad = double(sizeof(vox::BlockQuad));
+    const double perQuad = o.greedy ? 4 * quad : (o.split == ExportSplit::Classes ? 2 : 1) * quad;
+    vox::MemoryEstimate e;
+    e.add("resident before meshing", vox::residentBytesNow());
+    e.add(std::to_string(quads) + " faces", double(quads) * perQuad);
+    e.add("writer batches", vox::gltfWriteBufferBytes(o.dedup));
+    run.checkMemory(e, "meshing " + o.input);
+  };
   vox::BlockMesh mesh = vox::meshVisibleFaces(*in.volume, in.classes, ms);
   const uint64_t culledQuads = mesh.quads.size();
   if (o.greedy) {
@@ -267,6 +282,13 @@ ExportFormat outputFormat(const ExportOptions& o) {
                   " or give --format");
 }
 
+void checkVolumeMemory(Run& run, const std::string& input, uint64_t bricks, bool withColor) {
+  vox::MemoryEstimate e;
+  e.add("resident after reading", vox::residentBytesNow());
+  e.add("the volume", vox::ClassVolume::bytesFor(bricks, withColor));
+  run.checkMemory(e, "the volume of " + input);
+}
+
 vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Dims& dims, const std::string& path) {
   const vox::IndexBox domain = vox::domainBox(dims);
   if (!region) return domain;
@@ -288,8 +310,11 @@ std::optional<int> runExport(const ExportOptions& o, const ExportBackend& backen
   run.phase("read");
   ExportInput in;
   if (!readInput(o, region, o.color == vox::FaceColor::Voxel, backend, run, in)) return std::nullopt;
-  // Faces, vertices and the encoded file, per exposed voxel face (measured).
-  run.checkWorkMemory("exporting " + o.input, 1.0);
+  // glTF meshes are checked on their exact face count (exportGltf); PLY and
+  // MagicaVoxel files are written as the volume is walked; a level set's
+  // narrow band spans more leaves than the voxels' (measured: up to 2x the
+  // grids read, docs/reliability.md).
+  if (!isGltf(format)) run.checkWorkMemory("exporting " + o.input, format == ExportFormat::Vdb && o.levelSet ? 2.5 : 1.0);
   nlohmann::json& c = run.counts();
   c["input_kind"] = in.kind;
   c["level"] = o.level;

@@ -71,6 +71,11 @@ struct ExportBackend {
 /// The format --format names, or the output's extension's.
 ExportFormat outputFormat(const ExportOptions& o);
 
+/// The guard before a scene's volume is built (phase "volume"): resident
+/// memory now plus a volume of `bricks` bricks (the scene's occupancy
+/// leaves), with colour when `withColor` (ClassVolume::bytesFor).
+void checkVolumeMemory(Run& run, const std::string& input, uint64_t bricks, bool withColor);
+
 /// `region` checked against the level's dims (inclusive; the whole domain when
 /// none). Throws vox::Error (BadInput) naming `path` when it leaves the scene.
 vox::IndexBox regionIn(const std::optional<vox::IndexBox>& region, const vox::Dims& dims, const std::string& path);

@@ -37,6 +37,7 @@ bool readSceneAsLeaves(const voxcli::ExportOptions& o, const std::optional<vox::
   if (withColor && !leaves->hasColor)
     vox::throwBadInput(o.input + ": the scene has no baked colours; export the class palette (--color palette)");
   run.phase("volume");
+  voxcli::checkVolumeMemory(run, o.input, leaves->occupancy.size(), withColor);
   in.volume.emplace(vox::classVolumeFromLeaves(*leaves, in.box, withColor, run.threads()));
   return true;
 }
