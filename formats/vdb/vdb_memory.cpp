@@ -7,6 +7,16 @@
 
 namespace vox {
 
+namespace {
+/// Bytes of one value of a tree type that is not bool or mask ("Tree_float_5_4_3"...).
+uint64_t valueBytesOf(const std::string& type) {
+  if (type.find("vec3d") != std::string::npos) return 24;
+  if (type.find("vec3") != std::string::npos) return 12;
+  if (type.find("double") != std::string::npos || type.find("int64") != std::string::npos) return 8;
+  return 4;
+}
+}  // namespace
+
 uint64_t vdbLeafBytes(const std::string& type) {
   // OpenVDB 10 on x86-64: a leaf is its origin, value mask and buffer; values
   // of 512 voxels live in a separate heap block (except bool and mask leaves,
@@ -14,13 +24,9 @@ uint64_t vdbLeafBytes(const std::string& type) {
   // table and masks) per up to 4096 leaves; on surfaces it holds a few
   // hundred, so about 160 bytes per leaf.
   constexpr uint64_t kLeafHeader = 96 + 16, kMalloc = 16, kInternalShare = 160;
-  uint64_t valueBytes = 4;
   if (type.find("_bool_") != std::string::npos) return 64 + 64 + kLeafHeader + kInternalShare;
   if (type.find("_mask_") != std::string::npos) return 64 + kLeafHeader + kInternalShare;
-  if (type.find("vec3d") != std::string::npos) valueBytes = 24;
-  else if (type.find("vec3") != std::string::npos) valueBytes = 12;
-  else if (type.find("double") != std::string::npos || type.find("int64") != std::string::npos) valueBytes = 8;
-  return 512 * valueBytes + kMalloc + kLeafHeader + kInternalShare;
+  return 512 * valueBytesOf(type) + kMalloc + kLeafHeader + kInternalShare;
 }
 
 double vdbPackedLeafBytes(const std::string& type, double activeVoxels) {
@@ -33,11 +39,7 @@ double vdbPackedLeafBytes(const std::string& type, double activeVoxels) {
   // The occupancy's record and, while the grids are joined, its entry in the
   // origin map (a 32-byte node and a bucket).
   if (type.find("_bool_") != std::string::npos || type.find("_mask_") != std::string::npos) return 144 + 48;
-  double valueBytes = 4;
-  if (type.find("vec3d") != std::string::npos) valueBytes = 24;
-  else if (type.find("vec3") != std::string::npos) valueBytes = 12;
-  else if (type.find("double") != std::string::npos || type.find("int64") != std::string::npos) valueBytes = 8;
-  return 88 + kJoin + std::max(32.0, activeVoxels * valueBytes + kBlockOverhead);
+  return 88 + kJoin + std::max(32.0, activeVoxels * double(valueBytesOf(type)) + kBlockOverhead);
 }
 
 void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path, SceneReadForm form,
