@@ -205,19 +205,29 @@ TEST(ObjIo, TextureOptionsAndFileNamesWithSpaces) {
   voxtest::writeText(dir.file("plain.png"), pngBytes());
   voxtest::writeText(dir.file("m.mtl"),
                      "newmtl A\nmap_Kd -bm 1 -s 1 1 1 -o 0 0 -clamp on my tex.png\n"   // options at their defaults
-                     "newmtl B\nmap_Kd -o 0.5 0 0 -s 2 2 plain.png\n"                  // a placement not applied
-                     "newmtl C\nmap_Kd -unknown 3 plain.png\n");                        // an unknown option
+                     "newmtl B\nmap_Kd -o 0.5 0.25 0 -s 2 4 plain.png\n"              // a placement, applied
+                     "newmtl C\nmap_Kd -unknown 3 plain.png\n"                         // an unknown option
+                     "newmtl D\nmap_Kd -t 0.1 0 0 -s 3 plain.png\n");                  // turbulence: not applied
   voxtest::writeText(dir.file("m.obj"), "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl A\nf 1 2 3\n");
   const Read r = readWith(dir.file("m.obj"));
-  ASSERT_EQ(r.mesh.materials.size(), 3u);
-  ASSERT_EQ(r.mesh.textures.size(), 3u) << "every map_Kd found its file";
+  ASSERT_EQ(r.mesh.materials.size(), 4u);
+  ASSERT_EQ(r.mesh.textures.size(), 4u) << "every map_Kd found its file";
   EXPECT_TRUE(anyContains(r.mesh.filesRead, "my tex.png")) << "a file name with a space, after the options";
   EXPECT_EQ(r.mesh.textures[0].wrapS, MeshTexture::Wrap::ClampToEdge) << "-clamp on";
   EXPECT_EQ(r.mesh.textures[0].wrapT, MeshTexture::Wrap::ClampToEdge);
   EXPECT_EQ(r.mesh.textures[1].wrapS, MeshTexture::Wrap::Repeat) << "the default repeats";
-  ASSERT_EQ(r.warnings.size(), 1u) << "only B moves its texture";
-  EXPECT_TRUE(anyContains(r.warnings, "m.mtl:4")) << r.warnings[0];
-  EXPECT_TRUE(anyContains(r.warnings, "-o 0.5 0 0 -s 2 2 is not applied")) << r.warnings[0];
+  EXPECT_FALSE(r.mesh.materials[0].placesTexture()) << "options at their defaults place nothing";
+  // B: u' = 2u + 0.5, v' = 4v + 0.25 in the MTL's (u, v), v up; the mesh's t is 1 - v.
+  const std::array<double, 6> b = r.mesh.materials[1].uvTransform;
+  EXPECT_EQ(b, (std::array<double, 6>{2, 0, 0.5, 0, 4, 1 - 4 - 0.25}));
+  const double u = 0.3, v = 0.6;  // a point in MTL coordinates: s = u, t = 1 - v
+  EXPECT_DOUBLE_EQ(b[0] * u + b[1] * (1 - v) + b[2], 2 * u + 0.5);
+  EXPECT_DOUBLE_EQ(b[3] * u + b[4] * (1 - v) + b[5], 1 - (4 * v + 0.25));
+  EXPECT_FALSE(r.mesh.materials[2].placesTexture());
+  EXPECT_EQ(r.mesh.materials[3].uvTransform, (std::array<double, 6>{3, 0, 0, 0, 1, 0})) << "-s 3: v keeps 1";
+  ASSERT_EQ(r.warnings.size(), 1u) << "only D's turbulence is left out";
+  EXPECT_TRUE(anyContains(r.warnings, "m.mtl:8")) << r.warnings[0];
+  EXPECT_TRUE(anyContains(r.warnings, "-t 0.1 0 0 (turbulence) is not applied")) << r.warnings[0];
 }
 
 TEST(ObjIo, LibraryAfterTheFacesThatUseItStillColoursThem) {

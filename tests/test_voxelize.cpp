@@ -374,6 +374,15 @@ TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
   EXPECT_NEAR(col(0, 0).b, 0.5f, 1e-4) << "blue texel x factor 0.5";
   EXPECT_NEAR(col(1, 0).r, 0.50289f, 1e-3) << "sRGB 188 decodes to linear 0.5029";
   EXPECT_NEAR(col(1, 0).b, 0.5f * 0.50289f, 1e-3);
+  // A material that places its texture (an MTL map's -o 0.5 0): s' = s + 0.5,
+  // so each voxel takes the texel beside its own (the texture repeats).
+  Mesh moved = m;
+  moved.materials[0].uvTransform = {1, 0, 0.5, 0, 1, 0};
+  const Scene sm = run(moved, h, FillMode::Surface);
+  auto movedCol = [&](int u, int v) { return *sm.voxel({u, v, 0}, tmp)->color; };
+  EXPECT_NEAR(movedCol(0, 1).g, 1.0f, 1e-4) << "the green texel, left of red's place";
+  EXPECT_NEAR(movedCol(1, 1).r, 1.0f, 1e-4) << "red, wrapped round";
+  EXPECT_NEAR(movedCol(0, 0).r, 0.50289f, 1e-3) << "the grey texel";
   // Vertex colours alone: interpolated, averaged by area.
   Mesh vc = meshOf({{0, 0, 0.5}, {2, 0, 0.5}, {2, 2, 0.5}, {0, 2, 0.5}}, {{0, 1, 2}, {0, 2, 3}});
   vc.colors = {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {0, 0, 0, 1}};

@@ -117,9 +117,19 @@ std::string resolvePath(const std::string& dir, const std::string& file) {
 /// then the file name, which may hold spaces ("map_Kd -bm 1 my texture.png").
 struct TextureStatement {
   std::string file;
-  std::string placement;  // the -o, -s and -t options given with values other than their defaults, as written
-  bool clamp = false;     // "-clamp on": texture coordinates clamped to [0, 1] instead of repeated
+  std::array<double, 2> offset{0, 0}, scale{1, 1};  // -o u v, -s u v (the w of 3D textures is not used)
+  std::string turbulence;  // a -t other than 0 0 0, as written: not applied (it is random)
+  bool clamp = false;      // "-clamp on": texture coordinates clamped to [0, 1] instead of repeated
 };
+
+/// The placement -o and -s give, as a MeshMaterial::uvTransform. The MTL
+/// format scales and then offsets its (u, v) (v = 0 at the bottom), as the
+/// importers of Blender (a Mapping node) and three.js (repeat, offset) read
+/// it: u' = su u + ou, v' = sv v + ov; in the mesh's (s, t = 1 - v):
+/// s' = su s + ou, t' = sv t + 1 - sv - ov.
+std::array<double, 6> placementOf(const TextureStatement& st) {
+  return {st.scale[0], 0, st.offset[0], 0, st.scale[1], 1 - st.scale[1] - st.offset[1]};
+}
 
 TextureStatement textureStatement(const std::string& rest) {
   // Each option and how many words follow it; -3: -o, -s and -t take 1 to 3 numbers.
@@ -147,8 +157,8 @@ TextureStatement textureStatement(const std::string& rest) {
       }
       continue;
     }
-    // -o, -s, -t: up to three numbers; a value other than the default (0 for -o
-    // and -t, 1 for -s) moves or scales the texture, which is not applied.
+    // -o, -s, -t: up to three numbers, u then the optional v and w (0 by
+    // default for -o and -t, 1 for -s).
     const double neutral = option == "-s" ? 1.0 : 0.0;
     std::string written = option;
     bool moves = false;
@@ -161,8 +171,10 @@ TextureStatement textureStatement(const std::string& rest) {
       pos = after;
       written += " " + w;
       moves |= v != neutral;
+      if (k < 2 && option == "-o") st.offset[size_t(k)] = v;
+      if (k < 2 && option == "-s") st.scale[size_t(k)] = v;
     }
-    if (moves) st.placement += (st.placement.empty() ? "" : " ") + written;
+    if (moves && option == "-t") st.turbulence = written;
   }
   while (pos < rest.size() && (rest[pos] == ' ' || rest[pos] == '\t')) ++pos;
   st.file = rest.substr(pos);
@@ -208,10 +220,11 @@ void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::strin
         const std::string last = file.substr(sp + 1);
         if (isFile(resolvePath(dir, last))) file = last, full = resolvePath(dir, last);
       }
-      if (!st.placement.empty())
-        warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file + ": " + st.placement +
-                           " is not applied: the texture is placed as without it, so material '" +
-                           mesh.materials[current].name + "' may take colours from other texels than in the exporter");
+      if (!st.turbulence.empty())
+        warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file + ": " + st.turbulence +
+                           " (turbulence) is not applied: material '" + mesh.materials[current].name +
+                           "' takes its texels without the random displacement");
+      mesh.materials[current].uvTransform = placementOf(st);
       if (options.ignoreMissingMaterials && !isFile(full)) {
         warnings.push_back(path + ":" + std::to_string(c.line) + ": map_Kd " + file +
                            ": the texture file is missing; material '" + mesh.materials[current].name +

@@ -30,6 +30,13 @@ struct MeshMaterial {
   std::array<float, 4> baseColorFactor{1, 1, 1, 1};  // linear RGBA
   int texture = -1;                            // index into Mesh::textures, or -1
   int texCoordSet = 0;                         // which UV set the texture uses (0 or 1)
+  /// Where the texture is sampled, from the interpolated texture coordinates
+  /// (s, t) (glTF conventions: t = 0 at the top row):
+  /// s' = T[0] s + T[1] t + T[2], t' = T[3] s + T[4] t + T[5]. The identity
+  /// unless a format places a texture by material (an MTL map's -o and -s);
+  /// glTF's KHR_texture_transform is applied to the UVs when they are read.
+  std::array<double, 6> uvTransform{1, 0, 0, 0, 1, 0};
+  bool placesTexture() const { return uvTransform != std::array<double, 6>{1, 0, 0, 0, 1, 0}; }
 };
 
 /// A named group of triangles (glTF node/mesh, OBJ object/group), for class

@@ -553,6 +553,12 @@ std::array<float, 4> baseColor(const Mesh& m, size_t t, double l0, double l1, do
       texture = mat->texture;
       s = l0 * uv[tri[0]][0] + l1 * uv[tri[1]][0] + l2 * uv[tri[2]][0];
       tt = l0 * uv[tri[0]][1] + l1 * uv[tri[1]][1] + l2 * uv[tri[2]][1];
+      if (mat->placesTexture()) {
+        const std::array<double, 6>& T = mat->uvTransform;
+        const double s0 = s;
+        s = T[0] * s0 + T[1] * tt + T[2];
+        tt = T[3] * s0 + T[4] * tt + T[5];
+      }
     }
   }
   return c;
