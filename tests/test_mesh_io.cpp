@@ -427,6 +427,22 @@ TEST(PlyIo, ImpossibleCountsFailFastInsteadOfHanging) {
   voxtest::writeText(dir.file("f.ply"), "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
                                         "property float z\nend_header\nnan 0 0\n");
   EXPECT_TRUE(rejects(dir.file("f.ply"), {"f.ply", "1 vertices have NaN", "vertex 0"}));
+  // Float-typed index lists: NaN, fractions and numbers past any integer are
+  // refused by value (they were cast to integers: NaN to garbage, 1e300 printed
+  // as -9223372036854775808); so is a fractional list count.
+  auto floatIndices = [&](const std::string& file, const std::string& type, const std::string& face) {
+    voxtest::writeText(dir.file(file), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                       "property float z\nelement face 1\nproperty list " + type +
+                                       " vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" + face + "\n");
+    return dir.file(file);
+  };
+  EXPECT_TRUE(rejects(floatIndices("g.ply", "uchar float", "3 0 1 nan"), {"g.ply", "face 0", "vertex index nan",
+                                                                          "not a whole number"}));
+  EXPECT_TRUE(rejects(floatIndices("h.ply", "uchar float", "3 0 1 1.5"), {"face 0", "vertex index 1.5"}));
+  EXPECT_TRUE(rejects(floatIndices("i.ply", "uchar double", "3 0 1 1e300"), {"face 0", "refers to vertex 1e+300",
+                                                                             "there are 3"}));
+  EXPECT_TRUE(rejects(floatIndices("j.ply", "float int", "2.5 0 1 2"), {"j.ply", "list of 2.5 entries"}));
+  EXPECT_EQ(read(floatIndices("k.ply", "uchar float", "3 0 1 2")).triangleCount(), 1u) << "whole floats are indices";
 }
 
 // ============================== STL ==============================

@@ -48,8 +48,12 @@ TEST(Placement, Errors) {
   EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({1, 1, 1}, {1, 1, 1}, o, h); }), Setting::VoxelSize);
   o.resolution = 0;
   o.voxelSize = 1e-9;
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage, {"limit"}));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage,
+                                      {"1000000000 voxels on an axis", "limit"}));
   EXPECT_EQ(voxtest::settingOfError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }), Setting::VoxelSpacing);
+  o.voxelSize = 1e-300;  // past any integer: the count in powers of ten, not a wrapped-around 0
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage,
+                                      {"1e+300 voxels on an axis"}));
   // The padding alone too long: it is what the message names, not the voxel size.
   o.voxelSize = 0;
   o.resolution = 8;

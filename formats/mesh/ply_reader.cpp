@@ -17,6 +17,18 @@
 namespace vox {
 
 namespace {
+/// A number read from the body, for messages: whole numbers as integers (up
+/// to 2^53), anything else as the shortest text that reads back the same.
+/// (Casting a double past int64_t's range to it is undefined behaviour.)
+std::string numberText(double v) {
+  if (v == std::floor(v) && std::fabs(v) < 9007199254740992.0) return std::to_string(int64_t(v));
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+  return std::string(text, end);
+}
+}  // namespace
+
+namespace {
 
 enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
 
@@ -245,8 +257,8 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
         continue;
       }
       const double count = r.scalar(p.countType);
-      if (!(count >= 0 && count <= 1e6))
-        throwBadInput(name + ": " + r.what() + ": list of " + std::to_string(count) + " entries");
+      if (!(count >= 0 && count <= 1e6) || count != std::floor(count))
+        throwBadInput(name + ": " + r.what() + ": list of " + numberText(count) + " entries");
       const bool faceIndices = isFace && int(k) == role.faceIndices;
       poly.clear();
       strip.clear();
@@ -257,9 +269,14 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
           strip.push_back(-1);
           continue;
         }
+        // NaN and fractions too: a float-typed index list reads as numbers
+        // that need not be whole (uint32_t(NaN) is undefined).
+        if (v != std::floor(v))
+          throwBadInput(name + ": " + (isStrips ? "tristrips " : "face ") + std::to_string(i) + " has vertex index " +
+                        numberText(v) + ", which is not a whole number");
         if (v < 0 || v >= double(mesh.positions.size()))
           throwBadInput(name + ": " + (isStrips ? "tristrips " : "face ") + std::to_string(i) + " refers to vertex " +
-                        std::to_string(int64_t(v)) + " but there are " + std::to_string(mesh.positions.size()));
+                        numberText(v) + " but there are " + std::to_string(mesh.positions.size()));
         if (isStrips) strip.push_back(int64_t(v));
         else poly.push_back(uint32_t(v));
       }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "libvox/core/error.h"
 
@@ -34,12 +36,20 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
     const double inside = std::max(1.0, std::ceil((hi[i] - lo[i]) / vs * (1 - 1e-12)));
     const double n = inside + 2.0 * o.pad;
     if (n > kMaxGridAxis) {
+      // A count past 2^53 (a voxel size of 1e-300 on a unit mesh) has no
+      // integer text worth printing, and would overflow uint64_t.
+      auto count = [](double v) {
+        if (v < 1e15) return std::to_string(uint64_t(v));
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3g", v);
+        return std::string(text);
+      };
       // Name the padding when it alone makes the axis too long (the voxel size is not the problem then).
       if (inside <= kMaxGridAxis && 2.0 * o.pad > inside)
-        throwUsage("the grid would have " + std::to_string(uint64_t(n)) + " voxels on an axis (limit " +
-                   std::to_string(kMaxGridAxis) + "), " + std::to_string(uint64_t(2.0 * o.pad)) +
+        throwUsage("the grid would have " + count(n) + " voxels on an axis (limit " +
+                   std::to_string(kMaxGridAxis) + "), " + count(2.0 * o.pad) +
                    " of them the padding; lower --pad");
-      throwUsage("the grid would have " + std::to_string(uint64_t(n)) + " voxels on an axis (limit " +
+      throwUsage("the grid would have " + count(n) + " voxels on an axis (limit " +
                  std::to_string(kMaxGridAxis) + "); use fewer, larger voxels",
                  Setting::VoxelSpacing);
     }
