@@ -121,6 +121,10 @@ EOF
   expect_exit 2 "$vox" render-canonical h.vdb -o x.png --view top --eye 1,2,3
   expect_stderr "drop --camera/--eye/--target/--up"
   expect_exit 2 "$vox" render-canonical h.vdb -o x.png --orbit 3 --view top
+  for n in 0 1001; do  # 0 was read as no orbit: "give --eye ... or --camera"
+    expect_exit 2 "$vox" render-canonical h.vdb -o x.png --orbit $n
+    expect_stderr "--orbit: Value $n not in range 1 to 1000"
+  done
   expect_exit 2 "$vox" render-canonical h.vdb -o x.png --view 1
   expect_stderr "needs --camera"
   printf '{"views":[{"viewMatrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,-50,1],"projectionMatrix":[1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,-0.2,0]}],"imageSize":{"width":8,"height":8}}' >meta.json

@@ -60,7 +60,8 @@ void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
                  "A view framed on the scene: front, back, right (or side), left, top, bottom, iso; with --camera: "
                  "render only views[INDEX] (default: every view)")
       ->type_name("NAME|INDEX");
-  cmd.add_option("--orbit", o.orbit, "N views around the scene at the iso elevation, framed on it (files NAME_000...)");
+  cmd.add_option("--orbit", o.orbit, "N views around the scene at the iso elevation, framed on it (files NAME_000...)")
+      ->check(CLI::Range(1u, 1000u));
 }
 
 namespace {
