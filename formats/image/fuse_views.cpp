@@ -1,5 +1,6 @@
 #include "formats/image/fuse_views.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -127,6 +128,41 @@ std::string hexColor(uint32_t c) {
   return s;
 }
 
+/// FuseViewsFile::warnings: the keys of the file and of its views that
+/// nothing reads.
+void noteUnreadKeys(const json& doc, const json& views, FuseViewsFile& out) {
+  static const std::vector<std::string> kSettings = {"depth_kind", "depth_scale", "depth_offset", "far", "labels"};
+  static const std::vector<std::string> kFile = {"grid", "classes", "views"};
+  static const std::vector<std::string> kView = {"depth", "label", "camera", "normal", "color", "confidence"};
+  auto known = [](const std::string& key, const std::vector<std::string>& own) {
+    return std::find(own.begin(), own.end(), key) != own.end() ||
+           std::find(kSettings.begin(), kSettings.end(), key) != kSettings.end();
+  };
+  auto list = [](const std::vector<std::string>& own) {
+    std::string text;
+    for (const auto* keys : {&own, &kSettings})
+      for (const std::string& k : *keys) text += (text.empty() ? "" : ", ") + k;
+    return text;
+  };
+  for (const auto& [key, value] : doc.items())
+    if (!known(key, kFile))
+      out.warnings.push_back(out.path + ": \"" + key + "\" is not a key of a views file (" + list(kFile) +
+                             "); it is ignored");
+  // Per key: the first view that gives it, and how many do.
+  std::vector<std::pair<std::string, std::pair<size_t, size_t>>> unread;
+  for (size_t i = 0; i < views.size(); ++i)
+    for (const auto& [key, value] : views[i].items()) {
+      if (known(key, kView)) continue;
+      auto at = std::find_if(unread.begin(), unread.end(), [&](const auto& u) { return u.first == key; });
+      if (at == unread.end()) unread.push_back({key, {i, 1}});
+      else ++at->second.second;
+    }
+  for (const auto& [key, seen] : unread)
+    out.warnings.push_back(out.path + ": views[" + std::to_string(seen.first) + "]" +
+                           (seen.second > 1 ? " and " + std::to_string(seen.second - 1) + (seen.second > 2 ? " more views" : " more view") : "") + ": \"" +
+                           key + "\" is not a key of a view (" + list(kView) + "); it is ignored");
+}
+
 }  // namespace
 
 FuseViewsFile readFuseViews(const std::string& path) {
@@ -172,6 +208,7 @@ FuseViewsFile readFuseViews(const std::string& path) {
     readDepthSettings(v, s.where, s);
     out.views.push_back(std::move(s));
   }
+  noteUnreadKeys(doc, views, out);
   return out;
 }
 

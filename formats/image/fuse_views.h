@@ -68,6 +68,10 @@ struct FuseViewsFile {
   std::optional<FuseGridSpec> grid;
   std::optional<ClassTable> classes;
   std::vector<FuseViewSpec> views;
+  /// Keys the file gives that no view or file setting reads (a misspelt
+  /// "colour" would otherwise drop the colours without a word), one line per
+  /// key, naming the first view that gives it and how many more do.
+  std::vector<std::string> warnings;
 };
 
 /// Reads and checks the views file (not the images). Throws vox::Error

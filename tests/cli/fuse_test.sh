@@ -180,6 +180,19 @@ bad_input)
   echo '{"grid": {"dims": [8, 8, 8], "voxel_size": 1, "origin": [0, 0, 0]}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >grid.json
   expect_exit 3 "$vox" fuse grid.json -i h.vdb -o f.vdb
   expect_stderr "differs from -i"
+  # Keys nothing reads: a warning naming each (a misspelt "colour" would drop
+  # the colours silently), once per key however many views give it; the
+  # fusion runs as without them.
+  echo '{"extra": 1, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "colour": "c.png"},
+    {"depth": "o_001.depth.exr", "label": "o_001.class.png", "colour": "c.png"}]}' >unread.json
+  expect_exit 0 "$vox" fuse unread.json -o unread.vdb --report unread_r.json
+  expect_stderr 'warning: unread.json: "extra" is not a key of a views file'
+  expect_stderr 'views[0] and 1 more view: "colour" is not a key of a view (depth, label, camera, normal, color,'
+  python3 -c "import json, sys; w = json.load(open('unread_r.json'))['counts']['warnings']; sys.exit(0 if len(w) == 2 else 1)" ||
+    fail "the report does not list the two unread keys: $(cat unread_r.json | head -c 600)"
+  expect_exit 0 "$vox" fuse good.json -o good.vdb
+  expect_exit 0 "$vox" diff good.vdb unread.vdb
+  rm -f good.vdb unread.vdb
   # Usage.
   expect_exit 2 "$vox" fuse good.json -o f.png
   expect_exit 2 "$vox" fuse good.json -o f.vdb --carve maybe

@@ -136,6 +136,7 @@ int runFuse(const FuseOptions& o) {
   run.phase("read");
   run.input(o.views);
   const vox::FuseViewsFile views = vox::readFuseViews(o.views);
+  for (const std::string& w : views.warnings) run.note("warning: " + w);
   std::optional<vox::DepthKind> kindOverride;
   if (o.depthKind == DepthKindOption::Distance) kindOverride = vox::DepthKind::Distance;
   if (o.depthKind == DepthKindOption::Z) kindOverride = vox::DepthKind::Z;
@@ -332,6 +333,7 @@ int runFuse(const FuseOptions& o) {
   const vox::FuseTotals& t = fused.totals;
   const uint64_t rays = total.used + total.outside;
   run.counts()["views"] = perView;
+  run.counts()["warnings"] = views.warnings;
   run.counts()["totals"] = {{"views", views.views.size()},
                             {"pixels", total.pixels},
                             {"used", total.used},
