@@ -411,6 +411,18 @@ TEST(Camera, BadCameraFilesNameTheElement) {
   EXPECT_TRUE(throwsVoxError([] { vox::parseCameraJson("{\"eye\": [0,0,0], \"target\": [0,0,0]}", "c.json", std::nullopt); },
                              bad, {"c.json", "distinct"}));
   EXPECT_TRUE(throwsVoxError([] { vox::parseCameraJson("[1,2]", "c.json", std::nullopt); }, bad, {"c.json", "object"}));
+  // A look-at camera's keys are all read: a misspelt one is refused, not left
+  // to its default (a "fvo" rendered at 60 degrees).
+  EXPECT_TRUE(throwsVoxError(
+      [] { vox::parseCameraJson(R"({"cameras": [{"eye": [0,0,9], "target": [0,0,0], "fvo": 20}]})", "c.json", std::nullopt); },
+      bad, {"c.json", "cameras[0] has no key \"fvo\"", "eye, target, up, fov, size, view"}));
+  // What --camera-out writes reads back; metadata.json views keep their other fields.
+  EXPECT_EQ(vox::parseCameraJson(R"({"eye": [0,0,9], "target": [0,0,0], "up": [0,1,0], "fov": 20, "size": [4, 3],
+                                    "view": "front"})", "c.json", std::nullopt).size(), 1u);
+  EXPECT_EQ(vox::parseCameraJson(R"({"imageSize": {"width": 4, "height": 4}, "views": [{"index": 0, "id": "v0",
+                                    "viewMatrix": [1,0,0,0,0,1,0,0,0,0,1,0,0,0,-5,1],
+                                    "projectionMatrix": [1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,-0.2,0], "time": 3}]})",
+                                 "m.json", std::nullopt).size(), 1u);
 }
 
 TEST(Camera, LookAtErrorsNameTheSettingNotAnOption) {

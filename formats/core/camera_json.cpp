@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_fields.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 
@@ -44,6 +45,7 @@ CameraView lookAtCamera(const json& c, const std::string& name, const std::strin
                         std::optional<std::pair<uint32_t, uint32_t>> size) {
   if (!c.is_object()) bad(name, where + " must be an object with \"eye\" and \"target\"");
   if (!c.contains("eye") || !c.contains("target")) bad(name, where + " needs \"eye\" and \"target\"");
+  jsonOnlyKeys(c, {"eye", "target", "up", "fov", "size", "view"}, name, where);
   const Vec3d eye = vec3(c["eye"], name, where + ".eye");
   const Vec3d target = vec3(c["target"], name, where + ".target");
   const Vec3d up = c.contains("up") ? vec3(c["up"], name, where + ".up") : kLookAtUp;

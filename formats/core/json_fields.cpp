@@ -46,4 +46,16 @@ Dims jsonDims(const nlohmann::json& j, const std::string& context, const std::st
   return {extent[0], extent[1], extent[2]};
 }
 
+void jsonOnlyKeys(const nlohmann::json& object, std::initializer_list<const char*> known, const std::string& context,
+                  const std::string& element) {
+  for (const auto& [key, value] : object.items()) {
+    bool found = false;
+    for (const char* k : known) found = found || key == k;
+    if (found) continue;
+    std::string list;
+    for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+    throwBadInput(context + ": " + element + " has no key \"" + key + "\" (its keys: " + list + ")");
+  }
+}
+
 }  // namespace vox

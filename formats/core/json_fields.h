@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -23,5 +24,11 @@ int64_t jsonInteger(const nlohmann::json& j, const std::string& context, const s
 uint64_t jsonUnsigned(const nlohmann::json& j, const std::string& context, const std::string& element);
 /// A grid's extent [X, Y, Z], each 1..2^32-1.
 Dims jsonDims(const nlohmann::json& j, const std::string& context, const std::string& element);
+/// Refuses a key of `object` (a JSON object) that is not in `known`:
+/// "CONTEXT: ELEMENT has no key "K" (its keys: A, B, C)". For objects where a
+/// key nothing reads would change the result silently: a misspelt "fov" of a
+/// camera renders at the default field of view.
+void jsonOnlyKeys(const nlohmann::json& object, std::initializer_list<const char*> known, const std::string& context,
+                  const std::string& element);
 
 }  // namespace vox

@@ -85,6 +85,7 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
     return Camera::make(view, proj, W, H, where + ".camera");
   }
   if (c.contains("eye")) {
+    jsonOnlyKeys(c, {"eye", "target", "up", "fov"}, where, "camera");
     const Vec3d eye = triple(c["eye"], where, "camera.eye");
     const Vec3d target = triple(jsonMember(c, "target", where + ".camera"), where, "camera.target");
     const Vec3d up = c.contains("up") ? triple(c["up"], where, "camera.up") : kLookAtUp;
@@ -99,6 +100,8 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
   if (c.contains("intrinsics")) {
     const json& k = c["intrinsics"];
     if (!k.is_object()) bad(where, "camera.intrinsics must be {\"fx\", \"fy\", \"cx\", \"cy\"} in pixels");
+    jsonOnlyKeys(c, {"intrinsics", "pose"}, where, "camera");
+    jsonOnlyKeys(k, {"fx", "fy", "cx", "cy"}, where, "camera.intrinsics");
     const std::string kw = where + ".camera.intrinsics";
     Intrinsics in;
     in.fx = jsonNumber(jsonMember(k, "fx", kw), where, "camera.intrinsics.fx");

@@ -173,6 +173,13 @@ bad_input)
   python3 -c "import json; json.dump({'views': [{'depth': 'o_000.depth.exr', 'label': 'o_000.class.png', 'camera': {'viewMatrix': [0]*16, 'projectionMatrix': [1,0,0,0, 0,1,0,0, 0,0,-1,-1, 0,0,-0.2,0]}}]}, open('singular.json','w'))"
   expect_exit 3 "$vox" fuse singular.json -o f.vdb
   expect_stderr "views[0].camera"
+  # A look-at or intrinsics camera's keys are all read: a misspelt one is refused.
+  echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"eye": [0, 5, 40], "target": [0, 0, 0], "fvo": 20}}]}' >fvo.json
+  expect_exit 3 "$vox" fuse fvo.json -o f.vdb
+  expect_stderr 'views[0]: camera has no key "fvo" (its keys: eye, target, up, fov)'
+  echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"intrinsics": {"fx": 30, "fy": 30, "cx": 19.5, "cy": 14.5, "skew": 0}, "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}' >skew.json
+  expect_exit 3 "$vox" fuse skew.json -o f.vdb
+  expect_stderr 'camera.intrinsics has no key "skew" (its keys: fx, fy, cx, cy)'
   # A missing image; a grid that differs from -i's; classes with -i.
   echo '{"views": [{"depth": "nope.exr", "label": "o_000.class.png"}]}' >missing.json
   expect_exit 3 "$vox" fuse missing.json -o f.vdb
