@@ -69,4 +69,8 @@ TEST(ClassMapping, BadFilesNameTheEntry) {
   EXPECT_TRUE(bad(R"({"classes": [{"name": "a", "match": "x"}]})", {"\"match\" must be an array"}));
   EXPECT_TRUE(bad(R"({"classes": [{"name": "a"}], "default": "b"})", {"'b'"}));
   EXPECT_TRUE(bad(R"({"classes": []})", {"empty"}));
+  // Keys nothing reads are refused by name: a misspelt "match" mapped nothing.
+  EXPECT_TRUE(bad(R"({"classes": [{"name": "a", "matches": ["*"]}]})",
+                  {"c.json", "classes[0] has no key \"matches\"", "id, name, color, top, bottom, side, match"}));
+  EXPECT_TRUE(bad(R"({"classes": [{"name": "a"}], "defualt": "a"})", {"the rules file has no key \"defualt\""}));
 }

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_fields.h"
 #include "formats/scene/class_table_json.h"
 #include "libvox/core/error.h"
 
@@ -23,6 +24,9 @@ ClassMapping parseClassMapping(const std::string& text, const std::string& path)
   }
   if (!doc.is_object() || !doc.contains("classes") || !doc["classes"].is_array())
     throwBadInput(path + ": expected an object with a \"classes\" array");
+  // Every key is read: a misspelt "match" or "default" would leave the
+  // materials unmapped without a word, so other keys are refused by name.
+  jsonOnlyKeys(doc, {"classes", "default"}, path, "the rules file");
   ClassMapping m;
   const json& classes = doc["classes"];
   const std::string arrayWhere = path + ": classes";
@@ -30,6 +34,7 @@ ClassMapping parseClassMapping(const std::string& text, const std::string& path)
     const json& c = classes[i];
     const std::string where = arrayWhere + "[" + std::to_string(i) + "]";
     const ClassInfo info = classInfoFromJson(c, i, ClassJsonForm::HandWritten, arrayWhere);
+    jsonOnlyKeys(c, {"id", "name", "color", "top", "bottom", "side", "match"}, path, "classes[" + std::to_string(i) + "]");
     m.table.add(info, where);
     if (c.contains("match")) {
       const json& match = c["match"];

@@ -15,6 +15,8 @@
 //   "node:" to look at one name only (class_mapping.h says how they are tried).
 // * default: the name of the class for triangles no pattern matches; without
 //   it such triangles are an error.
+// * Any other key, in the file or an entry, is refused by name (BadInput): a
+//   misspelt "match" or "default" would otherwise map nothing without a word.
 #pragma once
 
 #include <string>
