@@ -33,7 +33,8 @@ double vdbPackedLeafBytes(const std::string& type, double activeVoxels) {
   // x86-64 glibc: a heap block is its size plus 8 bytes rounded up to 16, at
   // least 32. The leaf record: origin, 512-bit mask and the values' pointer
   // (88 bytes), or origin and two masks for the occupancy (144 bytes, values
-  // as bits); a 4-byte join entry per occupancy leaf for every other grid.
+  // as bits); every other grid joins the occupancy through a 4-byte entry per
+  // occupancy leaf, counted here as one per leaf of the grid (about as many).
   constexpr double kBlockOverhead = 8 + 8;  // the block's size word and half a rounding on average
   constexpr double kJoin = 4;
   // The occupancy's record and, while the grids are joined, its entry in the

@@ -230,9 +230,10 @@ BlockMesh mergeCoplanarFaces(const BlockMesh& culled, unsigned threads) {
     }
   };
   // Memory: the keys and the quads in plane order are allocated at their
-  // final size and freed as soon as they are used, so at most the culled
-  // quads and two more copies' worth are alive (the export's guard counts on
-  // this bound).
+  // final size and freed as soon as they are used, so besides the culled
+  // quads at most the plane-ordered copy or the joined result is alive, with
+  // the merged planes (up to twice their quads while they grow): the bound
+  // the export's guard counts, four quads' bytes per culled quad.
   std::array<std::vector<SortKey>, 6> byFace;
   std::array<size_t, 6> perFace{};
   for (const BlockQuad& q : culled.quads) ++perFace[size_t(q.face)];

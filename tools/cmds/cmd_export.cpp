@@ -8,8 +8,8 @@
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
-#include "libvox/scene/scene_grids.h"
 #include "libvox/scene/class_volume_scene.h"
+#include "libvox/scene/scene_grids.h"
 #include "tools/cli/commands.h"
 #include "tools/cmds/export_command.h"
 

@@ -124,9 +124,9 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
     const double perQuad = o.greedy ? 4 * quad : (o.split == ExportSplit::Classes ? 2 : 1) * quad;
     vox::MemoryEstimate e;
     e.add("resident before meshing", vox::residentBytesNow());
-    e.add(std::to_string(quads) + " faces", double(quads) * perQuad);
+    e.add("faces", double(quads) * perQuad);
     e.add("writer batches", vox::gltfWriteBufferBytes(o.dedup));
-    run.checkMemory(e, "meshing " + o.input);
+    run.checkMemory(e, "meshing the " + std::to_string(quads) + " visible faces of " + o.input);
   };
   vox::BlockMesh mesh = vox::meshVisibleFaces(*in.volume, in.classes, ms);
   const uint64_t culledQuads = mesh.quads.size();
