@@ -85,7 +85,9 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
     return Camera::make(view, proj, W, H, where + ".camera");
   }
   if (c.contains("eye")) {
-    jsonOnlyKeys(c, {"eye", "target", "up", "fov"}, where, "camera");
+    // "size" and "view" as render-canonical --camera-out writes them (the
+    // size is always the depth image's); anything else is a misspelling.
+    jsonOnlyKeys(c, {"eye", "target", "up", "fov", "size", "view"}, where, "camera");
     const Vec3d eye = triple(c["eye"], where, "camera.eye");
     const Vec3d target = triple(jsonMember(c, "target", where + ".camera"), where, "camera.target");
     const Vec3d up = c.contains("up") ? triple(c["up"], where, "camera.up") : kLookAtUp;

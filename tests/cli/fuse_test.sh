@@ -176,7 +176,7 @@ bad_input)
   # A look-at or intrinsics camera's keys are all read: a misspelt one is refused.
   echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"eye": [0, 5, 40], "target": [0, 0, 0], "fvo": 20}}]}' >fvo.json
   expect_exit 3 "$vox" fuse fvo.json -o f.vdb
-  expect_stderr 'views[0]: camera has no key "fvo" (its keys: eye, target, up, fov)'
+  expect_stderr 'views[0]: camera has no key "fvo" (its keys: eye, target, up, fov, size, view)'
   echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"intrinsics": {"fx": 30, "fy": 30, "cx": 19.5, "cy": 14.5, "skew": 0}, "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}' >skew.json
   expect_exit 3 "$vox" fuse skew.json -o f.vdb
   expect_stderr 'camera.intrinsics has no key "skew" (its keys: fx, fy, cx, cy)'
