@@ -145,41 +145,36 @@ bad_input)
   expect_exit 0 "$vox" render-canonical h.vdb -o o.png --orbit 2 --size 40x30 --mode depth,class --quiet
   expect_exit 0 "$vox" render-canonical h.vdb -o small.png --view front --size 20x10 --mode class --quiet
   views_json o 2 >good.json
-  echo '{"views": [' >broken.json
-  expect_exit 3 "$vox" fuse broken.json -o f.vdb
-  expect_stderr "broken.json"
-  echo '{"cameras": []}' >noviews.json
-  expect_exit 3 "$vox" fuse noviews.json -o f.vdb
-  expect_stderr 'no "views"'
+  # refused FILE JSON TEXT...: a views file that fuse refuses (exit 3), its
+  # stderr holding every TEXT.
+  refused() {
+    local file=$1 text=$2
+    shift 2
+    printf '%s\n' "$text" >"$file"
+    expect_exit 3 "$vox" fuse "$file" -o f.vdb
+    for needle in "$@"; do expect_stderr "$needle"; done
+  }
+  refused broken.json '{"views": [' "broken.json"
+  refused noviews.json '{"cameras": []}' 'no "views"'
   # Mismatched image sizes.
-  echo '{"views": [{"depth": "o_000.depth.exr", "label": "small.png"}]}' >size.json
-  expect_exit 3 "$vox" fuse size.json -o f.vdb
-  expect_stderr "views[0]"
-  expect_stderr "small.png is 20x10"
+  refused size.json '{"views": [{"depth": "o_000.depth.exr", "label": "small.png"}]}' "views[0]" "small.png is 20x10"
   # A label not in the map.
-  echo '{"labels": {"#000000": null}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >label.json
-  expect_exit 3 "$vox" fuse label.json -o f.vdb
-  expect_stderr "not in the label map"
-  expect_stderr "o_000.class.png"
+  refused label.json '{"labels": {"#000000": null}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
+    "not in the label map" "o_000.class.png"
   # A class the map names that the table lacks.
-  echo '{"labels": {"#000000": "Lava"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >lava.json
-  expect_exit 3 "$vox" fuse lava.json -o f.vdb
-  expect_stderr "no class named 'Lava'"
+  refused lava.json '{"labels": {"#000000": "Lava"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
+    "no class named 'Lava'"
   # A depth image of the wrong type.
-  echo '{"views": [{"depth": "o_000.class.png", "label": "o_000.class.png"}]}' >type.json
-  expect_exit 3 "$vox" fuse type.json -o f.vdb
-  expect_stderr "a depth PNG has one 16-bit channel"
+  refused type.json '{"views": [{"depth": "o_000.class.png", "label": "o_000.class.png"}]}' \
+    "a depth PNG has one 16-bit channel"
   # Singular matrices.
-  python3 -c "import json; json.dump({'views': [{'depth': 'o_000.depth.exr', 'label': 'o_000.class.png', 'camera': {'viewMatrix': [0]*16, 'projectionMatrix': [1,0,0,0, 0,1,0,0, 0,0,-1,-1, 0,0,-0.2,0]}}]}, open('singular.json','w'))"
-  expect_exit 3 "$vox" fuse singular.json -o f.vdb
-  expect_stderr "views[0].camera"
+  refused singular.json '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"viewMatrix": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,0], "projectionMatrix": [1,0,0,0, 0,1,0,0, 0,0,-1,-1, 0,0,-0.2,0]}}]}' \
+    "views[0].camera"
   # A look-at or intrinsics camera's keys are all read: a misspelt one is refused.
-  echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"eye": [0, 5, 40], "target": [0, 0, 0], "fvo": 20}}]}' >fvo.json
-  expect_exit 3 "$vox" fuse fvo.json -o f.vdb
-  expect_stderr 'views[0]: camera has no key "fvo" (its keys: eye, target, up, fov, size, view)'
-  echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"intrinsics": {"fx": 30, "fy": 30, "cx": 19.5, "cy": 14.5, "skew": 0}, "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}' >skew.json
-  expect_exit 3 "$vox" fuse skew.json -o f.vdb
-  expect_stderr 'camera.intrinsics has no key "skew" (its keys: fx, fy, cx, cy)'
+  refused fvo.json '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"eye": [0, 5, 40], "target": [0, 0, 0], "fvo": 20}}]}' \
+    'views[0]: camera has no key "fvo" (its keys: eye, target, up, fov, size, view)'
+  refused skew.json '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"intrinsics": {"fx": 30, "fy": 30, "cx": 19.5, "cy": 14.5, "skew": 0}, "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}' \
+    'camera.intrinsics has no key "skew" (its keys: fx, fy, cx, cy)'
   # A missing image; a grid that differs from -i's; classes with -i.
   echo '{"views": [{"depth": "nope.exr", "label": "o_000.class.png"}]}' >missing.json
   expect_exit 3 "$vox" fuse missing.json -o f.vdb
