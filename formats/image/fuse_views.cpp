@@ -162,10 +162,12 @@ void noteUnreadKeys(const json& doc, const json& views, FuseViewsFile& out) {
       if (at == unread.end()) unread.push_back({key, {i, 1}});
       else ++at->second.second;
     }
-  for (const auto& [key, seen] : unread)
-    out.warnings.push_back(out.path + ": views[" + std::to_string(seen.first) + "]" +
-                           (seen.second > 1 ? " and " + std::to_string(seen.second - 1) + (seen.second > 2 ? " more views" : " more view") : "") + ": \"" +
-                           key + "\" is not a key of a view (" + list(kView) + "); it is ignored");
+  for (const auto& [key, seen] : unread) {
+    const size_t more = seen.second - 1;
+    const std::string others = more == 0 ? "" : " and " + std::to_string(more) + (more > 1 ? " more views" : " more view");
+    out.warnings.push_back(out.path + ": views[" + std::to_string(seen.first) + "]" + others + ": \"" + key +
+                           "\" is not a key of a view (" + list(kView) + "); it is ignored");
+  }
 }
 
 }  // namespace

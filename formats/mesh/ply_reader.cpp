@@ -26,9 +26,6 @@ std::string numberText(double v) {
   const auto end = std::to_chars(text, text + sizeof text, v).ptr;
   return std::string(text, end);
 }
-}  // namespace
-
-namespace {
 
 enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
 
