@@ -199,6 +199,14 @@ TEST(ObjIo, SeveralLibrariesOnOneLineAndWindowsTexturePaths) {
   EXPECT_TRUE(r.warnings.empty());
 }
 
+TEST(ObjIo, TextureCoordinatesThatAreNotNumbersNameTheLine) {
+  voxtest::TempDir dir;
+  for (const char* vt : {"vt nan 0", "vt 0 inf", "vt 1e300 0"}) {
+    voxtest::writeText(dir.file("t.obj"), std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n") + vt + "\nf 1/1 2/1 3/1\n");
+    EXPECT_TRUE(rejects(dir.file("t.obj"), {"t.obj:4", "texture coordinate is not a finite number"})) << vt;
+  }
+}
+
 TEST(ObjIo, TextureOptionsAndFileNamesWithSpaces) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("my tex.png"), pngBytes());

@@ -383,6 +383,15 @@ TEST(Voxelize, ColourFromTextureFactorAndVertexColours) {
   EXPECT_NEAR(movedCol(0, 1).g, 1.0f, 1e-4) << "the green texel, left of red's place";
   EXPECT_NEAR(movedCol(1, 1).r, 1.0f, 1e-4) << "red, wrapped round";
   EXPECT_NEAR(movedCol(0, 0).r, 0.50289f, 1e-3) << "the grey texel";
+  // A texture coordinate that is not a number (a glTF may hold one) samples
+  // nothing: the pieces take the base colour alone.
+  Mesh nanUv = m;
+  nanUv.uv0[2] = {std::numeric_limits<float>::quiet_NaN(), 0};
+  const Scene sn = run(nanUv, h, FillMode::Surface);
+  const RgbLinear base = *sn.voxel({1, 1, 0}, tmp)->color;  // the piece of triangle 0, 1, 2 there
+  EXPECT_NEAR(base.r, 1.0f, 1e-4);
+  EXPECT_NEAR(base.g, 1.0f, 1e-4);
+  EXPECT_NEAR(base.b, 0.5f, 1e-4) << "the factor alone";
   // Vertex colours alone: interpolated, averaged by area.
   Mesh vc = meshOf({{0, 0, 0.5}, {2, 0, 0.5}, {2, 2, 0.5}, {0, 2, 0.5}}, {{0, 1, 2}, {0, 2, 3}});
   vc.colors = {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {0, 0, 0, 1}};

@@ -328,6 +328,9 @@ class ObjParser {
     const float s = float(number(c, name_, "a texture coordinate"));
     c.skipSpaces();
     const float t = c.atEol() ? 0.0f : float(number(c, name_, "a texture coordinate"));
+    if (!std::isfinite(s) || !std::isfinite(t))
+      bad(name_, c.line, "a texture coordinate is not a finite number (NaN, or beyond a float's range); "
+                         "fix or remove this vt line");
     texcoords_.push_back({s, t});
   }
 

@@ -559,6 +559,10 @@ std::array<float, 4> baseColor(const Mesh& m, size_t t, double l0, double l1, do
         s = T[0] * s0 + T[1] * tt + T[2];
         tt = T[3] * s0 + T[4] * tt + T[5];
       }
+      // A coordinate that is not a number (a NaN or infinite UV in the file)
+      // has no texel: the piece takes the base colour alone, the same on every
+      // machine (casting it to a texel index would be undefined behaviour).
+      if (!std::isfinite(s) || !std::isfinite(tt)) texture = -1;
     }
   }
   return c;
