@@ -43,10 +43,7 @@ double vdbPackedLeafBytes(const std::string& type, double activeVoxels) {
   return 88 + kJoin + std::max(32.0, activeVoxels * double(valueBytesOf(type)) + kBlockOverhead);
 }
 
-void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path, SceneReadForm form,
-                          uint64_t fileBytes) {
-  MemoryEstimate e;
-  e.add("resident before reading", residentBytesNow());
+double sceneGridBytes(const VdbFrame& frame, bool occupancyOnly, SceneReadForm form) {
   double grids = 0;
   for (const VdbGridFrame& g : frame.grids) {
     if (!g.checked || !g.instanceParent.empty() || (occupancyOnly && g.uniqueName != kOccupancyGridName)) continue;
@@ -57,7 +54,14 @@ void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::
       grids += double(g.leafCount) * vdbPackedLeafBytes(g.type, perLeaf);
     }
   }
-  e.add("grids", grids);
+  return grids;
+}
+
+void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path, SceneReadForm form,
+                          uint64_t fileBytes) {
+  MemoryEstimate e;
+  e.add("resident before reading", residentBytesNow());
+  e.add("grids", sceneGridBytes(frame, occupancyOnly, form));
   if (form == SceneReadForm::PackedLeaves) e.add("the file, mapped", double(fileBytes));
   checkProcessMemory(e, "reading " + path);
 }

@@ -27,6 +27,11 @@ double vdbPackedLeafBytes(const std::string& treeType, double activeVoxels);
 /// mapped while it reads).
 enum class SceneReadForm { Trees, PackedLeaves };
 
+/// Resident bytes of the grids of `frame` read in `form` (checked grids, not
+/// instances; with `occupancyOnly` the `occupancy` grid only): the "grids"
+/// part of checkSceneReadMemory, and what `vox info` reports per form.
+double sceneGridBytes(const VdbFrame& frame, bool occupancyOnly, SceneReadForm form);
+
 /// The guard of a scene read, before any grid is read: resident bytes now
 /// plus the grids of `frame` the read loads (checked, not instances; with
 /// `occupancyOnly` the `occupancy` grid only) in `form`; for packed leaves

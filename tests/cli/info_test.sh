@@ -55,12 +55,15 @@ scene)
   small_scene
   expect_exit 0 "$vox" info small.vdb
   golden scene; fits info small.vdb
+  # The two memory forms: a leaf of 5 voxels packed is far below its OpenVDB tree (internal nodes, 512 values a leaf).
+  expect_exit 0 "$vox" info small.vdb --json
+  jcheck out.txt "assert 0 < d['packed_leaf_bytes'] < d['memory_bytes'] / 100, (d['packed_leaf_bytes'], d['memory_bytes'])"
   # --json keeps every digit: a voxel size of 1/3 is 1/3 to the last bit, the text rounds it.
   printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >keep_tri.obj
   expect_exit 0 "$vox" voxelize keep_tri.obj --res 3 -o third.vdb
   expect_exit 0 "$vox" info third.vdb --json
   jcheck out.txt "assert d['voxel_size']==1/3 and d['kind']=='scene' and d['classes'][0]['name']=='default', d['voxel_size']"
-  jcheck out.txt "assert set(d)>={'file','kind','file_bytes','dims','voxel_size','origin','world_bounds','mip_level','occupied','surface','interior','colored','has_color','bounds','classes','memory_bytes','sources'}"
+  jcheck out.txt "assert set(d)>={'file','kind','file_bytes','dims','voxel_size','origin','world_bounds','mip_level','occupied','surface','interior','colored','has_color','bounds','classes','memory_bytes','packed_leaf_bytes','sources'}"
   expect_exit 0 "$vox" info third.vdb
   expect_stdout "voxel size    0.333333 world units"
   fits info third.vdb

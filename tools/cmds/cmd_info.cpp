@@ -1,6 +1,7 @@
 // vox info FILE: what a file holds, for people (default) or scripts (--json).
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -18,6 +19,7 @@
 #include "formats/scene/scene_meta.h"
 #include "formats/vdb/fuse_vdb.h"
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_memory.h"
 #include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
 #include "libvox/core/texel_formats.h"
@@ -143,7 +145,11 @@ void printScene(const nlohmann::json& j) {
                                count(j["free_grid"]["leaves"].get<uint64_t>()) +
                                " leaves of 8^3): vox fuse's free-space counts, read back by vox fuse -i (docs/fuse.md)");
   const int64_t fileBytes = j["file_bytes"].get<int64_t>();
-  o << line("memory", bytes(j["memory_bytes"].get<uint64_t>()) + " in OpenVDB trees" +
+  // Two figures, because commands read scenes in two forms: OpenVDB trees
+  // (fuse -i, merge, diff, build-atlas...) and the leaf readers' packed
+  // leaves (mip, pack-chunks, render-canonical, export), often 5x smaller.
+  o << line("memory", bytes(j["memory_bytes"].get<uint64_t>()) + " in OpenVDB trees, " +
+                          bytes(j["packed_leaf_bytes"].get<uint64_t>()) + " as packed leaves" +
                           (fileBytes >= 0 ? "; file " + bytes(uint64_t(fileBytes)) : ""));
   o << line("classes", std::to_string(j["classes"].size()) +
                            (j["classes"].empty() ? "" : ": voxels with a vote, voxels the class wins, votes"));
@@ -262,10 +268,18 @@ int runInfo(const InfoOptions& o) {
   }
   const vox::Scene scene = vox::readSceneVdb(o.file);
   nlohmann::json j = sceneJson(o.file, scene);
-  for (const vox::VdbGridFrame& g : frame.grids)
-    if (g.uniqueName == vox::kFreeGridName)  // a `vox fuse` output: its leaves need the whole walk
-      for (const vox::VdbGridFrame& full : vox::checkVdbStructure(o.file).grids)
-        if (full.uniqueName == vox::kFreeGridName) j["free_grid"] = {{"type", full.type}, {"leaves", full.leafCount}};
+  // The whole walk (remembered from the read above): leaf counts per grid.
+  const vox::VdbFrame full = vox::checkVdbStructure(o.file);
+  // Level 0's grids, as memory_bytes counts them: a pyramid's levels above
+  // ("mip<n>.<grid>", pyramid_vdb.h) are left out.
+  vox::VdbFrame level0 = full;
+  std::erase_if(level0.grids, [](const vox::VdbGridFrame& g) {
+    return g.uniqueName.size() > 4 && g.uniqueName.rfind("mip", 0) == 0 && std::isdigit((unsigned char)g.uniqueName[3]);
+  });
+  j["packed_leaf_bytes"] = uint64_t(vox::sceneGridBytes(level0, false, vox::SceneReadForm::PackedLeaves) + 0.5);
+  for (const vox::VdbGridFrame& g : full.grids)
+    if (g.uniqueName == vox::kFreeGridName)  // a `vox fuse` output
+      j["free_grid"] = {{"type", g.type}, {"leaves", g.leafCount}};
   const nlohmann::json pyramid = pyramidInfoJson(o.file);  // `vox mip` files: the levels above 0
   if (!pyramid.is_null()) j["pyramid"] = pyramid;
   if (o.json)
