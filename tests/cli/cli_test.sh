@@ -160,6 +160,30 @@ depfile_report)
   rm -f r.json d.d
   expect_exit 3 "$vox" voxelize missing.json -o y.vdb --depfile d.d --report r.json
   [ ! -e d.d ] && [ ! -e r.json ] && [ ! -e y.vdb ] || fail "failed run left depfile/report/output"
+  # A run never writes over a file it reads or writes twice: refused before the work (exit 2), every file as it was.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o s.vdb -q
+  cp s.vdb s.keep; ln -sf s.vdb s_link.vdb
+  expect_exit 2 "$vox" export s.vdb -o ./s.vdb --fog
+  expect_stderr "./s.vdb: this run would write it as an output and it is also an input (s.vdb)"
+  expect_exit 2 "$vox" export s_link.vdb -o s.vdb --level-set
+  expect_stderr "also an input (s_link.vdb)"
+  expect_exit 2 "$vox" mip s.vdb -o p.vdb --report s.vdb
+  expect_stderr "s.vdb: this run reads it and would also write it as its --report"
+  expect_exit 2 "$vox" mip s.vdb -o p.vdb --report p.vdb
+  expect_stderr "it is also the --report file; give --report another name"
+  expect_exit 2 "$vox" mip s.vdb -o p.vdb --report r.json --depfile ./r.json
+  expect_stderr "given as both --report and --depfile"
+  expect_exit 2 "$vox" voxelize "$data/map_small.json" -o m.vdb --depfile "$data/../cli/map_small.json"
+  expect_stderr "this run reads it and would also write it as its --depfile"
+  cmp s.vdb s.keep || fail "a refused run changed its input"
+  [ ! -e p.vdb ] && [ ! -e r.json ] && [ ! -e m.vdb ] || fail "a refused run wrote a file"
+  # Updating in place is what fuse -i S -o S and mip S -o S (level 0 is S) are for.
+  expect_exit 0 "$vox" mip s.vdb -o s.vdb -q
+  expect_exit 0 "$vox" diff s.vdb s.keep --level 0
+  # --split writes level files, which are not the scene: one may not replace it.
+  cp s.keep s.mip1.vdb
+  expect_exit 2 "$vox" mip s.mip1.vdb -o s.vdb --split -q
+  cmp s.mip1.vdb s.keep || fail "mip --split replaced its input"
   # --quiet silences the note; --progress with a non-terminal still works.
   expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o q.vdb --quiet
   [ ! -s err.txt ] || fail "--quiet printed: $(cat err.txt)"

@@ -126,6 +126,22 @@ void ProgressBar::done() {
 }
 
 namespace {
+/// True when `a` and `b` name one file: the same file when both exist (hard
+/// and symbolic links seen through), else the same normalised absolute path
+/// (its existing part's links resolved).
+bool sameFile(const std::string& a, const std::string& b) {
+  std::error_code ea, eb;
+  const bool existA = std::filesystem::exists(a, ea), existB = std::filesystem::exists(b, eb);
+  if (existA && existB) {
+    std::error_code ec;
+    return std::filesystem::equivalent(a, b, ec);
+  }
+  if (existA != existB) return false;
+  std::error_code ca, cb;
+  const std::filesystem::path pa = std::filesystem::weakly_canonical(std::filesystem::absolute(a), ca);
+  const std::filesystem::path pb = std::filesystem::weakly_canonical(std::filesystem::absolute(b), cb);
+  return !ca && !cb && pa == pb;
+}
 /// Fails before the work, with the name the user gave, when `finalPath` cannot be created.
 void checkDestination(const std::string& finalPath) {
   const std::filesystem::path p(finalPath);
@@ -161,6 +177,8 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
     if (!path->empty() && std::filesystem::is_directory(*path, ec))
       throw vox::Error(vox::ErrorKind::Io, *path + ": cannot write: it is a directory");
   }
+  if (!options.reportPath.empty() && !options.depfilePath.empty() && sameFile(options.reportPath, options.depfilePath))
+    throw vox::Error(vox::ErrorKind::Usage, options.reportPath + ": given as both --report and --depfile; give them different names");
 }
 
 Run::~Run() = default;  // uncommitted AtomicOutputs remove their temporary files
@@ -182,13 +200,44 @@ void Run::phase(const std::string& name) {
   phaseStart_ = std::chrono::steady_clock::now();
 }
 
+void Run::checkOutputPath(const std::string& finalPath) const {
+  auto clash = [&](const std::string& what, const std::string& fix) {
+    throw vox::Error(vox::ErrorKind::Usage,
+                     finalPath + ": this run would write it as an output and it is also " + what + "; " + fix);
+  };
+  for (const std::string& in : inputs_)
+    if (sameFile(finalPath, in) &&
+        std::none_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return sameFile(r, in); }))
+      clash("an input (" + in + "), which the output would replace", "write the output to another file");
+  for (const vox::AtomicOutput& o : outputs_)
+    if (sameFile(finalPath, o.finalPath())) clash("another output (" + o.finalPath() + ")", "give the outputs different names");
+  if (!options_.reportPath.empty() && sameFile(finalPath, options_.reportPath))
+    clash("the --report file", "give --report another name");
+  if (!options_.depfilePath.empty() && sameFile(finalPath, options_.depfilePath))
+    clash("the --depfile file", "give --depfile another name");
+}
+
+void Run::mayReplace(const std::string& inputPath) { replaceable_.push_back(inputPath); }
+
 void Run::input(const std::string& path) {
-  if (std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end()) inputs_.push_back(path);
+  if (std::find(inputs_.begin(), inputs_.end(), path) != inputs_.end()) return;
+  auto clash = [&](const std::string& what, const std::string& fix) {
+    throw vox::Error(vox::ErrorKind::Usage, path + ": this run reads it and would also write it as " + what +
+                                                ", replacing it; " + fix);
+  };
+  const bool replaceable =
+      std::any_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return sameFile(r, path); });
+  for (const vox::AtomicOutput& o : outputs_)
+    if (!replaceable && sameFile(path, o.finalPath())) clash("an output (" + o.finalPath() + ")", "write the output to another file");
+  if (!options_.reportPath.empty() && sameFile(path, options_.reportPath)) clash("its --report", "give --report another name");
+  if (!options_.depfilePath.empty() && sameFile(path, options_.depfilePath)) clash("its --depfile", "give --depfile another name");
+  inputs_.push_back(path);
 }
 
 
 std::string Run::output(const std::string& finalPath) {
   checkDestination(finalPath);
+  checkOutputPath(finalPath);
   outputs_.emplace_back(finalPath);
   return outputs_.back().tempPath();
 }

@@ -75,10 +75,21 @@ class Run {
 
   /// Ends the current phase (if any) and starts a new one, timed in the report.
   void phase(const std::string& name);
-  /// Records an input file for the depfile and the report.
+  /// Records an input file for the depfile and the report. Throws vox::Error
+  /// (Usage, exit 2) when it is a file this run writes (see output()).
   void input(const std::string& path);
-  /// Registers an output; returns the temporary path to write it to.
+  /// Registers an output; returns the temporary path to write it to. Throws
+  /// vox::Error (Usage, exit 2) when `finalPath` is the same file (by
+  /// identity: links and spellings such as ./a.vdb are seen through) as an
+  /// input, another output, the report or the depfile: one would silently
+  /// replace the other when the run commits. See mayReplace().
   std::string output(const std::string& finalPath);
+  /// Checks `finalPath` as output() does without registering it: commands
+  /// whose outputs are registered only when written call it before the work.
+  void checkOutputPath(const std::string& finalPath) const;
+  /// Declares that writing over this input is what the command is for (vox
+  /// fuse -i S -o S adds votes to S; vox mip S -o S keeps S as level 0).
+  void mayReplace(const std::string& inputPath);
   nlohmann::json& counts() { return report_["counts"]; }
   nlohmann::json& error() { return report_["error"]; }
   nlohmann::json& report() { return report_; }
@@ -117,6 +128,7 @@ class Run {
   vox::MemoryLimit memoryLimit_;
   nlohmann::json report_;
   std::vector<std::string> inputs_;
+  std::vector<std::string> replaceable_;  // inputs an output may replace (mayReplace)
   std::vector<vox::AtomicOutput> outputs_;
   std::chrono::steady_clock::time_point start_, phaseStart_;
   std::string phaseName_;

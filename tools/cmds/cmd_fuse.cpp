@@ -131,6 +131,7 @@ int runFuse(const FuseOptions& o) {
   if (!vox::hasExtension(o.output, ".vdb")) vox::throwUsage("-o " + o.output + ": the fused scene is written as OpenVDB; name it *.vdb");
   if (o.weight < 1 || o.weight > 65536) vox::throwUsage("--weight must be 1..65536 votes per pixel");
   Run run("fuse", o.common);
+  if (!o.input.empty()) run.mayReplace(o.input);  // -i S -o S: votes added to S (docs/fuse.md)
   const std::string outTemp = run.output(o.output);
 
   run.phase("read");

@@ -82,6 +82,7 @@ std::optional<vox::IndexBox> parseRegion(const std::string& text) {
 bool readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& region, bool withColor,
                const ExportBackend& backend, Run& run, ExportInput& in) {
   run.input(o.input);
+  run.checkOutputPath(o.output);  // before the read: exports register their files as they write them
   vox::requireRegularFile(o.input);
   if (vox::pagefile::looksLikePageFile(o.input)) {
     in.kind = "pages";

@@ -45,6 +45,9 @@ CLI::App* addMipOptions(CLI::App& root, MipOptions& opts) {
 
 std::string startMipRun(const MipOptions& o, Run& run) {
   std::string outTemp;
+  // A pyramid over its scene keeps the scene whole as its level 0 (its level
+  // files with --split do not: those may not replace it).
+  if (!o.split) run.mayReplace(o.input);
   if (!o.split) outTemp = run.output(o.output);
   run.phase("read");
   run.input(o.input);
