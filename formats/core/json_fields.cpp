@@ -1,5 +1,7 @@
 #include "formats/core/json_fields.h"
 
+#include <algorithm>
+
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -46,16 +48,25 @@ Dims jsonDims(const nlohmann::json& j, const std::string& context, const std::st
   return {extent[0], extent[1], extent[2]};
 }
 
+std::vector<std::string> jsonUnknownKeys(const nlohmann::json& object, const std::vector<std::string>& known) {
+  std::vector<std::string> out;
+  for (const auto& [key, value] : object.items())
+    if (std::find(known.begin(), known.end(), key) == known.end()) out.push_back(key);
+  return out;
+}
+
+std::string jsonKeyList(const std::vector<std::string>& keys) {
+  std::string list;
+  for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
+  return list;
+}
+
 void jsonOnlyKeys(const nlohmann::json& object, std::initializer_list<const char*> known, const std::string& context,
                   const std::string& element) {
-  for (const auto& [key, value] : object.items()) {
-    bool found = false;
-    for (const char* k : known) found = found || key == k;
-    if (found) continue;
-    std::string list;
-    for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-    throwBadInput(context + ": " + element + " has no key \"" + key + "\" (its keys: " + list + ")");
-  }
+  const std::vector<std::string> keys(known.begin(), known.end());
+  const std::vector<std::string> unknown = jsonUnknownKeys(object, keys);
+  if (!unknown.empty())
+    throwBadInput(context + ": " + element + " has no key \"" + unknown.front() + "\" (its keys: " + jsonKeyList(keys) + ")");
 }
 
 }  // namespace vox

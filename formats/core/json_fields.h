@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "libvox/core/types.h"
 
@@ -24,6 +25,11 @@ int64_t jsonInteger(const nlohmann::json& j, const std::string& context, const s
 uint64_t jsonUnsigned(const nlohmann::json& j, const std::string& context, const std::string& element);
 /// A grid's extent [X, Y, Z], each 1..2^32-1.
 Dims jsonDims(const nlohmann::json& j, const std::string& context, const std::string& element);
+/// The keys of `object` (a JSON object) that are not in `known`, in the
+/// object's order: for readers that warn about them rather than refuse.
+std::vector<std::string> jsonUnknownKeys(const nlohmann::json& object, const std::vector<std::string>& known);
+/// "A, B, C": a key list for messages.
+std::string jsonKeyList(const std::vector<std::string>& keys);
 /// Refuses a key of `object` (a JSON object) that is not in `known`:
 /// "CONTEXT: ELEMENT has no key "K" (its keys: A, B, C)". For objects where a
 /// key nothing reads would change the result silently: a misspelt "fov" of a

@@ -137,27 +137,19 @@ std::string hexColor(uint32_t c) {
 /// nothing reads.
 void noteUnreadKeys(const json& doc, const json& views, FuseViewsFile& out) {
   static const std::vector<std::string> kSettings = {"depth_kind", "depth_scale", "depth_offset", "far", "labels"};
-  static const std::vector<std::string> kFile = {"grid", "classes", "views"};
-  static const std::vector<std::string> kView = {"depth", "label", "camera", "normal", "color", "confidence"};
-  auto known = [](const std::string& key, const std::vector<std::string>& own) {
-    return std::find(own.begin(), own.end(), key) != own.end() ||
-           std::find(kSettings.begin(), kSettings.end(), key) != kSettings.end();
+  auto with = [](std::vector<std::string> own) {
+    own.insert(own.end(), kSettings.begin(), kSettings.end());
+    return own;
   };
-  auto list = [](const std::vector<std::string>& own) {
-    std::string text;
-    for (const auto* keys : {&own, &kSettings})
-      for (const std::string& k : *keys) text += (text.empty() ? "" : ", ") + k;
-    return text;
-  };
-  for (const auto& [key, value] : doc.items())
-    if (!known(key, kFile))
-      out.warnings.push_back(out.path + ": \"" + key + "\" is not a key of a views file (" + list(kFile) +
-                             "); it is ignored");
+  static const std::vector<std::string> kFile = with({"grid", "classes", "views"});
+  static const std::vector<std::string> kView = with({"depth", "label", "camera", "normal", "color", "confidence"});
+  for (const std::string& key : jsonUnknownKeys(doc, kFile))
+    out.warnings.push_back(out.path + ": \"" + key + "\" is not a key of a views file (" + jsonKeyList(kFile) +
+                           "); it is ignored");
   // Per key: the first view that gives it, and how many do.
   std::vector<std::pair<std::string, std::pair<size_t, size_t>>> unread;
   for (size_t i = 0; i < views.size(); ++i)
-    for (const auto& [key, value] : views[i].items()) {
-      if (known(key, kView)) continue;
+    for (const std::string& key : jsonUnknownKeys(views[i], kView)) {
       auto at = std::find_if(unread.begin(), unread.end(), [&](const auto& u) { return u.first == key; });
       if (at == unread.end()) unread.push_back({key, {i, 1}});
       else ++at->second.second;
@@ -166,7 +158,7 @@ void noteUnreadKeys(const json& doc, const json& views, FuseViewsFile& out) {
     const size_t more = seen.second - 1;
     const std::string others = more == 0 ? "" : " and " + std::to_string(more) + (more > 1 ? " more views" : " more view");
     out.warnings.push_back(out.path + ": views[" + std::to_string(seen.first) + "]" + others + ": \"" + key +
-                           "\" is not a key of a view (" + list(kView) + "); it is ignored");
+                           "\" is not a key of a view (" + jsonKeyList(kView) + "); it is ignored");
   }
 }
 
