@@ -407,8 +407,10 @@ std::vector<char> colourImages(const tinygltf::Model& model) {
 /// The base colour texture's KHR_texture_transform of material `mi` as the
 /// affine map uv' = (a*u + b*v + c, d*u + e*v + f) = T * R * S * uv (the
 /// extension's order: scale, then rotation counter-clockwise in UV space, then
-/// offset), or nullopt when it has none. Affine maps commute with the
-/// barycentric interpolation of UVs, so transforming each vertex's UVs is exact.
+/// offset), or nullopt when it has none. The voxelizer applies it to the
+/// interpolated UVs (MeshMaterial::uvTransform): affine maps commute with
+/// barycentric interpolation, so this is the transform of each vertex's UVs,
+/// without rounding the transformed UVs to float.
 std::optional<std::array<double, 6>> uvTransform(const tinygltf::Model& model, size_t mi, const std::string& path) {
   const ColourSource cs = colourSource(model.materials[mi]);
   if (!cs.transform || cs.texture < 0) return std::nullopt;
@@ -451,7 +453,8 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
       if (img >= 0 && size_t(img) < usesLeft.size()) ++usesLeft[size_t(img)];
     }
   }
-  for (const tinygltf::Material& src : model.materials) {
+  for (size_t mi = 0; mi < model.materials.size(); ++mi) {
+    const tinygltf::Material& src = model.materials[mi];
     MeshMaterial m;
     m.name = src.name;
     const ColourSource cs = colourSource(src);
@@ -472,6 +475,8 @@ uint32_t addMaterials(tinygltf::Model& model, const std::string& path, Mesh& mes
       // KHR_texture_transform's texCoord overrides the textureInfo's.
       if (cs.transform && cs.transform->Has("texCoord") && cs.transform->Get("texCoord").IsInt())
         m.texCoordSet = cs.transform->Get("texCoord").GetNumberAsInt();
+      // Applied where the texture is sampled, as an MTL map's placement is.
+      if (const auto t = uvTransform(model, mi, path)) m.uvTransform = *t;
     }
     mesh.materials.push_back(m);
   }
@@ -626,14 +631,6 @@ class NodeWalker {
       for (uint32_t i = 0; i < count; ++i) d.indices.push_back(i);
     const uint32_t material =
         prim.material >= 0 && size_t(prim.material) < model_.materials.size() ? uint32_t(prim.material) : defaultMaterial_;
-    if (material != defaultMaterial_)
-      if (const auto t = uvTransform(model_, material, path_)) {
-        auto& uv = mesh_.materials[material].texCoordSet == 1 ? mesh_.uv1 : mesh_.uv0;
-        for (size_t i = base; i < base + count && i < uv.size(); ++i) {
-          const double u = uv[i][0], v = uv[i][1];
-          uv[i] = {float((*t)[0] * u + (*t)[1] * v + (*t)[2]), float((*t)[3] * u + (*t)[4] * v + (*t)[5])};
-        }
-      }
     appendTriangles(mode, d.indices, base, material, part, mirrors(world));
   }
 

@@ -8,7 +8,7 @@
 //   not; other modes are skipped with a warning.
 // * Materials: baseColorFactor, baseColorTexture (its image decoded to RGBA8,
 //   its sampler's wrap modes and mag filter, its texCoord set, its
-//   KHR_texture_transform applied to the UVs), or KHR_materials_pbrSpecularGlossiness's
+//   KHR_texture_transform as MeshMaterial::uvTransform), or KHR_materials_pbrSpecularGlossiness's
 //   diffuseFactor and diffuseTexture; COLOR_0 (vec3/vec4, float or normalized)
 //   multiplies in. Only those images are decoded, once each, in parallel
 //   (formats/mesh/gltf_images.h), or during the caller's bake with a

@@ -33,8 +33,9 @@ struct MeshMaterial {
   /// Where the texture is sampled, from the interpolated texture coordinates
   /// (s, t) (glTF conventions: t = 0 at the top row):
   /// s' = T[0] s + T[1] t + T[2], t' = T[3] s + T[4] t + T[5]. The identity
-  /// unless a format places a texture by material (an MTL map's -o and -s);
-  /// glTF's KHR_texture_transform is applied to the UVs when they are read.
+  /// unless a format places a texture by material: glTF's
+  /// KHR_texture_transform, an MTL map's -o and -s. The UVs stay as read (an
+  /// OBJ vertex may be shared by faces of materials placed differently).
   std::array<double, 6> uvTransform{1, 0, 0, 0, 1, 0};
   bool placesTexture() const { return uvTransform != std::array<double, 6>{1, 0, 0, 0, 1, 0}; }
 };
