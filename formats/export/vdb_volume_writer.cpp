@@ -3,11 +3,52 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/TopologyToLevelSet.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "formats/core/file_util.h"
+#include "formats/vdb/vdb_memory.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/scene_grids.h"
 
 namespace vox {
+
+namespace {
+// Level sets: bytes per float leaf of the dilated set (measured, docs/reliability.md).
+constexpr double kLevelSetBytesPerFloatLeaf = 1.85;
+}  // namespace
+
+uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth) {
+  // Leaf keys, 21 bits per axis biased so the dilation never goes negative.
+  constexpr int64_t kBias = int64_t(1) << 20;
+  auto key = [](int64_t a, int64_t b, int64_t c) { return uint64_t(a) << 42 | uint64_t(b) << 21 | uint64_t(c); };
+  std::vector<uint64_t> leaves;
+  leaves.reserve(volume.bricks().size());
+  for (const ClassVolume::Brick& b : volume.bricks())
+    leaves.push_back(key((b.origin.u >> 3) + kBias, (b.origin.v >> 3) + kBias, (b.origin.w >> 3) + kBias));
+  std::sort(leaves.begin(), leaves.end());
+  leaves.erase(std::unique(leaves.begin(), leaves.end()), leaves.end());
+  if (kind == VdbVolumeKind::Fog) return leaves.size();
+  // The cube of radius r leaves is the product of three intervals: dilate one
+  // axis at a time (each pass sorted and deduplicated), far cheaper than
+  // (2r + 1)^3 offsets per leaf.
+  const int64_t r = (std::max(halfWidth, 1) + 7) / 8;
+  for (int shift : {42, 21, 0}) {
+    std::vector<uint64_t> next;
+    next.reserve(leaves.size() * size_t(2 * r + 1));
+    for (uint64_t k : leaves)
+      for (int64_t d = -r; d <= r; ++d) next.push_back(uint64_t(int64_t(k) + d * (int64_t(1) << shift)));
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    leaves.swap(next);
+  }
+  return leaves.size();
+}
+
+double vdbVolumeWorkBytes(uint64_t leafCount, VdbVolumeKind kind) {
+  const double floatLeaf = double(vdbLeafBytes("Tree_float_5_4_3"));
+  return double(leafCount) * (kind == VdbVolumeKind::Fog ? floatLeaf : kLevelSetBytesPerFloatLeaf * floatLeaf);
+}
 
 VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame, VdbVolumeKind kind,
                                int halfWidth, const std::string& path) {

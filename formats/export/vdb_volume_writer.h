@@ -27,6 +27,19 @@ struct VdbVolumeResult {
   uint64_t bytes = 0;
 };
 
+/// Leaves of 8^3 the float grid of writeVdbVolume spans: one per brick of
+/// `volume` for a fog volume; for a level set also the leaves within
+/// ceil(halfWidth / 8) leaves of one on every axis (a superset of OpenVDB's
+/// face-neighbour dilation by `halfWidth` voxels, which the band reaches
+/// before the interior is taken out).
+uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth);
+
+/// Peak working memory of writeVdbVolume (bytes, beyond `volume` itself) for
+/// that many leaves: per leaf a float leaf, and for a level set OpenVDB's
+/// mask copies and the second buffer its distance normalisation keeps
+/// (calibrated in docs/reliability.md).
+double vdbVolumeWorkBytes(uint64_t leafCount, VdbVolumeKind kind);
+
 /// Writes the volume to `path`. `halfWidth` (voxels, >= 1) is used for level sets.
 /// Throws vox::Error (Io) when writing fails.
 VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame, VdbVolumeKind kind,

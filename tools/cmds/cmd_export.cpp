@@ -51,10 +51,18 @@ bool readVdbScene(const ExportOptions& o, const std::optional<vox::IndexBox>& re
 
 /// A fog volume or a level set of the occupancy, for renderers.
 void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
+  const vox::VdbVolumeKind kind = o.fog ? vox::VdbVolumeKind::Fog : vox::VdbVolumeKind::LevelSet;
+  // The float grid spans the leaves the band reaches, which grow with
+  // --half-width: checked on them, before OpenVDB builds it.
+  const uint64_t leaves = vox::vdbVolumeLeafCount(*in.volume, kind, o.halfWidth);
+  vox::MemoryEstimate e;
+  e.add("resident now", vox::residentBytesNow());
+  e.add(o.fog ? "the fog volume" : "the level set and its working copies", vox::vdbVolumeWorkBytes(leaves, kind));
+  run.checkMemory(e, std::string(o.fog ? "a fog volume" : "a level set (--half-width " + std::to_string(o.halfWidth) + ")") +
+                         " of " + o.input + " over " + std::to_string(leaves) + " leaves of 8^3");
   run.phase("write");
   const vox::VdbVolumeResult r =
-      vox::writeVdbVolume(*in.volume, in.frame, o.fog ? vox::VdbVolumeKind::Fog : vox::VdbVolumeKind::LevelSet,
-                          o.halfWidth, run.output(o.output));
+      vox::writeVdbVolume(*in.volume, in.frame, kind, o.halfWidth, run.output(o.output));
   nlohmann::json& c = run.counts();
   c["grid"] = o.fog ? "density" : "surface";
   c["active_voxels"] = r.activeVoxels;

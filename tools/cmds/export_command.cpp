@@ -311,11 +311,10 @@ std::optional<int> runExport(const ExportOptions& o, const ExportBackend& backen
   run.phase("read");
   ExportInput in;
   if (!readInput(o, region, o.color == vox::FaceColor::Voxel, backend, run, in)) return std::nullopt;
-  // glTF meshes are checked on their exact face count (exportGltf); PLY and
-  // MagicaVoxel files are written as the volume is walked; a level set's
-  // narrow band spans more leaves than the voxels' (measured: up to 2x the
-  // grids read, docs/reliability.md).
-  if (!isGltf(format)) run.checkWorkMemory("exporting " + o.input, format == ExportFormat::Vdb && o.levelSet ? 2.5 : 1.0);
+  // glTF meshes are checked on their exact face count (exportGltf) and .vdb
+  // volumes on the leaves their float grid spans (exportVdbVolume); PLY and
+  // MagicaVoxel files are written as the volume is walked.
+  if (!isGltf(format) && format != ExportFormat::Vdb) run.checkWorkMemory("exporting " + o.input, 1.0);
   nlohmann::json& c = run.counts();
   c["input_kind"] = in.kind;
   c["level"] = o.level;
