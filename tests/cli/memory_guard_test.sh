@@ -178,6 +178,14 @@ estimates)
     python3 -c "import json, sys; sys.exit(0 if json.load(open('cul$hw.json'))['memory']['estimate_bytes'] >= $peak else 1)" ||
       fail "level set --half-width $hw: estimate under the measured peak"
   done
+  # Over the limit: refused, with the widest band that fits, which then runs within it.
+  refused "export cube --level-set --half-width 40 under 200M" "$vox" export cu.vdb -o cur.vdb --level-set --half-width 40 --max-memory 200M
+  expect_stderr "--half-width "
+  [ ! -e cur.vdb ] || fail "a refused level-set export wrote its file"
+  hw=$(grep -o -- '--half-width [0-9]*' err.txt | tail -1 | cut -d' ' -f2)
+  measured "$vox" export cu.vdb -o cur.vdb --level-set --half-width "${hw:-1}" --max-memory 200M
+  [ "$code" = 0 ] || fail "export --half-width $hw under 200M: exit $code ($(head -c 300 err.txt))"
+  [ "$peak" -le $((200 * 1024 * 1024)) ] || fail "export --half-width $hw peaked at $peak bytes, over the 200M limit"
   measured "$vox" export h.vdb -o hf.vdb --fog --report hf.json
   within2x "export hamlet 256 --fog" hf.json
   if [ -d "$data/common-3d-test-models" ]; then

@@ -55,11 +55,19 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
   // The float grid spans the leaves the band reaches, which grow with
   // --half-width: checked on them, before OpenVDB builds it.
   const uint64_t leaves = vox::vdbVolumeLeafCount(*in.volume, kind, o.halfWidth);
+  const double resident = double(vox::residentBytesNow());
   vox::MemoryEstimate e;
-  e.add("resident now", vox::residentBytesNow());
+  e.add("resident now", resident);
   e.add(o.fog ? "the fog volume" : "the level set and its working copies", vox::vdbVolumeWorkBytes(leaves, kind));
-  run.checkMemory(e, std::string(o.fog ? "a fog volume" : "a level set (--half-width " + std::to_string(o.halfWidth) + ")") +
-                         " of " + o.input + " over " + std::to_string(leaves) + " leaves of 8^3");
+  std::string suggestion;  // a narrower band that fits, when the level set does not
+  if (!o.fog && e.bytes() > run.memoryLimit().bytes && run.memoryLimit().bytes > 0 && o.halfWidth > 1)
+    suggestion = suggestSetting("--half-width", 1, uint64_t(o.halfWidth - 1), run.memoryLimit(), [&](uint64_t hw) {
+      return uint64_t(resident + vox::vdbVolumeWorkBytes(vox::vdbVolumeLeafCount(*in.volume, kind, int(hw)), kind));
+    });
+  run.checkMemory(e,
+                  std::string(o.fog ? "a fog volume" : "a level set (--half-width " + std::to_string(o.halfWidth) + ")") +
+                      " of " + o.input + " over " + std::to_string(leaves) + " leaves of 8^3",
+                  suggestion);
   run.phase("write");
   const vox::VdbVolumeResult r =
       vox::writeVdbVolume(*in.volume, in.frame, kind, o.halfWidth, run.output(o.output));
