@@ -8,10 +8,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include "formats/core/file_util.h"
 #include "formats/export/gltf_writer.h"
 #include "formats/export/magicavoxel_writer.h"
+#include "formats/export/vdb_volume_writer.h"
+#include "formats/vdb/vdb_structure.h"
 #include "formats/export/ply_writer.h"
 #include "libvox/core/color_quantize.h"
 #include "libvox/core/block_mesh.h"
@@ -370,3 +373,70 @@ TEST(PlyWriter, HeaderAndRecords) {
 }
 
 }  // namespace
+
+namespace {
+/// A volume of `n` voxels: a sphere shell of radius `radius` voxels (one voxel
+/// thick), or single voxels `spacing` apart on a line when `radius` is 0.
+vox::ClassVolume shellOrDots(int radius, int n, int spacing) {
+  const int side = radius > 0 ? 2 * radius + 2 : n * spacing + 1;
+  vox::ClassVolume vol({{0, 0, 0}, {side, side, side}}, false);
+  std::map<std::array<int, 3>, vox::ClassVolume::Brick> bricks;
+  auto set = [&](int x, int y, int z) {
+    const std::array<int, 3> o{x & ~7, y & ~7, z & ~7};
+    auto it = bricks.find(o);
+    if (it == bricks.end()) it = bricks.emplace(o, vol.makeBrick({o[0], o[1], o[2]})).first;
+    it->second.classes[size_t(vox::ClassVolume::voxelIndex(x & 7, y & 7, z & 7))] = 1;
+  };
+  if (radius > 0) {
+    for (int x = 0; x <= side; ++x)
+      for (int y = 0; y <= side; ++y)
+        for (int z = 0; z <= side; ++z) {
+          const double d = std::sqrt(double((x - radius) * (x - radius) + (y - radius) * (y - radius) +
+                                            (z - radius) * (z - radius)));
+          if (std::abs(d - radius + 0.5) < 0.5) set(x, y, z);
+        }
+  } else {
+    for (int i = 0; i < n; ++i) set(i * spacing, 0, 0);
+  }
+  for (auto& [o, b] : bricks) vol.add(std::move(b));
+  vol.finish();
+  return vol;
+}
+}  // namespace
+
+// The memory check of a .vdb export counts the leaves OpenVDB's float grid
+// spans before building it: never fewer than the level set it writes holds.
+TEST(VdbVolumeWriter, LeafCountCoversTheBandOpenVdbWrites) {
+  voxtest::TempDir dir;
+  for (const int radius : {6, 20})
+    for (const int halfWidth : {1, 3, 8, 9, 20}) {
+      const vox::ClassVolume vol = shellOrDots(radius, 0, 0);
+      const uint64_t counted = vox::vdbVolumeLeafCount(vol, vox::VdbVolumeKind::LevelSet, halfWidth);
+      const std::string path = dir.file("l.vdb");
+      vox::writeVdbVolume(vol, {{0, 0, 0}, 1.0}, vox::VdbVolumeKind::LevelSet, halfWidth, path);
+      const vox::VdbFrame frame = vox::checkVdbStructure(path);
+      ASSERT_EQ(frame.grids.size(), 1u);
+      EXPECT_GE(counted, frame.grids[0].leafCount) << "radius " << radius << ", half width " << halfWidth;
+    }
+  // A fog volume: one float leaf per occupied leaf.
+  const vox::ClassVolume shell = shellOrDots(20, 0, 0);
+  EXPECT_EQ(vox::vdbVolumeLeafCount(shell, vox::VdbVolumeKind::Fog, 3), shell.bricks().size());
+}
+
+TEST(VdbVolumeWriter, LeafCountOfScatteredLeavesAndItsBound) {
+  // Leaves far apart dilate independently: (2r + 1)^3 each, r = ceil(hw / 8).
+  const vox::ClassVolume dots = shellOrDots(0, 10, 200);
+  ASSERT_EQ(dots.bricks().size(), 10u);
+  EXPECT_EQ(vox::vdbVolumeLeafCount(dots, vox::VdbVolumeKind::LevelSet, 3), 10u * 27);
+  EXPECT_EQ(vox::vdbVolumeLeafCount(dots, vox::VdbVolumeKind::LevelSet, 64), 10u * 17 * 17 * 17);
+  // Past maxKeys keys the count is bounded, never under the exact one: here
+  // the bound is exact for isolated leaves, and the dilated box caps leaves
+  // packed closer than the band.
+  EXPECT_EQ(vox::vdbVolumeLeafCount(dots, vox::VdbVolumeKind::LevelSet, 64, 100), 10u * 17 * 17 * 17);
+  const vox::ClassVolume packed = shellOrDots(0, 10, 8);  // ten adjacent leaves in a row
+  const uint64_t exact = vox::vdbVolumeLeafCount(packed, vox::VdbVolumeKind::LevelSet, 64);
+  EXPECT_EQ(exact, uint64_t(10 + 16) * 17 * 17);
+  const uint64_t bounded = vox::vdbVolumeLeafCount(packed, vox::VdbVolumeKind::LevelSet, 64, 100);
+  EXPECT_GE(bounded, exact);
+  EXPECT_EQ(bounded, uint64_t(10 + 16) * 17 * 17);  // the box: (10 + 2r) x (1 + 2r) x (1 + 2r)
+}

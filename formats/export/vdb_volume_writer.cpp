@@ -4,6 +4,7 @@
 #include <openvdb/tools/TopologyToLevelSet.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "formats/core/file_util.h"
@@ -18,7 +19,7 @@ namespace {
 constexpr double kLevelSetBytesPerFloatLeaf = 1.85;
 }  // namespace
 
-uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth) {
+uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth, size_t maxKeys) {
   // Leaf keys, 21 bits per axis biased so the dilation never goes negative.
   constexpr int64_t kBias = int64_t(1) << 20;
   auto key = [](int64_t a, int64_t b, int64_t c) { return uint64_t(a) << 42 | uint64_t(b) << 21 | uint64_t(c); };
@@ -33,7 +34,25 @@ uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int h
   // axis at a time (each pass sorted and deduplicated), far cheaper than
   // (2r + 1)^3 offsets per leaf.
   const int64_t r = (std::max(halfWidth, 1) + 7) / 8;
+  // Scattered leaves multiply by up to (2r + 1)^3: past maxKeys keys the
+  // passes left are bounded instead of enumerated, so counting never costs
+  // more than about 16 bytes a key.
+  int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+  for (uint64_t k : leaves)
+    for (int a = 0; a < 3; ++a) {
+      const int64_t c = int64_t(k >> (42 - 21 * a)) & ((int64_t(1) << 21) - 1);
+      lo[a] = std::min(lo[a], c);
+      hi[a] = std::max(hi[a], c);
+    }
+  int passesLeft = 3;
   for (int shift : {42, 21, 0}) {
+    if (leaves.size() * size_t(2 * r + 1) > maxKeys) {
+      double bound = double(leaves.size()), box = 1;
+      for (int i = 0; i < passesLeft; ++i) bound *= double(2 * r + 1);
+      for (int a = 0; a < 3; ++a) box *= double(hi[a] - lo[a] + 1 + 2 * r);
+      return uint64_t(std::min(bound, box));
+    }
+    --passesLeft;
     std::vector<uint64_t> next;
     next.reserve(leaves.size() * size_t(2 * r + 1));
     for (uint64_t k : leaves)

@@ -31,8 +31,12 @@ struct VdbVolumeResult {
 /// `volume` for a fog volume; for a level set also the leaves within
 /// ceil(halfWidth / 8) leaves of one on every axis (a superset of OpenVDB's
 /// face-neighbour dilation by `halfWidth` voxels, which the band reaches
-/// before the interior is taken out).
-uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth);
+/// before the interior is taken out). The dilation is enumerated up to
+/// `maxKeys` leaf keys (8 bytes each, twice); past that (a band of some 100 GB)
+/// the count is an upper bound: x (2r + 1) per axis left, capped by the
+/// dilated bounding box of the leaves.
+uint64_t vdbVolumeLeafCount(const ClassVolume& volume, VdbVolumeKind kind, int halfWidth,
+                            size_t maxKeys = size_t(1) << 25);
 
 /// Peak working memory of writeVdbVolume (bytes, beyond `volume` itself) for
 /// that many leaves: per leaf a float leaf, and for a level set OpenVDB's
