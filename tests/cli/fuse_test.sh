@@ -132,6 +132,10 @@ refine)
   expect_exit 0 "$vox" fuse a.json -o a.vdb --quiet
   expect_exit 0 "$vox" fuse b.json -i a.vdb -o ab.vdb --report r.json --quiet
   expect_exit 0 "$vox" diff all.vdb ab.vdb
+  # In place (-i S -o S), the documented way to refine a scene: the same scene.
+  cp a.vdb inplace.vdb
+  expect_exit 0 "$vox" fuse b.json -i inplace.vdb -o ./inplace.vdb --quiet
+  expect_exit 0 "$vox" diff all.vdb inplace.vdb
   jcheck r.json "t=d['counts']['totals']; assert t['occupied_before'] > 0 and t['occupied_after'] >= t['occupied_before']"
   # The free grid is read back: a voxel's free counts add up across runs (vdb_print shows the grid).
   if command -v vdb_print >/dev/null; then
