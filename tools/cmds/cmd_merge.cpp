@@ -98,8 +98,8 @@ int runMerge(const MergeOptions& o) {
   run.counts()["classes_present"] = s.classesPresent.size();
   run.counts()["file_bytes"] = s.fileBytes;
   run.counts()["world_key"] = r.worldKey;
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) +
-           " occupied voxels from " + std::to_string(o.parts.size()) + " parts");
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+           " from " + counted(o.parts.size(), "part", "parts"));
   return run.finish();
 }
 

@@ -180,8 +180,8 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
                               {"box", b.empty() ? nlohmann::json(nullptr)
                                                 : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
   }
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
-           std::to_string(s.classesPresent.size()) + " classes");
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+           ", " + counted(s.classesPresent.size(), "class", "classes"));
   return run.finish();
 }
 
@@ -285,8 +285,8 @@ int runVoxelize(const VoxelizeOptions& o) {
                               {"box", b.empty() ? nlohmann::json(nullptr)
                                                 : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
   }
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + std::to_string(s.occupied) + " occupied voxels, " +
-           std::to_string(s.classesPresent.size()) + " classes");
+  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+           ", " + counted(s.classesPresent.size(), "class", "classes"));
   return run.finish();
 }
 
