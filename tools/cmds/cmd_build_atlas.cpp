@@ -435,7 +435,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const size_t files = outs.size() * (o.preview ? 2 : 1) + 1;
   run.counts() = {{"occupied_voxels", stats.occupied}, {"files", files}, {"layers", L.layers},
                   {"atlas", {L.width, L.height}}, {"previews", o.preview ? outs.size() : 0}};
-  run.note("wrote " + std::to_string(files) + " files to " + o.outDir + " (" + std::to_string(L.width) + " x " +
+  run.note("wrote " + counted(files, "file", "files") + " to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
   outDir.keep();
   return run.finish();

@@ -78,7 +78,7 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
   if (o.levelSet) c["half_width"] = o.halfWidth;
   c["bytes"] = r.bytes;
   run.note("wrote " + o.output + ": " + (o.fog ? "fog volume" : "level set") + ", " +
-           std::to_string(r.activeVoxels) + " active voxels");
+           counted(r.activeVoxels, "active voxel", "active voxels"));
 }
 
 }  // namespace

@@ -185,7 +185,7 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   if (mesh.uncoloredFaces)
     run.note("warning: " + std::to_string(mesh.uncoloredFaces) +
              " faces belong to voxels without a baked colour; they have their class's palette colour");
-  std::string what = std::to_string(mesh.unitFaces) + " faces, " + std::to_string(written.triangles) + " triangles";
+  std::string what = counted(mesh.unitFaces, "face", "faces") + ", " + counted(written.triangles, "triangle", "triangles");
   if (o.greedy)
     what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
             std::to_string(c["greedy_triangle_ratio"].get<double>()).substr(0, 5) + ")";
@@ -207,7 +207,7 @@ void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
   run.counts()["points"] = r.points;
   run.counts()["bytes"] = r.bytes;
   if (o.color == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
-  run.note("wrote " + o.output + ": " + std::to_string(r.points) + " points, " + std::to_string(r.bytes) + " bytes");
+  run.note("wrote " + o.output + ": " + counted(r.points, "point", "points") + ", " + std::to_string(r.bytes) + " bytes");
 }
 
 /// MagicaVoxel models; the palette is the class table (index = class id) or
@@ -264,8 +264,8 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
   c["points"] = r.voxels;
   c["size"] = r.size;
   c["bytes"] = r.bytes;
-  run.note("wrote " + o.output + ": " + std::to_string(r.voxels) + " voxels in " + std::to_string(r.models) +
-           " models, " + std::to_string(r.bytes) + " bytes");
+  run.note("wrote " + o.output + ": " + counted(r.voxels, "voxel", "voxels") + " in " + counted(r.models, "model", "models") +
+           ", " + std::to_string(r.bytes) + " bytes");
 }
 
 }  // namespace
