@@ -187,3 +187,9 @@ TEST(ClassTableJson, HandWrittenFormFillsDefaultsAndTakesHex) {
       ErrorKind::BadInput, {"r[4]", "or none"}))
       << "the partial-palette rule is the same in both forms";
 }
+
+TEST(SceneMeta, PyramidLevelPrefixIsMipDigitsDot) {
+  for (size_t level : {1u, 2u, 12u}) EXPECT_TRUE(vox::hasPyramidLevelPrefix(vox::pyramidGridPrefix(level) + "occupancy"));
+  for (const char* name : {"occupancy", "votes.3", "color", "free", "mip", "mip.occupancy", "mipmap.x", "mip3", "xmip1.a"})
+    EXPECT_FALSE(vox::hasPyramidLevelPrefix(name)) << name;
+}

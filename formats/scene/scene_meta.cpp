@@ -190,6 +190,13 @@ MetaEntries pyramidLevelGridMetadata(int mipLevel) { return {{"vox:mip_level", i
 
 std::string pyramidGridPrefix(size_t level) { return level == 0 ? "" : "mip" + std::to_string(level) + "."; }
 
+bool hasPyramidLevelPrefix(const std::string& gridName) {
+  if (gridName.rfind("mip", 0) != 0) return false;
+  size_t i = 3;
+  while (i < gridName.size() && gridName[i] >= '0' && gridName[i] <= '9') ++i;
+  return i > 3 && i < gridName.size() && gridName[i] == '.';
+}
+
 std::string pyramidMetadata(const std::string& occupancy, const std::vector<PyramidLevelEntry>& levels) {
   nlohmann::json table = nlohmann::json::array();
   for (const PyramidLevelEntry& l : levels)

@@ -95,6 +95,9 @@ inline constexpr const char* kPyramidKey = "vox:pyramid";
 /// prefix, not a suffix, so that the scene reader, which refuses any
 /// "votes.*" grid it cannot parse, skips them).
 std::string pyramidGridPrefix(size_t level);
+/// True for a grid name with a level prefix of n >= 1 ("mip<n>.", digits then
+/// a dot): a pyramid's grid above level 0.
+bool hasPyramidLevelPrefix(const std::string& gridName);
 /// One entry of `vox:pyramid`'s level list.
 struct PyramidLevelEntry {
   int level = 0;

@@ -1,7 +1,6 @@
 // vox info FILE: what a file holds, for people (default) or scripts (--json).
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -270,12 +269,9 @@ int runInfo(const InfoOptions& o) {
   nlohmann::json j = sceneJson(o.file, scene);
   // The whole walk (remembered from the read above): leaf counts per grid.
   const vox::VdbFrame full = vox::checkVdbStructure(o.file);
-  // Level 0's grids, as memory_bytes counts them: a pyramid's levels above
-  // ("mip<n>.<grid>", pyramid_vdb.h) are left out.
+  // Level 0's grids, as memory_bytes counts them: a pyramid's levels above are left out.
   vox::VdbFrame level0 = full;
-  std::erase_if(level0.grids, [](const vox::VdbGridFrame& g) {
-    return g.uniqueName.size() > 4 && g.uniqueName.rfind("mip", 0) == 0 && std::isdigit((unsigned char)g.uniqueName[3]);
-  });
+  std::erase_if(level0.grids, [](const vox::VdbGridFrame& g) { return vox::hasPyramidLevelPrefix(g.uniqueName); });
   j["packed_leaf_bytes"] = uint64_t(vox::sceneGridBytes(level0, false, vox::SceneReadForm::PackedLeaves) + 0.5);
   for (const vox::VdbGridFrame& g : full.grids)
     if (g.uniqueName == vox::kFreeGridName)  // a `vox fuse` output
