@@ -66,7 +66,7 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
     });
   run.checkMemory(e,
                   std::string(o.fog ? "a fog volume" : "a level set (--half-width " + std::to_string(o.halfWidth) + ")") +
-                      " of " + o.input + " over " + std::to_string(leaves) + " leaves of 8^3",
+                      " of " + o.input + " over " + counted(leaves, "leaf", "leaves") + " of 8^3",
                   suggestion);
   run.phase("write");
   const vox::VdbVolumeResult r =

@@ -236,7 +236,7 @@ int runFuse(const FuseOptions& o) {
       }
     }
     run.checkMemory(estimate,
-                    "fusing " + std::to_string(mi.views) + " views of " + std::to_string(first->view.camera.width) + "x" +
+                    "fusing " + counted(mi.views, "view", "views") + " of " + std::to_string(first->view.camera.width) + "x" +
                         std::to_string(first->view.camera.height) + " into a " + vox::toString(header.dims) + " grid",
                     suggestion);
   }

@@ -45,8 +45,8 @@ int runVerify(const PackOptions& o) {
   run.counts()["verified"] = true;
   run.counts()["chunks"] = r.entries().size();
   run.counts()["voxels"] = voxels;
-  run.note(o.verify + ": ok, " + std::to_string(r.entries().size()) + " chunks, " + std::to_string(voxels) +
-           " voxels, every CRC32C and bound checked");
+  run.note(o.verify + ": ok, " + counted(r.entries().size(), "chunk", "chunks") + ", " + counted(voxels, "voxel", "voxels") +
+           ", every CRC32C and bound checked");
   return run.finish();
 }
 
@@ -144,8 +144,8 @@ int runMerge(const PackOptions& o) {
                     {"copy", st.copySeconds},
                     {"total", total}}},
                   {"merge_mb_per_s", total > 0 ? double(res.fileBytes) / 1e6 / total : 0.0}};
-  run.note("merged " + std::to_string(o.merge.size()) + " parts into " + o.output + ": " +
-           std::to_string(res.levels.size()) + (res.levels.size() == 1 ? " level, " : " levels, ") + std::to_string(chunks) + " chunks (" +
+  run.note("merged " + counted(o.merge.size(), "part", "parts") + " into " + o.output + ": " +
+           counted(res.levels.size(), "level", "levels") + ", " + counted(chunks, "chunk", "chunks") + " (" +
            std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded, " +
            std::to_string(st.rebuiltChunks) + " rebuilt from the seam level), " +
            std::to_string(res.fileBytes) + " bytes");

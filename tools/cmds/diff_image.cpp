@@ -291,7 +291,7 @@ int diffRenderReference(const DiffOptions& o, Run& run) {
       pick = size_t(wanted);
     if (!pick)
       throw vox::Error(vox::ErrorKind::BadInput, o.b + ": no view with index " + std::to_string(wanted) + " (" +
-                                                     std::to_string(views.size()) + " views)");
+                                                     counted(views.size(), "view", "views") + ")");
   } else {
     std::vector<size_t> withImage;
     for (size_t i = 0; i < views.size(); ++i)

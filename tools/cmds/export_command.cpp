@@ -183,8 +183,8 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   }
   if (ms.color == vox::FaceColor::Voxel) c["faces_without_voxel_colour"] = mesh.uncoloredFaces;
   if (mesh.uncoloredFaces)
-    run.note("warning: " + std::to_string(mesh.uncoloredFaces) +
-             " faces belong to voxels without a baked colour; they have their class's palette colour");
+    run.note("warning: " + counted(mesh.uncoloredFaces, "face", "faces") + " of voxels without a baked colour " +
+             (mesh.uncoloredFaces == 1 ? "takes" : "take") + " its class's palette colour");
   std::string what = counted(mesh.unitFaces, "face", "faces") + ", " + counted(written.triangles, "triangle", "triangles");
   if (o.greedy)
     what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
@@ -195,8 +195,8 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
 void noteUncolored(uint64_t voxels, Run& run) {
   run.counts()["voxels_without_colour"] = voxels;
   if (voxels)
-    run.note("warning: " + std::to_string(voxels) +
-             " voxels have no baked colour; they have their class's display colour");
+    run.note("warning: " + counted(voxels, "voxel has", "voxels have") + " no baked colour; " +
+             (voxels == 1 ? "it has its" : "they have their") + " class's display colour");
 }
 
 /// Voxel centres with colour and class, binary PLY.
@@ -233,11 +233,11 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
     c["palette"] = "classes";
   } else {
     vox::ColorHistogram histogram;
-    vox::VoxelColors counted(in.classes, vox::FaceColor::Voxel);
+    vox::VoxelColors voxelColors(in.classes, vox::FaceColor::Voxel);
     for (const vox::ClassVolume::Brick& b : in.volume->bricks())
       for (int i = 0; i < vox::ClassVolume::kBrickVoxels; ++i)
-        if (b.classes[size_t(i)]) ++histogram[vox::packRgb(counted(b, i))];
-    noteUncolored(counted.uncolored(), run);
+        if (b.classes[size_t(i)]) ++histogram[vox::packRgb(voxelColors(b, i))];
+    noteUncolored(voxelColors.uncolored(), run);
     if (histogram.size() > palette.size() && !o.quantize)
       vox::throwBadInput(o.input + ": the voxels have " + std::to_string(histogram.size()) +
                          " distinct colours and a .vox palette holds 255; quantise them (--quantize) or export "
@@ -254,7 +254,7 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
                                    {"mean_srgb8_distance", q.meanError},
                                    {"max_srgb8_distance", q.maxError}};
     if (!q.exact)
-      run.note("quantised " + std::to_string(histogram.size()) + " colours to " + std::to_string(q.colors.size()) +
+      run.note("quantised " + counted(histogram.size(), "colour", "colours") + " to " + std::to_string(q.colors.size()) +
                ": mean error " + std::to_string(q.meanError) + ", max " + std::to_string(q.maxError) +
                " (8-bit sRGB units)");
   }

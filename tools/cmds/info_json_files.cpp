@@ -123,9 +123,9 @@ std::string brief(const nlohmann::json& v) {
       for (const auto& e : v) s += (s.empty() ? "" : ", ") + e.get<std::string>();
       return s.empty() ? "-" : s;
     }
-    return std::to_string(v.size()) + " entries";
+    return counted(v.size(), "entry", "entries");
   }
-  return std::to_string(v.size()) + " keys";
+  return counted(v.size(), "key", "keys");
 }
 
 // True when every line of `text` fits kWidth display columns.

@@ -139,7 +139,7 @@ std::string pyramidInfoText(const nlohmann::json& p) {
   using namespace infotext;
   std::ostringstream o;
   const auto& levels = p.value("levels", nlohmann::json::array());
-  o << line("pyramid", std::to_string(levels.size()) + " levels above level 0 (occupancy " +
+  o << line("pyramid", counted(levels.size(), "level", "levels") + " above level 0 (occupancy " +
                            p.value("occupancy", std::string("?")) + "; grids mipN.*)");
   Table t({{"level", true}, {"dims", false}, {"voxel size", true}, {"occupied", true}});
   for (const auto& l : levels)
