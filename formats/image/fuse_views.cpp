@@ -222,9 +222,20 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   view.depth.resize(N);
   const bool exr = isExrFile(spec.depthPath);
   if (exr) {
-    if (depth.channels != 1 || !(depth.type == SampleType::F32 || depth.type == SampleType::F16))
-      bad(where, depthName + ": a depth EXR has one float (or half) channel; this one has " +
-                     std::to_string(depth.channels) + " channel(s) of " + sampleTypeName(depth.type));
+    if (depth.channels != 1 || !depth.channelsNotRead.empty() ||
+        !(depth.type == SampleType::F32 || depth.type == SampleType::F16)) {
+      const size_t n = depth.channels + depth.channelsNotRead.size();
+      std::string has = n == 1 ? "one channel" : std::to_string(n) + " channels (";
+      if (n > 1) {
+        static const char* const kRgba[4] = {"R", "G", "B", "A"};
+        for (uint32_t c = 0; c < depth.channels && c < 4; ++c) has += std::string(c ? ", " : "") + kRgba[c];
+        for (const std::string& c : depth.channelsNotRead) has += ", " + c;
+        has += ")";
+      }
+      bad(where, depthName + ": a depth EXR has one float channel (any name: R, Z, Y...); this one has " + has +
+                     " of " + sampleTypeName(depth.type) +
+                     "; keep the depth alone, e.g. oiiotool IN.exr --ch Z -o depth.exr");
+    }
     if (depth.type == SampleType::F32) {
       for (uint32_t y = 0; y < depth.height; ++y) {
         const float* row = depth.row<float>(y);

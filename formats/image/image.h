@@ -30,6 +30,11 @@ struct Image {
   SampleType type = SampleType::U8;
   std::vector<uint8_t> pixels;  // width * height * channels * sampleBytes(type)
   std::vector<std::pair<std::string, std::string>> text;
+  /// EXR only: the file's channels that were not read, by name. readExr reads
+  /// R, G, B, A (as many as are there in that order), or a file's only channel
+  /// whatever its name (Z, Y, depth...); anything else is listed here, so a
+  /// caller that needs one channel can refuse a file with more.
+  std::vector<std::string> channelsNotRead;
 
   Image() = default;
   Image(uint32_t w, uint32_t h, uint32_t c, SampleType t)

@@ -40,6 +40,12 @@ Imf::PixelType pixelType(SampleType t, const std::string& path) {
 
 const char* const kChannelNames[4] = {"R", "G", "B", "A"};
 
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s.empty() ? "none" : s;
+}
+
 }  // namespace
 
 namespace {
@@ -237,7 +243,8 @@ void undoZipPredictor(uint8_t* b, size_t n) {
 /// nothing that matters, for any other kind of file (tiled, deep, other
 /// compressions, subsampled channels) or any chunk not as its header says,
 /// and readPixels then reads the file and words what is wrong.
-bool readScanlineChunks(Imf::InputFile& in, const Imath::Box2i& dw, uint64_t fileBytes, Image& image) {
+bool readScanlineChunks(Imf::InputFile& in, const Imath::Box2i& dw, uint64_t fileBytes, const char* const names[4],
+                        Image& image) {
   if constexpr (std::endian::native != std::endian::little) return false;  // EXR's samples are little-endian
   const Imf::Header& h = in.header();
   if (h.hasTileDescription() || (h.hasType() && h.type() != Imf::SCANLINEIMAGE)) return false;
@@ -247,14 +254,13 @@ bool readScanlineChunks(Imf::InputFile& in, const Imath::Box2i& dw, uint64_t fil
   else if (compression == Imf::ZIP_COMPRESSION) linesPerChunk = 16;
   else return false;
   // A line holds each channel's samples in turn, channels in name order.
-  static const char* const kNames[4] = {"R", "G", "B", "A"};
   const size_t width = image.width;
   size_t lineBytes = 0;
   size_t offsetOf[4] = {0, 0, 0, 0};
   for (auto c = h.channels().begin(); c != h.channels().end(); ++c) {
     if (c.channel().xSampling != 1 || c.channel().ySampling != 1) return false;
     for (uint32_t k = 0; k < image.channels; ++k)
-      if (std::strcmp(c.name(), kNames[k]) == 0) offsetOf[k] = lineBytes;
+      if (std::strcmp(c.name(), names[k]) == 0) offsetOf[k] = lineBytes;
     lineBytes += width * (c.channel().type == Imf::HALF ? 2 : 4);
   }
   // The plausibility rule of readExr, over every channel a line holds.
@@ -323,14 +329,23 @@ Image readExr(const std::string& path) {
     image.height = uint32_t(dw.max.y - dw.min.y + 1);
     image.channels = 0;
     Imf::PixelType type = Imf::HALF;
+    // R, G, B, A as far as they go; a file with one channel is read whatever
+    // its name (depth renderers write Z, gray images Y).
+    std::vector<std::string> all;
+    for (auto c = h.channels().begin(); c != h.channels().end(); ++c) all.emplace_back(c.name());
+    const char* names[4] = {kChannelNames[0], kChannelNames[1], kChannelNames[2], kChannelNames[3]};
+    if (all.size() == 1) names[0] = all[0].c_str();
     for (uint32_t ch = 0; ch < 4; ++ch) {
-      const Imf::Channel* c = h.channels().findChannel(kChannelNames[ch]);
+      const Imf::Channel* c = h.channels().findChannel(names[ch]);
       if (!c) break;
       if (ch == 0) type = c->type;
       else if (c->type != type) throwBadInput(path + ": channels of different types are not supported");
       ++image.channels;
     }
-    if (image.channels == 0) throwBadInput(path + ": no R channel");
+    if (image.channels == 0)
+      throwBadInput(path + ": no R channel (channels " + joinNames(all) + "); vox reads R, G, B, A or a file's only channel");
+    for (const std::string& name : all)
+      if (std::find(names, names + image.channels, name) == names + image.channels) image.channelsNotRead.push_back(name);
     image.type = type == Imf::UINT ? SampleType::U32 : type == Imf::HALF ? SampleType::F16 : SampleType::F32;
     // A data window its file could not hold compressed is refused before its
     // pixels are allocated: a 1 KB render edited to claim 16777216 x 6 pixels
@@ -349,8 +364,8 @@ Image readExr(const std::string& path) {
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
                  (size_t(dw.min.x) * image.channels * sb + size_t(dw.min.y) * image.rowBytes());
     for (uint32_t ch = 0; ch < image.channels; ++ch)
-      fb.insert(kChannelNames[ch], Imf::Slice(type, base + ch * sb, image.channels * sb, image.rowBytes()));
-    if (!readScanlineChunks(in, dw, fileBytes, image)) {
+      fb.insert(names[ch], Imf::Slice(type, base + ch * sb, image.channels * sb, image.rowBytes()));
+    if (!readScanlineChunks(in, dw, fileBytes, names, image)) {
       in.setFrameBuffer(fb);
       in.readPixels(dw.min.y, dw.max.y);
     }

@@ -171,6 +171,19 @@ bad_input)
   # A depth image of the wrong type.
   refused type.json '{"views": [{"depth": "o_000.class.png", "label": "o_000.class.png"}]}' \
     "a depth PNG has one 16-bit channel"
+  # A depth EXR with a second channel (oiiotool names an added one after its
+  # source): which one is the depth? Refused, naming the channels; its only
+  # channel is read whatever its name (Z, as depth renderers write it).
+  oiiotool o_000.depth.exr --ch R=R,Z=R -o rz.exr || fail "oiiotool could not write rz.exr"
+  refused rz.json '{"views": [{"depth": "rz.exr", "label": "o_000.class.png"}]}' \
+    "views[0]: depth rz.exr: a depth EXR has one float channel" "2 channels (R, Z)" "--ch Z"
+  oiiotool o_000.depth.exr --ch Z=R -o z.exr || fail "oiiotool could not write z.exr"
+  printf '%s\n' '{"views": [{"depth": "z.exr", "label": "o_000.class.png"}]}' >z.json
+  printf '%s\n' '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >r.json
+  expect_exit 0 "$vox" fuse z.json -o z.vdb --quiet
+  expect_exit 0 "$vox" fuse r.json -o r.vdb --quiet
+  expect_exit 0 "$vox" diff z.vdb r.vdb
+  rm -f z.vdb r.vdb
   # Singular matrices.
   refused singular.json '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png", "camera": {"viewMatrix": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,0], "projectionMatrix": [1,0,0,0, 0,1,0,0, 0,0,-1,-1, 0,0,-0.2,0]}}]}' \
     "views[0].camera"
