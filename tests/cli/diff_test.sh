@@ -89,6 +89,11 @@ images)
   "$vox" build-atlas m3.vdb -o a3 --summary --quiet
   expect_exit 0 "$vox" diff a1/m1.summary.png a1/m1.summary.png
   expect_stdout "PASS"
+  # An EXR channel beside R, G, B, A is not compared, and the diff says so.
+  oiiotool --create 4x4 2 --chnames R,Z -d float -o rz.exr || fail "oiiotool could not write rz.exr"
+  expect_exit 0 "$vox" diff rz.exr rz.exr --report rz_report.json
+  expect_stderr "warning: rz.exr: 1 channel not compared (Z)"
+  jcheck rz_report.json "assert d['counts']['channels_not_compared'] == {'rz.exr': ['Z']}, d['counts']"
   # One texel: named by its pixel, channel and voxel.
   expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.png
   expect_stdout "1 pixels (0.463%) differ"

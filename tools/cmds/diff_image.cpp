@@ -270,6 +270,17 @@ int diffImageFiles(const DiffOptions& o, Run& run) {
     throw;
   }
   const vox::Image b = second.get();
+  // An EXR's other channels (a depth Z beside R, G, B...) are not compared: say so.
+  nlohmann::json notCompared = nlohmann::json::object();
+  for (const auto& [path, image] : {std::pair<const std::string&, const vox::Image&>{o.a, a}, {o.b, b}}) {
+    if (image.channelsNotRead.empty()) continue;
+    std::string names;
+    for (const std::string& c : image.channelsNotRead) names += (names.empty() ? "" : ", ") + c;
+    run.note("warning: " + path + ": " + counted(image.channelsNotRead.size(), "channel", "channels") + " not compared (" +
+             names + "); vox diff compares R, G, B and A");
+    notCompared[path] = image.channelsNotRead;
+  }
+  if (!notCompared.empty()) run.counts()["channels_not_compared"] = notCompared;
   return compareAndReport(a, b, o.b, o, run, atlasKind(a, b), nlohmann::json::object());
 }
 
