@@ -67,10 +67,11 @@ CameraView lookAtCamera(const json& c, const std::string& name, const std::strin
   try {
     v.camera = Camera::lookAt(eye, target, up, fov, w, h);
   } catch (const Error& e) {
-    bad(name, where + ": " + e.what());
+    bad(name, where + ": " + withoutCameraLead(e.what()));
   }
   v.lookAt = LookAtCamera{eye, target, up, fov, w, h, chosen};
   v.label = chosen.empty() ? "camera " + std::to_string(index) : chosen;
+  v.source = name + ": " + where;
   v.index = index;
   return v;
 }
@@ -111,6 +112,7 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
                                matrix(v["projectionMatrix"], name, where + ".projectionMatrix"), w, h,
                                name + ": " + where);
       cv.index = int(i);
+      cv.source = name + ": " + where;
       cv.label = "view " + std::to_string(i);
       if (v.contains("id") && v["id"].is_string()) cv.label += " (" + v["id"].get<std::string>() + ")";
       out.push_back(std::move(cv));

@@ -28,6 +28,7 @@ namespace vox {
 struct CameraView {
   Camera camera;
   std::string label;  // "view 3 (view_004)" or "camera 0"
+  std::string source;  // "FILE: cameras[2]" when read from a file (its problems are bad input), else ""
   int index = 0;      // position in the file
   std::optional<LookAtCamera> lookAt;  // when the camera was given as a look-at camera
 };

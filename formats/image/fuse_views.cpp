@@ -96,7 +96,7 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
     try {
       return Camera::lookAt(eye, target, up, fov, W, H);
     } catch (const Error& e) {
-      bad(where, std::string("camera: ") + e.what());
+      bad(where, "camera: " + withoutCameraLead(e.what()));
     }
   }
   if (c.contains("intrinsics")) {

@@ -105,6 +105,11 @@ Camera Camera::make(const Mat4d& view, const Mat4d& projection, uint32_t width, 
   return c;
 }
 
+std::string withoutCameraLead(const std::string& message) {
+  static const std::string kLead = "camera: ";
+  return message.compare(0, kLead.size(), kLead) == 0 ? message.substr(kLead.size()) : message;
+}
+
 Camera Camera::lookAt(const Vec3d& eye, const Vec3d& target, const Vec3d& up, double fovYDegrees,
                       uint32_t width, uint32_t height) {
   for (const Vec3d* v : {&eye, &target, &up})

@@ -79,4 +79,8 @@ struct Camera {
   void pixelRay(uint32_t x, uint32_t y, Vec3d& origin, Vec3d& direction) const;
 };
 
+/// A camera error's text without its leading "camera: ", for callers that
+/// name the camera themselves ("cams.json: cameras[1]: the vertical field...").
+std::string withoutCameraLead(const std::string& message);
+
 }  // namespace vox

@@ -770,6 +770,15 @@ EOF
   expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png $cam --mode canonical,sketch
   expect_stderr "sketch"
   expect_exit 2 "$vox" render-canonical ../map.vdb -o x.png --eye 1,2,3 --target 1,2,3
+  # A camera file's problems are bad input named by file and element, once ("camera:" not doubled).
+  echo '{"eye": [1e13, 0, 0], "target": [0, 0, 0]}' >far.json
+  expect_exit 3 "$vox" render-canonical ../map.vdb -o x.png --camera far.json
+  expect_stderr "far.json: camera: the eye is "
+  expect_stderr " voxels from the grid on one axis"
+  echo '{"cameras": [{"eye": [1, 2, 3], "target": [0, 0, 0], "fov": 180}]}' >fov.json
+  expect_exit 3 "$vox" render-canonical ../map.vdb -o x.png --camera fov.json
+  expect_stderr "fov.json: cameras[0]: the vertical field of view must be in (0, 180) degrees"
+  grep -qF "camera: camera:" err.txt && fail "doubled camera: prefix"
   expect_exit 3 "$vox" render-canonical ../nothing.vdb -o x.png $cam
   expect_exit 3 "$vox" verify-bijection --canonical ../m.depth.exr --scene ../h.vdb
   expect_stderr "RGBA"

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -84,9 +85,17 @@ void checkEyesNearGrid(const std::vector<vox::CameraView>& views, const vox::Gri
   for (const vox::CameraView& v : views) {
     for (int a = 0; a < 3; ++a) {
       const double gridEye = (v.camera.eye[size_t(a)] - frame.origin[size_t(a)]) / frame.voxelSize;
-      if (!(std::fabs(gridEye) < 1e12))
-        vox::throwUsage(v.label + ": the eye is " + std::to_string(gridEye) +
-                        " voxels from the grid on one axis; rays are exact up to 1e12 voxels away");
+      if (!(std::fabs(gridEye) < 1e12)) {
+        char far[32];
+        std::snprintf(far, sizeof far, "%.3g", std::fabs(gridEye));
+        const std::string what = std::string(": the eye is ") + far +
+                                 " voxels from the grid on one axis; rays are exact up to 1e12 voxels away: "
+                                 "move the eye closer";
+        // A camera file is input (exit 3, named by file and element); a
+        // camera made from options is a usage error.
+        if (!v.source.empty()) throw vox::Error(vox::ErrorKind::BadInput, v.source + what);
+        vox::throwUsage(v.label + what);
+      }
     }
   }
 }
