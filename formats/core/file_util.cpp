@@ -141,6 +141,12 @@ void removeStaleTemporaries(const fs::path& finalPath) {
 
 }  // namespace
 
+namespace {
+std::atomic<int> gCommittedOutputs{0};
+}  // namespace
+
+int committedOutputCount() noexcept { return gCommittedOutputs.load(); }
+
 int removeUncommittedOutputs() noexcept {
   int removed = 0;
   for (LiveSlot& s : gLive)
@@ -195,6 +201,7 @@ void AtomicOutput::renameIntoPlace() {
   if (std::rename(temp_.c_str(), final_.c_str()) != 0)
     throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
   committed_ = true;
+  gCommittedOutputs.fetch_add(1);
   untrackTemporary(slot_);  // after the rename: a signal before it still removes the temporary
   slot_ = -1;
   // The rename itself reaches the disk with the directory (best effort: some

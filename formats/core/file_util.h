@@ -54,6 +54,11 @@ class AtomicOutput {
 /// running destructors.
 int removeUncommittedOutputs() noexcept;
 
+/// How many AtomicOutputs of this process were renamed into place so far.
+/// Async-signal-safe (an atomic load): the signal handlers tell "nothing was
+/// written" from "every output was already in place".
+int committedOutputCount() noexcept;
+
 /// The name a user knows a file by: for an AtomicOutput's temporary file
 /// ("dir/.NAME.tmp-HOST-PID-N") the final output's ("dir/NAME"), else `path`. For messages.
 std::string outputName(const std::string& path);

@@ -59,9 +59,11 @@ interrupt() {
   else
     [ "$got" = "$want" ] || fail "SIG$sig ($when): exit $got, expected $want: $* ($(head -c 300 err.txt))"
     grep -qF "interrupted by SIG$sig" err.txt || fail "SIG$sig ($when): no message from $*: $(head -c 300 err.txt)"
-    if [ "$(head -c 15 "$out")" != "previous output" ]; then
+    if [ "$(head -c 15 "$out")" = "previous output" ]; then
+      ! grep -qF "every output was already in place" err.txt || fail "SIG$sig ($when): says its outputs were in place, but $out was not replaced"
+    else
       # Only a signal after the final rename may leave a new output, and it says so.
-      grep -qF "no output was unfinished" err.txt || fail "SIG$sig ($when): the existing $out was replaced"
+      grep -qF "every output was already in place" err.txt || fail "SIG$sig ($when): the existing $out was replaced"
     fi
   fi
   local left; left=$(temporaries "$dir")

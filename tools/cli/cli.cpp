@@ -29,8 +29,11 @@ void addCommonOptions(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--report", o.reportPath, "Write phase timings, counts and error metrics as JSON")
       ->type_name("FILE.json");
   cmd.add_option("--depfile", o.depfilePath, "Write a Make rule listing every input read")->type_name("FILE");
-  cmd.add_option("--threads", o.threads, "Worker threads (0 = all cores); outputs do not depend on it")
-      ->type_name("N");
+  cmd.add_option("--threads", o.threads,
+                 "Worker threads (0 = all cores, at most " + std::to_string(kMaxThreads) +
+                     "); outputs do not depend on it")
+      ->type_name("N")
+      ->check(CLI::Range(0u, kMaxThreads));
   cmd.add_flag("--progress", o.progress, "Draw progress bars even when stderr is not a terminal");
   cmd.add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
   addMaxMemoryOption(cmd, o.maxMemory);
@@ -238,6 +241,17 @@ void Run::input(const std::string& path) {
 std::string Run::output(const std::string& finalPath) {
   checkDestination(finalPath);
   checkOutputPath(finalPath);
+  // The report and the depfile are committed with the outputs: a directory of
+  // theirs that is missing now (build-atlas has made its own by the time it
+  // names its files) would fail the run after the work.
+  for (const std::string* path : {&options_.reportPath, &options_.depfilePath}) {
+    if (path->empty()) continue;
+    const std::filesystem::path p(*path);
+    const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+      throw vox::Error(vox::ErrorKind::Io, *path + ": cannot write: directory '" + dir + "' does not exist");
+  }
   outputs_.emplace_back(finalPath);
   return outputs_.back().tempPath();
 }

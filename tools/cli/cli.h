@@ -37,10 +37,15 @@ enum ExitCode : int {
   kExitIoOrInternal = 4, // cannot write outputs, or an internal error
 };
 
+/// The most worker threads a run may ask for: per-thread state (accumulators,
+/// bit sets, tiles) makes absurd counts slow or worse (70000 crashed the
+/// thread pool), and no machine vox runs on has more cores.
+inline constexpr unsigned kMaxThreads = 1024;
+
 struct CommonOptions {
   std::string reportPath;   // --report FILE.json
   std::string depfilePath;  // --depfile FILE
-  unsigned threads = 0;     // --threads N (0 = all cores)
+  unsigned threads = 0;     // --threads N (0 = all cores, at most kMaxThreads)
   bool progress = false;    // --progress: bars even when stderr is not a terminal
   bool quiet = false;       // --quiet: no messages or bars, errors only
   std::string maxMemory;    // --max-memory SIZE ("" = the default share of physical memory, "0" = no limit)

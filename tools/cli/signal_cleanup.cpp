@@ -40,9 +40,10 @@ extern "C" void onTerminatingSignal(int sig) {
     writeAll(digits + n);
     writeAll(removed == 1 ? " unfinished output removed" : " unfinished outputs removed");
     writeAll(", existing files left as they were\n");
+  } else if (vox::committedOutputCount() > 0) {
+    writeAll("; every output was already in place\n");
   } else {
-    // Either before any output was started, or after every one was in place.
-    writeAll("; no output was unfinished\n");
+    writeAll("; nothing was written\n");
   }
   ::_exit(128 + sig);
 }
