@@ -130,6 +130,7 @@ open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
   fi
   # Refusals after the light module has read the input: its messages are the full module's.
   light "no colours" ../h.vdb -o m.glb --color voxel
+  light "no colours, page file" ../h.vpk -o m.ply --color voxel
   light "region outside" ../h.vdb -o m.glb --region 0,0,0,40,10,10
   light "page level" ../h.vpk -o m.glb --level 3
   # Files the walk refuses: the light module's error is the full module's (the same walk).

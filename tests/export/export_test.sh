@@ -161,10 +161,16 @@ bad_input)
   expect_exit 3 "$vox" export small.vdb -o keep.glb --region 0,0,0,4,2,1
   expect_stderr "not inside the scene's index box (0, 0, 0) .. (3, 2, 1)"
   expect_exit 3 "$vox" export small.vdb -o keep.glb --color voxel
-  expect_stderr "no baked colours"
+  expect_stderr "small.vdb: the scene has no baked colours"
+  # A page file packed from that scene has no colour channel: refused the same way, by every format.
+  expect_exit 0 "$vox" pack-chunks small.vdb -o small.vpk
+  for out in keep.glb keep.ply keep.vox; do
+    expect_exit 3 "$vox" export small.vpk -o $out --color voxel
+    expect_stderr "small.vpk: the page file has no baked colours; export the class palette (--color palette)"
+  done
   [ "$(cat keep.glb)" = keep ] || fail "a failed export touched the existing output"
   expect_exit 4 "$vox" export small.vdb -o no/such/dir/x.glb
-  nothing_but small.vdb keep.glb notes.txt
+  nothing_but small.vdb small.vpk keep.glb notes.txt
   ;;
 ply)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb

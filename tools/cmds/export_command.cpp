@@ -97,6 +97,8 @@ bool readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& regio
     in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
     in.classes = vox::pagefile::readPageMeta(reader.metaJson(), o.input).classes;
     in.box = regionIn(region, in.dims, o.input);
+    if (withColor && !(h.flags & vox::pagefile::kFlagColor))
+      vox::throwBadInput(o.input + ": the page file has no baked colours; export the class palette (--color palette)");
     run.phase("volume");
     in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
     return true;
