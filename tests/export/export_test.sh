@@ -29,11 +29,10 @@ rgb_triangle() {
   rm tri.obj
 }
 validate_gltf() {
-  local files
-  files=$(find . -name '*.glb' -o -name '*.gltf' | sort)
-  [ -n "$files" ] || return 0
-  # shellcheck disable=SC2086
-  NODE_PATH="$tools/node_modules" node "$here/validate_gltf.mjs" $files >validator.txt 2>&1 ||
+  local files=()
+  mapfile -t files < <(find . -name '*.glb' -o -name '*.gltf' | sort)  # names may hold spaces
+  [ ${#files[@]} -gt 0 ] || return 0
+  NODE_PATH="$tools/node_modules" node "$here/validate_gltf.mjs" "${files[@]}" >validator.txt 2>&1 ||
     fail "glTF validator: $(cat validator.txt)"
 }
 
@@ -81,6 +80,20 @@ gltf)
   expect_exit 0 "$vox" export h.vdb -o g2.glb --greedy --dedup --split classes --threads 2
   cmp -s g1.glb g2.glb || fail "greedy glb differs between --threads 1 and 2"
   jcheck rh.json "c=d['counts']; assert c['greedy_triangle_ratio']>3 and c['faces']>c['quads']"
+  # A .gltf names its .bin by a relative URI, percent-encoded: '#' would start a
+  # fragment, '%' and ' ' are not URI characters, UTF-8 is encoded byte by byte.
+  # Decoding it gives the .bin's name; the validator below reads the buffer through it.
+  for name in 'a#b' 'c%d' 'e f' 'été'; do
+    expect_exit 0 "$vox" export small.vdb -o "$name.gltf"
+    [ -s "$name.bin" ] || fail "$name.bin not written beside $name.gltf"
+    python3 - "$name" <<'EOF2' || fail "$name.gltf: the buffer URI is not its .bin's name percent-encoded"
+import json, os, re, sys, urllib.parse
+name = sys.argv[1]
+uri = json.load(open(name + ".gltf", encoding="utf-8"))["buffers"][0]["uri"]
+assert re.fullmatch(r"([A-Za-z0-9._~!*'()-]|%[0-9A-F]{2})+", uri), uri  # a '%' starts an escape
+assert urllib.parse.unquote_to_bytes(uri) == os.fsencode(name + ".bin"), uri
+EOF2
+  done
   validate_gltf
   ;;
 inputs)
