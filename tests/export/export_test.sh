@@ -28,6 +28,31 @@ rgb_triangle() {
   expect_exit 0 "$vox" voxelize tri.obj --res "$1" -o tri.vdb
   rm tri.obj
 }
+# rename_class SRC.vpk DST.vpk OLD NEW: DST is SRC with the class table's text OLD
+# replaced by NEW (same length) and the metadata and header CRC32Cs made good
+# again: a page file whose voxels name a class its table no longer has.
+rename_class() {
+  python3 - "$@" <<'EOF2' || fail "cannot rewrite the class table of $1"
+import struct, sys
+def crc32c(data):
+    crc = 0xFFFFFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ (0x82F63B78 if crc & 1 else 0)
+    return crc ^ 0xFFFFFFFF
+assert crc32c(b"123456789") == 0xE3069283
+src, dst, old, new = sys.argv[1], sys.argv[2], sys.argv[3].encode(), sys.argv[4].encode()
+b = bytearray(open(src, "rb").read())
+off, n = struct.unpack_from("<QQ", b, 80)  # metadata offset and bytes (PAGEFILE.md "Header")
+meta = bytes(b[off:off + n])
+assert meta.count(old) == 1 and len(old) == len(new), old
+b[off:off + n] = meta.replace(old, new)
+struct.pack_into("<I", b, 112, crc32c(bytes(b[off:off + n])))
+struct.pack_into("<I", b, 124, crc32c(bytes(b[:124])))
+open(dst, "wb").write(b)
+EOF2
+}
 validate_gltf() {
   local files=()
   mapfile -t files < <(find . -name '*.glb' -o -name '*.gltf' | sort)  # names may hold spaces
@@ -181,9 +206,25 @@ bad_input)
     expect_exit 3 "$vox" export small.vpk -o $out --color voxel
     expect_stderr "small.vpk: the page file has no baked colours; export the class palette (--color palette)"
   done
+  # A voxel whose class the page file's table lacks (Water renamed from 7 to 9):
+  # the file, the level when not 0, the chunk and the voxel are named, and the fix.
+  rename_class small.vpk damaged.vpk '"id":7,"name":"Water"' '"id":9,"name":"Water"'
+  for out in keep.glb keep.ply keep.vox; do
+    expect_exit 3 "$vox" export damaged.vpk -o $out
+    expect_stderr "damaged.vpk: chunk (0, 0, 0), voxel (0, 1, 0): class 7 has no entry in the file's class table"
+    expect_stderr "damaged or was written by another tool: check it with 'vox pack-chunks --verify damaged.vpk' and pack it again from its scene"
+  done
+  # Outside --region the voxel is not read: Stone, Stone, Grass export.
+  expect_exit 0 "$vox" export damaged.vpk -o region.ply --region 0,0,0,3,0,1
+  rm region.ply
+  # Stone (3) renamed in a page file with levels: at level 1 it wins the block (0, 0, 0).
+  expect_exit 0 "$vox" pack-chunks small.vdb -o mips.vpk --mips
+  rename_class mips.vpk damaged_mips.vpk '"id":3,"name":"Stone"' '"id":9,"name":"Stone"'
+  expect_exit 3 "$vox" export damaged_mips.vpk -o keep.glb --level 1
+  expect_stderr "damaged_mips.vpk: level 1, chunk (0, 0, 0), voxel (0, 0, 0): class 3 has no entry"
   [ "$(cat keep.glb)" = keep ] || fail "a failed export touched the existing output"
   expect_exit 4 "$vox" export small.vdb -o no/such/dir/x.glb
-  nothing_but small.vdb small.vpk keep.glb notes.txt
+  nothing_but small.vdb small.vpk damaged.vpk mips.vpk damaged_mips.vpk keep.glb notes.txt
   ;;
 ply)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb

@@ -100,7 +100,7 @@ bool readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& regio
     if (withColor && !(h.flags & vox::pagefile::kFlagColor))
       vox::throwBadInput(o.input + ": the page file has no baked colours; export the class palette (--color palette)");
     run.phase("volume");
-    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
+    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, in.classes, withColor, run.threads()));
     return true;
   }
   if (!vox::looksLikeVdb(o.input))
