@@ -185,7 +185,36 @@ usage)
   expect_exit 2 "$vox" export small.vdb -o x.glb --level 1
   expect_stderr "single scene"
   expect_exit 2 "$vox" export small.vdb -o x.glb --level -1
+  # Options of another format or mode are refused, even at their default value,
+  # naming the option and what it belongs to.
+  refused() { local want=$1; shift; expect_exit 2 "$vox" export small.vdb "$@"; expect_stderr "$want"; }
+  refused "--half-width is an option of OpenVDB level sets (.vdb --level-set), but -o x.glb writes glTF (.glb): drop --half-width" \
+    -o x.glb --half-width 5
+  refused "--half-width is an option of OpenVDB level sets (.vdb --level-set), but -o x.vdb writes an OpenVDB fog volume (.vdb --fog)" \
+    -o x.vdb --fog --half-width 3
+  refused "--quantize is an option of MagicaVoxel palettes of baked colours (.vox --color voxel), but -o x.vox writes MagicaVoxel (.vox) with the class palette: add --color voxel" \
+    -o x.vox --quantize
+  refused "--quantize is an option of MagicaVoxel palettes of baked colours (.vox --color voxel), but -o x.ply writes PLY (.ply)" \
+    -o x.ply --quantize --color voxel
+  refused "--split is an option of glTF block meshes (.glb, .gltf), but -o x.ply writes PLY (.ply)" -o x.ply --split none
+  refused "--dedup is an option of glTF block meshes" -o x.vox --dedup
+  refused "--greedy is an option of glTF block meshes" -o x.vdb --level-set --greedy
+  refused "--fog is an option of OpenVDB volumes (.vdb), but -o x.gltf writes glTF (.gltf)" -o x.gltf --fog
+  refused "--level-set is an option of OpenVDB volumes (.vdb)" -o x.ply --level-set
+  refused "--color is an option of coloured exports (.glb, .gltf, .ply, .vox), but -o x.vdb writes an OpenVDB level set" \
+    -o x.vdb --level-set --color palette
+  refused "give only one of --fog and --level-set" -o x.vdb --fog --level-set
+  refused "give --fog or --level-set" -o x.vdb
+  # --format names the format of an output without a known extension
+  # (export.gltf: fmt.bin.out); it may repeat a known one, not contradict it.
+  refused "--format ply contradicts -o out.glb, a .glb name: name the output .ply or drop --format" -o out.glb --format ply
+  refused "--format glb contradicts -o out.gltf, a .gltf name: name the output .glb or drop --format" -o out.gltf --format glb
+  refused "--format vox contradicts -o OUT.PLY, a .ply name" -o OUT.PLY --format vox
   nothing_but small.vdb
+  expect_exit 0 "$vox" export small.vdb -o same.GLB --format glb
+  expect_exit 0 "$vox" export small.vdb -o ls.vdb --level-set --half-width 2
+  expect_exit 3 "$vox" export small.vdb -o q.vox --quantize --color voxel  # the options fit; the scene has no colours
+  expect_stderr "small.vdb: the scene has no baked colours"
   ;;
 bad_input)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb
