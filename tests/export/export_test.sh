@@ -168,6 +168,32 @@ inputs)
   done
   grep -q 'class: fog volume' empty_fog.txt && grep -q 'class: level set' empty_ls.txt ||
     fail "the empty volumes lost their grid class"
+  # --color voxel on a solid 16^3 cube whose surface is coloured (red) and whose
+  # 14^3 interior is not (voxelize --fill solid), from the scene and its page
+  # file alike: glTF counts the faces drawn with the palette colour (none; cut
+  # by --region at w = 7, the 14 x 14 interior faces of that plane), PLY and
+  # .vox every voxel they write (the 2744 interior ones). Warnings name the input.
+  python3 - >cube.obj <<'EOF2'
+corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+for c in corners: print('v %d %d %d 1 0 0' % c)
+for a, b, c, d in [(1, 4, 3, 2), (5, 6, 7, 8), (1, 2, 6, 5), (2, 3, 7, 6), (3, 4, 8, 7), (4, 1, 5, 8)]:
+    print('f %d %d %d\nf %d %d %d' % (a, b, c, a, c, d))
+EOF2
+  expect_exit 0 "$vox" voxelize cube.obj --res 16 --fill solid -o cube.vdb
+  expect_exit 0 "$vox" pack-chunks cube.vdb -o cube.vpk
+  for in in cube.vdb cube.vpk; do
+    expect_exit 0 "$vox" export $in -o cube.glb --color voxel --report rc.json
+    jcheck rc.json "c=d['counts']; assert (c['voxels'],c['faces'],c['faces_without_voxel_colour'])==(4096,1536,0), c"
+    ! grep -q warning err.txt || fail "$in: a warning although every face drawn is coloured: $(cat err.txt)"
+    expect_exit 0 "$vox" export $in -o half.glb --color voxel --region 0,0,0,15,15,7 --report rh.json
+    jcheck rh.json "c=d['counts']; assert (c['faces'],c['faces_without_voxel_colour'])==(1024,196), c"
+    expect_stderr "warning: $in: 196 faces of voxels without a baked colour take their class's palette colour"
+    for f in ply vox; do
+      expect_exit 0 "$vox" export $in -o cube.$f --color voxel --report r$f.json
+      jcheck r$f.json "assert d['counts']['voxels_without_colour']==2744"
+      expect_stderr "warning: $in: 2744 voxels have no baked colour; they have their class's display colour"
+    done
+  done
   validate_gltf
   ;;
 usage)

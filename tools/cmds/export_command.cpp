@@ -214,9 +214,13 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
     c["greedy_triangle_ratio"] = mesh.quads.empty() ? 1.0 : double(culledQuads) / double(mesh.quads.size());
   }
   if (ms.color == vox::FaceColor::Voxel) c["faces_without_voxel_colour"] = mesh.uncoloredFaces;
+  // Faces, not voxels: a voxel without visible faces (a solid's interior) is not drawn.
   if (mesh.uncoloredFaces)
-    run.note("warning: " + counted(mesh.uncoloredFaces, "face", "faces") + " of voxels without a baked colour " +
-             (mesh.uncoloredFaces == 1 ? "takes" : "take") + " its class's palette colour");
+    run.note("warning: " + o.input + ": " +
+             (mesh.uncoloredFaces == 1 ? "1 face of a voxel without a baked colour takes its"
+                                       : counted(mesh.uncoloredFaces, "face", "faces") +
+                                             " of voxels without a baked colour take their") +
+             " class's palette colour");
   std::string what = counted(mesh.unitFaces, "face", "faces") + ", " + counted(written.triangles, "triangle", "triangles");
   if (o.greedy)
     what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
@@ -224,10 +228,11 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
 }
 
-void noteUncolored(uint64_t voxels, Run& run) {
+/// PLY and .vox write every voxel, interior ones too: their uncoloured voxels are counted.
+void noteUncolored(const std::string& input, uint64_t voxels, Run& run) {
   run.counts()["voxels_without_colour"] = voxels;
   if (voxels)
-    run.note("warning: " + counted(voxels, "voxel has", "voxels have") + " no baked colour; " +
+    run.note("warning: " + input + ": " + counted(voxels, "voxel has", "voxels have") + " no baked colour; " +
              (voxels == 1 ? "it has its" : "they have their") + " class's display colour");
 }
 
@@ -238,7 +243,7 @@ void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
       vox::writeVoxelPly(*in.volume, in.classes, o.color, in.frame, run.output(o.output));
   run.counts()["points"] = r.points;
   run.counts()["bytes"] = r.bytes;
-  if (o.color == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
+  if (o.color == vox::FaceColor::Voxel) noteUncolored(o.input, r.uncolored, run);
   run.note("wrote " + o.output + ": " + counted(r.points, "point", "points") + ", " + std::to_string(r.bytes) + " bytes");
 }
 
@@ -269,7 +274,7 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
     for (const vox::ClassVolume::Brick& b : in.volume->bricks())
       for (int i = 0; i < vox::ClassVolume::kBrickVoxels; ++i)
         if (b.classes[size_t(i)]) ++histogram[vox::packRgb(voxelColors(b, i))];
-    noteUncolored(voxelColors.uncolored(), run);
+    noteUncolored(o.input, voxelColors.uncolored(), run);
     if (histogram.size() > palette.size() && !o.quantize)
       vox::throwBadInput(o.input + ": the voxels have " + std::to_string(histogram.size()) +
                          " distinct colours and a .vox palette holds 255; quantise them (--quantize) or export "
