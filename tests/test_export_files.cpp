@@ -8,9 +8,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/uri_segment.h"
 #include "formats/export/gltf_writer.h"
 #include "formats/export/magicavoxel_writer.h"
 #include "formats/export/vdb_volume_writer.h"
@@ -66,6 +69,20 @@ std::vector<T> accessorValues(const tinygltf::Model& m, int accessor, size_t com
   return out;
 }
 
+// A percent-encoded URI's bytes (RFC 3986), for keeping a buffer under the
+// name it decodes to, as the validator looks it up.
+std::string uriDecoded(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i)
+    if (uri[i] == '%' && i + 2 < uri.size()) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  return out;
+}
+
 tinygltf::Model load(const std::string& path) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -76,7 +93,7 @@ tinygltf::Model load(const std::string& path) {
   EXPECT_EQ(warn, "");
   keep(path);
   for (const tinygltf::Buffer& b : model.buffers)
-    if (!b.uri.empty()) keep((std::filesystem::path(path).parent_path() / b.uri).string());
+    if (!b.uri.empty()) keep((std::filesystem::path(path).parent_path() / uriDecoded(b.uri)).string());
   return model;
 }
 
@@ -239,6 +256,34 @@ TEST(GltfWriter, AnEmptyMeshIsAValidEmptyFile) {
   const vox::GltfWriteResult r = vox::writeGltf(s, dir.file("e.gltf"), dir.file("e.bin"), "e.bin");
   EXPECT_EQ(r.bufferBytes, 0u);
   EXPECT_FALSE(std::filesystem::exists(dir.file("e.bin")));
+}
+
+TEST(UriPathSegment, KeepsUnreservedCharactersAndEncodesEveryOtherByte) {
+  EXPECT_EQ(vox::uriPathSegment("hamlet.bin"), "hamlet.bin");
+  EXPECT_EQ(vox::uriPathSegment("Az09-._~!*'().bin"), "Az09-._~!*'().bin");
+  EXPECT_EQ(vox::uriPathSegment("a#b.bin"), "a%23b.bin");  // not a fragment
+  EXPECT_EQ(vox::uriPathSegment("a%b.bin"), "a%25b.bin");
+  EXPECT_EQ(vox::uriPathSegment("a b.bin"), "a%20b.bin");
+  EXPECT_EQ(vox::uriPathSegment("a?b+c:d/e&f.bin"), "a%3Fb%2Bc%3Ad%2Fe%26f.bin");  // '+' is a space to form decoders
+  EXPECT_EQ(vox::uriPathSegment("\xC3\xA9t\xC3\xA9.bin"), "%C3%A9t%C3%A9.bin");     // UTF-8 "été"
+  EXPECT_EQ(vox::uriPathSegment("\xE9.bin"), "%E9.bin");  // a Latin-1 name: its own byte
+  EXPECT_EQ(vox::uriPathSegment(""), "");
+}
+
+// The .gltf names its .bin by a relative URI: a name with '#', '%', '+', a
+// space or UTF-8 is percent-encoded, and a reader that decodes it (tinygltf,
+// the validator) finds the file.
+TEST(GltfWriter, TheBufferUriIsTheBinsNamePercentEncoded) {
+  voxtest::TempDir dir;
+  const vox::BlockMesh mesh = smallMesh();
+  const std::string bin = "a b#c%d+\xC3\xA9.bin";
+  const vox::GltfWriteResult r = vox::writeGltf(sceneOf(mesh, false), dir.file("uri.gltf"), dir.file(bin), bin);
+  std::ifstream in(dir.file("uri.gltf"));
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc["buffers"][0]["uri"], "a%20b%23c%25d%2B%C3%A9.bin");
+  const tinygltf::Model m = load(dir.file("uri.gltf"));
+  ASSERT_EQ(m.buffers.size(), 1u);
+  EXPECT_EQ(m.buffers[0].data.size(), r.bufferBytes);
 }
 
 // A .glb's length fields are 32-bit: a mesh over 4 GiB is refused before a

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/json_text.h"
+#include "formats/core/uri_segment.h"
 #include "formats/export/output_file.h"
 #include "libvox/core/error.h"
 
@@ -304,9 +305,9 @@ GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path) {
 }
 
 GltfWriteResult writeGltf(const GltfScene& scene, const std::string& path, const std::string& binPath,
-                          const std::string& binUri) {
+                          const std::string& binName) {
   const BufferPlan plan = planBuffer(scene);
-  const std::string text = jsonText(documentJson(scene, plan, binUri), 1) + "\n";
+  const std::string text = jsonText(documentJson(scene, plan, uriPathSegment(binName)), 1) + "\n";
   OutputFile json(path);
   json.write(text);
   json.close();

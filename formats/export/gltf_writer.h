@@ -68,9 +68,11 @@ uint64_t gltfWriteBufferBytes(bool indexed);
 GltfWriteResult writeGlb(const GltfScene& scene, const std::string& path);
 
 /// Writes `scene` as .gltf JSON to `path` and its buffer to `binPath`, which
-/// the JSON names by `binUri` (the .bin's file name, beside the .gltf). With
-/// no quads at all, no buffer is written and `binPath` is left alone.
+/// the JSON names by `binName` (the .bin's file name, beside the .gltf) as a
+/// relative URI, percent-encoded (formats/core/uri_segment.h): "a#b.bin" is
+/// written "a%23b.bin". With no quads at all, no buffer is written and
+/// `binPath` is left alone.
 GltfWriteResult writeGltf(const GltfScene& scene, const std::string& path, const std::string& binPath,
-                          const std::string& binUri);
+                          const std::string& binName);
 
 }  // namespace vox

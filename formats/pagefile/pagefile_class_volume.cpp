@@ -1,12 +1,38 @@
 #include "formats/pagefile/pagefile_class_volume.h"
 
+#include <optional>
+
 #include "libvox/core/color.h"
+#include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {
 
-ClassVolume classVolumeFromPages(const pagefile::Reader& reader, int level, const IndexBox& box, bool withColor,
-                                 unsigned threads) {
+namespace {
+
+// The first voxel of a chunk whose class is not in the table.
+struct UnknownClass {
+  Coord3 voxel;
+  uint8_t classId = 0;
+};
+
+[[noreturn]] void throwUnknownClass(const pagefile::Reader& reader, int level, const std::array<uint32_t, 3>& chunk,
+                                    const UnknownClass& u) {
+  const std::string& file = reader.name();
+  throwBadInput(file + ": " + (level ? "level " + std::to_string(level) + ", " : std::string()) + "chunk (" +
+                std::to_string(chunk[0]) + ", " + std::to_string(chunk[1]) + ", " + std::to_string(chunk[2]) +
+                "), voxel " + toString(u.voxel) + ": class " + std::to_string(u.classId) +
+                " has no entry in the file's class table, so the voxel has no colour; the file is damaged or was "
+                "written by another tool: check it with 'vox pack-chunks --verify " + file +
+                "' and pack it again from its scene (vox pack-chunks SCENE.vdb -o " + file + ")");
+}
+
+}  // namespace
+
+ClassVolume classVolumeFromPages(const pagefile::Reader& reader, int level, const IndexBox& box,
+                                 const ClassTable& classes, bool withColor, unsigned threads) {
+  std::array<bool, 256> known{};
+  for (const ClassInfo& c : classes.classes()) known[c.id] = true;
   ClassVolume volume(box, withColor);
   const uint32_t C = reader.header().chunkSide();
   const uint32_t B = C / ClassVolume::kBrickSide;  // bricks per chunk side
@@ -20,10 +46,15 @@ ClassVolume classVolumeFromPages(const pagefile::Reader& reader, int level, cons
     }
     return true;
   };
+  auto inBox = [&](Coord3 c) {
+    return c.u >= box.min.u && c.u <= box.max.u && c.v >= box.min.v && c.v <= box.max.v && c.w >= box.min.w &&
+           c.w <= box.max.w;
+  };
   std::vector<size_t> chunks;
   for (size_t i = first; i < last; ++i)
     if (!box.empty() && overlaps(reader.entries()[i].chunk())) chunks.push_back(i);
   std::vector<std::vector<ClassVolume::Brick>> perChunk(chunks.size());
+  std::vector<std::optional<UnknownClass>> unknown(chunks.size());  // reported after the loop, in file order
   parallelForEach(chunks.size(), threads, 1, [&](size_t k) {
     const auto chunk = reader.entries()[chunks[k]].chunk();
     std::vector<ClassVolume::Brick> bricks;
@@ -37,12 +68,17 @@ ClassVolume classVolumeFromPages(const pagefile::Reader& reader, int level, cons
       const uint32_t x = v.index % C, y = (v.index / C) % C, z = v.index / (C * C);
       ClassVolume::Brick& b = bricks[size_t(((z >> 3) * B + (y >> 3)) * B + (x >> 3))];
       const int i = ClassVolume::voxelIndex(int(x & 7), int(y & 7), int(z & 7));
+      // 0 (no class) stays empty, as before; voxels outside the box are clipped unseen.
+      if (v.summary[0] && !known[v.summary[0]] && !unknown[k] && inBox(b.at(i)))
+        unknown[k] = UnknownClass{b.at(i), v.summary[0]};
       b.classes[size_t(i)] = v.summary[0];
       if (withColor && v.color[3] == 255)
         b.setColor(i, {srgb8ToLinear(v.color[0]), srgb8ToLinear(v.color[1]), srgb8ToLinear(v.color[2])});
     }
     perChunk[k] = std::move(bricks);
   });
+  for (size_t k = 0; k < chunks.size(); ++k)
+    if (unknown[k]) throwUnknownClass(reader, level, reader.entries()[chunks[k]].chunk(), *unknown[k]);
   for (auto& bricks : perChunk)
     for (ClassVolume::Brick& b : bricks) volume.add(std::move(b));
   volume.finish();

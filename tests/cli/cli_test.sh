@@ -383,6 +383,12 @@ OBJ
   expect_exit 0 "$vox" build-atlas "keep_$latin.vdb" -o "keep_atlas_$latin" --summary --report "atlas_$latin.json"
   expect_exit 0 "$vox" export "keep_$latin.vdb" -o "keep_$latin.gltf"
   python3 -c "import json,sys; json.load(open(sys.argv[1], encoding='utf-8'))" "keep_$latin.gltf" || fail "the glTF is not UTF-8 JSON"
+  # Its buffer URI is the .bin's name byte for byte, percent-encoded (keep_caf%E9.bin).
+  python3 -c "
+import json, os, sys, urllib.parse
+uri = json.load(open(sys.argv[1], encoding='utf-8'))['buffers'][0]['uri']
+assert uri == 'keep_caf%E9.bin' and urllib.parse.unquote_to_bytes(uri) == os.fsencode(sys.argv[2]), uri
+" "keep_$latin.gltf" "keep_$latin.bin" || fail "the glTF's buffer URI does not name keep_$latin.bin"
   # A report or depfile that cannot be written stops the run before any output
   # is made (it used to fail after the scene had been renamed into place).
   mkdir -p keep_report_dir.json

@@ -130,6 +130,7 @@ open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
   fi
   # Refusals after the light module has read the input: its messages are the full module's.
   light "no colours" ../h.vdb -o m.glb --color voxel
+  light "no colours, page file" ../h.vpk -o m.ply --color voxel
   light "region outside" ../h.vdb -o m.glb --region 0,0,0,40,10,10
   light "page level" ../h.vpk -o m.glb --level 3
   # Files the walk refuses: the light module's error is the full module's (the same walk).
@@ -140,7 +141,8 @@ open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
 
   # Help and usage errors, as the full module prints them.
   for args in "--help" "h.vdb -o x.txt" "h.vdb -o x.glb --level -1" "h.vdb -o x.ply --greedy" \
-              "h.vdb -o x.glb --color rainbow" "h.vdb" "h.vdb -o x.glb --bogus" "h.vdb -o x.glb --region 1,2,3"; do
+              "h.vdb -o x.glb --color rainbow" "h.vdb" "h.vdb -o x.glb --bogus" "h.vdb -o x.glb --region 1,2,3" \
+              "h.vdb -o x.glb --half-width 3" "h.vpk -o x.vox --quantize" "h.vdb -o x.glb --format ply"; do
     # shellcheck disable=SC2086
     "$vox" export $args >l_out.txt 2>l_err.txt
     lrc=$?
@@ -150,7 +152,7 @@ open('foreign_meta.vdb', 'wb').write(b[:i] + b'user_compression' + b[i + 16:])"
     [ $lrc = $frc ] || fail "'$args': exit $lrc vs $frc"
     cmp -s l_out.txt f_out.txt && cmp -s l_err.txt f_err.txt || fail "'$args': output differs: $(diff l_err.txt f_err.txt | head -4)"
   done
-  [ ! -e x.glb ] && [ ! -e x.txt ] && [ ! -e x.ply ] || fail "a usage error left an output"
+  [ ! -e x.glb ] && [ ! -e x.txt ] && [ ! -e x.ply ] && [ ! -e x.vox ] || fail "a usage error left an output"
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac

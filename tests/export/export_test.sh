@@ -28,12 +28,36 @@ rgb_triangle() {
   expect_exit 0 "$vox" voxelize tri.obj --res "$1" -o tri.vdb
   rm tri.obj
 }
+# rename_class SRC.vpk DST.vpk OLD NEW: DST is SRC with the class table's text OLD
+# replaced by NEW (same length) and the metadata and header CRC32Cs made good
+# again: a page file whose voxels name a class its table no longer has.
+rename_class() {
+  python3 - "$@" <<'EOF2' || fail "cannot rewrite the class table of $1"
+import struct, sys
+def crc32c(data):
+    crc = 0xFFFFFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ (0x82F63B78 if crc & 1 else 0)
+    return crc ^ 0xFFFFFFFF
+assert crc32c(b"123456789") == 0xE3069283
+src, dst, old, new = sys.argv[1], sys.argv[2], sys.argv[3].encode(), sys.argv[4].encode()
+b = bytearray(open(src, "rb").read())
+off, n = struct.unpack_from("<QQ", b, 80)  # metadata offset and bytes (PAGEFILE.md "Header")
+meta = bytes(b[off:off + n])
+assert meta.count(old) == 1 and len(old) == len(new), old
+b[off:off + n] = meta.replace(old, new)
+struct.pack_into("<I", b, 112, crc32c(bytes(b[off:off + n])))
+struct.pack_into("<I", b, 124, crc32c(bytes(b[:124])))
+open(dst, "wb").write(b)
+EOF2
+}
 validate_gltf() {
-  local files
-  files=$(find . -name '*.glb' -o -name '*.gltf' | sort)
-  [ -n "$files" ] || return 0
-  # shellcheck disable=SC2086
-  NODE_PATH="$tools/node_modules" node "$here/validate_gltf.mjs" $files >validator.txt 2>&1 ||
+  local files=()
+  mapfile -t files < <(find . -name '*.glb' -o -name '*.gltf' | sort)  # names may hold spaces
+  [ ${#files[@]} -gt 0 ] || return 0
+  NODE_PATH="$tools/node_modules" node "$here/validate_gltf.mjs" "${files[@]}" >validator.txt 2>&1 ||
     fail "glTF validator: $(cat validator.txt)"
 }
 
@@ -81,6 +105,20 @@ gltf)
   expect_exit 0 "$vox" export h.vdb -o g2.glb --greedy --dedup --split classes --threads 2
   cmp -s g1.glb g2.glb || fail "greedy glb differs between --threads 1 and 2"
   jcheck rh.json "c=d['counts']; assert c['greedy_triangle_ratio']>3 and c['faces']>c['quads']"
+  # A .gltf names its .bin by a relative URI, percent-encoded: '#' would start a
+  # fragment, '%' and ' ' are not URI characters, UTF-8 is encoded byte by byte.
+  # Decoding it gives the .bin's name; the validator below reads the buffer through it.
+  for name in 'a#b' 'c%d' 'e f' 'été'; do
+    expect_exit 0 "$vox" export small.vdb -o "$name.gltf"
+    [ -s "$name.bin" ] || fail "$name.bin not written beside $name.gltf"
+    python3 - "$name" <<'EOF2' || fail "$name.gltf: the buffer URI is not its .bin's name percent-encoded"
+import json, os, re, sys, urllib.parse
+name = sys.argv[1]
+uri = json.load(open(name + ".gltf", encoding="utf-8"))["buffers"][0]["uri"]
+assert re.fullmatch(r"([A-Za-z0-9._~!*'()-]|%[0-9A-F]{2})+", uri), uri  # a '%' starts an escape
+assert urllib.parse.unquote_to_bytes(uri) == os.fsencode(name + ".bin"), uri
+EOF2
+  done
   validate_gltf
   ;;
 inputs)
@@ -130,6 +168,32 @@ inputs)
   done
   grep -q 'class: fog volume' empty_fog.txt && grep -q 'class: level set' empty_ls.txt ||
     fail "the empty volumes lost their grid class"
+  # --color voxel on a solid 16^3 cube whose surface is coloured (red) and whose
+  # 14^3 interior is not (voxelize --fill solid), from the scene and its page
+  # file alike: glTF counts the faces drawn with the palette colour (none; cut
+  # by --region at w = 7, the 14 x 14 interior faces of that plane), PLY and
+  # .vox every voxel they write (the 2744 interior ones). Warnings name the input.
+  python3 - >cube.obj <<'EOF2'
+corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+for c in corners: print('v %d %d %d 1 0 0' % c)
+for a, b, c, d in [(1, 4, 3, 2), (5, 6, 7, 8), (1, 2, 6, 5), (2, 3, 7, 6), (3, 4, 8, 7), (4, 1, 5, 8)]:
+    print('f %d %d %d\nf %d %d %d' % (a, b, c, a, c, d))
+EOF2
+  expect_exit 0 "$vox" voxelize cube.obj --res 16 --fill solid -o cube.vdb
+  expect_exit 0 "$vox" pack-chunks cube.vdb -o cube.vpk
+  for in in cube.vdb cube.vpk; do
+    expect_exit 0 "$vox" export $in -o cube.glb --color voxel --report rc.json
+    jcheck rc.json "c=d['counts']; assert (c['voxels'],c['faces'],c['faces_without_voxel_colour'])==(4096,1536,0), c"
+    ! grep -q warning err.txt || fail "$in: a warning although every face drawn is coloured: $(cat err.txt)"
+    expect_exit 0 "$vox" export $in -o half.glb --color voxel --region 0,0,0,15,15,7 --report rh.json
+    jcheck rh.json "c=d['counts']; assert (c['faces'],c['faces_without_voxel_colour'])==(1024,196), c"
+    expect_stderr "warning: $in: 196 faces of voxels without a baked colour take their class's palette colour"
+    for f in ply vox; do
+      expect_exit 0 "$vox" export $in -o cube.$f --color voxel --report r$f.json
+      jcheck r$f.json "assert d['counts']['voxels_without_colour']==2744"
+      expect_stderr "warning: $in: 2744 voxels have no baked colour; they have their class's display colour"
+    done
+  done
   validate_gltf
   ;;
 usage)
@@ -147,7 +211,36 @@ usage)
   expect_exit 2 "$vox" export small.vdb -o x.glb --level 1
   expect_stderr "single scene"
   expect_exit 2 "$vox" export small.vdb -o x.glb --level -1
+  # Options of another format or mode are refused, even at their default value,
+  # naming the option and what it belongs to.
+  refused() { local want=$1; shift; expect_exit 2 "$vox" export small.vdb "$@"; expect_stderr "$want"; }
+  refused "--half-width is an option of OpenVDB level sets (.vdb --level-set), but -o x.glb writes glTF (.glb): drop --half-width" \
+    -o x.glb --half-width 5
+  refused "--half-width is an option of OpenVDB level sets (.vdb --level-set), but -o x.vdb writes an OpenVDB fog volume (.vdb --fog)" \
+    -o x.vdb --fog --half-width 3
+  refused "--quantize is an option of MagicaVoxel palettes of baked colours (.vox --color voxel), but -o x.vox writes MagicaVoxel (.vox) with the class palette: add --color voxel" \
+    -o x.vox --quantize
+  refused "--quantize is an option of MagicaVoxel palettes of baked colours (.vox --color voxel), but -o x.ply writes PLY (.ply)" \
+    -o x.ply --quantize --color voxel
+  refused "--split is an option of glTF block meshes (.glb, .gltf), but -o x.ply writes PLY (.ply)" -o x.ply --split none
+  refused "--dedup is an option of glTF block meshes" -o x.vox --dedup
+  refused "--greedy is an option of glTF block meshes" -o x.vdb --level-set --greedy
+  refused "--fog is an option of OpenVDB volumes (.vdb), but -o x.gltf writes glTF (.gltf)" -o x.gltf --fog
+  refused "--level-set is an option of OpenVDB volumes (.vdb)" -o x.ply --level-set
+  refused "--color is an option of coloured exports (.glb, .gltf, .ply, .vox), but -o x.vdb writes an OpenVDB level set" \
+    -o x.vdb --level-set --color palette
+  refused "give only one of --fog and --level-set" -o x.vdb --fog --level-set
+  refused "give --fog or --level-set" -o x.vdb
+  # --format names the format of an output without a known extension
+  # (export.gltf: fmt.bin.out); it may repeat a known one, not contradict it.
+  refused "--format ply contradicts -o out.glb, a .glb name: name the output .ply or drop --format" -o out.glb --format ply
+  refused "--format glb contradicts -o out.gltf, a .gltf name: name the output .glb or drop --format" -o out.gltf --format glb
+  refused "--format vox contradicts -o OUT.PLY, a .ply name" -o OUT.PLY --format vox
   nothing_but small.vdb
+  expect_exit 0 "$vox" export small.vdb -o same.GLB --format glb
+  expect_exit 0 "$vox" export small.vdb -o ls.vdb --level-set --half-width 2
+  expect_exit 3 "$vox" export small.vdb -o q.vox --quantize --color voxel  # the options fit; the scene has no colours
+  expect_stderr "small.vdb: the scene has no baked colours"
   ;;
 bad_input)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb
@@ -161,10 +254,32 @@ bad_input)
   expect_exit 3 "$vox" export small.vdb -o keep.glb --region 0,0,0,4,2,1
   expect_stderr "not inside the scene's index box (0, 0, 0) .. (3, 2, 1)"
   expect_exit 3 "$vox" export small.vdb -o keep.glb --color voxel
-  expect_stderr "no baked colours"
+  expect_stderr "small.vdb: the scene has no baked colours"
+  # A page file packed from that scene has no colour channel: refused the same way, by every format.
+  expect_exit 0 "$vox" pack-chunks small.vdb -o small.vpk
+  for out in keep.glb keep.ply keep.vox; do
+    expect_exit 3 "$vox" export small.vpk -o $out --color voxel
+    expect_stderr "small.vpk: the page file has no baked colours; export the class palette (--color palette)"
+  done
+  # A voxel whose class the page file's table lacks (Water renamed from 7 to 9):
+  # the file, the level when not 0, the chunk and the voxel are named, and the fix.
+  rename_class small.vpk damaged.vpk '"id":7,"name":"Water"' '"id":9,"name":"Water"'
+  for out in keep.glb keep.ply keep.vox; do
+    expect_exit 3 "$vox" export damaged.vpk -o $out
+    expect_stderr "damaged.vpk: chunk (0, 0, 0), voxel (0, 1, 0): class 7 has no entry in the file's class table"
+    expect_stderr "damaged or was written by another tool: check it with 'vox pack-chunks --verify damaged.vpk' and pack it again from its scene"
+  done
+  # Outside --region the voxel is not read: Stone, Stone, Grass export.
+  expect_exit 0 "$vox" export damaged.vpk -o region.ply --region 0,0,0,3,0,1
+  rm region.ply
+  # Stone (3) renamed in a page file with levels: at level 1 it wins the block (0, 0, 0).
+  expect_exit 0 "$vox" pack-chunks small.vdb -o mips.vpk --mips
+  rename_class mips.vpk damaged_mips.vpk '"id":3,"name":"Stone"' '"id":9,"name":"Stone"'
+  expect_exit 3 "$vox" export damaged_mips.vpk -o keep.glb --level 1
+  expect_stderr "damaged_mips.vpk: level 1, chunk (0, 0, 0), voxel (0, 0, 0): class 3 has no entry"
   [ "$(cat keep.glb)" = keep ] || fail "a failed export touched the existing output"
   expect_exit 4 "$vox" export small.vdb -o no/such/dir/x.glb
-  nothing_but small.vdb keep.glb notes.txt
+  nothing_but small.vdb small.vpk damaged.vpk mips.vpk damaged_mips.vpk keep.glb notes.txt
   ;;
 ply)
   expect_exit 0 "$vox" voxelize "$data/map_small.json" -o small.vdb

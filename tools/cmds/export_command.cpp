@@ -43,18 +43,48 @@ const EnumNames<ExportSplit>& splitNames() {
 
 bool isGltf(ExportFormat f) { return f == ExportFormat::Glb || f == ExportFormat::Gltf; }
 
-/// The options that only some formats take.
-void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
-  if (!isGltf(f) && (o.dedup || o.greedy || o.split != ExportSplit::None))
-    vox::throwUsage("--dedup, --greedy and --split apply to glTF block meshes (.glb, .gltf)");
-  if (f == ExportFormat::Vdb) {
-    if (o.fog == o.levelSet) vox::throwUsage("a .vdb export is a fog volume or a level set: give --fog or --level-set");
-    if (o.color != vox::FaceColor::Palette) vox::throwUsage("--color: a .vdb volume has no colour");
-  } else if (o.fog || o.levelSet) {
-    vox::throwUsage("--fog and --level-set are .vdb volumes");
+/// "glTF (.glb)", for messages.
+std::string formatText(ExportFormat f) {
+  switch (f) {
+    case ExportFormat::Glb: return "glTF (.glb)";
+    case ExportFormat::Gltf: return "glTF (.gltf)";
+    case ExportFormat::Ply: return "PLY (.ply)";
+    case ExportFormat::MagicaVoxel: return "MagicaVoxel (.vox)";
+    case ExportFormat::Vdb: return "OpenVDB (.vdb)";
+    case ExportFormat::FromExtension: break;
   }
+  return "no format";
+}
+
+/// Options that belong to some formats or modes are refused with any other
+/// output (docs/export.md "Exit codes"): given, even at their default value,
+/// they would be ignored without a word.
+void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
+  auto given = [&](const char* name) { return o.app && o.app->count(name) > 0; };
+  std::string what = formatText(f);  // and the mode, where options depend on it
+  if (f == ExportFormat::Vdb && o.fog != o.levelSet)
+    what = o.fog ? "an OpenVDB fog volume (.vdb --fog)" : "an OpenVDB level set (.vdb --level-set)";
+  if (f == ExportFormat::MagicaVoxel && o.color == vox::FaceColor::Palette) what += " with the class palette";
+  const std::string writes = "-o " + o.output + " writes " + what;
+  auto refuse = [&](const std::string& option, const std::string& belongsTo, const std::string& fix = "") {
+    vox::throwUsage(option + " is an option of " + belongsTo + ", but " + writes + ": " +
+                    (fix.empty() ? "drop " + option : fix));
+  };
+  for (const char* name : {"--split", "--dedup", "--greedy"})
+    if (given(name) && !isGltf(f)) refuse(name, "glTF block meshes (.glb, .gltf)");
+  for (const char* name : {"--fog", "--level-set"})
+    if (given(name) && f != ExportFormat::Vdb) refuse(name, "OpenVDB volumes (.vdb)");
+  if (f == ExportFormat::Vdb) {
+    if (o.fog && o.levelSet) vox::throwUsage("a .vdb export is one volume: give only one of --fog and --level-set");
+    if (!o.fog && !o.levelSet) vox::throwUsage("a .vdb export is a fog volume or a level set: give --fog or --level-set");
+    if (given("--color")) refuse("--color", "coloured exports (.glb, .gltf, .ply, .vox)");
+  }
+  if (given("--half-width") && !(f == ExportFormat::Vdb && o.levelSet))
+    refuse("--half-width", "OpenVDB level sets (.vdb --level-set)");
+  if (given("--quantize") && !(f == ExportFormat::MagicaVoxel && o.color == vox::FaceColor::Voxel))
+    refuse("--quantize", "MagicaVoxel palettes of baked colours (.vox --color voxel)",
+           f == ExportFormat::MagicaVoxel ? "add --color voxel for baked colours, or drop --quantize" : "");
   if (o.halfWidth < 1 || o.halfWidth > 64) vox::throwUsage("--half-width must be 1..64 voxels");
-  if (o.quantize && f != ExportFormat::MagicaVoxel) vox::throwUsage("--quantize applies to MagicaVoxel palettes (.vox)");
   if (o.level < 0) vox::throwUsage("--level must be >= 0");
 }
 
@@ -97,8 +127,10 @@ bool readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& regio
     in.frame.voxelSize = h.voxelSize * double(uint64_t(1) << o.level);
     in.classes = vox::pagefile::readPageMeta(reader.metaJson(), o.input).classes;
     in.box = regionIn(region, in.dims, o.input);
+    if (withColor && !(h.flags & vox::pagefile::kFlagColor))
+      vox::throwBadInput(o.input + ": the page file has no baked colours; export the class palette (--color palette)");
     run.phase("volume");
-    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, withColor, run.threads()));
+    in.volume.emplace(vox::classVolumeFromPages(reader, o.level, in.box, in.classes, withColor, run.threads()));
     return true;
   }
   if (!vox::looksLikeVdb(o.input))
@@ -182,9 +214,13 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
     c["greedy_triangle_ratio"] = mesh.quads.empty() ? 1.0 : double(culledQuads) / double(mesh.quads.size());
   }
   if (ms.color == vox::FaceColor::Voxel) c["faces_without_voxel_colour"] = mesh.uncoloredFaces;
+  // Faces, not voxels: a voxel without visible faces (a solid's interior) is not drawn.
   if (mesh.uncoloredFaces)
-    run.note("warning: " + counted(mesh.uncoloredFaces, "face", "faces") + " of voxels without a baked colour " +
-             (mesh.uncoloredFaces == 1 ? "takes" : "take") + " its class's palette colour");
+    run.note("warning: " + o.input + ": " +
+             (mesh.uncoloredFaces == 1 ? "1 face of a voxel without a baked colour takes its"
+                                       : counted(mesh.uncoloredFaces, "face", "faces") +
+                                             " of voxels without a baked colour take their") +
+             " class's palette colour");
   std::string what = counted(mesh.unitFaces, "face", "faces") + ", " + counted(written.triangles, "triangle", "triangles");
   if (o.greedy)
     what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
@@ -192,10 +228,11 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
 }
 
-void noteUncolored(uint64_t voxels, Run& run) {
+/// PLY and .vox write every voxel, interior ones too: their uncoloured voxels are counted.
+void noteUncolored(const std::string& input, uint64_t voxels, Run& run) {
   run.counts()["voxels_without_colour"] = voxels;
   if (voxels)
-    run.note("warning: " + counted(voxels, "voxel has", "voxels have") + " no baked colour; " +
+    run.note("warning: " + input + ": " + counted(voxels, "voxel has", "voxels have") + " no baked colour; " +
              (voxels == 1 ? "it has its" : "they have their") + " class's display colour");
 }
 
@@ -206,7 +243,7 @@ void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
       vox::writeVoxelPly(*in.volume, in.classes, o.color, in.frame, run.output(o.output));
   run.counts()["points"] = r.points;
   run.counts()["bytes"] = r.bytes;
-  if (o.color == vox::FaceColor::Voxel) noteUncolored(r.uncolored, run);
+  if (o.color == vox::FaceColor::Voxel) noteUncolored(o.input, r.uncolored, run);
   run.note("wrote " + o.output + ": " + counted(r.points, "point", "points") + ", " + std::to_string(r.bytes) + " bytes");
 }
 
@@ -237,7 +274,7 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
     for (const vox::ClassVolume::Brick& b : in.volume->bricks())
       for (int i = 0; i < vox::ClassVolume::kBrickVoxels; ++i)
         if (b.classes[size_t(i)]) ++histogram[vox::packRgb(voxelColors(b, i))];
-    noteUncolored(voxelColors.uncolored(), run);
+    noteUncolored(o.input, voxelColors.uncolored(), run);
     if (histogram.size() > palette.size() && !o.quantize)
       vox::throwBadInput(o.input + ": the voxels have " + std::to_string(histogram.size()) +
                          " distinct colours and a .vox palette holds 255; quantise them (--quantize) or export "
@@ -274,13 +311,23 @@ nlohmann::json boxJson(const vox::IndexBox& b) {
   return {{"min", {b.min.u, b.min.v, b.min.w}}, {"max", {b.max.u, b.max.v, b.max.w}}};
 }
 
-/// --format, or the output's extension (".glb" for glb, and so on).
+/// --format, or the output's extension (".glb" for glb, and so on). --format
+/// is for names without a known extension (out.bin); with one, it must agree.
 ExportFormat outputFormat(const ExportOptions& o) {
-  if (o.format != ExportFormat::FromExtension) return o.format;
+  std::optional<std::pair<std::string, ExportFormat>> byExtension;
   for (const auto& [name, format] : formatNames())
-    if (vox::hasExtension(o.output, "." + name)) return format;
-  vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it .glb .gltf .ply .vox .vdb"
-                  " or give --format");
+    if (vox::hasExtension(o.output, "." + name)) byExtension.emplace(name, format);
+  if (o.format == ExportFormat::FromExtension) {
+    if (byExtension) return byExtension->second;
+    vox::throwUsage("-o " + o.output + ": cannot tell the format from the extension; name it .glb .gltf .ply .vox .vdb"
+                    " or give --format");
+  }
+  if (byExtension && byExtension->second != o.format) {
+    const std::string named = nameOf(formatNames(), o.format);
+    vox::throwUsage("--format " + named + " contradicts -o " + o.output + ", a ." + byExtension->first +
+                    " name: name the output ." + named + " or drop --format");
+  }
+  return o.format;
 }
 
 void checkVolumeMemory(Run& run, const std::string& input, uint64_t bricks, bool withColor) {
@@ -363,6 +410,7 @@ CLI::App* addExportOptions(CLI::App& root, ExportOptions& opts) {
       ->capture_default_str();
   cmd->add_flag("--quantize", opts.quantize, ".vox --color voxel: quantise more than 255 colours (median cut)");
   addCommonOptions(*cmd, opts.common);
+  opts.app = cmd;
   return cmd;
 }
 

@@ -36,6 +36,10 @@ struct ExportOptions {
   int halfWidth = 3;
   bool quantize = false;
   CommonOptions common;
+  /// The parsed subcommand (addExportOptions sets it): which options were
+  /// given, so that an option of another format is refused even at its
+  /// default value (--split none with a .ply).
+  const CLI::App* app = nullptr;
 };
 
 /// Adds the export subcommand and its options, which fill `opts`.
@@ -68,7 +72,9 @@ struct ExportBackend {
   std::function<void()> starting;
 };
 
-/// The format --format names, or the output's extension's.
+/// The format --format names, or the output's extension's. Throws vox::Error
+/// (Usage) when neither says, or when --format names another format than a
+/// known extension (-o out.glb --format ply).
 ExportFormat outputFormat(const ExportOptions& o);
 
 /// The guard before a scene's volume is built (phase "volume"): resident
