@@ -151,6 +151,16 @@ depfile_report)
   diff -u want.d d.d || fail "depfile content"
   jcheck r.json "assert d['command']=='voxelize' and d['exit_code']==0 and d['threads']>=1"
   jcheck r.json "assert [p['name'] for p in d['phases']]==['parse','write'] and all(p['seconds']>=0 for p in d['phases'])"
+  # A report or depfile whose directory is missing is refused before the work, nothing written.
+  for opt in --report --depfile; do
+    expect_exit 4 "$vox" voxelize "$data/map_small.json" -o nodir_out.vdb $opt nodir/x
+    expect_stderr "nodir/x: cannot write: directory 'nodir' does not exist"
+    [ -e nodir_out.vdb ] && fail "$opt in a missing directory: the output was written"
+    grep -qF "wrote" err.txt && fail "$opt in a missing directory: the work ran first"
+  done
+  # --threads past its bound is a usage error (70000 crashed the thread pool).
+  expect_exit 2 "$vox" voxelize "$data/map_small.json" -o t.vdb --threads 70000
+  expect_stderr "--threads"
   jcheck r.json "assert d['counts']['occupied_voxels']==5 and d['counts']['dims']==[4,3,2]"
   jcheck r.json "assert d['outputs']==['out dir.vdb'] and d['inputs']==['$data/map_small.json']"
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --depfile h.d --threads 2 --report h.json
