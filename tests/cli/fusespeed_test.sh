@@ -29,6 +29,28 @@ memory)
   [ -e f.vdb ] && fail "a refused fusion wrote f.vdb"
   expect_exit 0 "$vox" fuse views.json -o f.vdb --quiet --report r.json
   jcheck r.json "c = [x for x in d['memory']['checks'] if x['what'].startswith('fusing 2 views')]; assert c and 'votes' in c[0]['parts'], d['memory']"
+  # A setting the refusal suggests fits under the same limit (it once named
+  # "--free voted --threads 1" at twice the limit): limits just under the
+  # estimate, each suggestion run as given.
+  expect_exit 4 "$vox" fuse views.json -o f.vdb --free all --threads 2 --max-memory 1M --quiet
+  need=$(grep -o 'needs about [0-9.]* MiB' err.txt | grep -o '[0-9.]*' | head -1)
+  [ -n "$need" ] || fail "no estimate in MiB: $(head -c 300 err.txt)"
+  suggested=0
+  for cut in 0.5 1 2 3 4 6 8; do
+    limit=$(python3 -c "print('%dK' % int(($need - $cut) * 1024))")
+    "$vox" fuse views.json -o f.vdb --free all --threads 2 --max-memory "$limit" --quiet 2>err.txt && continue
+    setting=$(grep -o ': [-a-z0-9 ]* would need about' err.txt | sed 's/^: //; s/ would need about$//')
+    [ -n "$setting" ] || continue
+    suggested=$((suggested + 1))
+    threads=2 free=all words=()
+    read -r -a words <<<"$setting"
+    for ((k = 0; k + 1 < ${#words[@]}; k += 2)); do
+      case ${words[k]} in --threads) threads=${words[k + 1]} ;; --free) free=${words[k + 1]} ;; *) fail "unexpected suggestion: $setting" ;; esac
+    done
+    expect_exit 0 "$vox" fuse views.json -o f.vdb --free "$free" --threads "$threads" --max-memory "$limit" --quiet
+  done
+  [ "$suggested" -gt 0 ] || fail "no refusal just under the estimate suggested a setting"
+  rm -f f.vdb
   ;;
 reuse)
   # 4 views of 1024x1024 keep 40 MiB decoded (10 bytes a pixel); a 150M limit keeps at most 37.5 MiB

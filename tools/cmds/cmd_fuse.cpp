@@ -224,15 +224,35 @@ int runFuse(const FuseOptions& o) {
     std::string suggestion;
     const vox::MemoryLimit& limit = run.memoryLimit();
     if (!limit.unlimited() && estimate.bytes() > limit.bytes) {
-      vox::FuseMemoryInputs less = mi;
-      less.threads = 1;
-      if (mi.threads > 1 && estimateWith(less).bytes() <= limit.bytes) {
-        suggestion = "--threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
-      } else if (mi.countFree && mi.freeScope == vox::FreeScope::All) {
-        less.freeScope = vox::FreeScope::Voted;
-        suggestion = "--free voted --threads 1 would need about " + vox::formatBytes(estimateWith(less).bytes());
-      } else {
-        suggestion = "fuse fewer views per run (votes add up across runs with -i)";
+      // The first setting that fits, from the least change: fewer threads,
+      // free counts at voted voxels only, both; else fewer views per run.
+      auto fits = [&](const vox::FuseMemoryInputs& in) { return estimateWith(in).bytes() <= limit.bytes; };
+      std::vector<std::pair<std::string, vox::FuseMemoryInputs>> settingsToTry;
+      vox::FuseMemoryInputs oneThread = mi, voted = mi;
+      oneThread.threads = 1;
+      voted.freeScope = vox::FreeScope::Voted;
+      if (mi.threads > 1) settingsToTry.emplace_back("--threads 1", oneThread);
+      if (mi.countFree && mi.freeScope == vox::FreeScope::All) {
+        settingsToTry.emplace_back("--free voted", voted);
+        voted.threads = 1;
+        if (mi.threads > 1) settingsToTry.emplace_back("--free voted --threads 1", voted);
+      }
+      for (const auto& [text, in] : settingsToTry)
+        if (suggestion.empty() && fits(in)) suggestion = text + " would need about " + vox::formatBytes(estimateWith(in).bytes());
+      if (suggestion.empty()) {
+        // The most views per run that fit (the estimate grows with the views).
+        vox::FuseMemoryInputs fewer = settingsToTry.empty() ? mi : settingsToTry.back().second;
+        uint64_t lo = 0, hi = mi.views;  // fewer.views = lo fits (or lo = 0), hi does not
+        while (hi - lo > 1) {
+          fewer.views = lo + (hi - lo) / 2;
+          (fits(fewer) ? lo : hi) = fewer.views;
+        }
+        if (lo > 0) {
+          fewer.views = lo;
+          suggestion = "fuse at most " + counted(lo, "view", "views") + " per run" +
+                       (settingsToTry.empty() ? "" : " with " + settingsToTry.back().first) +
+                       " (about " + vox::formatBytes(estimateWith(fewer).bytes()) + "; votes add up across runs with -i)";
+        }
       }
     }
     run.checkMemory(estimate,
