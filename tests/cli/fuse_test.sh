@@ -212,7 +212,19 @@ bad_input)
   expect_exit 0 "$vox" fuse good.json -o good.vdb
   expect_exit 0 "$vox" diff good.vdb unread.vdb
   rm -f good.vdb unread.vdb
+  # The same images twice: fused (votes twice), with a warning naming both views.
+  echo '{"views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}, {"depth": "./o_000.depth.exr", "label": "o_000.class.png"}]}' >dup.json
+  expect_exit 0 "$vox" fuse dup.json -o dup.vdb --report dup_r.json
+  expect_stderr "warning: dup.json: views[1] has the depth and label images of views[0]"
+  jcheck dup_r.json "assert len(d['counts']['warnings']) == 1, d['counts']['warnings']"
+  # Views that reach no voxel of the grid: an empty scene, said.
+  echo '{"grid": {"dims": [4, 4, 4], "voxel_size": 0.1, "origin": [100, 100, 100]}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >miss.json
+  expect_exit 0 "$vox" fuse miss.json -o miss.vdb
+  expect_stderr "warning: no pixel of 1 view reached a voxel of the grid (dims 4 x 4 x 4, voxel size 0.1, origin (100, 100, 100))"
+  rm -f dup.vdb miss.vdb
   # Usage.
+  expect_exit 2 "$vox" fuse good.json -o f.vdb --carve none --free all
+  expect_stderr "--carve none counts none"
   expect_exit 2 "$vox" fuse good.json -o f.png
   expect_exit 2 "$vox" fuse good.json -o f.vdb --carve maybe
   [ -e f.vdb ] && fail "a failed fuse left f.vdb behind"

@@ -3,6 +3,9 @@
 // libvox/render/fuse.h, the carve rule libvox/scene/fuse_scene.h, the views
 // file formats/image/fuse_views.h, the `free` grid formats/vdb/fuse_vdb.h.
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <filesystem>
+#include <map>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -42,6 +45,7 @@ struct FuseOptions {
   FreeOption free = FreeOption::Voted;
   uint32_t weight = 1;
   CommonOptions common;
+  const CLI::App* app = nullptr;  // to tell an option given from its default
 };
 
 const EnumNames<CarveMode>& carveNames() {
@@ -59,10 +63,14 @@ const EnumNames<DepthKindOption>& depthKindNames() {
 }
 
 std::string placementText(const vox::FuseGridSpec& g) {
-  char s[200];
-  std::snprintf(s, sizeof s, "dims %s, voxel size %.17g, origin (%.17g, %.17g, %.17g)", vox::toString(g.dims).c_str(),
-                g.voxelSize, g.origin[0], g.origin[1], g.origin[2]);
-  return s;
+  // The shortest text that reads back the same double: 0.4 rather than
+  // 0.40000000000000002, yet two placements that differ never print alike.
+  auto shortest = [](double v) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
+  };
+  return "dims " + vox::toString(g.dims) + ", voxel size " + shortest(g.voxelSize) + ", origin (" + shortest(g.origin[0]) +
+         ", " + shortest(g.origin[1]) + ", " + shortest(g.origin[2]) + ")";
 }
 
 bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
@@ -132,12 +140,30 @@ int runFuse(const FuseOptions& o) {
   if (o.weight < 1 || o.weight > 65536) vox::throwUsage("--weight must be 1..65536 votes per pixel");
   Run run("fuse", o.common);
   if (!o.input.empty()) run.mayReplace(o.input);  // -i S -o S: votes added to S (docs/fuse.md)
+  if (o.carve == CarveMode::None && o.app && o.app->get_option("--free")->count() > 0)
+    vox::throwUsage("--free says where free space is counted, and --carve none counts none: drop --free, or "
+                    "use --carve on or off");
   const std::string outTemp = run.output(o.output);
 
   run.phase("read");
   run.input(o.views);
   const vox::FuseViewsFile views = vox::readFuseViews(o.views);
-  for (const std::string& w : views.warnings) run.note("warning: " + w);
+  std::vector<std::string> warnings = views.warnings;
+  // The same images twice vote twice: allowed (a view may be weighted so),
+  // but said, as it is more often a copy-paste slip.
+  {
+    std::map<std::pair<std::string, std::string>, size_t> firstOf;
+    for (size_t i = 0; i < views.views.size(); ++i) {
+      const vox::FuseViewSpec& v = views.views[i];
+      const auto key = std::make_pair(std::filesystem::path(v.depthPath).lexically_normal().string(),
+                                      std::filesystem::path(v.labelPath).lexically_normal().string());
+      const auto [it, added] = firstOf.emplace(key, i);
+      if (!added)
+        warnings.push_back(v.where + " has the depth and label images of views[" + std::to_string(it->second) +
+                           "] (" + v.depthPath + ", " + v.labelPath + "): their pixels vote twice");
+    }
+  }
+  for (const std::string& w : warnings) run.note("warning: " + w);
   std::optional<vox::DepthKind> kindOverride;
   if (o.depthKind == DepthKindOption::Distance) kindOverride = vox::DepthKind::Distance;
   if (o.depthKind == DepthKindOption::Z) kindOverride = vox::DepthKind::Z;
@@ -354,7 +380,14 @@ int runFuse(const FuseOptions& o) {
   const vox::FuseTotals& t = fused.totals;
   const uint64_t rays = total.used + total.outside;
   run.counts()["views"] = perView;
-  run.counts()["warnings"] = views.warnings;
+  if (total.used == 0) {
+    const std::string w = "no pixel of " + counted(views.views.size(), "view", "views") +
+                          " reached a voxel of the grid (" + placementText({header.dims, header.voxelSize, header.origin}) +
+                          "): nothing was voted; check the cameras and depths against the grid";
+    run.note("warning: " + w);
+    warnings.push_back(w);
+  }
+  run.counts()["warnings"] = warnings;
   run.counts()["totals"] = {{"views", views.views.size()},
                             {"pixels", total.pixels},
                             {"used", total.used},
@@ -381,10 +414,10 @@ int runFuse(const FuseOptions& o) {
   if (secondPass) run.counts()["totals"]["second_pass_views"] = keepViews ? "kept" : "read again";
   char line[400];
   std::snprintf(line, sizeof line,
-                "%zu views, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "
+                "%s, %llu pixels: %llu voted, %llu skipped (no depth %llu, no class %llu, zero confidence %llu, outside "
                 "the grid %llu); "
                 "%llu voxels occupied (%llu before, %llu created, %llu removed by carving), %llu with free counts",
-                views.views.size(), (unsigned long long)total.pixels, (unsigned long long)total.used,
+                counted(views.views.size(), "view", "views").c_str(), (unsigned long long)total.pixels, (unsigned long long)total.used,
                 (unsigned long long)(total.noDepth + total.unlabelled + total.zeroWeight + total.outside), (unsigned long long)total.noDepth,
                 (unsigned long long)total.unlabelled, (unsigned long long)total.zeroWeight, (unsigned long long)total.outside,
                 (unsigned long long)t.occupiedAfter, (unsigned long long)t.occupiedBefore, (unsigned long long)t.created,
@@ -399,6 +432,7 @@ int runFuse(const FuseOptions& o) {
 Command registerFuse(CLI::App& root) {
   auto opts = std::make_shared<FuseOptions>();
   CLI::App* cmd = root.add_subcommand("fuse", "Vote depth + label images into a scene, carving free space");
+  opts->app = cmd;
   cmd->footer(
       "Each pixel with a depth and a class votes for the voxel its ray (render-canonical's ray\n"
       "through the pixel centre) reaches at that depth; the voxels the ray crossed before it get a\n"
