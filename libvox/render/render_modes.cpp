@@ -41,6 +41,14 @@ PixelSample modeSample(RenderMode mode, int canonicalBits) {
   }
 }
 
+uint32_t modeChannels(RenderMode mode) {
+  switch (mode) {
+    case RenderMode::Shaded: return 3;
+    case RenderMode::Depth: return 1;
+    default: return 4;
+  }
+}
+
 int canonicalBits(const Dims& dims) {
   const uint64_t maxCoord = uint64_t(dims.maxAxis()) - 1;
   return maxCoord <= 255 ? 8 : maxCoord <= 65535 ? 16 : 32;
@@ -125,7 +133,7 @@ ModeImage colorImage(const ViewHits& hits, const ClassTable& classes, const HitS
 
 ModeImage shadedImage(const ViewHits& hits, const Camera& camera, const ClassTable& classes,
                       const HitSummaries& summaries, ShadeColor shadeColor, const HitColors& colors) {
-  ModeImage img = blankImage(hits, 3, PixelSample::U8);
+  ModeImage img = blankImage(hits, modeChannels(RenderMode::Shaded), PixelSample::U8);
   // No sRGB curve: the terrain shading writes its linear result as is.
   auto toByte = [](double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
   for (size_t i = 0; i < hits.pixels.size(); ++i) {
@@ -146,7 +154,7 @@ ModeImage shadedImage(const ViewHits& hits, const Camera& camera, const ClassTab
 }
 
 ModeImage depthImage(const ViewHits& hits) {
-  ModeImage img = blankImage(hits, 1, PixelSample::F32);
+  ModeImage img = blankImage(hits, modeChannels(RenderMode::Depth), PixelSample::F32);
   float* px = reinterpret_cast<float*>(img.pixels.data());
   for (size_t i = 0; i < hits.pixels.size(); ++i)
     px[i] = hits.pixels[i].hit ? hits.pixels[i].depth : std::numeric_limits<float>::infinity();

@@ -68,6 +68,8 @@ struct ModeImage {
 
 /// The sample type a mode's image has (canonical: by `canonicalBits`).
 PixelSample modeSample(RenderMode mode, int canonicalBits);
+/// The channels a mode's image has: 1 (depth), 3 (shaded) or 4.
+uint32_t modeChannels(RenderMode mode);
 
 /// Canonical sample width: the narrowest exact one holding every coordinate of
 /// `dims` (max axis - 1 <= 255: 8 bits, <= 65535: 16 bits, else 32 bits).

@@ -72,6 +72,17 @@ refusals)
   else
     fail "no --res suggested"
   fi
+  # A render over the limit: refused with the largest --size of its aspect that fits, which runs
+  # (its estimate was 2.6-4.7x high, so sizes that fit were refused).
+  expect_exit 0 "$vox" voxelize cube.obj --res 64 -o c64.vdb -q
+  refused "render-canonical 6000x3000" "$vox" render-canonical c64.vdb -o r.png --view iso --size 6000x3000 --max-memory 300M
+  size=$(grep -o -- '--size [0-9]*x[0-9]* would fit' err.txt | cut -d' ' -f2)
+  if [ -n "$size" ]; then
+    expect_exit 0 "$vox" render-canonical c64.vdb -o r.png --view iso --size "$size" --max-memory 300M -q --report rr.json
+    jcheck rr.json "w, h = map(int, '$size'.split('x')); assert w * 3000 // 6000 - 2 <= h <= w * 3000 // 6000 + 2 and w > 3000, (w, h)"
+  else
+    fail "no --size suggested: $(head -c 400 err.txt)"
+  fi
   # A tiny voxel size: refused with a voxel size that fits.
   refused "cube --voxel-size 0.0002" "$vox" voxelize cube.obj --voxel-size 0.0002 --max-memory 512M -o big.vdb
   expect_stderr "--voxel-size "

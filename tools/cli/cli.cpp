@@ -72,15 +72,25 @@ void Run::checkMemory(const vox::MemoryEstimate& estimate, const std::string& wh
   vox::checkProcessMemory(estimate, what, suggestion);
 }
 
-void Run::checkWorkMemory(const std::string& what, double perGridByte, const vox::MemoryEstimate& extra,
-                          const std::string& suggestion) {
+namespace {
+uint64_t gridsRead() {
   uint64_t grids = 0;
   for (const vox::CheckedEstimate& c : vox::checkedEstimates())
     for (const vox::MemoryPart& p : c.estimate.parts)
       if (p.name == "grids") grids += p.bytes;
+  return grids;
+}
+}  // namespace
+
+uint64_t Run::workMemoryBase(double perGridByte) const {
+  return vox::residentBytesNow() + uint64_t(double(gridsRead()) * perGridByte);
+}
+
+void Run::checkWorkMemory(const std::string& what, double perGridByte, const vox::MemoryEstimate& extra,
+                          const std::string& suggestion) {
   vox::MemoryEstimate e;
   e.add("resident after reading", vox::residentBytesNow());
-  e.add("working copies", double(grids) * perGridByte);
+  e.add("working copies", double(gridsRead()) * perGridByte);
   for (const vox::MemoryPart& p : extra.parts) e.parts.push_back(p);
   checkMemory(e, what, suggestion);
 }

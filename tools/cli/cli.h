@@ -118,6 +118,9 @@ class Run {
   /// "Memory"), plus `extra` (parts that do not scale with the scene).
   void checkWorkMemory(const std::string& what, double perGridByte, const vox::MemoryEstimate& extra = {},
                        const std::string& suggestion = "");
+  /// checkWorkMemory's estimate without `extra`: resident bytes now plus the
+  /// working copies (for a command that searches a setting whose extra fits).
+  uint64_t workMemoryBase(double perGridByte) const;
 
   /// Writes the depfile and the report beside the outputs, then commits every
   /// file of the run together (vox::commitAll: all reach the disk before any is

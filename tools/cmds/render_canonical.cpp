@@ -444,13 +444,47 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits, o.camera.orbit > 0);
 
   {
-    // Per pixel of every view: the hit record and one image per mode (up to
-    // 16 bytes per sample) plus the encoder's copy; the scene's ray grid (measured).
-    double pixels = 0;
-    for (const vox::CameraView& v : views) pixels += double(v.camera.width) * v.camera.height;
-    vox::MemoryEstimate images;
-    images.add("images", pixels * (48.0 + 16.0 * double(modes.size())));
-    run.checkWorkMemory("rendering " + o.input, 1.0, images);
+    // Every view's hit records live until the last image is written; the
+    // images are made and encoded one at a time: the largest three times (the
+    // image, the encoder's output, at most about as large, and the heap the
+    // image before it left). Measured on a 64^3 scene: 4096^2 canonical RGBA8
+    // peaked at 24 bytes per pixel, all six modes at 29, four orbit views of
+    // 2048^2 at 21 (docs/reliability.md).
+    auto imagesAt = [&](double scale) {
+      double pixels = 0, largestImage = 0;
+      for (const vox::CameraView& v : views) {
+        const double p = double(v.camera.width) * v.camera.height * scale * scale;
+        pixels += p;
+        if (!planned.empty())
+          for (vox::RenderMode m : modes) {
+            const vox::PixelSample s = vox::modeSample(m, canonicalBits);
+            const double sampleBytes = s == vox::PixelSample::U8 ? 1 : s == vox::PixelSample::U16 ? 2 : 4;
+            largestImage = std::max(largestImage, p * vox::modeChannels(m) * sampleBytes);
+          }
+      }
+      vox::MemoryEstimate e;
+      e.add("hit records", pixels * double(sizeof(vox::PixelHit)));
+      e.add("image and its encoding", 3 * largestImage);
+      return e;
+    };
+    const vox::MemoryEstimate images = imagesAt(1);
+    std::string suggestion;
+    const vox::MemoryLimit& limit = run.memoryLimit();
+    if (!limit.unlimited() && !views.empty()) {
+      // The largest image size (the same aspect) that fits, when that is what is over.
+      const double base = double(run.workMemoryBase(1.0));
+      double lo = 0, hi = 1;
+      auto fits = [&](double scale) { return base + double(imagesAt(scale).bytes()) <= double(limit.bytes); };
+      if (!fits(1) && fits(1.0 / 64)) {
+        for (int i = 0; i < 40; ++i) ((fits((lo + hi) / 2)) ? lo : hi) = (lo + hi) / 2;
+        lo *= 0.97;  // room for what the next run has resident besides
+        const vox::Camera& c = views.front().camera;
+        const uint64_t w = std::max<uint64_t>(1, uint64_t(c.width * lo)), h = std::max<uint64_t>(1, uint64_t(c.height * lo));
+        suggestion = "--size " + std::to_string(w) + "x" + std::to_string(h) +
+                     (views.size() > 1 ? " (or fewer views)" : "") + " would fit";
+      }
+    }
+    run.checkWorkMemory("rendering " + o.input, 1.0, images, suggestion);
   }
   run.phase("cast");
   const CastViews cast = castViews(run, in, views);
