@@ -14,6 +14,7 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/page_merge.h"
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_verify.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
@@ -36,7 +37,7 @@ int runVerify(const PackOptions& o) {
   run.phase("verify");
   uint64_t voxels = 0;
   try {
-    voxels = r.verify();
+    voxels = vox::pagefile::verifyPageFile(r);
   } catch (const vox::Error& e) {
     std::cerr << "vox pack-chunks: verify failed: " << e.what() << "\n";
     run.counts()["verified"] = false;
@@ -46,7 +47,7 @@ int runVerify(const PackOptions& o) {
   run.counts()["chunks"] = r.entries().size();
   run.counts()["voxels"] = voxels;
   run.note(o.verify + ": ok, " + counted(r.entries().size(), "chunk", "chunks") + ", " + counted(voxels, "voxel", "voxels") +
-           ", every CRC32C and bound checked");
+           ", every CRC32C, bound, class and padding byte checked");
   return run.finish();
 }
 

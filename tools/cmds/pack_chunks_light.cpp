@@ -79,7 +79,8 @@ CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
       "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
       layoutHelp() +
       "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
-      "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
+      "with --occupancy/--levels).\n"
+      "--verify FILE.vpk: every CRC, bound, bitmap, class, padding byte and the metadata; exit 1 if bad.\n"
       "--merge PART.vpk... -o WORLD.vpk: the parts of a region bake (packed with the same settings)\n"
       "joined into exactly the file the single-process bake gives (PAGEFILE.md, \"Merging\").\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
