@@ -509,6 +509,32 @@ open('keep_bad.vpk','wb').write(b); open('keep_cut.vpk','wb').write(b[:len(b)-7]
   [ -e a.vdb ] && fail "pack-chunks wrote a page file named a.vdb"
   expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --layout octree
   expect_stderr "expected bricks|svo|columns"
+  expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --chunk -8
+  expect_stderr "--chunk: -8: expected 8, 16 or 32"
+  # Options that do not apply are refused like their neighbours, nothing written.
+  expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --occupancy majority
+  expect_stderr "--occupancy requires --mips"
+  expect_exit 2 "$vox" pack-chunks --verify a.vpk --chunk 8
+  expect_stderr "--verify excludes --chunk"
+  [ ! -e x.vpk ] || fail "a refused pack-chunks wrote x.vpk"
+  # A pyramid's stored levels are packed as they are: --occupancy and --levels may
+  # select them (the first N), and a conflict is a usage error naming the fix.
+  expect_exit 0 "$vox" mip h.vdb -o maj.vdb --levels 2 --occupancy majority -q
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj.vpk --mips -q
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj2.vpk --mips --levels 2 --occupancy majority -q
+  cmp -s maj.vpk maj2.vpk || fail "--levels 2 --occupancy majority of a 2-level majority pyramid differs from its stored levels"
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj1.vpk --mips --levels 1 -q
+  expect_exit 0 "$vox" info --json maj1.vpk
+  jcheck out.txt "assert len(d['levels'])==2 and d['mip_occupancy']=='from maj.vdb', d.get('mip_occupancy')"
+  expect_exit 2 "$vox" pack-chunks maj.vdb -o bad.vpk --mips --levels 3
+  expect_stderr "--levels 3: maj.vdb is a vox mip pyramid with 2 stored levels"
+  expect_stderr "run vox mip again with --levels 3"
+  expect_exit 2 "$vox" pack-chunks maj.vdb -o bad.vpk --mips --occupancy any
+  expect_stderr "occupancy 'majority'"
+  expect_exit 2 "$vox" pack-chunks p.vdb -o bad.vpk --mips --occupancy majority
+  expect_stderr "--occupancy majority: p.vdb is a vox mip pyramid whose stored levels have occupancy 'any'"
+  expect_stderr "omit --occupancy"
+  [ ! -e bad.vpk ] || fail "a refused pack of a pyramid wrote bad.vpk"
   # --verify reads what info and export read: the metadata as JSON, every
   # voxel's class in the class table (each layout; svo's mip bricks too), the
   # header's reserved field and the zero padding. The corruptions come with
