@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <tuple>
@@ -264,6 +265,14 @@ TEST(Mip, PyramidFileRefusals) {
   // The file as written reads back; the recorded occupancy is the one given.
   EXPECT_EQ(vox::readPyramidVdb(rewrite("same.vdb", *grids, meta)).size(), levels.size() + 1);
   EXPECT_NE(vox::readPyramidMetadata(good).find("\"occupancy\":\"majority\""), std::string::npos);
+  // What `pack-chunks --mips` checks its options against: the stored occupancy and level count.
+  const std::optional<vox::PyramidLevels> stored = vox::readPyramidLevels(good);
+  ASSERT_TRUE(stored.has_value());
+  EXPECT_EQ(stored->occupancy, vox::MipOccupancy::Majority);
+  EXPECT_EQ(stored->levels, int(levels.size()));
+  const std::string plain = dir.file("plain.vdb");
+  vox::writeSceneVdb(base, plain);
+  EXPECT_FALSE(vox::readPyramidLevels(plain).has_value());
 
   auto withPyramid = [&](const std::string& text) {
     openvdb::MetaMap m = meta;
@@ -272,6 +281,9 @@ TEST(Mip, PyramidFileRefusals) {
     return m;
   };
   EXPECT_TRUE(refused(rewrite("json.vdb", *grids, withPyramid("{")), {"json.vdb", "'vox:pyramid'", "not valid JSON"}));
+  EXPECT_TRUE(voxtest::throwsVoxError(
+      [&] { vox::readPyramidLevels(rewrite("occ.vdb", *grids, withPyramid(R"({"occupancy":"most","levels":[]})"))); },
+      vox::ErrorKind::BadInput, {"occ.vdb", "'vox:pyramid' 'occupancy': \"most\"", "\"any\" or \"majority\""}));
   EXPECT_TRUE(refused(rewrite("nolevels.vdb", *grids, withPyramid("{}")), {"'vox:pyramid'", "'levels'"}));
   EXPECT_TRUE(refused(rewrite("many.vdb", *grids, withPyramid(R"({"levels":[1,2,3,4,5]})")),
                       {"'vox:pyramid'", "lists 5 levels", "at most 4"}));

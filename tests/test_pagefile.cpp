@@ -15,6 +15,7 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_meta.h"
+#include "formats/pagefile/pagefile_verify.h"
 #include "formats/pagefile/svo_layout.h"
 #include "libvox/core/atlas_content.h"
 #include "libvox/core/crc32c.h"
@@ -363,8 +364,8 @@ TEST(PageFile, RefusesBadSettings) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::packChunks({&s}, p); }, vox::ErrorKind::Usage, {"power of two"}));
 }
 
-// A small file for the corruption tests: a few chunks, alignment 8.
-std::vector<uint8_t> smallFile(Layout layout = Layout::Bricks, uint32_t C = 8) {
+// A small file for the corruption tests: a few chunks, alignment 8 unless asked.
+std::vector<uint8_t> smallFile(Layout layout = Layout::Bricks, uint32_t C = 8, uint32_t align = 8) {
   vox::SceneHeader h;
   h.dims = {20, 9, 10};
   h.classes.add({1, "a", {}, {}});
@@ -381,7 +382,7 @@ std::vector<uint8_t> smallFile(Layout layout = Layout::Bricks, uint32_t C = 8) {
   const auto mips = vox::buildMipPyramid(s, ms);
   vox::PackSettings p;
   p.chunkSide = C;
-  p.alignment = 8;
+  p.alignment = align;
   p.layout = layout;
   return vox::packChunks({&s, &mips[0]}, p).bytes;
 }
@@ -455,6 +456,108 @@ TEST(PageFile, PayloadInconsistentWithItsBitmapIsRefused) {
   const auto bytes = vox::pagefile::serialize(h, ok.metaJson(), blobs);
   const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "g.vpk");
   EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput, {"chunk 0", "field 'bitmap'"}));
+}
+
+// The header's reserved u32 is 0 in version 1: another value is refused on
+// opening, even under a correct header CRC.
+TEST(PageFile, HeaderReservedFieldMustBeZero) {
+  std::vector<uint8_t> file = smallFile();
+  namespace hf = vox::pagefile::header_field;
+  file[hf::kReserved] = 7;
+  const uint32_t crc = vox::crc32c(file.data(), hf::kHeaderCrc);
+  for (int k = 0; k < 4; ++k) file[hf::kHeaderCrc + size_t(k)] = uint8_t(crc >> (8 * k));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { Reader::fromMemory(file.data(), file.size(), "r.vpk"); },
+                                      vox::ErrorKind::BadInput, {"r.vpk: header field 'reserved'", "7, must be 0"}));
+}
+
+// The bytes between the metadata and the first payload and between payloads
+// are zeros. No CRC covers them, so verify() reads every one: each non-zero
+// byte is refused naming the chunk it precedes.
+TEST(PageFile, VerifyRefusesNonZeroPadding) {
+  for (Layout layout : kLayouts) {
+    SCOPED_TRACE(vox::pagefile::layoutName(layout));
+    const std::vector<uint8_t> file = smallFile(layout, 8, 64);
+    const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+    EXPECT_EQ(ok.verify(), 7u);
+    EXPECT_EQ(vox::pagefile::verifyPageFile(ok), 7u);
+    size_t tried = 0;
+    uint64_t gapStart = ok.header().metaOffset + ok.header().metaBytes;
+    for (size_t i = 0; i < ok.entries().size(); ++i) {
+      for (uint64_t at = gapStart; at < ok.entries()[i].offset; ++at, ++tried) {
+        std::vector<uint8_t> bad = file;
+        bad[at] = 0x20;
+        const Reader r = Reader::fromMemory(bad.data(), bad.size(), "f.vpk");  // opens: no CRC covers padding
+        EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput,
+                                            {"f.vpk: padding before " + r.describe(i), "byte " + std::to_string(at)}))
+            << "byte " << at;
+        EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::pagefile::verifyPageFile(r); }, vox::ErrorKind::BadInput,
+                                            {"padding before " + r.describe(i)}));
+      }
+      gapStart = ok.entries()[i].offset + ok.entries()[i].size;
+    }
+    EXPECT_GT(tried, 64u);
+  }
+  // A file without chunks: its metadata is padded to the alignment.
+  vox::SceneHeader h;
+  h.dims = {4, 4, 4};
+  const vox::Scene empty = vox::SceneBuilder(h).build();
+  std::vector<uint8_t> bytes = vox::packChunks({&empty}, vox::PackSettings{}).bytes;
+  bytes[bytes.size() - 1] = 1;
+  const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "e.vpk");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput,
+                                      {"padding before the end of the file"}));
+}
+
+// verifyPageFile (`vox pack-chunks --verify`) reads the metadata with the
+// reader `vox info` uses: text with a good CRC that is not JSON is refused.
+TEST(PageFileVerify, MetadataThatIsNotJsonIsRefused) {
+  const std::vector<uint8_t> file = smallFile();
+  const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+  EXPECT_NO_THROW(vox::pagefile::readPageMeta(ok.metaJson(), "f.vpk"));
+  const std::string cut = ok.metaJson().substr(0, ok.metaJson().size() - 1);  // the closing brace
+  const auto bytes = vox::pagefile::serialize(ok.header(), cut, blobsOf(ok));
+  const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "m.vpk");
+  EXPECT_EQ(r.verify(), 7u);  // the container and the payloads are sound
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::pagefile::verifyPageFile(r); }, vox::ErrorKind::BadInput,
+                                      {"m.vpk: metadata is not valid JSON"}));
+}
+
+// Every voxel's class is in the metadata's class table, in every layout, and
+// in the mip bricks of an svo chunk: a summary byte changed under a good CRC
+// decodes (class 40 is not 0), and verifyPageFile names the chunk and voxel.
+TEST(PageFileVerify, EveryClassIsInTheClassTable) {
+  for (Layout layout : kLayouts)
+    for (uint32_t C : {8u, 16u, 32u}) {
+      SCOPED_TRACE(std::string(vox::pagefile::layoutName(layout)) + " C=" + std::to_string(C));
+      const std::vector<uint8_t> file = smallFile(layout, C);
+      const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+      EXPECT_EQ(vox::pagefile::verifyPageFile(ok), 7u);
+      std::vector<vox::pagefile::ChunkBlob> blobs = blobsOf(ok);
+      std::vector<uint8_t>& b = blobs[0].bytes;
+      ASSERT_FALSE(blobs[0].full);
+      const uint32_t N = C * C * C;
+      // The first summary record of chunk 0: voxel (0, 0, 0), or in svo with
+      // C > 8 the first voxel of the root's mip brick.
+      size_t summary = 0;
+      if (layout == Layout::Bricks) summary = N / 8;
+      if (layout == Layout::Svo) {
+        auto u32 = [&](size_t at) { return uint32_t(b[at] | b[at + 1] << 8 | b[at + 2] << 16 | uint32_t(b[at + 3]) << 24); };
+        summary = vox::pagefile::kSvoFixedBytes + 16 * size_t(u32(vox::pagefile::svo_field::kNodeCount)) +
+                  64 * size_t(u32(vox::pagefile::svo_field::kBitmapCount));
+      }
+      if (layout == Layout::Columns)
+        summary = vox::pagefile::kColumnsFixedBytes + N / 8 + vox::pagefile::columnsLadderBytes(C) +
+                  ((ok.header().flags & vox::pagefile::kFlagSurface) ? N / 8 : 0);
+      ASSERT_TRUE(b[summary] == 1 || b[summary] == 2) << int(b[summary]);  // a class of the table
+      b[summary] = 40;
+      const auto bytes = vox::pagefile::serialize(ok.header(), ok.metaJson(), blobs);
+      const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "c.vpk");
+      EXPECT_EQ(r.verify(), 7u);  // the layout's own checks pass: class 40 is a class
+      const std::string voxel = layout == Layout::Svo && C > 8 ? "mip brick of node 0" : "voxel (0, 0, 0) of level 0";
+      EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::pagefile::verifyPageFile(r); }, vox::ErrorKind::BadInput,
+                                          {"c.vpk: " + r.describe(0) + ": " + voxel,
+                                           "class 40 is not in the metadata's class table (ids 1, 2)"}));
+    }
 }
 
 // Every bit of the structural part of every svo and columns payload (counts,

@@ -17,6 +17,7 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/page_merge.h"
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_meta.h"
 #include "libvox/core/regions.h"
 #include "libvox/scene/demo_hamlet.h"
 #include "libvox/scene/mip.h"
@@ -401,7 +402,11 @@ TEST_F(PageMergeErrors, PartsWithOtherMipSettings) {
   const Merged withMips = packParts(world, 3, ps, any);
   const std::vector<uint8_t> none = pack(cropToTile(world, 2, 3), ps);  // no --mips
   const Reader r0 = Reader::fromMemory(none.data(), none.size(), "nomips.vpk");
-  EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r0}, {"nomips.vpk", "--mips"}));
+  // Named as packed without --mips, whichever part comes first.
+  EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r0},
+                      {"nomips.vpk: packed without --mips, but part0.vpk has mip levels (occupancy 'any')"}));
+  EXPECT_TRUE(refused({&r0, &withMips.readers[0], &withMips.readers[1]},
+                      {"nomips.vpk: packed without --mips, but part0.vpk has mip levels"}));
   const std::vector<uint8_t> maj = pack(cropToTile(world, 2, 3), ps, {true, vox::MipOccupancy::Majority, 0});
   const Reader r1 = Reader::fromMemory(maj.data(), maj.size(), "majority.vpk");
   EXPECT_TRUE(refused({&withMips.readers[0], &withMips.readers[1], &r1}, {"majority.vpk", "mip occupancy"}));
@@ -431,6 +436,27 @@ TEST_F(PageMergeErrors, CorruptPayloadNamesThePartAndTheChunk) {
   bad[at] ^= 0x10;
   const Reader r = Reader::fromMemory(bad.data(), bad.size(), "corrupt.vpk");
   EXPECT_TRUE(refused({&m.readers[0], &r, &m.readers[2]}, {"corrupt.vpk", "chunk"}));
+}
+
+// A chunk of a level the merge rebuilds from the seam voxels (never read
+// otherwise) is CRC-checked too: a corrupt part is refused, naming it and the
+// chunk, before the output exists.
+TEST_F(PageMergeErrors, CorruptChunkOfARebuiltLevelIsRefused) {
+  const Merged withMips = packParts(world, 3, ps, {true, vox::MipOccupancy::Any, 0});
+  std::vector<uint8_t> bad = withMips.partBytes[1];
+  const Reader clean = Reader::fromMemory(bad.data(), bad.size(), "x");
+  const size_t last = clean.entries().size() - 1;
+  ASSERT_GE(clean.entries()[last].level, vox::pagefile::kRegionSeamLevel);
+  bad[clean.entries()[last].offset + clean.entries()[last].size - 1] ^= 0x01;
+  const Reader r = Reader::fromMemory(bad.data(), bad.size(), "corrupt.vpk");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { r.verify(); }, vox::ErrorKind::BadInput, {"crc32c"}));
+  const voxtest::TempDir dir;
+  const std::string out = dir.file("merged.vpk");
+  const Reader* parts[] = {&withMips.readers[0], &r, &withMips.readers[2]};
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::mergePageFiles(parts, vox::MergeSettings{}, out); },
+                                      vox::ErrorKind::BadInput,
+                                      {"corrupt.vpk: " + r.describe(last) + ": field 'crc32c'"}));
+  EXPECT_FALSE(std::ifstream(out).good()) << "a refused merge created its output";
 }
 
 }  // namespace

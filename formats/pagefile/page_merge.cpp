@@ -122,6 +122,14 @@ void checkSettingsAgree(const std::vector<Part>& parts) {
     // the merge chooses again over the world's chunks, as the whole pack does.
     if (alignmentAsked(p) != alignmentAsked(first))
       differs("payload alignment", alignmentName(alignmentAsked(first)), alignmentName(alignmentAsked(p)));
+    if (p.meta.mipOccupancy.empty() != first.meta.mipOccupancy.empty()) {
+      const Part& without = p.meta.mipOccupancy.empty() ? p : first;
+      const Part& with = p.meta.mipOccupancy.empty() ? first : p;
+      refuse(*without.reader, "packed without --mips, but " + with.reader->name() + " has mip levels (occupancy '" +
+                                  with.meta.mipOccupancy + "'): pack every part with the same --mips, --occupancy "
+                                  "and --levels (pack " + without.reader->name() + " again with --mips and the "
+                                  "options of the others, or " + with.reader->name() + " without --mips)");
+    }
     if (p.meta.mipOccupancy != first.meta.mipOccupancy)
       differs("mip occupancy", "'" + first.meta.mipOccupancy + "'", "'" + p.meta.mipOccupancy + "'");
     if (b.levelCount != a.levelCount)
@@ -304,6 +312,21 @@ void forChunks(const std::vector<size_t>& which, unsigned threads, Fn&& work) {
     if (e) std::rethrow_exception(e);
 }
 
+// The CRC of every chunk of the levels the merge rebuilds (from `rebuilt` on),
+// which it never reads otherwise: a part with a corrupt chunk is refused
+// whichever level the damage is in, as `--verify` refuses it.
+void checkRebuiltLevelCrcs(const std::vector<Part>& parts, int rebuilt, unsigned threads) {
+  std::vector<std::pair<uint32_t, uint32_t>> skipped;  // (part, entry)
+  for (uint32_t pi = 0; pi < parts.size(); ++pi) {
+    const auto& entries = parts[pi].reader->entries();
+    for (uint32_t ei = 0; ei < entries.size(); ++ei)
+      if (entries[ei].level >= rebuilt) skipped.push_back({pi, ei});
+  }
+  std::vector<size_t> which(skipped.size());
+  for (size_t k = 0; k < which.size(); ++k) which[k] = k;
+  forChunks(which, threads, [&](size_t k) { parts[skipped[k].first].reader->payload(skipped[k].second); });
+}
+
 }  // namespace
 
 MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSettings& settings,
@@ -351,6 +374,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   const uint32_t seam = h.levelCount > 1 ? first.meta.regionMips->seamLevel : 0;
   const int fromParts = seam ? std::min<int>(levelCount ? levelCount : int(seam), int(seam)) : levelCount;
   std::vector<OutChunk> chunks = collectChunks(parts, fromParts);
+  checkRebuiltLevelCrcs(parts, fromParts, settings.threads);
   std::vector<size_t> toCopy, toEncode;
   for (size_t i = 0; i < chunks.size(); ++i) {
     OutChunk& c = chunks[i];

@@ -60,8 +60,10 @@ struct MergeResult {
 /// metadata); parts of different bakes, repeated, overlapping or missing tiles
 /// (checkRegionParts); parts with different chunk side, layout, alignment,
 /// level count or mip occupancy; a chunk outside its part's tile; a payload
-/// whose CRC32C or structure is wrong. Checks and re-encoding come before the
-/// output is created; a payload's CRC is checked as it is copied, so on error
+/// whose CRC32C or structure is wrong (every chunk's CRC is checked, those of
+/// the levels rebuilt from the seam voxels included, as `--verify` would).
+/// Checks and re-encoding come before the output is created; a copied
+/// payload's CRC is checked as it is copied, so on error
 /// `outputPath` may hold a partial file: write to a temporary file
 /// (formats/core/file_util.h AtomicOutput) and commit it on success.
 /// Writes the file at `outputPath` (extended to its size, then runs of

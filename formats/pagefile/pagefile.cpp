@@ -316,6 +316,10 @@ void Reader::parseHeader() {
   h.fileBytes = loadLE<uint64_t>(p + hf::kFileBytes);
   h.metaCrc = loadLE<uint32_t>(p + hf::kMetaCrc);
   h.indexCrc = loadLE<uint32_t>(p + hf::kIndexCrc);
+  // Zero in version 1: a later version may give it a meaning, which this reader would miss.
+  if (const uint32_t reserved = loadLE<uint32_t>(p + hf::kReserved); reserved != 0)
+    fail("header field 'reserved' (offset " + std::to_string(hf::kReserved) + "): " + std::to_string(reserved) +
+         ", must be 0 (the header is corrupt, or was written by another tool)");
   if (h.fileBytes != size_)
     fail("header field 'file_bytes': " + std::to_string(h.fileBytes) + ", but the file has " + std::to_string(size_) +
          " bytes (" + (size_ < h.fileBytes ? "truncated" : "trailing bytes") + ")");
@@ -422,7 +426,35 @@ void ChunkPayload::fail(const std::string& what) const {
 uint64_t Reader::verify() const {
   uint64_t voxels = 0;
   for (size_t i = 0; i < entries_.size(); ++i) voxels += decode(i).size();
+  checkPadding();
   return voxels;
+}
+
+void Reader::checkPadding() const {
+  // [from, to) must be zeros; `before` names what follows the gap.
+  auto zeros = [&](uint64_t from, uint64_t to, const std::string& before) {
+    const uint8_t* end = data_ + to;  // bounds checked in parse()
+    const uint8_t* at = data_ + from;
+    // Blocks OR-ed first (a loop the compiler vectorizes): 4 KiB alignment
+    // makes padding most of a sparse surface's file.
+    constexpr size_t kBlock = 4096;
+    for (; end - at >= std::ptrdiff_t(kBlock); at += kBlock) {
+      uint8_t any = 0;
+      for (size_t k = 0; k < kBlock; ++k) any |= at[k];
+      if (any) break;
+    }
+    const uint8_t* nonzero = std::find_if(at, end, [](uint8_t b) { return b != 0; });
+    if (nonzero != end)
+      throwBadInput(name_ + ": padding before " + before + ": byte " + std::to_string(nonzero - data_) + " is " +
+                    std::to_string(*nonzero) + ", must be 0 (the bytes between the metadata and the payloads and "
+                    "between payloads are zeros; the file is corrupt: pack it again)");
+  };
+  uint64_t at = header_.metaOffset + header_.metaBytes;
+  for (size_t i = 0; i < entries_.size(); ++i) {
+    zeros(at, entries_[i].offset, describe(i));
+    at = entries_[i].offset + entries_[i].size;
+  }
+  zeros(at, size_, "the end of the file");  // an empty file's, after its metadata
 }
 
 }  // namespace vox::pagefile

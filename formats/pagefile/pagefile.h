@@ -224,8 +224,15 @@ class Reader {
   /// and the layout's own structure (svo: node tree, brick table, mip bricks;
   /// columns: masks, ladder, offsets).
   std::vector<DecodedVoxel> decode(size_t i) const;
-  /// Every payload: CRC and decode(). Returns the number of voxels checked.
+  /// Every payload: CRC and decode(); then checkPadding(). Returns the
+  /// number of voxels checked.
   uint64_t verify() const;
+  /// The bytes between the end of the metadata and the first payload, and
+  /// between payloads, are zero (PAGEFILE.md "File layout"): what a writer
+  /// leaves there is not covered by any CRC, so a non-zero byte is damage (or
+  /// a writer hiding data) that nothing else would see. Throws naming the
+  /// byte's offset and the chunk it precedes.
+  void checkPadding() const;
 
   /// "chunk 12 (level 0, chunk (3, 1, 2))" for messages.
   std::string describe(size_t i) const;

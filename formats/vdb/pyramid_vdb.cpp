@@ -91,6 +91,27 @@ std::string readPyramidMetadata(const std::string& path) {
   return m->value();
 }
 
+std::optional<PyramidLevels> readPyramidLevels(const std::string& path) {
+  const std::string text = readPyramidMetadata(path);
+  if (text.empty()) return std::nullopt;
+  const std::string key = std::string("metadata '") + kPyramidKey + "'";
+  json pyramid;
+  try {
+    pyramid = json::parse(text);
+  } catch (const json::exception& e) {
+    bad(path, key + " is not valid JSON: " + e.what());
+  }
+  if (!pyramid.is_object() || !pyramid.contains("levels") || !pyramid["levels"].is_array())
+    bad(path, key + " needs a 'levels' array");
+  PyramidLevels out;
+  out.levels = int(pyramid["levels"].size());
+  const json occupancy = pyramid.value("occupancy", json());
+  if (occupancy == mipOccupancyName(MipOccupancy::Majority)) out.occupancy = MipOccupancy::Majority;
+  else if (occupancy != mipOccupancyName(MipOccupancy::Any))
+    bad(path, key + " 'occupancy': " + occupancy.dump() + ", expected \"any\" or \"majority\"");
+  return out;
+}
+
 std::vector<Scene> readPyramidVdb(const std::string& path) {
   VdbSceneFile file = readVdbSceneFile(path, /*occupancyOnly=*/false);
   const SceneHeader& base = file.header;

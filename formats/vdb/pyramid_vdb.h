@@ -8,6 +8,7 @@
 // `vox:pyramid` (JSON) listing the levels.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,18 @@ bool isPyramidVdb(const std::string& path);
 /// The `vox:pyramid` JSON text of a pyramid file (reads the metadata only), or
 /// an empty string for a plain scene.
 std::string readPyramidMetadata(const std::string& path);
+
+/// What `vox:pyramid` says of a pyramid file's stored levels.
+struct PyramidLevels {
+  MipOccupancy occupancy = MipOccupancy::Any;
+  int levels = 0;  // stored above level 0
+};
+
+/// The occupancy and the number of the stored levels (reads the metadata
+/// only), or std::nullopt for a plain scene. Throws vox::Error (BadInput)
+/// naming the file and the key when `vox:pyramid` is not JSON with an
+/// `occupancy` of "any" or "majority" and a `levels` array.
+std::optional<PyramidLevels> readPyramidLevels(const std::string& path);
 
 /// Reads every level, level 0 first. A plain scene file gives one level.
 /// Throws vox::Error (BadInput) naming the file, the level and the grid.

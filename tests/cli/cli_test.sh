@@ -525,6 +525,97 @@ open('keep_bad.vpk','wb').write(b); open('keep_cut.vpk','wb').write(b[:len(b)-7]
   [ -e a.vdb ] && fail "pack-chunks wrote a page file named a.vdb"
   expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --layout octree
   expect_stderr "expected bricks|svo|columns"
+  expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --chunk -8
+  expect_stderr "--chunk: -8: expected 8, 16 or 32"
+  # Options that do not apply are refused like their neighbours, nothing written.
+  expect_exit 2 "$vox" pack-chunks h.vdb -o x.vpk --occupancy majority
+  expect_stderr "--occupancy requires --mips"
+  expect_exit 2 "$vox" pack-chunks --verify a.vpk --chunk 8
+  expect_stderr "--verify excludes --chunk"
+  [ ! -e x.vpk ] || fail "a refused pack-chunks wrote x.vpk"
+  # A pyramid's stored levels are packed as they are: --occupancy and --levels may
+  # select them (the first N), and a conflict is a usage error naming the fix.
+  expect_exit 0 "$vox" mip h.vdb -o maj.vdb --levels 2 --occupancy majority -q
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj.vpk --mips -q
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj2.vpk --mips --levels 2 --occupancy majority -q
+  cmp -s maj.vpk maj2.vpk || fail "--levels 2 --occupancy majority of a 2-level majority pyramid differs from its stored levels"
+  expect_exit 0 "$vox" pack-chunks maj.vdb -o maj1.vpk --mips --levels 1 -q
+  expect_exit 0 "$vox" info --json maj1.vpk
+  jcheck out.txt "assert len(d['levels'])==2 and d['mip_occupancy']=='from maj.vdb', d.get('mip_occupancy')"
+  expect_exit 2 "$vox" pack-chunks maj.vdb -o bad.vpk --mips --levels 3
+  expect_stderr "--levels 3: maj.vdb is a vox mip pyramid with 2 stored levels"
+  expect_stderr "run vox mip again with --levels 3"
+  expect_exit 2 "$vox" pack-chunks maj.vdb -o bad.vpk --mips --occupancy any
+  expect_stderr "occupancy 'majority'"
+  expect_exit 2 "$vox" pack-chunks p.vdb -o bad.vpk --mips --occupancy majority
+  expect_stderr "--occupancy majority: p.vdb is a vox mip pyramid whose stored levels have occupancy 'any'"
+  expect_stderr "omit --occupancy"
+  [ ! -e bad.vpk ] || fail "a refused pack of a pyramid wrote bad.vpk"
+  # --verify reads what info and export read: the metadata as JSON, every
+  # voxel's class in the class table (each layout; svo's mip bricks too), the
+  # header's reserved field and the zero padding. The corruptions come with
+  # good CRCs, recomputed here.
+  cat > keep_corrupt.py <<'PY'
+import struct, sys
+def crc32c(data):
+    c = 0xFFFFFFFF
+    for x in data:
+        c ^= x
+        for _ in range(8): c = (c >> 1) ^ 0x82F63B78 if c & 1 else c >> 1
+    return c ^ 0xFFFFFFFF
+what, src, dst = sys.argv[1:4]
+b = bytearray(open(src, 'rb').read())
+n, _, mo, mb = struct.unpack_from('<QQQQ', b, 64)
+layout, clog, flags = b[12], b[13], struct.unpack_from('<I', b, 16)[0]
+C = 1 << clog; N = C ** 3
+_, eflags, _, occ, key, off, size, _ = struct.unpack_from('<BBHIQQII', b, 128)
+if what == 'class':  # chunk 0's first summary record gets class 40
+    full = eflags & 1
+    if layout == 1: s = off + (0 if full else N // 8)
+    elif layout == 2:
+        B, M = struct.unpack_from('<II', b, off); s = off + 16 + 16 * B + 64 * M
+    else:
+        ladder = sum(4 * (((C >> m) ** 3 + 31) // 32) for m in range(1, clog))
+        s = off + 8 + (0 if full else N // 8 + ladder) + (N // 8 if flags & 2 else 0)
+    assert b[s] != 0
+    b[s] = 40
+    struct.pack_into('<I', b, 128 + 28, crc32c(b[off:off + size]))
+    struct.pack_into('<I', b, 116, crc32c(b[128:128 + 32 * n]))
+elif what == 'meta':  # the closing brace of the metadata becomes a space
+    b[mo + mb - 1] = 32
+    struct.pack_into('<I', b, 112, crc32c(b[mo:mo + mb]))
+elif what == 'reserved':
+    struct.pack_into('<I', b, 120, 7)
+elif what == 'padding':  # the first byte between two payloads (no CRC covers it)
+    ends = [struct.unpack_from('<Q', b, 128 + 32 * i + 16)[0] + struct.unpack_from('<I', b, 128 + 32 * i + 24)[0] for i in range(n)]
+    starts = [struct.unpack_from('<Q', b, 128 + 32 * i + 16)[0] for i in range(n)]
+    i = next(i for i in range(n - 1) if starts[i + 1] > ends[i])
+    b[ends[i]] = 1
+    print(i + 1)
+struct.pack_into('<I', b, 124, crc32c(b[:124]))
+open(dst, 'wb').write(b)
+PY
+  python3 keep_corrupt.py meta a.vpk keep_meta.vpk || fail "corrupt meta"
+  expect_exit 1 "$vox" pack-chunks --verify keep_meta.vpk
+  expect_stderr "keep_meta.vpk: metadata is not valid JSON"
+  expect_exit 3 "$vox" info keep_meta.vpk
+  expect_exit 0 "$vox" pack-chunks h.vdb -o svo16.vpk --layout svo --chunk 16 -q
+  expect_exit 0 "$vox" pack-chunks h.vdb -o col16.vpk --layout columns --chunk 16 -q
+  for f in a svo16 col16; do  # bricks, svo, columns
+    python3 keep_corrupt.py class $f.vpk keep_cls_$f.vpk || fail "corrupt class $f"
+    expect_exit 1 "$vox" pack-chunks --verify keep_cls_$f.vpk
+    expect_stderr "keep_cls_$f.vpk: chunk 0 (level 0"
+    expect_stderr "class 40 is not in the metadata's class table"
+    # svo at C = 16: the first record is the root's mip brick.
+    [ $f != svo16 ] || expect_stderr "mip brick of node 0"
+  done
+  expect_exit 3 "$vox" export keep_cls_a.vpk -o keep_cls.glb
+  python3 keep_corrupt.py reserved a.vpk keep_res.vpk || fail "corrupt reserved"
+  expect_exit 3 "$vox" pack-chunks --verify keep_res.vpk
+  expect_stderr "header field 'reserved' (offset 120): 7, must be 0"
+  gap=$(python3 keep_corrupt.py padding a.vpk keep_pad.vpk) || fail "corrupt padding"
+  expect_exit 1 "$vox" pack-chunks --verify keep_pad.vpk
+  expect_stderr "keep_pad.vpk: padding before chunk $gap ("
   # The svo and columns layouts: byte-identical at --threads 1 and 2, verified, described, every chunk size.
   for layout in svo columns; do
     expect_exit 0 "$vox" pack-chunks h.vdb -o l1.vpk --layout $layout --mips --threads 1 --report l.json
@@ -534,7 +625,7 @@ open('keep_bad.vpk','wb').write(b); open('keep_cut.vpk','wb').write(b[:len(b)-7]
     # Same voxel counts per level as the bricks file of the same scene.
     jcheck l.json "import json; a=json.load(open('pack.json'))['counts']; assert [l['voxels'] for l in d['counts']['levels']]==[l['voxels'] for l in a['levels']] and [l['chunks'] for l in d['counts']['levels']]==[l['chunks'] for l in a['levels']]"
     expect_exit 0 "$vox" pack-chunks --verify l1.vpk
-    grep -qF "every CRC32C and bound checked" out.txt err.txt || fail "--verify $layout: no summary line"
+    grep -qF "every CRC32C, bound, class and padding byte checked" out.txt err.txt || fail "--verify $layout: no summary line"
     expect_exit 0 "$vox" info --json l1.vpk
     cp out.txt linfo.json
     jcheck linfo.json "assert d['kind']=='pagefile' and d['layout']=='$layout' and len(d['levels'])==7 and d['channels']==['occupancy','summary','surface']"

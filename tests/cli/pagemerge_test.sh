@@ -142,6 +142,23 @@ expect_stderr "corrupt.vpk"
 expect_stderr "chunk"
 [ -e bad.vpk ] && fail "a refused merge wrote bad.vpk"
 
+# A corrupt chunk of a level the merge rebuilds (never read otherwise, here the
+# last payload: the coarsest level) is refused as --verify refuses it.
+for i in 0 1 2; do expect_exit 0 "$vox" pack-chunks hamlet.3.$i.vdb -o m.$i.vpk --mips -q; done
+python3 -c "
+b = bytearray(open('m.1.vpk', 'rb').read())
+b[-1] ^= 0x01
+open('mcorrupt.vpk', 'wb').write(b)"
+expect_exit 1 "$vox" pack-chunks --verify mcorrupt.vpk
+expect_exit 3 "$vox" pack-chunks --merge m.0.vpk mcorrupt.vpk m.2.vpk -o bad.vpk
+expect_stderr "mcorrupt.vpk: chunk"
+expect_stderr "field 'crc32c'"
+[ -e bad.vpk ] && fail "a refused merge wrote bad.vpk"
+# A part packed without --mips among parts with mips is named as such.
+expect_exit 3 "$vox" pack-chunks --merge m.0.vpk "$(p 1)" m.2.vpk -o bad.vpk
+expect_stderr "$(p 1): packed without --mips, but m.0.vpk has mip levels (occupancy 'any')"
+[ -e bad.vpk ] && fail "a refused merge wrote bad.vpk"
+
 # --report: phases, bytes and MB/s.
 expect_exit 0 "$vox" pack-chunks --merge "$(p 0)" "$(p 1)" "$(p 2)" -o r.vpk --report r.json -q
 jcheck r.json "c = d['counts']; assert c['parts'] == 3 and c['merge_mb_per_s'] > 0 and set(c['seconds']) >= {'read', 'check', 'copy', 'reencode', 'mips', 'write'}"

@@ -14,6 +14,7 @@
 #include "formats/pagefile/pack_chunks.h"
 #include "formats/pagefile/page_merge.h"
 #include "formats/pagefile/pagefile.h"
+#include "formats/pagefile/pagefile_verify.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
@@ -36,7 +37,7 @@ int runVerify(const PackOptions& o) {
   run.phase("verify");
   uint64_t voxels = 0;
   try {
-    voxels = r.verify();
+    voxels = vox::pagefile::verifyPageFile(r);
   } catch (const vox::Error& e) {
     std::cerr << "vox pack-chunks: verify failed: " << e.what() << "\n";
     run.counts()["verified"] = false;
@@ -46,20 +47,45 @@ int runVerify(const PackOptions& o) {
   run.counts()["chunks"] = r.entries().size();
   run.counts()["voxels"] = voxels;
   run.note(o.verify + ": ok, " + counted(r.entries().size(), "chunk", "chunks") + ", " + counted(voxels, "voxel", "voxels") +
-           ", every CRC32C and bound checked");
+           ", every CRC32C, bound, class and padding byte checked");
   return run.finish();
 }
 
-// The levels to pack: the scene, or the pyramid `vox mip` stored, or the scene
-// and the mips built here. Sets `pack.mipOccupancy` to what the metadata records.
+// --mips of a `vox mip` pyramid packs its stored levels, which were built
+// with their own occupancy and count: --occupancy and --levels may select
+// them, never change them silently. A usage error (nothing written) when they
+// ask for levels the file does not hold.
+void checkStoredLevels(const PackOptions& o, const vox::PyramidLevels& stored) {
+  const std::string pyramid = o.input + " is a vox mip pyramid";
+  if (o.levels < 0)
+    vox::throwUsage("--levels " + std::to_string(o.levels) + ": expected 1.." + std::to_string(stored.levels) +
+                    " (the first levels of the vox mip pyramid " + o.input + "), or 0 for all of them");
+  if (o.occupancyOption && o.occupancyOption->count() > 0 && o.occupancy != stored.occupancy)
+    vox::throwUsage(std::string("--occupancy ") + vox::mipOccupancyName(o.occupancy) + ": " + pyramid +
+                    " whose stored levels have occupancy '" + vox::mipOccupancyName(stored.occupancy) +
+                    "', which pack-chunks packs as they are: omit --occupancy, or run vox mip again with --occupancy " +
+                    vox::mipOccupancyName(o.occupancy));
+  if (o.levels > stored.levels)
+    vox::throwUsage("--levels " + std::to_string(o.levels) + ": " + pyramid + " with " +
+                    counted(uint64_t(stored.levels), "stored level", "stored levels") +
+                    " above level 0: ask for at most " + std::to_string(stored.levels) +
+                    " (or omit --levels for all of them), or run vox mip again with --levels " + std::to_string(o.levels));
+}
+
+// The levels to pack: the scene, or the pyramid `vox mip` stored (the first
+// --levels of them), or the scene and the mips built here. Sets
+// `pack.mipOccupancy` to what the metadata records.
 std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSettings& pack) {
   run.phase("read");
   run.input(o.input);
   vox::requireRegularFile(o.input);
   std::vector<vox::Scene> levels;
-  if (o.mips && vox::isPyramidVdb(o.input) && o.levels == 0) {
+  if (const std::optional<vox::PyramidLevels> stored = o.mips ? vox::readPyramidLevels(o.input) : std::nullopt) {
+    checkStoredLevels(o, *stored);
     pack.mipOccupancy = "from " + o.input;
-    return vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
+    levels = vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
+    if (o.levels > 0) levels.resize(size_t(o.levels) + 1);
+    return levels;
   }
   levels.push_back(vox::readSceneVdb(o.input));
   if (!o.mips) return levels;
@@ -163,7 +189,6 @@ int runPack(const PackOptions& o) {
     return runVerify(o);
   }
   if (o.input.empty() || o.output.empty()) vox::throwUsage("give a scene and -o PAGES.vpk (or --verify FILE.vpk)");
-  if (!o.mips && o.levels) vox::throwUsage("--levels needs --mips");
   if (!vox::hasExtension(o.output, ".vpk"))
     vox::throwUsage("-o " + o.output + ": a page file is written; name it *.vpk (vox info and render-canonical tell "
                     "files apart by that extension)");

@@ -78,17 +78,24 @@ CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
       "Page file format: formats/pagefile/PAGEFILE.md (little-endian header with CRC32C, index sorted by\n"
       "(level, Morton key), payloads at aligned offsets, no empty chunks). Layouts of a payload:\n" +
       layoutHelp() +
-      "--mips: add levels 1..n (stored ones when the input is a `vox mip` pyramid, else built\n"
-      "with --occupancy/--levels). --verify FILE.vpk: every CRC, bound and bitmap; exit 1 if bad.\n"
+      "--mips: add levels 1..n, built with --occupancy/--levels; of a `vox mip` pyramid, its stored\n"
+      "levels (--levels N: the first N; --occupancy must be the pyramid's, else a usage error).\n"
+      "--verify FILE.vpk: every CRC, bound, bitmap, class, padding byte and the metadata; exit 1 if bad.\n"
       "--merge PART.vpk... -o WORLD.vpk: the parts of a region bake (packed with the same settings)\n"
       "joined into exactly the file the single-process bake gives (PAGEFILE.md, \"Merging\").\n"
       "Example: vox pack-chunks hamlet.vdb -o hamlet.vpk --mips && vox info hamlet.vpk");
   cmd->add_option("input", opts.input, "Scene or pyramid (.vdb)");
   cmd->add_option("-o,--output", opts.output, "Page file to write (.vpk)");
-  cmd->add_option("--verify", opts.verify, "Check a page file instead of writing one");
+  CLI::Option* verify = cmd->add_option("--verify", opts.verify, "Check a page file instead of writing one");
   CLI::Option* merge = cmd->add_option("--merge", opts.merge,
                                        "Join the page files of a region bake's parts (PART.vpk...) into the world's");
-  cmd->add_option("--chunk", opts.pack.chunkSide, "Chunk side C: 8, 16 or 32")->capture_default_str();
+  // Checked on the text: CLI11 would say "Could not convert" of -8, without the choices.
+  cmd->add_option("--chunk", opts.pack.chunkSide, "Chunk side C: 8, 16 or 32")
+      ->check(CLI::Validator(
+          [](std::string& v) { return v == "8" || v == "16" || v == "32" ? std::string() : v + ": expected 8, 16 or 32"; },
+          "", ""))
+      ->type_name("8|16|32")
+      ->capture_default_str();
   cmd->add_option_function<std::string>(
          "--align",
          [&opts](const std::string& v) {
@@ -112,13 +119,20 @@ CLI::App* addPackChunksOptions(CLI::App& root, PackOptions& opts) {
          "else 64 bytes) or bytes, a power of two 8..65536")
       ->default_str("auto");
   addEnumOption(*cmd, "--layout", opts.pack.layout, layoutNames(), "Payload layout (below)");
-  cmd->add_flag("--mips", opts.mips, "Also pack the mip levels");
-  cmd->add_option("--levels", opts.levels, "With --mips: levels to build (default: automatic)");
-  addEnumOption(*cmd, "--occupancy", opts.occupancy, mipOccupancyNames(), "With --mips: how a coarser voxel is occupied");
+  CLI::Option* mips = cmd->add_flag("--mips", opts.mips, "Also pack the mip levels");
+  cmd->add_option("--levels", opts.levels,
+                  "With --mips: levels to build (default: automatic); of a pyramid, the stored levels to pack (default: all)")
+      ->needs(mips);
+  opts.occupancyOption = addEnumOption(*cmd, "--occupancy", opts.occupancy, mipOccupancyNames(),
+                                       "With --mips: how a coarser voxel is occupied")
+                             ->needs(mips);
   addCommonOptions(*cmd, opts.common);
-  // The parts carry their settings: a merge takes none of the packing options.
-  for (const char* name : {"--chunk", "--align", "--layout", "--mips", "--levels", "--occupancy"})
+  // The parts carry their settings: a merge takes none of the packing options;
+  // --verify reads a file whose settings are in it.
+  for (const char* name : {"--chunk", "--align", "--layout", "--mips", "--levels", "--occupancy"}) {
     merge->excludes(cmd->get_option(name));
+    verify->excludes(cmd->get_option(name));
+  }
   return cmd;
 }
 

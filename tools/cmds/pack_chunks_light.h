@@ -26,6 +26,7 @@ struct PackOptions {
   bool mips = false;
   int levels = 0;
   vox::MipOccupancy occupancy = vox::MipSettings{}.occupancy;
+  const CLI::Option* occupancyOption = nullptr;  // given: packing a pyramid checks it against the stored levels
   CommonOptions common;
 };
 
