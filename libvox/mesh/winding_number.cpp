@@ -398,6 +398,128 @@ constexpr double CapField::kFar;
 
 namespace {
 
+using i128 = __int128;
+
+int sign128(i128 x) { return (x > 0) - (x < 0); }
+
+/// The lattice point at p (voxel units), when p is one: the voxel and block
+/// centres the solid fill evaluates are.
+bool latticeAt(const double p[3], LatticePoint& out) {
+  for (int k = 0; k < 3; ++k) {
+    const double s = p[k] * kLatticeStepsPerVoxel;
+    if (!(std::abs(s) < 0x1p62) || s != std::nearbyint(s)) return false;
+    out[k] = int64_t(s);
+  }
+  return true;
+}
+
+// Where a centre lies on a cap, the field jumps there, and its value must be
+// the one on the side the crossing count takes: a crossing at the centre's
+// height counts as above it (the centre is approached from -z), and rays
+// through a triangle's edge or vertex are owned by the top-left rule, which
+// is the ray moved by -delta along x, then by -delta' along y. So the count W
+// is the capped mesh's winding number at p + eta, eta = -(eps z + delta x +
+// delta' y), eps >> delta >> delta' > 0, and w_caps is taken at p + eta too
+// (w_mesh itself is continuous there: no mesh triangle is within half a voxel
+// of a centre the fill decides). Evaluated at p itself, Van Oosterom-Strackee
+// gives each cap through p half a jump or none by the sign of a rounded zero.
+
+/// Solid angle, in the limit at p + eta, of the infinite sector {p + a u + b v :
+/// a, b >= 0} (u x v != 0, lattice vectors): the tangent cone at p of a
+/// triangle in whose plane p lies (the rest of it subtends nothing in the
+/// limit, being in that plane and away from p).
+double sectorAsCounted(const int64_t u[3], const int64_t v[3]) {
+  const i128 n[3] = {i128(u[1]) * v[2] - i128(u[2]) * v[1], i128(u[2]) * v[0] - i128(u[0]) * v[2],
+                     i128(u[0]) * v[1] - i128(u[1]) * v[0]};
+  if (n[2] != 0) {
+    // -z leaves the plane: Van Oosterom-Strackee with unit vectors (+z, u, v),
+    // scale-free, so the sector's value seen from direction -z.
+    const double du[3] = {double(u[0]), double(u[1]), double(u[2])}, dv[3] = {double(v[0]), double(v[1]), double(v[2])};
+    const double lu = std::sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
+    const double lv = std::sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
+    const double uv = du[0] * dv[0] + du[1] * dv[1] + du[2] * dv[2];
+    return 2 * std::atan2(double(n[2]) / (lu * lv), 1 + du[2] / lu + dv[2] / lv + uv / (lu * lv));
+  }
+  // -z lies in the plane. The side delta then takes: the sign of n . eta.
+  const int side = n[0] != 0 ? -sign128(n[0]) : -sign128(n[1]);
+  // -z strictly inside the cone: (u x -z) . n > 0 and (-z x v) . n > 0.
+  const i128 a1 = n[1] * u[0] - n[0] * u[1], a2 = n[0] * v[1] - n[1] * v[0];
+  if (a1 > 0 && a2 > 0) return -2 * M_PI * side;
+  // -z along a ray (u or v pointing down): p - eps z is on that edge, where
+  // the sector is the half-plane towards the other ray w; else outside.
+  const int64_t* w = u[0] == 0 && u[1] == 0 && u[2] < 0 ? v : v[0] == 0 && v[1] == 0 && v[2] < 0 ? u : nullptr;
+  if (!w) return 0;
+  if (n[0] != 0) {
+    // Seen from direction -x (across the vertical edge): height y along the
+    // unit normal, x along the in-plane normal towards w (w's horizontal
+    // part); a half-plane subtends 2 (pi - theta), theta = atan2(|y|, x),
+    // positive from its back.
+    const double y = -double(n[0]) / std::hypot(double(n[0]), double(n[1]));
+    const double x = -double(w[0]) / std::hypot(double(w[0]), double(w[1]));
+    return (y > 0 ? -2 : 2) * (M_PI - std::atan2(std::abs(y), x));
+  }
+  // -x lies in the plane too (n along y): inside the half-plane or not, then off it by delta'.
+  return w[0] < 0 ? -2 * M_PI * side : 0;
+}
+
+/// The solid angle of triangle v (lattice) at the lattice point p as the
+/// crossing count sees it: at p + eta (above). Off the triangle's plane that
+/// is its value at p (the determinant's sign exact); in the plane, 0 outside
+/// the triangle, -2pi sign(n . eta) inside, and on an edge or at a vertex the
+/// sum over the sectors the triangle has at p.
+double solidAngleAsCounted(const LatticePoint v[3], const LatticePoint& p) {
+  int64_t a[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) a[i][k] = v[i][k] - p[k];
+  const int64_t e1[3] = {a[1][0] - a[0][0], a[1][1] - a[0][1], a[1][2] - a[0][2]};
+  const int64_t e2[3] = {a[2][0] - a[0][0], a[2][1] - a[0][1], a[2][2] - a[0][2]};
+  const i128 n[3] = {i128(e1[1]) * e2[2] - i128(e1[2]) * e2[1], i128(e1[2]) * e2[0] - i128(e1[0]) * e2[2],
+                     i128(e1[0]) * e2[1] - i128(e1[1]) * e2[0]};
+  if (n[0] == 0 && n[1] == 0 && n[2] == 0) return 0;  // no area: no solid angle anywhere
+  const i128 det = n[0] * a[0][0] + n[1] * a[0][1] + n[2] * a[0][2];  // det(a0, a1, a2)
+  if (det != 0) {
+    // Off the plane: Van Oosterom-Strackee with the exact determinant (its
+    // sign decides between +-2pi just off the triangle).
+    double d[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) d[i][k] = double(a[i][k]);
+    const double la = std::sqrt(dot3(d[0], d[0])), lb = std::sqrt(dot3(d[1], d[1])), lc = std::sqrt(dot3(d[2], d[2]));
+    const double den = la * lb * lc + dot3(d[0], d[1]) * lc + dot3(d[1], d[2]) * la + dot3(d[2], d[0]) * lb;
+    return 2 * std::atan2(double(det), den);
+  }
+  // In the plane: which side of each edge, in the projection along n's
+  // largest axis (the ax component of (b - a) x (p - a), signed like n's).
+  const int ax = std::abs(double(n[0])) >= std::max(std::abs(double(n[1])), std::abs(double(n[2])))
+                     ? 0
+                     : std::abs(double(n[1])) >= std::abs(double(n[2])) ? 1 : 2;
+  const int i = (ax + 1) % 3, j = (ax + 2) % 3, s = sign128(n[ax]);
+  int zeros = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t* A = a[k];
+    const int64_t* B = a[(k + 1) % 3];
+    const i128 e = (i128(B[i]) - A[i]) * (-i128(A[j])) - (i128(B[j]) - A[j]) * (-i128(A[i]));
+    const int side = sign128(e) * s;
+    if (side < 0) return 0;  // outside the triangle: nothing in the limit
+    zeros += side == 0;
+  }
+  if (zeros == 0) {  // inside: a full hemisphere, on the side eta takes
+    const int side = n[2] != 0 ? -sign128(n[2]) : n[0] != 0 ? -sign128(n[0]) : -sign128(n[1]);
+    return -2 * M_PI * side;
+  }
+  // On an edge or at a vertex: the triangle is the sectors (p, v_k, v_k+1) of
+  // non-zero area (those through p's edge have none), all oriented like it.
+  double total = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t* u = a[k];
+    const int64_t* w = a[(k + 1) % 3];
+    if (i128(u[1]) * w[2] - i128(u[2]) * w[1] == 0 && i128(u[2]) * w[0] - i128(u[0]) * w[2] == 0 &&
+        i128(u[0]) * w[1] - i128(u[1]) * w[0] == 0)
+      continue;
+    total += sectorAsCounted(u, w);
+  }
+  return total;
+}
+
 }  // namespace
 
 CapField::CapField(const std::vector<CapTriangle>& caps) {
@@ -524,12 +646,25 @@ std::vector<CapField::Node> CapField::buildTree(std::vector<Item>& items, Points
 
 double CapField::reach() const { return std::sqrt(area_ / (2.0 * M_PI)); }
 
+double CapField::countedAngle(const Tri& t, const LatticePoint& p) {
+  LatticePoint v[3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) v[i][k] = std::llround(t.v[i][k] * kLatticeStepsPerVoxel);  // exact: read back
+  return solidAngleAsCounted(v, p);
+}
+
 double CapField::winding(const double p[3]) const {
+  LatticePoint lp;
+  const bool onLattice = latticeAt(p, lp);
   double total = 0;
   for (const Tri& t : tris_) {
     double a[3], b[3], c[3];
     sub3(t.v[0], p, a), sub3(t.v[1], p, b), sub3(t.v[2], p, c);
-    total += triangleSolidAngle(a, b, c);
+    double det;
+    const double omega = triangleSolidAngle(a, b, c, det);
+    // Near a cap's plane (det / |n| is p's distance from it), the side the
+    // crossing count takes, by exact integers.
+    total += onLattice && std::abs(det) * t.invN <= kPlaneTolerance ? countedAngle(t, lp) : omega;
   }
   return total / (4.0 * M_PI);
 }
@@ -539,6 +674,10 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
   for (int k = 0; k < 3; ++k) ball.centre[k] = centre[k], ball.gradient[k] = 0;
   ball.radius = radius;
   const double reachR = radius * (1 + 1e-12) + kPlaneTolerance;
+  // A lattice point (a voxel centre) takes the caps it lies on (or within
+  // kPlaneTolerance of) as the crossing count does (winding): no jumps to count.
+  LatticePoint lattice;
+  const bool point = radius == 0 && latticeAt(centre, lattice);
   double s1 = 0, s2 = 0;  // sum_e len_e / gap_e^2, sum_e len_e / gap_e^3
   double g[3] = {0, 0, 0}, gErr = 0;
   bool rimsClear = true;
@@ -627,11 +766,12 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       const Tri& t = tris_[i];
       double a[3], b[3], c[3];
       sub3(t.v[0], centre, a), sub3(t.v[1], centre, b), sub3(t.v[2], centre, c);
-      value += triangleSolidAngle(a, b, c);
+      const double omega = triangleSolidAngle(a, b, c);
       const double dc[3] = {centre[0] - t.s[0], centre[1] - t.s[1], centre[2] - t.s[2]};
       double gap = std::sqrt(dot3(dc, dc)) - t.r - reachR;
       if (gap <= 0) gap = triangleDistance(centre, t.v[0], t.v[1], t.v[2]) - reachR;
       if (gap > 0) {
+        value += omega;
         const double area = 0.5 / t.invN;
         t0 += std::min(2 * M_PI, area / (gap * gap));
         t1 += 2 * area / (gap * gap * gap);
@@ -640,6 +780,11 @@ bool CapField::ballField(const double centre[3], double radius, Ball& ball) cons
       }
       areaBound = false;
       t0 += 2 * M_PI;  // a triangle's solid angle is below a hemisphere's
+      if (point) {
+        value += countedAngle(t, lattice);
+        continue;
+      }
+      value += omega;
       double cv[3];
       sub3(centre, t.v[0], cv);
       if (std::abs(dot3(t.n, cv)) * t.invN <= kPlaneTolerance) return false;  // the centre on a cap plane

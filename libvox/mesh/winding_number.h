@@ -63,18 +63,23 @@ std::vector<LatticePoint> weldNearVertices(const std::vector<LatticePoint>& latt
 /// Signed solid angle of triangle (a, b, c) seen from the origin (Van
 /// Oosterom-Strackee), in steradians, in (-2pi, 2pi). Inline: it is the inner
 /// loop of the caps' field and of --check's reference (out of line, --check
-/// took 1.4x the time).
-inline double triangleSolidAngle(const double a[3], const double b[3], const double c[3]) {
+/// took 1.4x the time). `det` gets det(a, b, c): |n| times the origin's
+/// distance from the triangle's plane, n = (b - a) x (c - a), signed.
+inline double triangleSolidAngle(const double a[3], const double b[3], const double c[3], double& det) {
   const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
   const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
   const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-  const double det =
-      a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
   const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
   const double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
   const double ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
   const double den = la * lb * lc + ab * lc + bc * la + ca * lb;
   return 2.0 * std::atan2(det, den);
+}
+/// The same without the determinant.
+inline double triangleSolidAngle(const double a[3], const double b[3], const double c[3]) {
+  double det;
+  return triangleSolidAngle(a, b, c, det);
 }
 
 /// The caps' solid-angle field with a bound over balls, in voxel units.
@@ -100,7 +105,16 @@ class CapField {
   double reach() const;
 
   /// w_caps(p) = sum of solid angles / 4pi over every cap triangle (exact up
-  /// to double rounding, ~1e-15 per triangle).
+  /// to double rounding, ~1e-15 per triangle). At a lattice point (voxel
+  /// centres are) within 1e-9 voxel of a cap's plane, that cap counts as the
+  /// fill's +z crossing count W does, whose integer jumps there: a crossing at
+  /// the point's height is above it, and rays through an edge or vertex are
+  /// owned by the top-left rule, so W is the capped mesh's winding number at
+  /// p + eta, eta = -(eps z + delta x + delta' y), eps >> delta >> delta' > 0,
+  /// and the cap's solid angle is its limit there (exact integer tests; on
+  /// the cap +-2pi, on its edges and corners the tangent cone's angle). So
+  /// W - w_caps(p) is w_mesh(p) also on a cap; at p itself the formula gives
+  /// each cap through p half a jump or none by the sign of a rounded zero.
   double winding(const double p[3]) const;
 
   /// The field over the ball of points within `radius` of `centre`, as two
@@ -146,12 +160,15 @@ class CapField {
   /// 2 / D^3 and 6 / D^4). Why: along a seam or narrow slit the rims' terms add
   /// up although their fields cancel, while the cap between them has almost no
   /// area.
-  /// A point (radius 0) gets the value alone: slope, curvature and gradient 0.
+  /// A point (radius 0) gets the value alone: slope, curvature and gradient 0;
+  /// a lattice point takes the caps within 1e-9 voxel of it as winding() does,
+  /// with no cut triangles.
   /// A ball that reaches a boundary edge (a rim) gets rimsClear false: no
   /// gradient, infinite curvature and gradientError, the area's slope where it
   /// stays off every cap (else infinite), and `magnitude`, which holds anyway.
   /// Fills `ball` and returns true, or false when its centre lies on a cap
-  /// plane it reaches (no bound: split the ball, or evaluate the point exactly).
+  /// plane it reaches (no bound: split the ball, or evaluate the point exactly)
+  /// and is not a lattice point of radius 0.
   bool ballField(const double centre[3], double radius, Ball& ball) const;
 
   /// An upper bound on |w_caps(p)| over the ball (sum of min(2pi, A_t / D_t^2)
@@ -188,6 +205,9 @@ class CapField {
     uint32_t begin, end, left, right;
     double size, vec[3];
   };
+  /// t's solid angle at the lattice point p as the crossing count sees it
+  /// (the limit from p + eta, winding()).
+  static double countedAngle(const Tri& t, const LatticePoint& p);
   template <class Item, class Points>
   static std::vector<Node> buildTree(std::vector<Item>& items, Points points);
   static constexpr uint32_t kLeafSize = 4;
