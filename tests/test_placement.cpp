@@ -13,10 +13,11 @@ TEST(Placement, ResolutionOnTheLongestAxis) {
   EXPECT_EQ(h.dims, (Dims{256, 64, 32}));
   EXPECT_DOUBLE_EQ(h.voxelSize, 4.0 / 256);
   EXPECT_EQ(h.origin, (std::array<double, 3>{-1, 0, 2}));
+  // --pad 2: the layer the box's faces touch, then 2 empty ones, on every side.
   o.pad = 2;
   placeGrid({-1, 0, 2}, {3, 1, 2.5}, o, h);
-  EXPECT_EQ(h.dims, (Dims{260, 68, 36}));
-  EXPECT_DOUBLE_EQ(h.origin[0], -1 - 2 * 4.0 / 256);
+  EXPECT_EQ(h.dims, (Dims{262, 70, 38}));
+  EXPECT_DOUBLE_EQ(h.origin[0], -1 - 3 * 4.0 / 256);
 }
 
 TEST(Placement, FlatInputsResolutionOneAndBounds) {
@@ -59,5 +60,5 @@ TEST(Placement, Errors) {
   o.resolution = 8;
   o.pad = 40000;
   EXPECT_TRUE(voxtest::throwsVoxError([&] { placeGrid({0, 0, 0}, {1, 1, 1}, o, h); }, ErrorKind::Usage,
-                                      {"80008 voxels", "80000 of them the padding", "lower --pad"}));
+                                      {"80010 voxels", "80002 of them the padding", "lower --pad"}));
 }

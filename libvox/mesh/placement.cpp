@@ -29,12 +29,14 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
   const double vs = o.voxelSize > 0 ? o.voxelSize : longest / o.resolution;
   if (!(vs > 0) || !std::isfinite(vs))
     throwBadInput("the input has zero extent on every axis (a point); give a voxel size", Setting::VoxelSize);
+  // The layer the box's faces touch, then `pad` empty ones (placement.h).
+  const double layers = o.pad > 0 ? double(o.pad) + 1 : 0;
   Dims d;
   uint32_t* out[3] = {&d.x, &d.y, &d.z};
   for (int i = 0; i < 3; ++i) {
     // The longest axis under a resolution gets exactly `resolution` voxels: side / vs == N up to rounding.
     const double inside = std::max(1.0, std::ceil((hi[i] - lo[i]) / vs * (1 - 1e-12)));
-    const double n = inside + 2.0 * o.pad;
+    const double n = inside + 2.0 * layers;
     if (n > kMaxGridAxis) {
       // A count past 2^53 (a voxel size of 1e-300 on a unit mesh) has no
       // integer text worth printing, and would overflow uint64_t.
@@ -45,9 +47,9 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
         return std::string(text);
       };
       // Name the padding when it alone makes the axis too long (the voxel size is not the problem then).
-      if (inside <= kMaxGridAxis && 2.0 * o.pad > inside)
+      if (inside <= kMaxGridAxis && 2.0 * layers > inside)
         throwUsage("the grid would have " + count(n) + " voxels on an axis (limit " +
-                   std::to_string(kMaxGridAxis) + "), " + count(2.0 * o.pad) +
+                   std::to_string(kMaxGridAxis) + "), " + count(2.0 * layers) +
                    " of them the padding; lower --pad");
       throwUsage("the grid would have " + count(n) + " voxels on an axis (limit " +
                  std::to_string(kMaxGridAxis) + "); use fewer, larger voxels",
@@ -57,7 +59,7 @@ void placeGrid(const std::array<double, 3>& meshMin, const std::array<double, 3>
   }
   header.dims = d;
   header.voxelSize = vs;
-  header.origin = {lo[0] - o.pad * vs, lo[1] - o.pad * vs, lo[2] - o.pad * vs};
+  header.origin = {lo[0] - layers * vs, lo[1] - layers * vs, lo[2] - layers * vs};
   const std::string problem = placementProblem(header.voxelSize, header.origin, header.dims);
   if (!problem.empty())
     throwUsage("cannot place the grid: " + problem + "; use a lower --res or a larger --voxel-size, or scale the input up (e.g. export it in millimetres)",

@@ -2,10 +2,16 @@
 //
 // The grid covers the box [bmin, bmax] (the input's bounding box, or the given bounds):
 // voxel size = the given one, or the box's longest side / resolution; dims =
-// ceil(side / voxel size) per axis (at least 1), plus `pad` voxels on every
-// side; origin = bmin - pad * voxelSize. So with resolution N the longest axis has
-// exactly N voxels (plus padding), and a flat input (zero thickness on an axis)
-// gets one voxel layer on that axis.
+// ceil(side / voxel size) per axis (at least 1), plus `pad` + 1 voxels on every
+// side when pad > 0; origin = bmin - (pad + 1) * voxelSize then. So with
+// resolution N the longest axis has exactly N voxels (plus padding), and a flat
+// input (zero thickness on an axis) gets one voxel layer on that axis.
+//
+// Why pad + 1: the box's faces lie on voxel faces, and a surface voxelization
+// takes the voxels on both sides of a face a triangle lies on (closed boxes),
+// so the first layer outside the box is touched wherever the input reaches its
+// box; `pad` more layers beyond it are empty (of the input's geometry; with
+// --bounds the input may reach past the box).
 #pragma once
 
 #include <array>
@@ -19,7 +25,7 @@ namespace vox {
 struct PlacementOptions {
   uint32_t resolution = 0;  // voxels on the longest axis, or
   double voxelSize = 0;     // world units per voxel (exactly one of the two)
-  uint32_t pad = 0;         // empty voxels added on every side
+  uint32_t pad = 0;         // empty voxel layers on every side (pad + 1 layers added when pad > 0)
   std::optional<std::array<double, 6>> bounds;  // xmin, ymin, zmin, xmax, ymax, zmax (world)
 };
 

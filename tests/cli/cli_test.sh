@@ -33,6 +33,16 @@ usage)
   [ "$(wc -l < err.txt)" = 1 ] || fail "a usage error is one line, like every other error: $(cat err.txt)"
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 0
   expect_stderr "vox voxelize: error: --res"
+  # Options of another input kind would do nothing: refused by name.
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 8 --fill solid
+  expect_stderr "--fill applies to meshes, and demo:hamlet is the built-in demo:hamlet: drop --fill"
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 8 --check
+  expect_stderr "--check applies to meshes"
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 8 --threshold 0.5
+  expect_stderr "--threshold applies to .vdb grid inputs"
+  expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 8 --grid-size 4,4,4
+  expect_stderr "--grid-size applies to block maps"
+  [ -e x.vdb ] && fail "a refused voxelize wrote x.vdb"
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res abc
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.png
   expect_stderr "*.vdb"
@@ -367,7 +377,9 @@ OBJ
   expect_exit 0 "$vox" voxelize keep_cube.obj keep_cube.obj --res 8 --pad 2 -o c.vdb --classes keep_classes.json
   expect_exit 0 "$vox" info --json c.vdb
   cp out.txt c.json
-  jcheck c.json "assert d['dims']==[12,12,12] and sorted(c['name'] for c in d['classes'])==['rest','roof'] and len(d['sources'])==2"
+  jcheck c.json "assert d['dims']==[14,14,14] and sorted(c['name'] for c in d['classes'])==['rest','roof'] and len(d['sources'])==2"
+  # --pad 2 leaves 2 empty layers on every side (the cube's faces lie on voxel faces and touch the layer outside them).
+  jcheck c.json "b=d['bounds']; assert b['min']==[2,2,2] and b['max']==[11,11,11], b"
   # Resolution 1: one voxel.
   expect_exit 0 "$vox" voxelize keep_cube.obj --res 1 -o one.vdb
   # Bad inputs: empty mesh, NaN, unknown options.

@@ -224,6 +224,7 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->add_option("--region-box", o.regionBox,
                   "Bake only the index box umin,vmin,wmin,umax,vmax,wmax (inclusive, on 32-voxel cells) into a part");
   addCommonOptions(*cmd, o.common);
+  o.app = cmd;
   return cmd;
 }
 
@@ -267,6 +268,25 @@ void checkVoxelizeOptions(const VoxelizeOptions& o) {
     throw vox::Error(vox::ErrorKind::Usage,
                      "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, demo:city, "
                      "map.json and .vdb inputs go one at a time");
+  // An option of another input kind would do nothing: refused, like --res on a block map.
+  if (o.app && !allInputsAreMeshes(o) && !o.inputs.empty()) {
+    const std::string& input = o.inputs[0];
+    const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
+    const bool grid = !vox::isDemoName(input) && input != vox::kCityName && kind == vox::FileKind::Vdb;
+    const bool map = !vox::isDemoName(input) && input != vox::kCityName && kind == vox::FileKind::BlockMap;
+    const std::string what = vox::isDemoName(input) || input == vox::kCityName ? "the built-in " + input
+                             : grid ? "an OpenVDB grid" : map ? "a block map" : "not a mesh";
+    auto refuse = [&](const std::string& option, const std::string& appliesTo) {
+      throw vox::Error(vox::ErrorKind::Usage, option + " applies to " + appliesTo + ", and " + input + " is " + what +
+                                                  ": drop " + option);
+    };
+    for (const char* option : {"--fill", "--solid-rule", "--method", "--bounds", "--pad", "--classes", "--drop-invalid",
+                               "--ignore-missing-materials", "--check"})
+      if (o.app->get_option(option)->count() > 0) refuse(option, "meshes");
+    for (const char* option : {"--grid", "--threshold"})
+      if (!grid && o.app->get_option(option)->count() > 0) refuse(option, ".vdb grid inputs");
+    if (!map && o.app->get_option("--grid-size")->count() > 0) refuse("--grid-size", "block maps");
+  }
 }
 
 bool isLightBake(const VoxelizeOptions& o) {

@@ -59,6 +59,7 @@ struct VoxelizeOptions {
   std::string region;     // --region I/N: tile I of N of the world (libvox/core/regions.h)
   std::string regionBox;  // --region-box umin,vmin,wmin,umax,vmax,wmax: an aligned index box
   CommonOptions common;
+  const CLI::App* app = nullptr;  // to tell an option given from its default (checkVoxelizeOptions)
 
   bool isRegionBake() const { return !region.empty() || !regionBox.empty(); }
 
