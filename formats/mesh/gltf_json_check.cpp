@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -247,10 +248,15 @@ class Checker {
     if (const json* r = numbers(n, "rotation", el, 4)) {
       double squared = 0;
       for (const json& c : *r) squared += c.get<double>() * c.get<double>();
-      if (!(std::fabs(std::sqrt(squared) - 1) <= kUnitQuaternionTolerance))
-        bad(el + ".rotation", "is " + r->dump() + ", of length " + std::to_string(std::sqrt(squared)) +
+      if (!(std::fabs(std::sqrt(squared) - 1) <= kUnitQuaternionTolerance)) {
+        char length[64];
+        std::snprintf(length, sizeof length, "%.6g", std::sqrt(squared));
+        char tolerance[32];
+        std::snprintf(tolerance, sizeof tolerance, "%g", kUnitQuaternionTolerance);
+        bad(el + ".rotation", "is " + r->dump().substr(0, 80) + ", of length " + length +
                                   ", not a unit quaternion as the specification requires (vox normalises one within " +
-                                  std::to_string(kUnitQuaternionTolerance) + " of length 1)");
+                                  tolerance + " of length 1)");
+      }
     }
     auto children = n.find("children");
     if (children != n.end() && children->is_array())
