@@ -169,6 +169,14 @@ TEST(PolygonTriangulation, ConcavePolygonsAreCutInside) {
   comb.push_back({0, -1, 0});
   std::reverse(comb.begin(), comb.end());  // counter-clockwise
   EXPECT_TRUE(coversExactly(comb, cut(comb)));
+  // A dart (a quad with one reflex corner) is cut through that corner: the
+  // fan when it is corner 0 or 2 (valid, and kept as files always had it).
+  const std::vector<P3> dart0 = flat({{1, 1}, {0, 0}, {1, 3}, {2, 0}});
+  EXPECT_EQ(cut(dart0), fanOf(4));
+  EXPECT_TRUE(coversExactly(dart0, cut(dart0)));
+  const std::vector<P3> dart1 = flat({{0, 0}, {1, 1}, {2, 0}, {1, 3}});
+  EXPECT_EQ(cut(dart1), (std::vector<Tri>{{1, 2, 3}, {1, 3, 0}}));
+  EXPECT_TRUE(coversExactly(dart1, cut(dart1)));
   // Either winding, the triangles are wound as the polygon.
   std::vector<P3> reversed(kU.rbegin(), kU.rend());
   EXPECT_TRUE(coversExactly(reversed, cut(reversed)));
@@ -225,10 +233,11 @@ TEST(PolygonTriangulation, SelfIntersectingAndInvalidPolygonsGetNMinus2Triangles
 }
 
 TEST(PolygonTriangulation, LargeConcavePolygonIsQuick) {
-  // A 100,002-corner comb (half of its corners reflex) and a 100,000-corner
-  // random star: an ear looks only at the reflex corners in the grid cells
-  // along it (0.2 s and 1.4 s on the 2-core machine; a scan of every reflex
-  // corner took 17 s for the comb).
+  // A 100,002-corner comb (half of its corners reflex), a 100,000-corner
+  // random star and a 20-turn spiral band: an ear looks only at the reflex
+  // corners in the grid cells along it, and none of them runs out of ear
+  // tests (the fan they would then get leaves the polygon). About 1 s each on
+  // the 2-core machine; a scan of every reflex corner took 17 s for the comb.
   std::vector<P3> comb;
   for (int k = 0; k < 100000; ++k) comb.push_back({double(k), k % 2 ? 1.0 : 9.0, 0});
   comb.push_back({99999, -1, 0});
@@ -238,6 +247,19 @@ TEST(PolygonTriangulation, LargeConcavePolygonIsQuick) {
   std::mt19937 rng(1);
   const std::vector<P3> star = randomStar(rng, 100000);
   EXPECT_TRUE(coversExactly(star, cut(star), false));
+  std::vector<P3> spiral;
+  for (int side = 0; side < 2; ++side)
+    for (int k = 0; k < 50000; ++k) {
+      const double t = 40 * M_PI * (side ? 49999 - k : k) / 50000, r = 1 + t + 3 * side;
+      spiral.push_back({r * std::cos(t), r * std::sin(t), 0});
+    }
+  EXPECT_TRUE(coversExactly(spiral, cut(spiral), false));
+  // 100,000 random points as one face: scrambled, self-intersecting
+  // everywhere; cut within its test budget, then fanned (seconds, not hours).
+  std::uniform_real_distribution<double> u(0, 10);
+  std::vector<P3> scrambled;
+  for (int k = 0; k < 100000; ++k) scrambled.push_back({u(rng), u(rng), 0});
+  EXPECT_EQ(cut(scrambled).size(), 99998u);
 }
 
 TEST(ObjPolygons, ConcaveFaceFillsOnlyThePolygon) {
