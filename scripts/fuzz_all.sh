@@ -30,8 +30,9 @@ mkdir -p "$out"
 # The instrumented sources of a target (beside tests/fuzz/fuzz_NAME.cpp).
 sources_of() {
   case $1 in
-    obj) echo formats/mesh/obj_reader.cpp formats/mesh/mesh_input.cpp formats/mesh/texture_image.cpp ;;
-    ply|stl) echo formats/mesh/${1}_reader.cpp formats/mesh/mesh_input.cpp ;;
+    obj) echo formats/mesh/obj_reader.cpp formats/mesh/mesh_input.cpp formats/mesh/polygon_triangulation.cpp formats/mesh/texture_image.cpp ;;
+    ply) echo formats/mesh/ply_reader.cpp formats/mesh/mesh_input.cpp formats/mesh/polygon_triangulation.cpp ;;
+    stl) echo formats/mesh/stl_reader.cpp formats/mesh/mesh_input.cpp ;;
     gltf) echo formats/mesh/gltf_reader.cpp formats/mesh/gltf_json_check.cpp formats/mesh/gltf_draco.cpp formats/mesh/gltf_meshopt.cpp formats/mesh/gltf_images.cpp formats/mesh/texture_image.cpp tests/fuzz/tinygltf_impl.cpp ;;
     blockmap) echo formats/vdb/blockmap_json.cpp ;;
     classes) echo formats/mesh/classes_json.cpp formats/scene/class_table_json.cpp ;;

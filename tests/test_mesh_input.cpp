@@ -59,7 +59,7 @@ TEST(ObjReader, ErrorsNameTheLine) {
   voxtest::writeText(dir.file("b.obj"), "v 0 0 zero\n");
   EXPECT_TRUE(rejects(dir.file("b.obj"), {"b.obj:1", "expected a number"}));
   voxtest::writeText(dir.file("c.obj"), "v 0 0 0\nv 1 0 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n");
-  EXPECT_TRUE(rejects(dir.file("c.obj"), {"c.obj:2", "1 vertices have NaN", "vertex 2", "drop their triangles"}));
+  EXPECT_TRUE(rejects(dir.file("c.obj"), {"c.obj:2", "1 vertex has NaN", "vertex 2", "drop their triangles"}));
   EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("c.obj")); }), Setting::DropInvalid);
   EXPECT_EQ(read(dir.file("c.obj"), true).triangleCount(), 1u);
   voxtest::writeText(dir.file("d.obj"), "mtllib missing.mtl\n");

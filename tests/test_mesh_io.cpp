@@ -283,7 +283,9 @@ TEST(ObjIo, MissingLibraryOrTextureIsAnErrorUnlessIgnored) {
 TEST(ObjIo, NanNamesTheLineAndDropInvalidCountsTheTriangles) {
   voxtest::TempDir dir;
   voxtest::writeText(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 inf\nv nan 1 1\nf 4 1 2\nf 1 2 3\nf 5 1 3\n");
-  EXPECT_TRUE(rejects(dir.file("n.obj"), {"n.obj:4", "2 vertices", "vertex 4", "drop their triangles"}));
+  EXPECT_TRUE(rejects(dir.file("n.obj"), {"n.obj:4", "2 vertices have", "vertex 4", "drop their triangles"}));
+  voxtest::writeText(dir.file("n1.obj"), "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+  EXPECT_TRUE(rejects(dir.file("n1.obj"), {"n1.obj:3", "1 vertex has NaN", "vertex 3"}));
   EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("n.obj")); }), Setting::DropInvalid);
   MeshReadOptions drop;
   drop.dropInvalid = true;
@@ -292,6 +294,8 @@ TEST(ObjIo, NanNamesTheLineAndDropInvalidCountsTheTriangles) {
   EXPECT_EQ(r.mesh.triangleMaterial.size(), 1u);
   EXPECT_EQ(r.mesh.trianglePart.size(), 1u);
   EXPECT_TRUE(anyContains(r.warnings, "dropped 2 triangles"));
+  MeshReadOptions dropOne = drop;
+  EXPECT_TRUE(anyContains(readWith(dir.file("n1.obj"), dropOne).warnings, "dropped 1 triangle touching 1 vertex with"));
   for (const auto& p : r.mesh.positions)
     for (double c : p) EXPECT_TRUE(std::isfinite(c));
 }
@@ -315,6 +319,46 @@ TEST(ObjIo, MalformedFacesNameTheLine) {
   const Mesh g = read(dir.file("g.obj"));
   EXPECT_EQ(g.triangleCount(), 0u) << "an empty mesh is not a reader error";
   EXPECT_FALSE(g.hasColor());
+}
+
+// Classic Mac OS text (CR alone ends a line) reads as the same file with LF;
+// a lone CR inside an LF file ends a line too (text editors show it so).
+TEST(ObjIo, CarriageReturnLineEnds) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("lf.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  voxtest::writeText(dir.file("cr.obj"), "v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r");
+  voxtest::writeText(dir.file("mixed.obj"), "v 0 0 0\r\nv 1 0 0\rv 0 1 0\nv 1 1 0\r\nf 1 2 3\rf 2 4 3\n");
+  const Mesh lf = read(dir.file("lf.obj"));
+  for (const char* f : {"cr.obj", "mixed.obj"}) {
+    const Mesh m = read(dir.file(f));
+    EXPECT_EQ(m.triangles, lf.triangles) << f;
+    EXPECT_EQ(m.positions, lf.positions) << f;
+  }
+  voxtest::writeText(dir.file("bad.obj"), "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 9\r");
+  EXPECT_TRUE(rejects(dir.file("bad.obj"), {"bad.obj:4", "vertex 9"})) << "lines counted at each CR";
+  voxtest::writeText(dir.file("m.mtl"), "newmtl Red\rKd 1 0 0\r");
+  voxtest::writeText(dir.file("c.obj"), "mtllib m.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rusemtl Red\rf 1 2 3\r");
+  const Mesh c = read(dir.file("c.obj"));
+  ASSERT_EQ(c.materials.size(), 1u);
+  EXPECT_EQ(c.materials[0].name, "Red");
+  EXPECT_EQ(c.materials[0].baseColorFactor[1], 0.0f) << "the MTL's CR lines too";
+}
+
+// A face of fewer than 3 vertices: refused naming the line, or dropped and
+// counted with --drop-invalid, as PLY faces are.
+TEST(ObjIo, ShortFacesAreRefusedOrDroppedAndCounted) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("s.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\nf 3\n");
+  EXPECT_TRUE(rejects(dir.file("s.obj"), {"s.obj:4", "a face has 2 vertices", "at least 3"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("s.obj")); }), Setting::DropInvalid);
+  MeshReadOptions drop;
+  drop.dropInvalid = true;
+  const Read r = readWith(dir.file("s.obj"), drop);
+  EXPECT_EQ(r.mesh.triangleCount(), 1u);
+  EXPECT_TRUE(anyContains(r.warnings, "s.obj:4: dropped 2 faces of fewer than 3 vertices"));
+  voxtest::writeText(dir.file("one.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 3\n");
+  EXPECT_TRUE(rejects(dir.file("one.obj"), {"one.obj:5", "a face has 1 vertex;"}));
+  EXPECT_TRUE(anyContains(readWith(dir.file("one.obj"), drop).warnings, "dropped 1 face of"));
 }
 
 // ============================== PLY ==============================
@@ -434,7 +478,7 @@ TEST(PlyIo, ImpossibleCountsFailFastInsteadOfHanging) {
   EXPECT_TRUE(rejects(dir.file("e.ply"), {"e.ply", "end_header"}));
   voxtest::writeText(dir.file("f.ply"), "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
                                         "property float z\nend_header\nnan 0 0\n");
-  EXPECT_TRUE(rejects(dir.file("f.ply"), {"f.ply", "1 vertices have NaN", "vertex 0"}));
+  EXPECT_TRUE(rejects(dir.file("f.ply"), {"f.ply", "1 vertex has NaN", "vertex 0 (counted from 0"}));
   // Float-typed index lists: NaN, fractions and numbers past any integer are
   // refused by value (they were cast to integers: NaN to garbage, 1e300 printed
   // as -9223372036854775808); so is a fractional list count.
@@ -451,6 +495,40 @@ TEST(PlyIo, ImpossibleCountsFailFastInsteadOfHanging) {
                                                                              "there are 3"}));
   EXPECT_TRUE(rejects(floatIndices("j.ply", "float int", "2.5 0 1 2"), {"j.ply", "list of 2.5 entries"}));
   EXPECT_EQ(read(floatIndices("k.ply", "uchar float", "3 0 1 2")).triangleCount(), 1u) << "whole floats are indices";
+}
+
+// Faces of fewer than 3 vertices are refused like OBJ's, or dropped and counted
+// with --drop-invalid; only PLY 1.0 is read; a vertex count the file cannot
+// hold gets one message whatever its size.
+TEST(PlyIo, ShortFacesVersionsAndCounts) {
+  voxtest::TempDir dir;
+  const std::string head = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 3\n"
+                           "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  voxtest::writeText(dir.file("s.ply"), "ply\nformat ascii 1.0\n" + head + "3 0 1 2\n2 0 1\n1 2\n");
+  EXPECT_TRUE(rejects(dir.file("s.ply"), {"s.ply", "face 1 has 2 vertices", "at least 3"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { read(dir.file("s.ply")); }), Setting::DropInvalid);
+  MeshReadOptions drop;
+  drop.dropInvalid = true;
+  const Read r = readWith(dir.file("s.ply"), drop);
+  EXPECT_EQ(r.mesh.triangleCount(), 1u);
+  EXPECT_TRUE(anyContains(r.warnings, "dropped 2 faces of fewer than 3 vertices (the first is face 1)"));
+  voxtest::writeText(dir.file("one.ply"), "ply\nformat ascii 1.0\n" + head + "3 0 1 2\n3 0 1 2\n1 2\n");
+  EXPECT_TRUE(rejects(dir.file("one.ply"), {"face 2 has 1 vertex;"}));
+  EXPECT_TRUE(anyContains(readWith(dir.file("one.ply"), drop).warnings, "dropped 1 face of"));
+  for (const char* version : {"2.0", "0.9", "1.0.1", ""}) {
+    voxtest::writeText(dir.file("v.ply"), std::string("ply\nformat ascii ") + version + "\n" + head + "3 0 1 2\n3 0 1 2\n3 0 1 2\n");
+    EXPECT_TRUE(rejects(dir.file("v.ply"), {"v.ply:2", "only 1.0"})) << version;
+  }
+  voxtest::writeText(dir.file("v1.ply"), "ply\nformat ascii 1\n" + head + "3 0 1 2\n3 0 1 2\n3 0 1 2\n");
+  EXPECT_EQ(read(dir.file("v1.ply")).triangleCount(), 3u) << "'1' is 1.0";
+  for (const char* count : {"100000000", "2000000000", "4000000000", "18446744073709551615"}) {
+    voxtest::writeText(dir.file("c.ply"), std::string("ply\nformat binary_little_endian 1.0\nelement vertex ") + count +
+                                              "\nproperty float x\nproperty float y\nproperty float z\nend_header\n\1\2\3");
+    EXPECT_TRUE(rejects(dir.file("c.ply"), {"c.ply", "element 'vertex' announces", count, "only 3 bytes follow"})) << count;
+  }
+  voxtest::writeText(dir.file("b1.ply"), "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+                                         "property float y\nproperty float z\nend_header\n\1");
+  EXPECT_TRUE(rejects(dir.file("b1.ply"), {"announces 2 items but only 1 byte follows"}));
 }
 
 // ============================== STL ==============================
@@ -524,7 +602,7 @@ TEST(StlIo, TruncatedOrPaddedBinaryIsNotSilentlyEmpty) {
   EXPECT_TRUE(anyContains(p.warnings, "4 bytes after"));
   voxtest::writeText(dir.file("n.stl"), "solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n"
                                         "endfacet\nendsolid x\n");
-  EXPECT_TRUE(rejects(dir.file("n.stl"), {"n.stl", "1 vertices have NaN"}));
+  EXPECT_TRUE(rejects(dir.file("n.stl"), {"n.stl", "1 vertex has NaN", "vertex 3 (counted from 1"}));
 }
 
 TEST(StlIo, TruncatedAsciiIsRefusedNotReadShort) {
@@ -546,6 +624,37 @@ TEST(StlIo, TruncatedAsciiIsRefusedNotReadShort) {
   EXPECT_TRUE(rejects(dir.file("n.stl"), {"n.stl", "before the facet of line 2 ended"}));
 }
 
+// CAD exporters write one solid per body or colour, one after the other: every
+// solid is read, and text after the last one that is not another solid is refused.
+TEST(StlIo, EverySolidOfAFileIsRead) {
+  voxtest::TempDir dir;
+  auto solid = [](const std::string& name, int z) {
+    const std::string zs = std::to_string(z);
+    return "solid " + name + "\nfacet normal 0 0 1\nouter loop\nvertex 0 0 " + zs + "\nvertex 1 0 " + zs +
+           "\nvertex 0 1 " + zs + "\nendloop\nendfacet\nendsolid " + name + "\n";
+  };
+  voxtest::writeText(dir.file("m.stl"), solid("t", 0) + solid("u", 5) + "\n  \n" + solid("endsolid v", 9));
+  const Read m = readWith(dir.file("m.stl"));
+  ASSERT_EQ(m.mesh.triangleCount(), 3u) << "every solid, not only the first";
+  EXPECT_EQ(m.mesh.positions[3][2], 5.0);
+  EXPECT_EQ(m.mesh.positions[8][2], 9.0);
+  EXPECT_TRUE(m.warnings.empty());
+  voxtest::writeText(dir.file("one.stl"), "solid a facet normal 0 0 1 outer loop vertex 0 0 0 vertex 1 0 0 vertex 0 1 0 "
+                                          "endloop endfacet endsolid a solid b facet normal 0 0 1 outer loop vertex 0 0 1 "
+                                          "vertex 1 0 1 vertex 0 1 1 endloop endfacet endsolid b");
+  EXPECT_EQ(read(dir.file("one.stl")).triangleCount(), 2u) << "two solids on one line";
+  voxtest::writeText(dir.file("junk.stl"), solid("t", 0) + "\nexported by SomeCAD 3.1\n");
+  EXPECT_TRUE(rejects(dir.file("junk.stl"), {"junk.stl:11", "'exported' after the 'endsolid' of line 9", "only another 'solid'"}));
+  voxtest::writeText(dir.file("open.stl"), solid("t", 0) + "solid u\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                                        "endsolid u\n");
+  EXPECT_TRUE(rejects(dir.file("open.stl"), {"open.stl:14", "'endsolid' inside the facet of line 11", "1 of its 3"}));
+  voxtest::writeText(dir.file("cut.stl"), solid("t", 0) + "solid u\n" + "facet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                                       "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n");
+  const Read cut = readWith(dir.file("cut.stl"));
+  EXPECT_EQ(cut.mesh.triangleCount(), 2u);
+  EXPECT_TRUE(anyContains(cut.warnings, "no 'endsolid'")) << "the last solid without its end";
+}
+
 // ============================== glTF ==============================
 
 TEST(GltfIo, HierarchyMatrixTrsFansStripsAndSkippedModes) {
@@ -565,16 +674,17 @@ TEST(GltfIo, HierarchyMatrixTrsFansStripsAndSkippedModes) {
         {"attributes":{"POSITION":0},"indices":1,"mode":6},
         {"attributes":{"POSITION":0},"indices":2,"mode":5},
         {"attributes":{"POSITION":0},"mode":1},
-        {"attributes":{"POSITION":0},"indices":1}]}],
+        {"attributes":{"POSITION":0},"indices":3}]}],
     "buffers":[{"byteLength":64,"uri":")" + dataUri(bin) + R"("}],
     "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":16}],
     "accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
                  {"bufferView":1,"componentType":5123,"count":4,"type":"SCALAR"},
-                 {"bufferView":1,"byteOffset":8,"componentType":5123,"count":4,"type":"SCALAR"}]})";
+                 {"bufferView":1,"byteOffset":8,"componentType":5123,"count":4,"type":"SCALAR"},
+                 {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
   voxtest::writeText(dir.file("h.gltf"), gltf);
   const Read r = readWith(dir.file("h.gltf"));
   const Mesh& m = r.mesh;
-  ASSERT_EQ(m.triangleCount(), 2u + 2u + 1u) << "fan 2, strip 2, lines skipped, 4 indices as TRIANGLES give 1";
+  ASSERT_EQ(m.triangleCount(), 2u + 2u + 1u) << "fan 2, strip 2, lines skipped, 3 indices as TRIANGLES give 1";
   EXPECT_TRUE(anyContains(r.warnings, "mode 1")) << "the LINES primitive is reported";
   // Vertex (1,0,0) -> scale 2 -> rotate 90 about z -> (0,2,0) -> translate -> (0,2,5).
   const auto& p = m.positions[m.triangles[0][1]];
@@ -865,6 +975,72 @@ TEST(GltfIo, MalformedFilesNameTheElement) {
   EXPECT_TRUE(rejects(dir.file("absent.gltf"), {"absent.gltf"}));
   voxtest::writeText(dir.file("model.fbx"), "Kaydara FBX Binary");
   EXPECT_TRUE(rejects(dir.file("model.fbx"), {"model.fbx", ".obj"}));
+}
+
+// What the glTF 2.0 specification requires of positions, node transforms, the
+// default scene and triangle lists, which tinygltf does not check: each was
+// read as something else (pairs as positions, an identity transform, every
+// root node, a dropped vertex).
+TEST(GltfIo, SpecificationRulesOnPositionsNodesScenesAndTriangleCounts) {
+  voxtest::TempDir dir;
+  std::string bin;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) putLE(bin, f);
+  for (uint16_t i : {0, 1, 2, 0, 1, 0}) putLE(bin, i);
+  const std::string buffers = R"("buffers":[{"byteLength":48,"uri":")" + dataUri(bin) + R"("}],
+    "bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":12}],)";
+  const std::string position = R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]})";
+  auto file = [&](const std::string& name, const std::string& nodes, const std::string& rest) {
+    voxtest::writeText(dir.file(name), kGltfHead + R"("scenes":[{"nodes":[0]}],"nodes":[)" + nodes + "]," + rest + "}");
+    return dir.file(name);
+  };
+  const std::string mesh = R"("meshes":[{"name":"m","primitives":[{"attributes":{"POSITION":0}}]}],)";
+  auto plain = [&](const std::string& name, const std::string& node) {
+    return file(name, node, mesh + buffers + R"("accessors":[)" + position + "]");
+  };
+  EXPECT_EQ(read(plain("ok.gltf", R"({"mesh":0})")).triangleCount(), 1u);
+  // POSITION of the wrong type, or of bytes without KHR_mesh_quantization.
+  const std::string vec2 = R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC2"})";
+  EXPECT_TRUE(rejects(file("vec2.gltf", R"({"mesh":0})", mesh + buffers + R"("accessors":[)" + vec2 + "]"),
+                      {"vec2.gltf", "meshes[0].primitives[0].attributes.POSITION (accessor 0)", "\"VEC2\"",
+                       "positions are VEC3"}));
+  const std::string bytes = R"({"bufferView":0,"componentType":5121,"count":3,"type":"VEC3"})";
+  EXPECT_TRUE(rejects(file("ubyte.gltf", R"({"mesh":0})", mesh + buffers + R"("accessors":[)" + bytes + "]"),
+                      {"ubyte.gltf", "POSITION (accessor 0)", "componentType 5121", "KHR_mesh_quantization"}));
+  EXPECT_EQ(read(file("quantized.gltf", R"({"mesh":0})", R"("extensionsUsed":["KHR_mesh_quantization"],
+    "extensionsRequired":["KHR_mesh_quantization"],)" + mesh + buffers + R"("accessors":[)" + bytes + "]")).triangleCount(), 1u)
+      << "the extension allows bytes";
+  // Node transforms: arrays of 16, 3, 4 and 3 numbers.
+  EXPECT_TRUE(rejects(plain("matrix.gltf", R"({"mesh":0,"matrix":[1,0,0,1]})"),
+                      {"matrix.gltf", "nodes[0].matrix", "not an array of 16 numbers"}));
+  EXPECT_TRUE(rejects(plain("scale.gltf", R"({"mesh":0,"scale":["a",1,1]})"),
+                      {"scale.gltf", "nodes[0].scale[0]", "\"a\"", "not a number"}));
+  EXPECT_TRUE(rejects(plain("translation.gltf", R"({"mesh":0,"translation":[1,2]})"), {"nodes[0].translation", "3 numbers"}));
+  // Rotations: clearly not unit refused; within the validator's tolerance normalised.
+  EXPECT_TRUE(rejects(plain("rot.gltf", R"({"mesh":0,"rotation":[0,0,10,0]})"),
+                      {"rot.gltf", "nodes[0].rotation", "[0,0,10,0]", "not a unit quaternion"}));
+  EXPECT_TRUE(rejects(plain("rot0.gltf", R"({"mesh":0,"rotation":[0,0,0,0]})"), {"nodes[0].rotation"}));
+  const Mesh off = read(plain("near.gltf", R"({"mesh":0,"rotation":[0,0,0.7072,0.7072]})"));
+  const Mesh unit = read(plain("unit.gltf", R"({"mesh":0,"rotation":[0,0,0.7071067811865476,0.7071067811865476]})"));
+  ASSERT_EQ(off.positions.size(), 3u);
+  for (size_t v = 0; v < 3; ++v)
+    for (size_t k = 0; k < 3; ++k) EXPECT_NEAR(off.positions[v][k], unit.positions[v][k], 1e-15) << "normalised";
+  EXPECT_NEAR(unit.positions[1][1], 1.0, 1e-15) << "(1,0,0) turned 90 degrees about z";
+  // The default scene must exist.
+  EXPECT_TRUE(rejects(file("scene.gltf", R"({"mesh":0})", R"("scene":5,)" + mesh + buffers + R"("accessors":[)" + position + "]"),
+                      {"scene.gltf", "scene is 5", "scenes are 0..0"}));
+  // TRIANGLES takes a multiple of 3 indices (or vertices).
+  const std::string five = R"({"bufferView":1,"componentType":5123,"count":5,"type":"SCALAR"})";
+  EXPECT_TRUE(rejects(file("five.gltf", R"({"mesh":0})",
+                           R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)" + buffers +
+                               R"("accessors":[)" + position + "," + five + "]"),
+                      {"five.gltf", "meshes[0].primitives[0]", "TRIANGLES", "indices accessor 1 has 5 elements",
+                       "multiple of 3"}));
+  const std::string two = R"({"bufferView":0,"componentType":5126,"count":2,"type":"VEC3","min":[0,0,0],"max":[1,0,0]})";
+  EXPECT_TRUE(rejects(file("two.gltf", R"({"mesh":0})", mesh + buffers + R"("accessors":[)" + two + "]"),
+                      {"meshes[0].primitives[0]", "POSITION accessor 0 has 2 elements"}));
+  EXPECT_GE(read(file("strip.gltf", R"({"mesh":0})", R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":5}]}],)" +
+                                                         buffers + R"("accessors":[)" + position + "," + five + "]")).triangleCount(), 1u)
+      << "a strip takes any count";
 }
 
 // ============================== Mesh ==============================

@@ -295,11 +295,11 @@ TEST(Voxelize, DeterministicAcrossThreadsAndFarFromTheOrigin) {
 TEST(Voxelize, RefusesFarAndNonFiniteVertices) {
   const Mesh far = meshOf({{0, 0, 0}, {1, 0, 0}, {3e6, 0, 0}}, {{0, 1, 2}});
   EXPECT_TRUE(voxtest::throwsVoxError([&] { run(far, gridHeader(4), FillMode::Surface); }, ErrorKind::BadInput,
-                                      {"vertex 2", "crop the scene"}));
+                                      {"vertex 3 (counted from 1)", "crop the scene"}));
   EXPECT_EQ(voxtest::settingOfError([&] { run(far, gridHeader(4), FillMode::Surface); }), Setting::Bounds);
   const Mesh nan = meshOf({{0, 0, 0}, {1, 0, NAN}, {0, 1, 0}}, {{0, 1, 2}});
   EXPECT_TRUE(voxtest::throwsVoxError([&] { run(nan, gridHeader(4), FillMode::Surface); }, ErrorKind::BadInput,
-                                      {"vertex 1", "non-finite"}));
+                                      {"vertex 2 (counted from 1)", "non-finite"}));
   EXPECT_EQ(voxtest::settingOfError([&] { run(nan, gridHeader(4), FillMode::Surface); }), Setting::DropInvalid);
   const Scene empty = run(meshOf({}, {}), gridHeader(4), FillMode::Solid);
   EXPECT_EQ(empty.occupiedCount(), 0u);

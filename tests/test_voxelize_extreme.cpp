@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "formats/mesh/mesh_input.h"
 #include "libvox/core/memory_budget.h"
 #include "libvox/mesh/placement.h"
 #include "libvox/scene/voxelize_scene.h"
@@ -119,4 +120,34 @@ TEST(VoxelizeExtreme, SolidFillOfAHugeBoxIsRefusedBeforeAnyWork) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { run(sliver, header(4096), FillMode::Solid); }, ErrorKind::Resource,
                                       {"68719476736-voxel box", "GiB", "fill only the surface", "4.00 GiB (test)"}));
   setProcessMemoryLimit(before, "--max-memory");
+}
+
+// A vertex beyond the grid's reach is named as its file numbers it, with the
+// file: OBJ by its "v" number (a "v" used with two "vt" is two mesh vertices,
+// made in the order faces use them), PLY from 0 as its faces count, and the
+// second of two inputs by its own file.
+TEST(VoxelizeExtreme, FarVertexIsNamedAsItsFileNumbersIt) {
+  voxtest::TempDir dir;
+  voxtest::writeText(dir.file("far.obj"), "v 40000000 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 1\n"
+                                          "f 2/1 3/1 4/1\nf 2/2 3/2 1/2\n");
+  voxtest::writeText(dir.file("far.ply"), "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                          "end_header\n0 0 0\n1 0 0\n0 1 0\n0 -40000000 0\n3 0 1 3\n");
+  voxtest::writeText(dir.file("near.stl"), "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                           "vertex 0 1 0\nendloop\nendfacet\nendsolid a\n");
+  std::vector<std::string> warnings;
+  auto fails = [&](const Mesh& m, std::initializer_list<std::string> says) {
+    return voxtest::throwsVoxError([&] { run(m, header(4)); }, ErrorKind::BadInput, says);
+  };
+  const Mesh obj = readMeshFile(dir.file("far.obj"), {}, warnings);
+  ASSERT_EQ(obj.positions.size(), 6u) << "one mesh vertex per (v, vt) pair";
+  EXPECT_TRUE(fails(obj, {"far.obj: vertex 1 (as its 'f' lines number them) lies 40000000 voxels from the grid along x",
+                          "limit 2^20"}));
+  EXPECT_TRUE(fails(readMeshFile(dir.file("far.ply"), {}, warnings), {"far.ply: vertex 3 (counted from 0", "along y"}));
+  Mesh both = readMeshFile(dir.file("near.stl"), {}, warnings);
+  both.append(readMeshFile(dir.file("far.ply"), {}, warnings));
+  EXPECT_TRUE(fails(both, {"far.ply: vertex 3 (counted from 0"})) << "the second input's vertices keep their file";
+  EXPECT_EQ(both.describeVertex(2), dir.file("near.stl") + ": vertex 3 (counted from 1 over its facets, 3 a facet)");
+  Mesh made = meshOf({{0, 0, 0}, {1, 0, 0}, {0, 9e6, 0}}, {{0, 1, 2}});
+  EXPECT_TRUE(fails(made, {"vertex 3 (counted from 1) lies 9000000 voxels"})) << "a mesh made in memory";
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -71,7 +72,7 @@ DracoDecoded decodeDraco(const unsigned char* data, size_t size, const std::vect
       const int64_t pos = avi.value() < att->size() ? att->GetBytePos(avi) : -1;
       if (pos < 0 || pos + bytes > available)
         throwBadInput(who + ": Draco attribute " + std::to_string(r.uniqueId) + " (" + r.semantic + ") of point " +
-                      std::to_string(p) + " refers past its " + std::to_string(att->size()) + " values" + fix);
+                      std::to_string(p) + " refers past its " + counted(att->size(), "value", "values") + fix);
       const uint8_t* src = att->buffer()->data() + pos;
       for (int c = 0; c < comps; ++c) values[p][size_t(c)] = component(src, att->data_type(), c, normalized);
     }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -11,6 +13,7 @@
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -49,6 +52,7 @@ class Checker {
 
   void run() {
     extensions();
+    defaultScene();
     for (size_t i = 0; i < size("bufferViews"); ++i) bufferView(i);
     for (size_t i = 0; i < size("accessors"); ++i) accessor(i);
     for (size_t i = 0; i < size("meshes"); ++i) mesh(i);
@@ -123,7 +127,7 @@ class Checker {
           (uint64_t(offset) > bl->get<uint64_t>() || uint64_t(*length) > bl->get<uint64_t>() - uint64_t(offset)))
         bad(el, "spans bytes " + std::to_string(offset) + ".." + std::to_string(uint64_t(offset) + uint64_t(*length)) +
                     ", past the end of buffer " + std::to_string(buffer->get<uint64_t>()) + " (" +
-                    std::to_string(bl->get<uint64_t>()) + " bytes)");
+                    counted(bl->get<uint64_t>(), "byte", "bytes") + ")");
     }
     if (auto stride = integer(v, "byteStride", el, 4, 252); stride && *stride % 4 != 0)
       bad(el + ".byteStride", "is " + std::to_string(*stride) + ", not a multiple of 4");
@@ -160,10 +164,77 @@ class Checker {
       if (!prim.is_object()) bad(el, "is not an object");
       reference(prim, "material", el, "materials");
       reference(prim, "indices", el, "accessors");
+      const int64_t mode = integer(prim, "mode", el, 0, 6).value_or(4);
       auto attrs = prim.find("attributes");
       if (attrs != prim.end() && attrs->is_object())
         for (auto it = attrs->begin(); it != attrs->end(); ++it) reference(*attrs, it.key().c_str(), el + ".attributes", "accessors");
+      const json* position = nullptr;
+      if (attrs != prim.end() && attrs->is_object() && attrs->contains("POSITION")) {
+        position = &accessorAt((*attrs)["POSITION"]);
+        positionAccessor(*position, el + ".attributes.POSITION", (*attrs)["POSITION"].get<int64_t>());
+      }
+      // TRIANGLES takes 3 vertices per triangle: a count that is not a
+      // multiple of 3 is not a list of triangles (the specification says it
+      // must be), and reading it would drop or invent a vertex.
+      const json* counted = prim.contains("indices") ? &accessorAt(prim["indices"]) : position;
+      if (mode == 4 && counted && counted->is_object() && counted->contains("count") &&
+          (*counted)["count"].is_number_unsigned() && (*counted)["count"].get<uint64_t>() % 3 != 0)
+        bad(el, "is in mode TRIANGLES but its " + std::string(prim.contains("indices") ? "indices" : "POSITION") +
+                    " accessor " + (prim.contains("indices") ? prim["indices"] : (*attrs)["POSITION"]).dump() +
+                    " has " + (*counted)["count"].dump() + " elements, not a multiple of 3");
     }
+  }
+
+  /// The accessor an index checked by reference() names.
+  const json& accessorAt(const json& index) const { return doc_["accessors"][size_t(index.get<int64_t>())]; }
+
+  /// A POSITION accessor is a VEC3 of floats, or with KHR_mesh_quantization of
+  /// (normalized or not) 8- or 16-bit integers too (glTF 2.0, "Meshes"; the
+  /// extension's table). Another type would be read as what it is not: a VEC2
+  /// as pairs, bytes as if the file had asked for quantization.
+  void positionAccessor(const json& a, const std::string& el, int64_t index) const {
+    if (!a.is_object()) return;
+    const std::string which = el + " (accessor " + std::to_string(index) + ")";
+    auto type = a.find("type");
+    if (type == a.end() || !type->is_string() || type->get<std::string>() != "VEC3")
+      bad(which, "has type " + (type == a.end() ? std::string("(none)") : type->dump().substr(0, 40)) +
+                     ", but positions are VEC3");
+    auto component = a.find("componentType");
+    if (component == a.end() || !component->is_number_integer()) return;  // tinygltf refuses it
+    const int64_t c = component->get<int64_t>();
+    if (c == 5126) return;  // FLOAT
+    const bool integer = c == 5120 || c == 5121 || c == 5122 || c == 5123;
+    if (integer && usesExtension("KHR_mesh_quantization")) return;
+    bad(which, "has componentType " + std::to_string(c) +
+                   (integer ? " (an 8- or 16-bit integer), which positions may have only in a file that uses "
+                              "KHR_mesh_quantization (extensionsUsed and extensionsRequired); positions are "
+                              "otherwise FLOAT (5126)"
+                            : ", but positions are FLOAT (5126), or with KHR_mesh_quantization 5120-5123"));
+  }
+
+  bool usesExtension(const char* name) const {
+    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+      auto it = doc_.find(list);
+      if (it == doc_.end() || !it->is_array()) continue;
+      for (const json& e : *it)
+        if (e.is_string() && e.get<std::string>() == name) return true;
+    }
+    return false;
+  }
+
+  /// obj[key], when present, is an array of `n` numbers (a node's matrix,
+  /// translation, rotation or scale: tinygltf leaves out any other, and the
+  /// node would silently keep the identity there).
+  const json* numbers(const json& obj, const char* key, const std::string& element, size_t n) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return nullptr;
+    const std::string name = element + "." + key;
+    if (!it->is_array() || it->size() != n)
+      bad(name, "is " + it->dump().substr(0, 60) + ", not an array of " + std::to_string(n) + " numbers");
+    for (size_t k = 0; k < n; ++k)
+      if (!(*it)[k].is_number())
+        bad(name + "[" + std::to_string(k) + "]", "is " + (*it)[k].dump().substr(0, 40) + ", not a number");
+    return &*it;
   }
 
   void node(size_t i) const {
@@ -171,6 +242,22 @@ class Checker {
     const std::string el = "nodes[" + std::to_string(i) + "]";
     if (!n.is_object()) bad(el, "is not an object");
     reference(n, "mesh", el, "meshes");
+    numbers(n, "matrix", el, 16);
+    numbers(n, "translation", el, 3);
+    numbers(n, "scale", el, 3);
+    if (const json* r = numbers(n, "rotation", el, 4)) {
+      double squared = 0;
+      for (const json& c : *r) squared += c.get<double>() * c.get<double>();
+      if (!(std::fabs(std::sqrt(squared) - 1) <= kUnitQuaternionTolerance)) {
+        char length[64];
+        std::snprintf(length, sizeof length, "%.6g", std::sqrt(squared));
+        char tolerance[32];
+        std::snprintf(tolerance, sizeof tolerance, "%g", kUnitQuaternionTolerance);
+        bad(el + ".rotation", "is " + r->dump().substr(0, 80) + ", of length " + length +
+                                  ", not a unit quaternion as the specification requires (vox normalises one within " +
+                                  tolerance + " of length 1)");
+      }
+    }
     auto children = n.find("children");
     if (children != n.end() && children->is_array())
       for (size_t c = 0; c < children->size(); ++c) {
@@ -178,6 +265,18 @@ class Checker {
         if (!child.is_number_integer() || child.get<int64_t>() < 0 || child.get<int64_t>() >= int64_t(size("nodes")))
           bad(el + ".children[" + std::to_string(c) + "]", "is " + child.dump().substr(0, 40) + ", not a node index");
       }
+  }
+
+  /// "scene" names one of "scenes" (tinygltf keeps any number, and the reader
+  /// would walk every root node instead of the scene the file names).
+  void defaultScene() const {
+    auto it = doc_.find("scene");
+    if (it == doc_.end()) return;
+    const size_t n = size("scenes");
+    if (!it->is_number_integer() || it->get<int64_t>() < 0 || uint64_t(it->get<int64_t>()) >= n)
+      bad("scene", "is " + it->dump().substr(0, 40) + ", but " +
+                       (n == 0 ? std::string("the file has no scenes")
+                               : "the file's scenes are 0.." + std::to_string(n - 1)));
   }
 
   void scene(size_t i) const {

@@ -10,12 +10,23 @@
 
 namespace vox {
 
+/// How far from length 1 a node's rotation quaternion may be: the Khronos
+/// validator's tolerance for a unit 4-vector (slightly more than 8-bit
+/// quantization's error). The checks refuse a rotation beyond it; the reader
+/// normalises one within it (as loaders do).
+constexpr double kUnitQuaternionTolerance = 0.00769;
+
 /// Checks the JSON of the .gltf file or the JSON chunk of the .glb file at
 /// `path`: every extensionsRequired entry is one vox honours or one that cannot
 /// change the voxels; accessor and bufferView offsets, lengths, strides and
 /// counts are integers in their ranges; every index from one object to another
-/// (node -> mesh, primitive -> accessor/material, material -> texture,
-/// texture -> image/sampler, bufferView -> buffer) names an existing object.
+/// (scene, node -> mesh, primitive -> accessor/material, material -> texture,
+/// texture -> image/sampler, bufferView -> buffer) names an existing object;
+/// POSITION accessors are VEC3 of FLOAT (or of 8/16-bit integers with
+/// KHR_mesh_quantization); a TRIANGLES primitive has a multiple of 3 indices
+/// (or vertices); a node's matrix, translation, rotation and scale are arrays
+/// of 16, 3, 4 and 3 numbers, the rotation within kUnitQuaternionTolerance of
+/// unit length.
 /// Throws BadInput naming the file and the element (e.g.
 /// "accessors[3].byteOffset") on the first violation; JSON that does not parse
 /// is left for tinygltf to report.

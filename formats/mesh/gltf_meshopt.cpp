@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -51,7 +52,7 @@ void decodeMeshoptViews(tinygltf::Model& model, const std::string& path) {
     const std::vector<unsigned char>& src = model.buffers[size_t(buffer)].data;
     if (offset < 0 || length < 0 || uint64_t(offset) > src.size() || uint64_t(length) > src.size() - uint64_t(offset))
       throwBadInput(who + ": bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
-                    " are past the end of buffer " + std::to_string(buffer) + " (" + std::to_string(src.size()) + " bytes)");
+                    " are past the end of buffer " + std::to_string(buffer) + " (" + counted(src.size(), "byte", "bytes") + ")");
     // The specification's ranges; the decoders assume them.
     const bool attributes = mode == "ATTRIBUTES", triangles = mode == "TRIANGLES", indices = mode == "INDICES";
     if (!attributes && !triangles && !indices)

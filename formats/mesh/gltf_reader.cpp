@@ -17,6 +17,7 @@
 #include "formats/mesh/gltf_images.h"
 #include "formats/mesh/gltf_meshopt.h"
 #include "formats/mesh/gltf_json_check.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -38,7 +39,11 @@ Mat4 mul(const Mat4& a, const Mat4& b) {
   return r;
 }
 
-Mat4 localMatrix(const tinygltf::Node& n) {
+/// A node's matrix, or T * R * S. `normalizeRotation`: a rotation off unit
+/// length by more than float rounding leaves (1e-6; the JSON checks refuse one
+/// off by more than kUnitQuaternionTolerance) is normalised first, as loaders
+/// do; a unit one to that precision is used as written, as it always was.
+Mat4 localMatrix(const tinygltf::Node& n, bool normalizeRotation = false) {
   if (n.matrix.size() == 16) {
     Mat4 m;
     for (int i = 0; i < 16; ++i) m[i] = n.matrix[i];
@@ -47,7 +52,9 @@ Mat4 localMatrix(const tinygltf::Node& n) {
   Mat4 t = identity(), r = identity(), s = identity();
   if (n.translation.size() == 3) t[12] = n.translation[0], t[13] = n.translation[1], t[14] = n.translation[2];
   if (n.rotation.size() == 4) {
-    const double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+    double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+    const double length = std::sqrt(x * x + y * y + z * z + w * w);
+    if (normalizeRotation && std::fabs(length - 1) > 1e-6 && length > 0) x /= length, y /= length, z /= length, w /= length;
     r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
          2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
          2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
@@ -81,7 +88,7 @@ class Accessors {
                     ", more than its bufferView can hold (" + std::to_string(maxCount) + ")");
     if (a.sparse.isSparse && (a.sparse.count < 0 || uint64_t(a.sparse.count) > uint64_t(a.count)))
       throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") has sparse count " +
-                    std::to_string(a.sparse.count) + " for " + std::to_string(a.count) + " elements");
+                    std::to_string(a.sparse.count) + " for " + counted(uint64_t(a.count), "element", "elements"));
     std::vector<std::array<double, 4>> out(a.count, std::array<double, 4>{0, 0, 0, 0});
     if (a.bufferView >= 0) readView(a.bufferView, a.byteOffset, a.count, a.componentType, comps, a.normalized, 0, out,
                                     index, role, nullptr);
@@ -95,7 +102,7 @@ class Accessors {
         const double k = idx[i][0];
         if (k < 0 || k >= double(a.count))
           throwBadInput(name_ + ": accessor " + std::to_string(index) + " (" + role + ") sparse index " +
-                        std::to_string(int64_t(k)) + " is past its " + std::to_string(a.count) + " elements");
+                        std::to_string(int64_t(k)) + " is past its " + counted(uint64_t(a.count), "element", "elements"));
         out[size_t(k)] = vals[i];
       }
     }
@@ -120,7 +127,7 @@ class Accessors {
     const size_t start = v.byteOffset + offset;
     if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
       throwBadInput(who + ": bufferView " + std::to_string(viewIndex) + " overruns its buffer (" +
-                    std::to_string(buf.size()) + " bytes)");
+                    counted(buf.size(), "byte", "bytes") + ")");
     // count and stride are now bounded by real buffer sizes, so the products below cannot overflow.
     if (count > v.byteLength || stride > 4096) throwBadInput(who + " reads past the end of its bufferView");
     if (count > 0 && (start + (count - 1) * stride + elem > buf.size() || start + (count - 1) * stride + elem > v.byteOffset + v.byteLength))
@@ -526,7 +533,7 @@ class NodeWalker {
       throwBadInput(path_ + ": node " + std::to_string(ni) + " is reached twice in the node hierarchy (a cycle, or a node "
                     "with two parents, which glTF forbids); fix the file's \"children\" lists");
     const tinygltf::Node& node = model_.nodes[size_t(ni)];
-    const Mat4 world = mul(parent, localMatrix(node));
+    const Mat4 world = mul(parent, localMatrix(node, /*normalizeRotation=*/true));
     const std::string nodePath = parentPath.empty() ? node.name : parentPath + "/" + node.name;
     if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) {
       const tinygltf::Mesh& gm = model_.meshes[size_t(node.mesh)];
@@ -575,8 +582,8 @@ class NodeWalker {
       if (tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(a)].type)) != comps)
         throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") is not a VEC" + std::to_string(comps));
       if (any && dst->size() != count)
-        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") has " + std::to_string(dst->size()) +
-                      " instances, the other attributes " + std::to_string(count));
+        throwBadInput(who + ": accessor " + std::to_string(a) + " (" + name + ") has " +
+                      counted(dst->size(), "instance", "instances") + ", the other attributes " + std::to_string(count));
       count = dst->size();
       any = true;
     }
@@ -624,6 +631,11 @@ class NodeWalker {
       d = readAccessors(prim);
     }
     const uint32_t base = uint32_t(mesh_.positions.size());
+    mesh_.vertexRuns.push_back({base, path_,
+                                draco != prim.extensions.end()
+                                    ? d.positionSource + " point"
+                                    : "mesh '" + gm.name + "' primitive " + std::to_string(pi) + ", " + d.positionSource + " element",
+                                0, " (counted from 0)"});
     appendPositions(d.positions, d.positionSource, world);
     const size_t count = d.positions.size();
     appendVertexAttributes(d, base, count);
@@ -675,8 +687,8 @@ class NodeWalker {
       throwBadInput(who + ": bufferView " + std::to_string(view) + " has no valid buffer");
     const std::vector<unsigned char>& buf = model_.buffers[size_t(v.buffer)].data;
     if (v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
-      throwBadInput(who + ": bufferView " + std::to_string(view) + " overruns its buffer (" + std::to_string(buf.size()) +
-                    " bytes)");
+      throwBadInput(who + ": bufferView " + std::to_string(view) + " overruns its buffer (" +
+                    counted(buf.size(), "byte", "bytes") + ")");
     // The attributes vox reads, each mapped to a Draco unique id; an attribute
     // the primitive has but the extension does not compress is refused rather
     // than mixed with decoded points it need not match.
@@ -711,8 +723,8 @@ class NodeWalker {
       Values values = acc_.read(accessor, n.c_str());
       if (values.size() != dec.points)
         throwBadInput(who + ": " + n + " is stored uncompressed in accessor " + std::to_string(accessor) + " with " +
-                      std::to_string(values.size()) + " values, but the Draco data has " + std::to_string(dec.points) +
-                      " points; the file is malformed (re-export it)");
+                      counted(values.size(), "value", "values") + ", but the Draco data has " +
+                      counted(dec.points, "point", "points") + "; the file is malformed (re-export it)");
       if (n == "TEXCOORD_0") d.uv0 = std::move(values);
       if (n == "TEXCOORD_1") d.uv1 = std::move(values);
       if (n == "COLOR_0") {

@@ -6,6 +6,7 @@
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/mesh/gltf_reader.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 #include "libvox/core/utf8.h"
 
@@ -25,8 +26,9 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
       }
   if (!count) return;
   if (!options.dropInvalid)
-    throwBadInput(name + ": " + std::to_string(count) + " vertices have NaN or infinite coordinates (the first is vertex " +
-                  std::to_string(first) + "); fix the file or drop their triangles",
+    throwBadInput(name + ": " + counted(count, "vertex has", "vertices have") +
+                      " NaN or infinite coordinates (the first is " + mesh.describeVertex(first, false) +
+                      "); fix the file or drop their triangles",
                   Setting::DropInvalid);
   size_t kept = 0;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -37,8 +39,8 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
     if (!mesh.trianglePart.empty()) mesh.trianglePart[kept] = mesh.trianglePart[t];
     ++kept;
   }
-  warnings.push_back(name + ": dropped " + std::to_string(mesh.triangles.size() - kept) + " triangles touching " +
-                     std::to_string(count) + " vertices with NaN or infinite coordinates");
+  warnings.push_back(name + ": dropped " + counted(mesh.triangles.size() - kept, "triangle", "triangles") +
+                     " touching " + counted(count, "vertex", "vertices") + " with NaN or infinite coordinates");
   mesh.triangles.resize(kept);
   if (!mesh.triangleMaterial.empty()) mesh.triangleMaterial.resize(kept);
   if (!mesh.trianglePart.empty()) mesh.trianglePart.resize(kept);

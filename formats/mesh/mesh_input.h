@@ -2,9 +2,12 @@
 // dependency files), converts sRGB-encoded colours to linear, and throws vox::Error
 // (BadInput) naming the file and the element (line, face, vertex, accessor).
 //
-//   .obj  with .mtl (usemtl, Kd, map_Kd; polygons fan-triangulated, negative indices)
-//   .ply  ASCII and binary (both endiannesses), vertex colours, any index types
-//   .stl  ASCII and binary
+//   .obj  with .mtl (usemtl, Kd, map_Kd; polygons triangulated as
+//         formats/mesh/polygon_triangulation.h says, negative indices)
+//   .ply  1.0, ASCII and binary (both endiannesses), vertex colours, any index types
+//   .stl  ASCII (every solid of the file) and binary
+// Every reader records in Mesh::vertexRuns how its file numbers its vertices,
+// for messages that name one.
 //   .gltf / .glb   see formats/mesh/gltf_reader.h
 // Extensions are matched case-insensitively.
 #pragma once
@@ -17,8 +20,9 @@
 namespace vox {
 
 struct MeshReadOptions {
-  /// Drop triangles that touch a vertex with a NaN or infinite coordinate
-  /// (reported in `warnings`) instead of refusing the file.
+  /// Drop triangles that touch a vertex with a NaN or infinite coordinate, and
+  /// OBJ/PLY faces of fewer than 3 vertices (counted in `warnings`), instead
+  /// of refusing the file.
   bool dropInvalid = false;
   /// OBJ: an `mtllib` file or a `map_Kd` texture that does not exist is
   /// reported in `warnings` (materials keep their names, untextured) instead of

@@ -17,7 +17,9 @@
 #include "formats/core/file_util.h"
 #include "formats/core/text_numbers.h"
 #include "libvox/core/color.h"
+#include "libvox/core/counted.h"
 #include "formats/mesh/mesh_input.h"
+#include "formats/mesh/polygon_triangulation.h"
 #include "formats/mesh/texture_image.h"
 #include "libvox/core/error.h"
 #include "libvox/core/ordered_pipeline.h"
@@ -56,6 +58,22 @@ struct Cursor {
     return std::string(b, e);
   }
 };
+
+/// Classic Mac OS ended lines with a CR alone: a CR not followed by an LF ends
+/// a line, as text editors read it (otherwise the whole file, or the rest of a
+/// line after such a CR, would be one line and read as nothing). Returns false
+/// when `data` has none; else `lf` is the text with each such CR an LF.
+bool loneCrAsLf(const char* data, size_t size, std::string& lf) {
+  const char* end = data + size;
+  const char* p = data;
+  for (; (p = static_cast<const char*>(std::memchr(p, '\r', size_t(end - p)))) != nullptr; ++p)
+    if (p + 1 == end || p[1] != '\n') break;
+  if (!p) return false;
+  lf.assign(data, size);
+  for (size_t i = size_t(p - data); i < size; ++i)
+    if (lf[i] == '\r' && (i + 1 == size || lf[i + 1] != '\n')) lf[i] = '\n';
+  return true;
+}
 
 [[noreturn]] void bad(const std::string& name, size_t line, const std::string& what, Setting fix = Setting::None) {
   throwBadInput(name + ":" + std::to_string(line) + ": " + what, fix);
@@ -188,7 +206,8 @@ TextureStatement textureStatement(const std::string& rest) {
 void parseMtl(const std::string& path, Mesh& mesh, std::unordered_map<std::string, uint32_t>& byName,
               std::unordered_map<uint32_t, size_t>& undefined, const MeshReadOptions& options,
               std::vector<std::string>& warnings) {
-  const std::string text = readFileBytes(path);
+  std::string text = readFileBytes(path);
+  if (std::string lf; loneCrAsLf(text.data(), text.size(), lf)) text = std::move(lf);
   mesh.filesRead.push_back(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   Cursor c{text.data() + utf8BomLength(text.data(), text.size()), text.data() + text.size()};
@@ -335,22 +354,39 @@ class ObjParser {
   }
 
   /// "f v[/vt[/vn]] ..." (at least 3 corners, negative indices count back),
-  /// fan-triangulated, in the current material and part.
+  /// triangulated, in the current material and part.
   void face(Cursor& c) {
     readCorners(c);
     triangulate(c.line);
   }
 
-  /// face_ as triangles of the current material and part.
+  /// face_ as triangles of the current material and part: a polygon as
+  /// formats/mesh/polygon_triangulation.h cuts it (convex ones fan-wise).
   void triangulate(size_t line) {
-    if (face_.size() < 3) bad(name_, line, "a face needs at least 3 vertices");
-    if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
-    const uint32_t first = meshVertex(face_[0]);
-    for (size_t k = 1; k + 1 < face_.size(); ++k) {  // fan triangulation
-      mesh_.triangles.push_back({first, meshVertex(face_[k]), meshVertex(face_[k + 1])});
-      mesh_.triangleMaterial.push_back(uint32_t(currentMaterial_));
-      mesh_.trianglePart.push_back(currentPart_);
+    if (face_.size() < 3) {  // refused, or dropped and counted as faces with non-finite vertices are
+      if (!options_.dropInvalid)
+        bad(name_, line, "a face has " + counted(face_.size(), "vertex", "vertices") +
+                             "; a face needs at least 3: fix the line or drop such faces",
+            Setting::DropInvalid);
+      if (!shortFaces_++) firstShortFaceLine_ = line;
+      return;
     }
+    if (currentMaterial_ < 0) currentMaterial_ = defaultMaterial();
+    // Mesh vertices are made in corner order, as the fan always made them.
+    cornerVertex_.clear();
+    for (const Corner& c : face_) cornerVertex_.push_back(meshVertex(c));
+    if (face_.size() == 3) return addTriangle({cornerVertex_[0], cornerVertex_[1], cornerVertex_[2]});
+    cornerAt_.clear();
+    for (const Corner& c : face_) cornerAt_.push_back(objPositions_[c.v]);
+    polygon_.clear();
+    triangulatePolygon(cornerAt_.data(), cornerAt_.size(), polygon_, polygonScratch_);
+    for (const auto& t : polygon_) addTriangle({cornerVertex_[t[0]], cornerVertex_[t[1]], cornerVertex_[t[2]]});
+  }
+
+  void addTriangle(const std::array<uint32_t, 3>& t) {
+    mesh_.triangles.push_back(t);
+    mesh_.triangleMaterial.push_back(uint32_t(currentMaterial_));
+    mesh_.trianglePart.push_back(currentPart_);
   }
 
   /// "o NAME" or "g NAME": the faces that follow form a part of that name.
@@ -414,6 +450,9 @@ class ObjParser {
     for (const auto& [line, material] : undefined)
       warnings_.push_back(name_ + ":" + std::to_string(line) + ": material '" + mesh_.materials[material].name +
                           "' is not defined in any mtllib");
+    if (shortFaces_)
+      warnings_.push_back(name_ + ":" + std::to_string(firstShortFaceLine_) + ": dropped " +
+                          counted(shortFaces_, "face", "faces") + " of fewer than 3 vertices (the first on this line)");
     if (mesh_.materials.empty()) mesh_.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
     if (!mesh_.uv0.empty()) mesh_.uv0.resize(mesh_.positions.size(), {0, 0});
     if (anyVertexColor_) {  // vertices written without a colour are white
@@ -423,9 +462,14 @@ class ObjParser {
     // Name the first bad "v" line (the generic check below only knows mesh vertex numbers).
     if (invalidVertices_ && !options_.dropInvalid)
       bad(name_, firstInvalidLine_,
-          std::to_string(invalidVertices_) + " vertices have NaN or infinite coordinates (the first is vertex " +
+          counted(invalidVertices_, "vertex has", "vertices have") + " NaN or infinite coordinates (the first is vertex " +
               std::to_string(firstInvalidVertex_) + ", on this line); fix the file or drop their triangles",
           Setting::DropInvalid);
+    // Messages name a vertex by its "v" number, as "f" lines do (a "v" used
+    // with several "vt" is several mesh vertices): 4 bytes a vertex, kept.
+    mesh_.vertexRuns.push_back({0, name_, "vertex", 1, " (as its 'f' lines number them)"});
+    mesh_.fileVertex = std::move(objOfVertex_);
+    for (uint32_t& v : mesh_.fileVertex) ++v;
     checkFinite(mesh_, name_, options_, warnings_);
     return std::move(mesh_);
   }
@@ -528,8 +572,13 @@ class ObjParser {
   int64_t defaultMaterial_ = -1;
   uint32_t currentPart_ = 0;
   std::vector<Corner> face_;  // the corners of the face being read
+  std::vector<uint32_t> cornerVertex_;             // face_'s mesh vertices
+  std::vector<std::array<double, 3>> cornerAt_;    // face_'s positions
+  std::vector<std::array<uint32_t, 3>> polygon_;   // its triangles, as corner indices
+  PolygonScratch polygonScratch_;
   bool anyVertexColor_ = false;
   size_t invalidVertices_ = 0, firstInvalidLine_ = 0, firstInvalidVertex_ = 0;  // NaN/Inf "v" lines
+  size_t shortFaces_ = 0, firstShortFaceLine_ = 0;  // "f" lines of fewer than 3 corners, dropped
 };
 
 /// One line in the serial pass, as the single pass reads it.
@@ -715,7 +764,8 @@ Mesh parseObj(const char* data, size_t size, const std::string& name, const Mesh
               std::vector<std::string>& warnings, const std::string& baseDir, size_t chunkBytes) {
   const size_t bom = utf8BomLength(data, size);
   data += bom, size -= bom;
-  std::string joined;
+  std::string lf, joined;
+  if (loneCrAsLf(data, size, lf)) data = lf.data(), size = lf.size();
   if (joinContinuedLines(data, size, joined)) data = joined.data(), size = joined.size();
   ObjParser obj(name, options, warnings, baseDir);
   obj.reserveFor(data, size);

@@ -1,6 +1,7 @@
-// PLY: ASCII and binary (little and big endian), any scalar types, vertex
+// PLY 1.0: ASCII and binary (little and big endian), any scalar types, vertex
 // colours (8-bit sRGB-encoded or float), faces as index lists of any type,
-// polygons fan-triangulated; other elements are skipped.
+// polygons triangulated (formats/mesh/polygon_triangulation.h); other elements
+// are skipped.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -10,7 +11,9 @@
 
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
+#include "formats/mesh/polygon_triangulation.h"
 #include "libvox/core/color.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 #include "libvox/core/utf8.h"
 
@@ -26,6 +29,8 @@ std::string numberText(double v) {
   const auto end = std::to_chars(text, text + sizeof text, v).ptr;
   return std::string(text, end);
 }
+
+constexpr uint64_t kMaxVertices = uint64_t(1) << 31;
 
 enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
 
@@ -154,10 +159,19 @@ Header parseHeader(const char* data, size_t size, const std::string& name) {
     std::string key;
     ls >> key;
     if (key == "format") {
-      std::string f;
-      ls >> f;
+      std::string f, version;
+      ls >> f >> version;
       h.format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
       if (h.format < 0) throwBadInput(name + ":" + std::to_string(lineNo) + ": unknown PLY format '" + f + "'");
+      // 1.0 is the only version there is (written "1.0", or "1" by a few
+      // tools); another could lay its body out otherwise.
+      double number = 0;
+      const auto [end, ec] = std::from_chars(version.data(), version.data() + version.size(), number);
+      if (version.empty() || ec != std::errc() || end != version.data() + version.size() || number != 1)
+        throwBadInput(name + ":" + std::to_string(lineNo) + ": " +
+                      (version.empty() ? std::string("the format line gives no version")
+                                       : "PLY version '" + version + "' is not one vox reads") +
+                      " (only 1.0: 'format " + f + " 1.0'); write the file as PLY 1.0");
     } else if (key == "element") {
       Element e;
       ls >> e.name >> e.count;
@@ -225,12 +239,17 @@ void addStripTriangles(const std::vector<int64_t>& strip, Mesh& mesh) {
   }
 }
 
+/// Faces of fewer than 3 corners, dropped under MeshReadOptions::dropInvalid.
+struct DroppedFaces {
+  uint64_t count = 0, first = 0;
+};
+
 /// Reads every item of element `e` from the body: a "vertex" adds a position
-/// (and colour), a "face" adds its polygon fan-triangulated, a "tristrips"
-/// its strips' triangles, any other element is read past.
-void readElement(Reader& r, const Element& e, int format, const std::string& name, Mesh& mesh) {
+/// (and colour), a "face" adds its polygon's triangles, a "tristrips" its
+/// strips' triangles, any other element is read past.
+void readElement(Reader& r, const Element& e, int format, const std::string& name, Mesh& mesh,
+                 const MeshReadOptions& options, DroppedFaces& dropped) {
   const bool isVertex = e.name == "vertex", isStrips = e.name == "tristrips", isFace = e.name == "face" || isStrips;
-  if (isVertex && e.count > (uint64_t(1) << 31)) throwBadInput(name + ": too many vertices (" + std::to_string(e.count) + ")");
   const Roles role(e);
   if (isVertex && (role.x < 0 || role.y < 0 || role.z < 0)) throwBadInput(name + ": element 'vertex' lacks x, y or z");
   if (e.props.empty()) return;  // an element without properties has no bytes in the body
@@ -239,12 +258,21 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
   uint64_t minBytes = 0;
   for (const Property& p : e.props) minBytes += minBodyBytes(p, format);
   if (minBytes && e.count > r.remaining() / minBytes)
-    throwBadInput(name + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items but only " +
-                  std::to_string(r.remaining()) + " bytes follow the header (truncated, or a wrong count?)");
+    throwBadInput(name + ": element '" + e.name + "' announces " + counted(e.count, "item", "items") + " but only " +
+                  counted(r.remaining(), "byte follows", "bytes follow") +
+                  " the header (truncated, or a wrong count?)");
+  // Mesh indices are 32-bit; a file that big is checked after the one above,
+  // so that a count the file cannot hold gets the same message at any size.
+  if (isVertex && e.count > kMaxVertices)
+    throwBadInput(name + ": element 'vertex' announces " + std::to_string(e.count) + " vertices; vox reads at most " +
+                  std::to_string(kMaxVertices) + " (2^31) from one file: split the mesh into several files");
   const bool hasColor = role.red >= 0 && role.green >= 0 && role.blue >= 0;
   std::vector<double> vals(e.props.size());
   std::vector<uint32_t> poly;
   std::vector<int64_t> strip;
+  std::vector<std::array<double, 3>> corners;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  PolygonScratch scratch;
   for (uint64_t i = 0; i < e.count; ++i) {
     r.at(&e.name, i);
     for (size_t k = 0; k < e.props.size(); ++k) {
@@ -255,7 +283,7 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
       }
       const double count = r.scalar(p.countType);
       if (!(count >= 0 && count <= 1e6) || count != std::floor(count))
-        throwBadInput(name + ": " + r.what() + ": list of " + numberText(count) + " entries");
+        throwBadInput(name + ": " + r.what() + ": list of " + numberText(count) + (count == 1 ? " entry" : " entries"));
       const bool faceIndices = isFace && int(k) == role.faceIndices;
       poly.clear();
       strip.clear();
@@ -277,9 +305,21 @@ void readElement(Reader& r, const Element& e, int format, const std::string& nam
         if (isStrips) strip.push_back(int64_t(v));
         else poly.push_back(uint32_t(v));
       }
-      if (faceIndices && isStrips) addStripTriangles(strip, mesh);
-      else if (faceIndices)
-        for (size_t j = 1; j + 1 < poly.size(); ++j) mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
+      if (faceIndices && isStrips) {
+        addStripTriangles(strip, mesh);
+      } else if (faceIndices && poly.size() < 3) {
+        if (!options.dropInvalid)
+          throwBadInput(name + ": face " + std::to_string(i) + " has " + counted(poly.size(), "vertex", "vertices") +
+                            "; a face needs at least 3: fix the file or drop such faces",
+                        Setting::DropInvalid);
+        if (!dropped.count++) dropped.first = i;
+      } else if (faceIndices) {
+        corners.clear();
+        for (const uint32_t v : poly) corners.push_back(mesh.positions[v]);
+        triangles.clear();
+        triangulatePolygon(corners.data(), corners.size(), triangles, scratch);
+        for (const auto& t : triangles) mesh.triangles.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
+      }
     }
     if (isVertex) {
       mesh.positions.push_back({vals[size_t(role.x)], vals[size_t(role.y)], vals[size_t(role.z)]});
@@ -306,9 +346,14 @@ Mesh parsePly(const char* data, size_t size, const std::string& name, const Mesh
   Mesh mesh;
   mesh.materials.push_back({"", {1, 1, 1, 1}, -1, 0});
   mesh.parts.push_back({"", std::filesystem::path(name).filename().string()});
-  for (const Element& e : header.elements) readElement(r, e, header.format, name, mesh);
+  DroppedFaces dropped;
+  for (const Element& e : header.elements) readElement(r, e, header.format, name, mesh, options, dropped);
+  if (dropped.count)
+    warnings.push_back(name + ": dropped " + counted(dropped.count, "face", "faces") +
+                       " of fewer than 3 vertices (the first is face " + std::to_string(dropped.first) + ")");
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
+  mesh.vertexRuns.push_back({0, name, "vertex", 0, " (counted from 0, as its faces count them)"});
   checkFinite(mesh, name, options, warnings);
   return mesh;
 }

@@ -8,6 +8,7 @@
 
 #include "formats/core/text_numbers.h"
 #include "formats/mesh/mesh_input.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 #include "libvox/core/utf8.h"
 
@@ -40,10 +41,10 @@ bool isBinaryStl(const char* data, size_t size, const std::string& name, std::ve
   if (solid && !std::memchr(data, 0, size)) return false;
   if (uint64_t(size) < binarySize)
     throwBadInput(name + ": " + (solid ? "" : "not ASCII STL (no 'solid'), and as ") + "binary STL it announces " +
-                  std::to_string(n) + " triangles (" + std::to_string(binarySize) + " bytes) but the file has " +
+                  counted(n, "triangle", "triangles") + " (" + std::to_string(binarySize) + " bytes) but the file has " +
                   std::to_string(size) + " bytes: truncated, or not an STL file");
-  warnings.push_back(name + ": binary STL has " + std::to_string(uint64_t(size) - binarySize) + " bytes after its " +
-                     std::to_string(n) + " triangles; ignored");
+  warnings.push_back(name + ": binary STL has " + counted(uint64_t(size) - binarySize, "byte", "bytes") +
+                     " after its " + counted(n, "triangle", "triangles") + "; ignored");
   return true;
 }
 
@@ -65,10 +66,42 @@ void readBinaryStl(const char* data, Mesh& mesh) {
   }
 }
 
+/// The next word on the line at `p` (empty at the line's end), `p` moved past it.
+std::string_view lineWord(const char*& p, const char* end) {
+  while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+  const char* w = p;
+  while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
+  return {w, size_t(p - w)};
+}
+
+/// Past the name after "solid" or "endsolid" (`p` just after the keyword): the
+/// rest of the line, which may hold any word ("solid facet model"), unless the
+/// line goes on with a facet (an STL written on one line): then up to its
+/// "facet normal", or after "endsolid" up to the "solid" that starts it.
+const char* pastName(const char* p, const char* end, bool afterEndsolid) {
+  const char* solid = nullptr;
+  for (;;) {
+    const std::string_view w = lineWord(p, end);
+    if (w.empty()) return p;
+    if (afterEndsolid && keyword(w, "solid")) {
+      solid = w.data();
+      continue;
+    }
+    const char* q = p;
+    if (keyword(w, "facet") && keyword(lineWord(q, end), "normal")) {
+      if (!afterEndsolid) return w.data();
+      if (solid) return solid;
+    }
+  }
+}
+
 /// ASCII STL: "solid", then facets ("facet normal ..", "outer loop", three
-/// "vertex x y z", "endloop", "endfacet"), then "endsolid". A file that ends
-/// inside a facet is refused (a cut-off download or copy); one that ends after
-/// a complete facet without "endsolid" is read with a warning.
+/// "vertex x y z", "endloop", "endfacet"), then "endsolid"; several solids may
+/// follow one another (one per body or colour, as CAD exporters write them),
+/// and every one is read. A file that ends inside a facet is refused (a cut-off
+/// download or copy); one that ends after a complete facet without "endsolid"
+/// is read with a warning; text after an "endsolid" other than another solid
+/// is refused, naming its line.
 void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& mesh,
                   std::vector<std::string>& warnings) {
   const char* p = data + utf8BomLength(data, size);
@@ -83,32 +116,24 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
   skipSpace();
   if (size_t(end - p) < 5 || !keyword(std::string_view(p, 5), "solid"))
     throwBadInput(name + ": not an STL file (neither a binary STL of consistent size nor ASCII starting with 'solid')");
-  // The solid's name: the rest of its line, which may hold any word ("solid
-  // facet model"), unless the first facet starts on that line too (an STL
-  // written on one line): then up to its "facet normal".
-  for (p += 5; p < end && *p != '\n';) {
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
-    const char* w = p;
-    while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
-    if (!keyword(std::string_view(w, size_t(p - w)), "facet")) continue;
-    const char* n = p;
-    while (n < end && (*n == ' ' || *n == '\t')) ++n;
-    const char* ne = n;
-    while (ne < end && *ne != ' ' && *ne != '\t' && *ne != '\r' && *ne != '\n') ++ne;
-    if (keyword(std::string_view(n, size_t(ne - n)), "normal")) {
-      p = w;
-      break;
-    }
-  }
+  p = pastName(p + 5, end, false);
   size_t corners = 0;
-  size_t facetLine = 0;  // line of the open "facet", 0 outside one
-  bool ended = false;
-  while (p < end) {
+  size_t facetLine = 0;   // line of the open "facet", 0 outside one
+  size_t endsolidLine = 0;  // line of the last "endsolid", 0 inside a solid
+  while (true) {
     skipSpace();
+    if (p >= end) break;
     const char* w = p;
     while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
     const std::string_view word(w, size_t(p - w));
-    if (keyword(word, "facet")) {
+    if (endsolidLine) {
+      if (!keyword(word, "solid"))
+        throwBadInput(name + ":" + std::to_string(line) + ": '" + std::string(word.substr(0, 40)) +
+                      "' after the 'endsolid' of line " + std::to_string(endsolidLine) +
+                      "; only another 'solid' may follow one: remove the text or repair the file");
+      p = pastName(p, end, false);
+      endsolidLine = 0;
+    } else if (keyword(word, "facet")) {
       if (facetLine)
         throwBadInput(name + ":" + std::to_string(line) + ": a facet starts before the facet of line " +
                       std::to_string(facetLine) + " ended ('endfacet' missing)");
@@ -125,22 +150,27 @@ void readAsciiStl(const char* data, size_t size, const std::string& name, Mesh& 
       ++corners;
     } else if (keyword(word, "endloop")) {
       if (corners != 3)
-        throwBadInput(name + ":" + std::to_string(line) + ": a facet has " + std::to_string(corners) +
-                      " vertices; STL facets are triangles");
+        throwBadInput(name + ":" + std::to_string(line) + ": a facet has " +
+                      counted(corners, "vertex", "vertices") + "; STL facets are triangles");
       const uint32_t b = uint32_t(mesh.positions.size() - 3);
       mesh.triangles.push_back({b, b + 1, b + 2});
       corners = 0;
     } else if (keyword(word, "endfacet")) {
       facetLine = 0;
     } else if (keyword(word, "endsolid")) {
-      ended = true;
-      break;
+      if (facetLine || corners)
+        throwBadInput(name + ":" + std::to_string(line) + ": 'endsolid' inside the facet of line " +
+                      std::to_string(facetLine ? facetLine : line) + " (" + std::to_string(corners) +
+                      " of its 3 vertices read); repair or re-export the file");
+      endsolidLine = line;
+      p = pastName(p, end, true);
     }
   }
   if (facetLine || corners)
-    throwBadInput(name + ": the file ends inside the facet of line " + std::to_string(facetLine ? facetLine : line) +
-                  " (" + std::to_string(corners) + " of its 3 vertices read): the file is truncated; re-export or copy it again");
-  if (!ended)
+    throwBadInput(name + ": the file ends inside the facet of line " +
+                  std::to_string(facetLine ? facetLine : line) + " (" + std::to_string(corners) +
+                  " of its 3 vertices read): the file is truncated; re-export or copy it again");
+  if (!endsolidLine)
     warnings.push_back(name + ": no 'endsolid' after facet " + std::to_string(mesh.triangles.size()) +
                        ": the file may be truncated");
 }
@@ -156,6 +186,7 @@ Mesh parseStl(const char* data, size_t size, const std::string& name, const Mesh
   else readAsciiStl(data, size, name, mesh, warnings);
   mesh.triangleMaterial.assign(mesh.triangles.size(), 0);
   mesh.trianglePart.assign(mesh.triangles.size(), 0);
+  mesh.vertexRuns.push_back({0, name, "vertex", 1, " (counted from 1 over its facets, 3 a facet)"});
   checkFinite(mesh, name, options, warnings);
   return mesh;
 }

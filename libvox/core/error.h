@@ -32,7 +32,7 @@ enum class Setting {
   Bounds,                  // the world box that is voxelized
   Padding,                 // empty voxels around the bounds
   FillMode,                // surface or solid
-  DropInvalid,             // drop triangles with non-finite vertices instead of refusing
+  DropInvalid,             // drop triangles with non-finite vertices, faces of < 3 vertices, instead of refusing
   IgnoreMissingMaterials,  // keep going without a missing material or texture file
   ClassRules,              // the class rules file
   GridThreshold,           // fog volumes: the density that counts as inside

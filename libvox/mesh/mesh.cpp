@@ -1,5 +1,7 @@
 #include "libvox/mesh/mesh.h"
 
+#include <algorithm>
+
 namespace vox {
 
 bool Mesh::hasColor() const {
@@ -31,6 +33,15 @@ void Mesh::append(const Mesh& other) {
   mergeAttr(uv0, other.uv0, std::array<float, 2>{0, 0});
   mergeAttr(uv1, other.uv1, std::array<float, 2>{0, 0});
   mergeAttr(colors, other.colors, std::array<float, 4>{1, 1, 1, 1});
+  mergeAttr(fileVertex, other.fileVertex, uint32_t(0));
+  // Vertices without a run of their own (a mesh made in memory) stay counted from 1 within their mesh.
+  if (!other.vertexRuns.empty() && vertexRuns.empty() && oldVerts > 0) vertexRuns.push_back({0, "", "vertex", 1, " (counted from 1)"});
+  if (other.vertexRuns.empty() && !vertexRuns.empty() && !other.positions.empty())
+    vertexRuns.push_back({oldVerts, "", "vertex", 1, " (counted from 1)"});
+  for (MeshVertexRun run : other.vertexRuns) {
+    run.firstVertex += oldVerts;
+    vertexRuns.push_back(std::move(run));
+  }
   for (MeshMaterial m : other.materials) {
     if (m.texture >= 0) m.texture += tbase;
     materials.push_back(m);
@@ -38,6 +49,16 @@ void Mesh::append(const Mesh& other) {
   textures.insert(textures.end(), other.textures.begin(), other.textures.end());
   parts.insert(parts.end(), other.parts.begin(), other.parts.end());
   filesRead.insert(filesRead.end(), other.filesRead.begin(), other.filesRead.end());
+}
+
+std::string Mesh::describeVertex(size_t i, bool withFile) const {
+  auto after = std::upper_bound(vertexRuns.begin(), vertexRuns.end(), i,
+                                [](size_t v, const MeshVertexRun& run) { return v < run.firstVertex; });
+  if (after == vertexRuns.begin()) return "vertex " + std::to_string(i + 1) + " (counted from 1)";
+  const MeshVertexRun& run = *(after - 1);
+  const int64_t n = i < fileVertex.size() && fileVertex[i] ? int64_t(fileVertex[i])
+                                                           : run.firstNumber + int64_t(i - run.firstVertex);
+  return (run.file.empty() || !withFile ? "" : run.file + ": ") + run.what + " " + std::to_string(n) + run.note;
 }
 
 }  // namespace vox

@@ -47,6 +47,18 @@ struct MeshPart {
   std::string meshName;  // glTF mesh name, or the file name for single-mesh formats
 };
 
+/// Where a run of vertices came from, so that a message names a vertex as its
+/// file does. Mesh vertex i (firstVertex <= i < the next run's firstVertex) is
+/// "`file`: `what` N`note`", N = firstNumber + (i - firstVertex), or
+/// Mesh::fileVertex[i] where that is not 0.
+struct MeshVertexRun {
+  size_t firstVertex = 0;
+  std::string file;
+  std::string what;         // "vertex", "mesh 'M' primitive 0, accessor 3 (POSITION) element"
+  int64_t firstNumber = 1;
+  std::string note;         // how the file counts them: " (counted from 0, as its faces count them)"
+};
+
 struct Mesh {
   std::vector<std::array<double, 3>> positions;
   std::vector<std::array<uint32_t, 3>> triangles;  // indices into positions (and per-vertex arrays)
@@ -58,11 +70,17 @@ struct Mesh {
   std::vector<MeshTexture> textures;
   std::vector<MeshPart> parts;                     // at least one when triangles exist
   std::vector<std::string> filesRead;              // every file read (buffers, textures), for dependency files
+  std::vector<MeshVertexRun> vertexRuns;           // in vertex order, for messages; none: vertices counted from 1
+  std::vector<uint32_t> fileVertex;                // per vertex, its number in its file where that is not its run's
+                                                   // count (OBJ: the "v" it came from), 0 elsewhere; empty if none
 
   size_t triangleCount() const { return triangles.size(); }
   bool hasColor() const;  // true when any material has a texture, a non-white factor, or vertex colours
-  /// Appends `other` (indices, materials, textures and parts are re-based).
+  /// Appends `other` (indices, materials, textures, parts and vertex runs are re-based).
   void append(const Mesh& other);
+  /// Vertex `i` as its file names it ("model.obj: vertex 12 (...)", without
+  /// "model.obj: " when not `withFile`), for messages.
+  std::string describeVertex(size_t i, bool withFile = true) const;
 };
 
 }  // namespace vox

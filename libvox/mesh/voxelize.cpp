@@ -15,6 +15,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -340,13 +341,17 @@ std::vector<Vec3i> snapToGridLattice(const Mesh& mesh, const SceneHeader& header
   for (size_t i = 0; i < mesh.positions.size(); ++i)
     for (int k = 0; k < 3; ++k) {
       const double grid = (mesh.positions[i][k] - header.origin[k]) / header.voxelSize;
+      // The vertex named as its file numbers it (the mesh records where its vertices came from).
       if (!std::isfinite(grid))
-        throwBadInput("vertex " + std::to_string(i) + " has a non-finite coordinate; drop the triangles that touch it",
+        throwBadInput(mesh.describeVertex(i) + " has a non-finite coordinate; drop the triangles that touch it",
                       Setting::DropInvalid);
-      if (std::abs(grid) > kMaxGridDistance)
-        throwBadInput("vertex " + std::to_string(i) + " lies " + std::to_string(std::llround(std::abs(grid))) +
-                          " voxels from the grid (limit 2^20); crop the scene to bounds near the mesh",
+      if (std::abs(grid) > kMaxGridDistance) {
+        char distance[32];  // llround is undefined past int64's range
+        std::snprintf(distance, sizeof distance, std::abs(grid) < 1e15 ? "%.0f" : "%.3g", std::abs(grid));
+        throwBadInput(mesh.describeVertex(i) + " lies " + distance + " voxels from the grid along " + "xyz"[k] +
+                          " (limit 2^20); crop the scene to bounds near the mesh",
                       Setting::Bounds);
+      }
       lattice[i][k] = snapToLattice(grid);
     }
   return lattice;

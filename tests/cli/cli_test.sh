@@ -390,7 +390,18 @@ OBJ
   expect_exit 3 "$vox" voxelize keep_nan.obj -o e.vdb
   expect_stderr "--drop-invalid"
   expect_exit 0 "$vox" voxelize keep_nan.obj -o e.vdb --drop-invalid
-  expect_stderr "dropped 1 triangles"
+  expect_stderr "dropped 1 triangle touching 1 vertex"
+  # A concave polygon fills only its own voxels (the fan filled 61 here), as
+  # the same U written as triangles does; every solid of an STL is read.
+  printf 'v 0 0 0\nv 8 0 0\nv 8 8 0\nv 6 8 0\nv 6 2 0\nv 2 2 0\nv 2 8 0\nv 0 8 0\nf 1 2 3 4 5 6 7 8\n' > keep_u.obj
+  expect_exit 0 "$vox" voxelize keep_u.obj -o u.vdb --voxel-size 1
+  expect_stderr "54 occupied voxels from 6 triangles"
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\nsolid u\nfacet normal 0 0 1\nouter loop\nvertex 0 0 5\nvertex 1 0 5\nvertex 0 1 5\nendloop\nendfacet\nendsolid u\n' > keep_two.stl
+  expect_exit 0 "$vox" voxelize keep_two.stl -o two.vdb --res 4
+  expect_stderr "from 2 triangles"
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 40000000 0 0\nf 1 2 3\nf 1 2 4\n' > keep_far.obj
+  expect_exit 3 "$vox" voxelize keep_far.obj -o far.vdb --voxel-size 1 --bounds 0,0,0,4,4,4
+  expect_stderr "keep_far.obj: vertex 4 (as its 'f' lines number them) lies 40000000 voxels from the grid"
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --fill hollow
   expect_exit 2 "$vox" voxelize keep_cube.obj -o x.vdb --bounds 1,2,3
   # Names and paths that are not UTF-8 (a Windows-1252 material name, Latin-1

@@ -214,7 +214,7 @@ CLI::App* addVoxelizeCommand(CLI::App& root, VoxelizeOptions& o) {
   cmd->add_option("--bounds", o.bounds, "Meshes: world box xmin,ymin,zmin,xmax,ymax,zmax to voxelize");
   cmd->add_option("--pad", o.pad, "Meshes: empty voxels added on every side");
   cmd->add_option("--classes", o.classes, "Meshes: JSON mapping material/mesh/node names to classes");
-  cmd->add_flag("--drop-invalid", o.dropInvalid, "Meshes: drop triangles with NaN/Inf vertices instead of failing");
+  cmd->add_flag("--drop-invalid", o.dropInvalid, "Meshes: drop triangles with NaN/Inf vertices and faces of fewer than 3 vertices instead of failing");
   cmd->add_flag("--ignore-missing-materials", o.ignoreMissingMaterials,
                 "OBJ: a missing mtllib or map_Kd file is a warning (materials keep their names) instead of an error");
   cmd->add_flag("--check", o.check, "Meshes: measure the error against exact references (into --report)");
