@@ -1,6 +1,5 @@
 // A count and its noun for messages, in the singular where the count is one
-// ("1 vertex", "2 vertices"). The library's own copy of the CLI's
-// voxcli::counted (tools/cli/cli.h): libvox and formats/ cannot use tools/.
+// ("1 vertex", "2 vertices"); the CLI uses it too (voxcli::counted).
 #pragma once
 
 #include <cstdint>

@@ -222,6 +222,13 @@ bad_input)
   expect_exit 0 "$vox" fuse miss.json -o miss.vdb
   expect_stderr "warning: no pixel of 1 view reached a voxel of the grid (dims 4 x 4 x 4, voxel size 0.1, origin (100, 100, 100))"
   rm -f dup.vdb miss.vdb
+  # A named view at an odd size: its middle row and column run along grid planes; counted and said.
+  expect_exit 0 "$vox" render-canonical h.vdb -o top.png --view top --size 41x31 --mode depth,class --quiet
+  echo '{"views": [{"depth": "top.depth.exr", "label": "top.class.png"}]}' >top.json
+  expect_exit 0 "$vox" fuse top.json -o top.vdb --report top_r.json
+  expect_stderr "rays run along a grid plane or through a voxel edge (ambiguous)"
+  jcheck top_r.json "assert d['counts']['totals']['ambiguous'] > 0 and any('ambiguous' in w for w in d['counts']['warnings']), d['counts']['totals']"
+  rm -f top.vdb
   # Usage.
   expect_exit 2 "$vox" fuse good.json -o f.vdb --carve none --free all
   expect_stderr "--carve none counts none"

@@ -321,10 +321,6 @@ int Run::finish(int code) {
   return code;
 }
 
-std::string counted(uint64_t n, const std::string& one, const std::string& many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
 std::string formatTriple(const std::array<uint32_t, 3>& v) {
   return std::to_string(v[0]) + "," + std::to_string(v[1]) + "," + std::to_string(v[2]);
 }

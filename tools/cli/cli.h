@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "formats/core/file_util.h"
+#include "libvox/core/counted.h"
 #include "libvox/core/memory_budget.h"
 
 namespace CLI {
@@ -160,8 +161,8 @@ std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& 
 /// "X,Y,Z": the text parseTriple reads, for defaults shown in help.
 std::string formatTriple(const std::array<uint32_t, 3>& values);
 
-/// "1 triangle", "2 triangles": a count and its noun for messages.
-std::string counted(uint64_t n, const std::string& one, const std::string& many);
+/// "1 triangle", "2 triangles": a count and its noun for messages (libvox/core/counted.h).
+using vox::counted;
 
 /// Escapes a path for a Make rule (spaces, '#', '$').
 std::string makeEscape(const std::string& path);

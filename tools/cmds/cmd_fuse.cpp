@@ -380,6 +380,14 @@ int runFuse(const FuseOptions& o) {
   const vox::FuseTotals& t = fused.totals;
   const uint64_t rays = total.used + total.outside;
   run.counts()["views"] = perView;
+  if (total.ambiguous > 0) {
+    const std::string w = counted(total.ambiguous, "pixel's ray runs", "pixels' rays run") +
+                          " along a grid plane or through a voxel edge (ambiguous): a depth cannot tell which of the "
+                          "voxels touched there was seen, so such a vote may land beside it; a camera off the grid's "
+                          "planes (or an even image size for a named view) has none";
+    run.note("warning: " + w);
+    warnings.push_back(w);
+  }
   if (total.used == 0) {
     const std::string w = "no pixel of " + counted(views.views.size(), "view", "views") +
                           " reached a voxel of the grid (" + placementText({header.dims, header.voxelSize, header.origin}) +
