@@ -246,6 +246,16 @@ TEST(FileUtil, NamesNearTheLimitGetShortTemporaries) {
   EXPECT_FALSE(std::filesystem::exists(stale)) << "a dead run's temporary of a long name was kept";
 }
 
+TEST(FileUtil, MessagesNameTheOutputNotItsTemporary) {
+  vox::AtomicOutput out("dir/keep.glb");
+  const std::string t = out.tempPath();
+  EXPECT_EQ(vox::withOutputNames(t + ": cannot write: File too large"), "dir/keep.glb: cannot write: File too large");
+  EXPECT_EQ(vox::withOutputNames("writing '" + t + "' failed (" + t + ")"),
+            "writing 'dir/keep.glb' failed (dir/keep.glb)");
+  EXPECT_EQ(vox::withOutputNames("plain message, no .tmp-x here"), "plain message, no .tmp-x here");
+  EXPECT_EQ(vox::withOutputNames("a/.x.tmp-0123abcd-12-3: full"), "a/x: full");
+}
+
 TEST(FileUtil, OutputNameMapsTemporariesToTheirOutput) {
   vox::AtomicOutput out("dir/scene.vdb");
   EXPECT_EQ(vox::outputName(out.tempPath()), "dir/scene.vdb");

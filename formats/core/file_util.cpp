@@ -1,5 +1,7 @@
 #include "formats/core/file_util.h"
 
+#include <cctype>
+
 #include <fcntl.h>
 #include <limits.h>
 #include <signal.h>
@@ -184,6 +186,29 @@ std::string outputName(const std::string& path) {
   for (const auto& [stem, name] : gShortened)
     if (stem == t->finalName) return (p.parent_path() / name).string();
   return (p.parent_path() / t->finalName).string();
+}
+
+std::string withOutputNames(const std::string& message) {
+  std::string out;
+  size_t from = 0;
+  for (size_t tmp = message.find(".tmp-"); tmp != std::string::npos; tmp = message.find(".tmp-", tmp + 5)) {
+    // The token around it: from after a space, quote or bracket, to the end of "tmp-HOST-PID-N".
+    size_t begin = message.find_last_of(" '\"(", tmp);
+    begin = begin == std::string::npos ? 0 : begin + 1;
+    if (begin < from) continue;
+    size_t end = tmp + 5;
+    int dashes = 0;
+    while (end < message.size() && (std::isxdigit(static_cast<unsigned char>(message[end])) || message[end] == '-')) {
+      if (message[end] == '-' && ++dashes > 2) break;
+      ++end;
+    }
+    const std::string token = message.substr(begin, end - begin);
+    const std::string name = outputName(token);
+    if (name == token) continue;  // not one of ours
+    out += message.substr(from, begin - from) + name;
+    from = end;
+  }
+  return out + message.substr(from);
 }
 
 void AtomicOutput::sync() const {

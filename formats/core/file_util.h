@@ -62,6 +62,9 @@ int committedOutputCount() noexcept;
 /// The name a user knows a file by: for an AtomicOutput's temporary file
 /// ("dir/.NAME.tmp-HOST-PID-N") the final output's ("dir/NAME"), else `path`. For messages.
 std::string outputName(const std::string& path);
+/// `message` with every temporary file's path in it replaced by outputName's
+/// (a writer that failed names the file it was writing): for error messages.
+std::string withOutputNames(const std::string& message);
 
 /// Commits outputs together: syncs every one first, then renames them all.
 /// Nothing is renamed unless every file reached the disk and no destination is a directory.

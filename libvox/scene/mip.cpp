@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 #include "libvox/core/parallel.h"
 #include "libvox/scene/scene_grids.h"
@@ -166,9 +167,12 @@ Scene reduceScene(const Scene& fine, MipOccupancy mode, unsigned threads) {
 std::vector<Scene> buildMipPyramid(const Scene& base, const MipSettings& settings) {
   const int reachable = maxMipLevels(base.header().dims);
   if (settings.levels < 0 || settings.levels > reachable)
-    throwUsage(std::to_string(settings.levels) + " pyramid levels asked for: a " + toString(base.header().dims) +
-                   " grid has at most " + std::to_string(reachable) + " coarser levels (one voxel at level " +
-                   std::to_string(reachable) + ")",
+    throwUsage(std::to_string(settings.levels) + (settings.levels == 1 ? " pyramid level" : " pyramid levels") +
+                   " asked for: a " +
+                   toString(base.header().dims) + " grid has " +
+                   (reachable == 0 ? std::string("no coarser level (it is one voxel)")
+                                   : "at most " + counted(uint64_t(reachable), "coarser level", "coarser levels") +
+                                         " (one voxel at level " + std::to_string(reachable) + ")"),
                Setting::MipLevels);
   std::vector<Scene> levels;
   if (settings.levels == 0 && base.occupiedCount() <= 1) return levels;  // nothing new to say

@@ -161,6 +161,14 @@ depfile_report)
   diff -u want.d d.d || fail "depfile content"
   jcheck r.json "assert d['command']=='voxelize' and d['exit_code']==0 and d['threads']>=1"
   jcheck r.json "assert [p['name'] for p in d['phases']]==['parse','write'] and all(p['seconds']>=0 for p in d['phases'])"
+  # A ':' in a file name is escaped, so make reads the rule (a bare one ended the target list).
+  cp "$data/map_small.json" "co:lon.json"
+  expect_exit 0 "$vox" voxelize "co:lon.json" -o "c:out.vdb" --depfile colon.d -q
+  grep -qF 'c\:out.vdb: \' colon.d && grep -qF 'co\:lon.json' colon.d || fail "':' not escaped: $(cat colon.d)"
+  if command -v make >/dev/null; then
+    printf 'all: c\\:out.vdb\ninclude colon.d\n' >colon.mk
+    make -q -f colon.mk 2>mk_err.txt || [ $? = 1 ] || fail "make cannot read the depfile: $(cat mk_err.txt)"
+  fi
   # A report or depfile whose directory is missing is refused before the work, nothing written.
   for opt in --report --depfile; do
     expect_exit 4 "$vox" voxelize "$data/map_small.json" -o nodir_out.vdb $opt nodir/x
@@ -499,6 +507,11 @@ mip_pack)
   expect_exit 0 "$vox" mip h.vdb -o t.vdb --split --levels 2 --occupancy majority --threads 2
   expect_exit 0 "$vox" diff s.mip2.vdb t.mip2.vdb
   [ ! -e s.mip3.vdb ] || fail "--levels 2 wrote a third level"
+  # Fewer levels over an earlier split: its level files past the last are named in a warning.
+  expect_exit 0 "$vox" mip h.vdb -o u.vdb --split --levels 4 -q
+  expect_exit 0 "$vox" mip h.vdb -o u.vdb --split --levels 2 --report u.json
+  expect_stderr "warning: 2 level files of an earlier run remain beside this pyramid of 2 levels: u.mip3.vdb .. u.mip4.vdb"
+  jcheck u.json "assert d['counts']['stale_level_files'] == ['u.mip3.vdb', 'u.mip4.vdb'], d['counts']"
   expect_exit 2 "$vox" mip h.vdb -o x.vdb --levels 7
   expect_stderr "at most 6"
   expect_exit 2 "$vox" mip h.vdb -o x.vdb --occupancy most

@@ -277,10 +277,15 @@ void Run::note(const std::string& message) const {
   std::cerr << "vox " << command_ << ": " << message << "\n";
 }
 
+void throwLevelOutOfRange(int level, const std::string& path, uint64_t levels) {
+  vox::throwUsage("--level " + std::to_string(level) + ": " + path +
+                  (levels <= 1 ? std::string(" holds level 0 only") : " holds levels 0.." + std::to_string(levels - 1)));
+}
+
 std::string makeEscape(const std::string& path) {
   std::string out;
   for (char c : path) {
-    if (c == ' ' || c == '#') out += '\\';
+    if (c == ' ' || c == '#' || c == ':') out += '\\';  // a bare ':' would end the target list
     if (c == '$') out += '$';
     out += c;
   }

@@ -164,7 +164,11 @@ std::string formatTriple(const std::array<uint32_t, 3>& values);
 /// "1 triangle", "2 triangles": a count and its noun for messages (libvox/core/counted.h).
 using vox::counted;
 
-/// Escapes a path for a Make rule (spaces, '#', '$').
+/// The usage error of a --level a pyramid or page file does not hold
+/// ("--level 3: p.vpk holds levels 0..2", "... holds level 0 only").
+[[noreturn]] void throwLevelOutOfRange(int level, const std::string& path, uint64_t levels);
+
+/// Escapes a path for a Make rule (spaces, '#', ':', '$').
 std::string makeEscape(const std::string& path);
 
 }  // namespace voxcli

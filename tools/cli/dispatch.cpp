@@ -75,7 +75,7 @@ const char* optionFor(vox::Setting s) {
 }
 
 std::string messageFor(const vox::Error& e) {
-  std::string m = e.what();
+  std::string m = vox::withOutputNames(e.what());
   if (e.setting != vox::Setting::None) m += std::string(" (") + optionFor(e.setting) + ")";
   return m;
 }

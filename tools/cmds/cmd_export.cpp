@@ -25,8 +25,7 @@ bool readVdbScene(const ExportOptions& o, const std::optional<vox::IndexBox>& re
     in.kind = "pyramid";
     std::vector<vox::Scene> levels = vox::readPyramidVdb(o.input);
     if (o.level >= int(levels.size()))
-      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input + " holds levels 0.." +
-                      std::to_string(levels.size() - 1));
+      throwLevelOutOfRange(o.level, o.input, levels.size());
     scene.emplace(std::move(levels[size_t(o.level)]));
   } else {
     in.kind = "scene";

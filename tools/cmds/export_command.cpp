@@ -119,8 +119,7 @@ bool readInput(const ExportOptions& o, const std::optional<vox::IndexBox>& regio
     const vox::pagefile::Reader reader = vox::pagefile::Reader::open(o.input);
     const vox::pagefile::Header& h = reader.header();
     if (o.level >= int(h.levelCount))
-      vox::throwUsage("--level " + std::to_string(o.level) + ": " + o.input + " holds levels 0.." +
-                      std::to_string(h.levelCount - 1));
+      throwLevelOutOfRange(o.level, o.input, h.levelCount);
     const auto d = h.levelDims(o.level);
     in.dims = {d[0], d[1], d[2]};
     in.frame.origin = h.origin;

@@ -1,5 +1,6 @@
 #include "tools/cmds/mip_light.h"
 
+#include <filesystem>
 #include <chrono>
 
 #include "formats/core/file_kinds.h"
@@ -86,6 +87,25 @@ void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t level
   run.note("wrote " + (o.split ? std::to_string(levelCount) + " level files " + (levelCount == 0 ? std::string() : splitName(stem, 1) + "...")
                                : o.output) +
            ": " + what);
+  if (o.split) {
+    // Level files past this pyramid's last, from an earlier run with more
+    // levels, would be read as part of it by a glob: say so (they are not
+    // this run's to delete).
+    std::vector<std::string> stale;
+    for (int level = int(levelCount) + 1; level <= 32; ++level) {
+      std::error_code ec;
+      if (std::filesystem::exists(splitName(stem, level), ec)) stale.push_back(splitName(stem, level));
+    }
+    if (!stale.empty()) {
+      const std::string w = counted(stale.size(), "level file", "level files") + " of an earlier run remain" +
+                            (stale.size() == 1 ? "s" : "") + " beside this pyramid of " +
+                            counted(levelCount, "level", "levels") + ": " + stale.front() +
+                            (stale.size() > 1 ? " .. " + stale.back() : "") + "; remove them before globbing " + stem +
+                            ".mip*.vdb";
+      run.note("warning: " + w);
+      run.counts()["stale_level_files"] = stale;
+    }
+  }
 }
 
 namespace {

@@ -436,6 +436,8 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   if (!loaded) return kDeferToFullModule;  // nothing written yet
   const RenderInput& in = *loaded;
   if (o.camera.needsFraming()) {
+    if (in.grid->occupiedCount() == 0)
+      run.note("warning: " + o.input + " has no occupied voxel: the views frame its whole grid, and every ray misses");
     views = makeCameras(o.camera, in.occupiedWorldBox());
     for (const vox::CameraView& v : views) run.note(v.label + ": " + lookAtFlags(*v.lookAt));
   }

@@ -10,6 +10,7 @@
 #include "formats/vdb/vdb_leaves_render.h"
 #include "formats/vdb/vdb_scene_leaves.h"
 #include "libvox/core/error.h"
+#include "tools/cli/cli.h"
 
 namespace voxcli {
 
@@ -67,8 +68,7 @@ RenderInput loadPageRenderInput(const std::string& path, int level) {
   const vox::pagefile::Reader& reader = pages->reader();
   const vox::pagefile::Header& h = reader.header();
   if (level < 0 || level >= int(h.levelCount))
-    vox::throwUsage("--level " + std::to_string(level) + ": " + path + " holds levels 0.." +
-                    std::to_string(h.levelCount - 1));
+    throwLevelOutOfRange(level, path, h.levelCount);
   const auto d = h.levelDims(level);
   in.dims = {d[0], d[1], d[2]};
   in.frame.origin = h.origin;
