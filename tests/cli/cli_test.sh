@@ -316,6 +316,10 @@ bijection)
   expect_exit 2 "$vox" verify-bijection --format rgba12
   expect_exit 2 "$vox" verify-bijection --dims 40000,1,1
   expect_stderr "--max-side"
+  # A maximum side past what an image can have is refused at once (a 32-bit
+  # search counter wrapped there: 14 s, then a division by zero).
+  expect_exit 2 timeout 20 "$vox" verify-bijection --dims 1,1,4294967295 --max-side 4294967295
+  expect_stderr "past 2147483647"
   expect_exit 0 "$vox" verify-bijection --res 64 --report r.json
   jcheck r.json "assert d['command']=='verify-bijection' and d['error']['failures']==0"
   ;;

@@ -237,6 +237,22 @@ classes)
   expect_exit 0 "$vox" info c.vdb --json
   jcheck out.txt "assert [(c['id'],c['name']) for c in d['classes']]==[(3,'rest'),(9,'roof')], d['classes']"
   ;;
+atlas_inputs)
+  # Atlases whose metadata was changed after vox wrote them (tests/cli/png_text.py).
+  small_scene
+  expect_exit 0 "$vox" build-atlas small.vdb -o a --summary
+  retext() { python3 "$(dirname "$0")/png_text.py" "$@" || fail "png_text.py $*"; }
+  # A layout of 2^32 - 1 slices with a maximum side of 2^32 - 1: refused at
+  # once (the layout search divided by zero there after 14 s).
+  retext a/small.summary.png huge.png vox:atlas '{"content":"summary","format":"rgba8","layer":0,"layout":{"dims":[1,1,4294967295],"height":1,"layers":1,"max_side":4294967295,"rows_per_layer":1,"tiles_per_row":0,"width":1},"scene":"small.vdb"}'
+  expect_exit 3 timeout 20 "$vox" info huge.png
+  expect_stderr "huge.png: atlas layout field 'tiles_per_row' must be >= 1"
+  retext a/small.summary.png huge1.png vox:atlas '{"content":"summary","format":"rgba8","layer":0,"layout":{"dims":[1,1,4294967295],"height":1,"layers":1,"max_side":4294967295,"rows_per_layer":1,"tiles_per_row":1,"width":1},"scene":"small.vdb"}'
+  expect_exit 3 timeout 20 "$vox" info huge1.png
+  expect_stderr "huge1.png: inconsistent atlas layout"
+  expect_exit 3 timeout 20 "$vox" diff huge1.png a/small.summary.png
+  expect_stderr "huge1.png: inconsistent atlas layout"
+  ;;
 mip)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb
   # --split takes the stem its help promises, or OUT.vdb.
