@@ -256,6 +256,36 @@ kinds)
   head -c 100 m1.vdb > cut.vdb
   expect_exit 3 "$vox" diff m1.vdb cut.vdb
   ;;
+options)
+  maps
+  "$vox" build-atlas m1.vdb -o a1 --summary --quiet
+  "$vox" build-atlas m2.vdb -o a2 --summary --quiet
+  printf '{"a": 1}' > j1.json
+  printf '{"a": 2}' > j2.json
+  # NaN passes every comparison, so it would turn a gate off: refused for every
+  # numeric option, whatever the kind of file.
+  for opt in --fail --failpercent --warn --warnpercent --hardfail --hardwarn --diff-scale; do
+    expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png $opt nan
+    expect_stderr "$opt: expected a"
+    expect_stderr "got 'nan'"
+  done
+  for opt in --color-tolerance --votes-tolerance; do
+    expect_exit 2 "$vox" diff m1.vdb m2.vdb $opt nan
+  done
+  expect_exit 2 "$vox" diff j1.json j2.json --rel-tolerance nan
+  expect_stderr "--rel-tolerance: expected a finite number >= 0, got 'nan'"
+  # inf is the documented default of --hardfail and --hardwarn (off): accepted.
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --hardfail inf --hardwarn inf
+  expect_stdout "FAILURE"
+  expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004 --hardfail inf
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail inf
+  # Range errors print their bounds readably (not DBL_MAX's 309 digits).
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail -1
+  expect_stderr "--fail: expected a finite number >= 0, got '-1'"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 101
+  expect_stderr "--failpercent: expected a finite number in [0, 100], got '101'"
+  [ "$(wc -c < err.txt)" -lt 200 ] || fail "a long range message: $(cat err.txt)"
+  ;;
 metrics_numpy)
   py=""
   for c in python3 /usr/bin/python3; do

@@ -17,6 +17,7 @@
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/number_checks.h"
 #include "tools/cmds/diff_common.h"
 
 namespace voxcli {
@@ -123,31 +124,31 @@ Command registerDiff(CLI::App& root) {
       ->type_name("N");
   cmd->add_option("--votes-tolerance", o.votesTolerance,
                   "Scenes: votes of one class may differ by this many per voxel")
-      ->check(CLI::NonNegativeNumber);
+      ->type_name("UINT");  // an unsigned integer: "nan" and "-1" do not convert
   cmd->add_option("--color-tolerance", o.colorTolerance,
                   "Scenes: colour channels (linear, 0..1) may differ by this much; page files: x 255 in sRGB8 units")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(FiniteInRange(0.0, 1.0));
   cmd->add_option("--fail", o.fail, "Images: a pixel fails when a channel differs by more than this (idiff; default 1e-6, 0 for 32-bit samples)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(FiniteNonNegative);
   cmd->add_option("--failpercent", o.failPercent, "Images: allow this percentage of failing pixels (default 0)")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(FiniteInRange(0.0, 100.0));
   cmd->add_option("--hardfail", o.hardFail, "Images: fail if any one pixel differs by more than this (default inf)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeOrInfinity);
   cmd->add_option("--warn", o.warn, "Images: warning threshold (idiff; default 1e-6, 0 for 32-bit samples)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(FiniteNonNegative);
   cmd->add_option("--warnpercent", o.warnPercent, "Images: allow this percentage of warnings (default 0)")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(FiniteInRange(0.0, 100.0));
   cmd->add_option("--hardwarn", o.hardWarn, "Images: warn if any one pixel differs by more than this (default inf)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeOrInfinity);
   cmd->add_option("--diff-image", o.diffImage, "Images: write |A - B| as an RGB8 PNG here");
   cmd->add_option("--diff-scale", o.diffScale, "Images: multiply the difference image by this (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(FinitePositive);
   cmd->add_option("--background", o.background,
                   "Images without alpha: the miss colour R,G,B (0..255) for the hit/miss mask (default 135,207,235, "
                   "the shaded sky)");
   cmd->add_option("--view", o.view, "Render vs metadata.json: the view's index whose rgbBase64 image is the reference");
   cmd->add_option("--rel-tolerance", o.relTolerance, "JSON: numbers may differ by this fraction of the larger")
-      ->check(CLI::NonNegativeNumber);
+      ->check(FiniteNonNegative);
   cmd->add_option("--ignore-key", o.ignoreKeys, "JSON: also skip keys matching this pattern ('*' wildcard); repeatable")
       ->allow_extra_args(false);  // one pattern per --ignore-key, so a file name after it stays a file
   cmd->add_flag("--no-default-ignores", o.noDefaultIgnores,
