@@ -252,6 +252,36 @@ atlas_inputs)
   expect_stderr "huge1.png: inconsistent atlas layout"
   expect_exit 3 timeout 20 "$vox" diff huge1.png a/small.summary.png
   expect_stderr "huge1.png: inconsistent atlas layout"
+  # --scene must be the scene the atlas was built from: other dims are refused
+  # (its votes would be another scene's), as verify-bijection refuses them.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o h8.vdb
+  expect_exit 3 "$vox" info a/small.summary.png --pixel 0,0 --scene h8.vdb
+  expect_stderr "a/small.summary.png: built for dims 4 x 3 x 2 but h8.vdb has 8 x 8 x 8"
+  expect_exit 3 "$vox" info a/small.summary.png --scene h8.vdb --json
+  [ ! -s out.txt ] || fail "info printed the atlas with another scene's class names"
+  expect_exit 0 "$vox" info a/small.summary.png --pixel 0,0 --scene small.vdb
+  # A directory or a FIFO as --scene is refused up front, like any input.
+  expect_exit 3 "$vox" info a/small.summary.png --scene .
+  expect_stderr ".: is a directory, expected a regular file (--scene)"
+  mkfifo keep_fifo
+  expect_exit 3 timeout 20 "$vox" info a/small.summary.png --scene keep_fifo
+  expect_stderr "keep_fifo: is a FIFO"
+  # The scene the atlas names, found with other dims: not used, and said so.
+  mkdir other && cp a/small.summary.png other/ && cp h8.vdb other/small.vdb
+  (cd other && "$vox" info small.summary.png --json >../out.txt 2>../err.txt) || fail "info with a stale scene beside it"
+  jcheck out.txt "assert 'classes_from' not in d and d['scene_not_used']==\"small.vdb has dims 8 x 8 x 8, not the atlas's\", d"
+  # Renders: the scene must be the rendered grid, the same dims and placement.
+  expect_exit 0 "$vox" render-canonical small.vdb -o r.png --eye -48,12,-48 --target -60,2,-62 --size 32x24
+  expect_exit 0 "$vox" info r.png --pixel 16,12 --scene small.vdb --json
+  jcheck out.txt "assert d['pixel']['hit'] and d['pixel']['scene_voxel'] is not None, d['pixel']"
+  expect_exit 3 "$vox" info r.png --pixel 16,12 --scene h8.vdb
+  expect_stderr "r.png: rendered from a grid of 4 x 3 x 2 but h8.vdb has 8 x 8 x 8"
+  sed 's/"worldScale": 2.0/"worldScale": 1.0/' map_small.json > keep_scale1.json
+  expect_exit 0 "$vox" voxelize keep_scale1.json -o scale1.vdb
+  expect_exit 3 "$vox" info r.png --pixel 16,12 --scene scale1.vdb
+  expect_stderr "with voxel size 2.0 but scale1.vdb is at"
+  expect_exit 3 "$vox" info r.png --pixel 0,0 --scene h8.vdb
+  expect_stderr "rendered from a grid of 4 x 3 x 2"
   ;;
 mip)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb

@@ -200,6 +200,13 @@ int infoJsonFile(const InfoOptions& o) {
 int runInfo(const InfoOptions& o) {
   vox::setProcessMemoryLimit(vox::memoryLimitFrom(o.maxMemory, "--max-memory"), "--max-memory");
   vox::requireRegularFile(o.file);
+  // --scene is an input like FILE: a directory or a FIFO is refused up front
+  // (it was passed over, and the atlas's own scene reported "not found").
+  if (!o.scene.empty()) try {
+      vox::requireRegularFile(o.scene);
+    } catch (const vox::Error& e) {
+      throw vox::Error(e.kind, std::string(e.what()) + " (--scene)");
+    }
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
     if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);

@@ -24,15 +24,17 @@ namespace voxcli {
 namespace fs = std::filesystem;
 using namespace infotext;
 
-std::optional<vox::ClassTable> classTableOf(const std::string& path) {
+std::optional<SceneFacts> sceneFactsOf(const std::string& path) {
   std::error_code ec;
   if (path.empty() || !fs::is_regular_file(path, ec)) return std::nullopt;
   if (vox::pagefile::looksLikePageFile(path)) {
     const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
-    return vox::pagefile::readPageMeta(r.metaJson(), path).classes;
+    const auto& d = r.header().dims;
+    return SceneFacts{vox::pagefile::readPageMeta(r.metaJson(), path).classes, vox::Dims{d[0], d[1], d[2]}};
   }
   // The header is all that is needed: leave the vote and colour grids in the file.
-  return vox::readSceneVdb(path, vox::SceneParts::OccupancyOnly).header().classes;
+  const vox::Scene scene = vox::readSceneVdb(path, vox::SceneParts::OccupancyOnly);
+  return SceneFacts{scene.header().classes, scene.header().dims};
 }
 
 std::vector<std::string> explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes) {
@@ -131,20 +133,33 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
                          (wantU8 ? " uint8" : "") + "; the file was changed after vox wrote it");
 
   // Class names: from --scene, else from the scene the atlas names (as given,
-  // then beside the atlas), when it is there.
-  std::string classesFrom = sceneArg;
+  // then beside the atlas), when it is there. A scene of other dims is not the
+  // one the atlas was built from (its names and votes would be another
+  // scene's): refused when given, passed over when found.
+  std::string classesFrom = sceneArg, foundOtherDims;
   std::optional<vox::ClassTable> classes;
   if (!sceneArg.empty()) {
-    if (!fs::exists(sceneArg)) throw vox::Error(vox::ErrorKind::BadInput, sceneArg + ": no such file (--scene)");
-    classes = classTableOf(sceneArg);
+    const std::optional<SceneFacts> facts = sceneFactsOf(sceneArg);
+    if (!facts) throw vox::Error(vox::ErrorKind::BadInput, sceneArg + ": no such file (--scene)");
+    if (!(facts->dims == L.dims))
+      throw vox::Error(vox::ErrorKind::BadInput,
+                       path + ": built for dims " + vox::toString(L.dims) + " but " + sceneArg + " has " +
+                           vox::toString(facts->dims) + "; give --scene the scene the atlas was built from");
+    classes = facts->classes;
   } else {
     for (const fs::path& p : {fs::path(info.scene), fs::path(path).parent_path() / fs::path(info.scene).filename()}) {
+      std::optional<SceneFacts> facts;
       try {
-        classes = classTableOf(p.string());
+        facts = sceneFactsOf(p.string());
       } catch (const vox::Error&) {
-        classes.reset();  // not a scene after all: names stay unknown
+        facts.reset();  // not a scene after all: names stay unknown
       }
-      if (classes) {
+      if (facts && !(facts->dims == L.dims)) {
+        if (foundOtherDims.empty()) foundOtherDims = p.string() + " has dims " + vox::toString(facts->dims);
+        continue;
+      }
+      if (facts) {
+        classes = facts->classes;
         classesFrom = p.string();
         break;
       }
@@ -162,6 +177,7 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
                 {"sample", vox::sampleTypeName(img.type)}};
   j["file_bytes"] = vox::fileSizeOrMinusOne(path);
   if (classes) j["classes_from"] = classesFrom;
+  if (!classes && !foundOtherDims.empty()) j["scene_not_used"] = foundOtherDims + ", not the atlas's";
   if (info.content == vox::AtlasContent::Votes) {
     const vox::ClassInfo* ci = classes ? classes->find(info.classId) : nullptr;
     j["class_name"] = ci ? nlohmann::json(ci->name) : nlohmann::json(nullptr);
@@ -282,7 +298,10 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
   o << path << ": " << vox::atlasContentName(info.content) << " atlas (" << info.format << ")";
   if (info.content == vox::AtlasContent::Votes) o << " of " << className;
   o << ", layer " << info.layer << " of " << L.layers << "\n";
-  o << line("built from", info.scene + (classes ? "" : "  (not found: class ids only; --scene S names them)"));
+  o << line("built from", info.scene + (classes                   ? ""
+                                        : foundOtherDims.empty() ? "  (not found: class ids only; --scene S names them)"
+                                                                 : "  (not this atlas's scene: class ids only)"));
+  if (!classes && !foundOtherDims.empty()) o << line("", fit(foundOtherDims + ", not the atlas's", kWidth - 16));
   o << line("scene dims", std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " x " + std::to_string(L.dims.z) +
                               " voxels");
   o << line("atlas", std::to_string(L.width) + " x " + std::to_string(L.height) + " texels: " +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -18,6 +19,16 @@
 #include "tools/cmds/render_input.h"
 
 namespace voxcli {
+
+namespace {
+
+// A world position or length with every digit that tells two apart.
+std::string worldText(double v) { return nlohmann::json(v).dump(); }
+std::string worldText(const std::array<double, 3>& v) {
+  return "(" + worldText(v[0]) + ", " + worldText(v[1]) + ", " + worldText(v[2]) + ")";
+}
+
+}  // namespace
 
 int infoCanonical(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& scenePath,
                   bool json) {
@@ -42,6 +53,20 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
       vox::throwUsage("--pixel: " + path + " is a '" + mode +
                       "' render; picking decodes canonical renders (render with --mode canonical)");
     vox::requireCanonicalImage(img, path);
+    // The scene must be the render's: the same grid, placed the same, else
+    // the voxel would be looked up in another scene.
+    std::optional<RenderInput> in;
+    if (!scenePath.empty()) {
+      in.emplace(loadRenderInput(scenePath, meta.level.value_or(0), /*needSummaries=*/true));
+      if (!(in->dims == meta.dims))
+        vox::throwBadInput(path + ": rendered from a grid of " + vox::toString(meta.dims) + " but " + scenePath +
+                           " has " + vox::toString(in->dims) + "; give --scene the scene (or page file) rendered");
+      if (in->frame.origin != meta.origin || in->frame.voxelSize != meta.voxelSize)
+        vox::throwBadInput(path + ": rendered from a grid at origin " + worldText(meta.origin) + " with voxel size " +
+                           worldText(meta.voxelSize) + " but " + scenePath + " is at " + worldText(in->frame.origin) +
+                           " with voxel size " + worldText(in->frame.voxelSize) +
+                           "; give --scene the scene (or page file) rendered");
+    }
     const std::array<uint64_t, 4> v = vox::canonicalSamples(img, size_t(y) * img.width + x);
     nlohmann::json p = {{"pixel", {x, y}}, {"values", {v[0], v[1], v[2], v[3]}}, {"hit", v[3] != 0}};
     if (v[3] != 0) {
@@ -53,23 +78,22 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
         worldMax.push_back(meta.origin[a] + double(v[a] + 1) * meta.voxelSize);
       }
       p["world_box"] = {{"min", worldMin}, {"max", worldMax}};
-      if (!scenePath.empty()) {
-        const RenderInput in = loadRenderInput(scenePath, meta.level.value_or(0), /*needSummaries=*/true);
+      if (in) {
         const vox::Coord3 c{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])};
-        const bool inside = v[0] < in.dims.x && v[1] < in.dims.y && v[2] < in.dims.z;
-        if (!inside || !in.grid->occupied(c.u, c.v, c.w)) {
+        const bool inside = v[0] < in->dims.x && v[1] < in->dims.y && v[2] < in->dims.z;
+        if (!inside || !in->grid->occupied(c.u, c.v, c.w)) {
           p["scene_voxel"] = nullptr;
           p["note"] = "the voxel is empty in " + scenePath + ": the image was not rendered from it";
         } else {
-          const vox::SummaryTexel s = in.summaries(std::span<const vox::Coord3>(&c, 1))[0];
+          const vox::SummaryTexel s = in->summaries(std::span<const vox::Coord3>(&c, 1))[0];
           nlohmann::json sv = {{"summary", {{"cls", s.cls}, {"conf", s.conf}, {"obs", s.obs}, {"mrg", s.mrg}}}};
-          if (const vox::ClassInfo* ci = in.classes.find(s.cls)) sv["class_name"] = ci->name;
-          if (in.scene) {
+          if (const vox::ClassInfo* ci = in->classes.find(s.cls)) sv["class_name"] = ci->name;
+          if (in->scene) {
             std::vector<vox::ClassVotes> storage;
-            if (const auto vv = in.scene->voxel(c, storage)) {
+            if (const auto vv = in->scene->voxel(c, storage)) {
               nlohmann::json votes = nlohmann::json::object();
               for (const vox::ClassVotes& cv : vv->votes) {
-                const vox::ClassInfo* ci = in.classes.find(cv.classId);
+                const vox::ClassInfo* ci = in->classes.find(cv.classId);
                 votes[ci ? ci->name : std::to_string(cv.classId)] = cv.votes;
               }
               sv["votes"] = votes;
