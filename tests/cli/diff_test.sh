@@ -285,6 +285,50 @@ options)
   expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 101
   expect_stderr "--failpercent: expected a finite number in [0, 100], got '101'"
   [ "$(wc -c < err.txt)" -lt 200 ] || fail "a long range message: $(cat err.txt)"
+  # An option of another kind is a usage error naming it and the kinds it
+  # applies to, never silently without effect.
+  "$vox" pack-chunks m1.vdb -o p1.vpk --chunk 8 --quiet
+  "$vox" pack-chunks m2.vdb -o p2.vpk --chunk 8 --quiet
+  img="a1/m1.summary.png a2/m2.summary.png"
+  while read -r a b opt value kinds; do  # value "-": a flag
+    if [ "$value" = - ]; then expect_exit 2 "$vox" diff "$a" "$b" "$opt"; else expect_exit 2 "$vox" diff "$a" "$b" "$opt" "$value"; fi
+    expect_stderr "$opt applies to $kinds, not to"
+  done <<EOF2
+$img --votes-tolerance 1 scenes and pyramids (.vdb)
+$img --color-tolerance 0.1 scenes and pyramids (.vdb) and page files (.vpk)
+$img --ignore-sources - scenes and pyramids (.vdb)
+$img --rel-tolerance 0.1 JSON files
+$img --ignore-key x JSON files
+$img --no-default-ignores - JSON files
+m1.vdb m2.vdb --rel-tolerance 0.1 JSON files
+m1.vdb m2.vdb --ignore-key x JSON files
+m1.vdb m2.vdb --diff-scale 2 images (.png, .exr)
+m1.vdb m2.vdb --background 0,0,0 images (.png, .exr)
+p1.vpk p2.vpk --votes-tolerance 1 scenes and pyramids (.vdb)
+p1.vpk p2.vpk --ignore-sources - scenes and pyramids (.vdb)
+p1.vpk p2.vpk --rel-tolerance 0.1 JSON files
+p1.vpk p2.vpk --ignore-key x JSON files
+p1.vpk p2.vpk --fail 0.1 images (.png, .exr)
+j1.json j2.json --votes-tolerance 1 scenes and pyramids (.vdb)
+j1.json j2.json --ignore-sources - scenes and pyramids (.vdb)
+j1.json j2.json --color-tolerance 0.1 scenes and pyramids (.vdb) and page files (.vpk)
+j1.json j2.json --fail 0.1 images (.png, .exr)
+j1.json j2.json --level 0 scenes and pyramids (.vdb)
+EOF2
+  # The options of a kind still apply to it.
+  expect_exit 1 "$vox" diff p1.vpk p2.vpk --color-tolerance 0.1
+  expect_exit 0 "$vox" diff m1.vdb m2.vdb --ignore-sources --votes-tolerance 1
+  expect_exit 0 "$vox" diff j1.json j2.json --ignore-key a --rel-tolerance 0.5 --no-default-ignores
+  # A render against a metadata.json takes the image options, and --view.
+  "$vox" render-canonical m1.vdb -o s1.png --mode shaded --eye 4,9,12 --target 3,3,3 --size 20x16 --quiet
+  python3 -c "
+import base64, json
+json.dump({'views': [{'index': 0, 'rgbBase64': base64.b64encode(open('s1.png', 'rb').read()).decode()}]}, open('metadata.json', 'w'))"
+  expect_exit 0 "$vox" diff s1.png metadata.json --view 0 --fail 0.1 --hardfail inf
+  expect_exit 2 "$vox" diff s1.png metadata.json --view 0 --rel-tolerance 0.1
+  expect_stderr "--rel-tolerance applies to JSON files, not to a render compared with a metadata.json"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --view 0
+  expect_stderr "--view applies to a render compared with a metadata.json"
   ;;
 metrics_numpy)
   py=""

@@ -24,7 +24,9 @@ namespace voxcli {
 
 namespace {
 
-enum class DiffKind { Scene, Pages, Image, Json };
+// What is compared: a kind of file, or a render against a metadata.json's
+// reference image. Bits, so that an option names every kind it applies to.
+enum class DiffKind : unsigned { Scene = 1, Pages = 2, Image = 4, Json = 8, RenderReference = 16 };
 
 const char* kindText(DiffKind k) {
   switch (k) {
@@ -32,8 +34,60 @@ const char* kindText(DiffKind k) {
     case DiffKind::Pages: return "a page file (.vpk)";
     case DiffKind::Image: return "an image (.png, .exr)";
     case DiffKind::Json: return "a JSON file";
+    case DiffKind::RenderReference: return "a render compared with a metadata.json";
   }
   return "?";
+}
+
+const char* kindsPlural(DiffKind k) {
+  switch (k) {
+    case DiffKind::Scene: return "scenes and pyramids (.vdb)";
+    case DiffKind::Pages: return "page files (.vpk)";
+    case DiffKind::Image: return "images (.png, .exr)";
+    case DiffKind::Json: return "JSON files";
+    case DiffKind::RenderReference: return "a render compared with a metadata.json (vox diff RENDER.png metadata.json --view N)";
+  }
+  return "?";
+}
+
+// The options that apply to some kinds only, and those kinds; every other
+// option (--json, --threads, --report, --depfile...) applies to all. One
+// table, so that an option of another kind is always a usage error (docs/diff.md).
+struct ScopedOption {
+  const char* name;
+  unsigned kinds;
+};
+constexpr unsigned kScene = unsigned(DiffKind::Scene), kPages = unsigned(DiffKind::Pages),
+                   kImages = unsigned(DiffKind::Image) | unsigned(DiffKind::RenderReference),
+                   kJson = unsigned(DiffKind::Json), kRenderReference = unsigned(DiffKind::RenderReference);
+constexpr ScopedOption kScopedOptions[] = {
+    {"--level", kScene},           {"--ignore-sources", kScene},        {"--votes-tolerance", kScene},
+    {"--color-tolerance", kScene | kPages},
+    {"--fail", kImages},           {"--warn", kImages},                 {"--failpercent", kImages},
+    {"--warnpercent", kImages},    {"--hardfail", kImages},             {"--hardwarn", kImages},
+    {"--diff-image", kImages},     {"--diff-scale", kImages},           {"--background", kImages},
+    {"--view", kRenderReference},
+    {"--rel-tolerance", kJson},    {"--ignore-key", kJson},             {"--no-default-ignores", kJson},
+};
+
+/// "scenes and pyramids (.vdb) and page files (.vpk)": the kinds of a bit set.
+std::string kindsList(unsigned kinds) {
+  std::vector<std::string> names;
+  for (DiffKind k : {DiffKind::Scene, DiffKind::Pages, DiffKind::Image, DiffKind::Json, DiffKind::RenderReference})
+    // A render against a reference is an image comparison: images name it.
+    if ((kinds & unsigned(k)) && !(k == DiffKind::RenderReference && (kinds & unsigned(DiffKind::Image))))
+      names.push_back(kindsPlural(k));
+  std::string s;
+  for (size_t i = 0; i < names.size(); ++i) s += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  return s;
+}
+
+/// Throws vox::Error (Usage) naming the first option given that does not apply to `kind`.
+void refuseOptionsOfOtherKinds(const CLI::App& app, DiffKind kind) {
+  for (const ScopedOption& option : kScopedOptions)
+    if (app.count(option.name) > 0 && !(option.kinds & unsigned(kind)))
+      throw vox::Error(vox::ErrorKind::Usage, std::string(option.name) + " applies to " + kindsList(option.kinds) +
+                                                  ", not to " + kindText(kind));
 }
 
 bool looksLikeJson(const std::string& path) {
@@ -73,29 +127,16 @@ int runDiff(DiffCommand& c) {
   run.input(o.a);
   run.input(o.b);
   const DiffKind ka = kindOf(o.a), kb = kindOf(o.b);
-  // Options that belong to another kind are refused rather than ignored.
-  auto given = [&](const char* name) { return c.app->count(name) > 0; };
-  const bool imageOptions = given("--fail") || given("--warn") || given("--failpercent") || given("--warnpercent") ||
-                            given("--hardfail") || given("--hardwarn") || given("--diff-image") ||
-                            given("--background");
-  if (ka == DiffKind::Image && kb == DiffKind::Json) {
-    const int code = diffRenderReference(o, run);
-    return run.finish(code);
-  }
-  if (given("--view"))
-    throw vox::Error(vox::ErrorKind::Usage, "--view applies to a render compared with a metadata.json (vox diff RENDER.png metadata.json --view N)");
-  if (ka != kb)
+  const DiffKind kind = ka == DiffKind::Image && kb == DiffKind::Json ? DiffKind::RenderReference : ka;
+  if (kind != DiffKind::RenderReference && ka != kb)
     throw vox::Error(vox::ErrorKind::Usage, o.a + " is " + kindText(ka) + " but " + o.b + " is " + kindText(kb) +
                                                 ": vox diff compares two files of one kind (or a render with a "
                                                 "metadata.json and --view N)");
-  if (given("--level") && ka != DiffKind::Scene)
-    throw vox::Error(vox::ErrorKind::Usage, "--level applies to scenes and pyramids (.vdb), not to " +
-                                                std::string(kindText(ka)));
-  if (imageOptions && ka != DiffKind::Image)
-    throw vox::Error(vox::ErrorKind::Usage, "--fail, --warn, --hardfail, --diff-image ... apply to images, not to " +
-                                                std::string(kindText(ka)));
+  // Options that belong to another kind are refused rather than ignored.
+  refuseOptionsOfOtherKinds(*c.app, kind);
   int code = kExitOk;
-  switch (ka) {
+  switch (kind) {
+    case DiffKind::RenderReference: code = diffRenderReference(o, run); break;
     case DiffKind::Scene: code = diffSceneFiles(o); break;
     case DiffKind::Pages: code = diffPageFiles(o); break;
     case DiffKind::Image: code = diffImageFiles(o, run); break;
