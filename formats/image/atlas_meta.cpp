@@ -12,8 +12,6 @@ namespace {
 
 using nlohmann::json;
 
-bool isBitmap(AtlasContent c) { return c == AtlasContent::Occupancy || c == AtlasContent::Occupancy2; }
-
 /// An image's info from a `vox:atlas` object (the sidecar's entries are
 /// completed with its layout and scene first).
 AtlasImageInfo infoFromObject(const json& j, const std::string& context) {
@@ -71,20 +69,69 @@ AtlasImageInfo atlasInfoFromJson(const std::string& text, const std::string& con
   return infoFromObject(parseJson(text, context), context);
 }
 
+AtlasImageShape atlasImageShape(const AtlasImageInfo& info, const std::string& context) {
+  AtlasImageShape shape{info.layout.width, info.layout.height, 4, SampleType::U8};
+  std::vector<std::pair<const char*, SampleType>> formats;  // the formats the content is written in
+  switch (info.content) {
+    case AtlasContent::Summary:
+    case AtlasContent::Color: formats = {{"rgba8", SampleType::U8}}; break;
+    case AtlasContent::Identity:
+      formats = {{"rgba8", SampleType::U8},
+                 {"rgba16", SampleType::U16},
+                 {"rgba32ui", SampleType::U32},
+                 {"rgba16f", SampleType::F16},
+                 {"rgba32f", SampleType::F32}};
+      break;
+    case AtlasContent::Votes:
+      shape.channels = 1;
+      formats = {{"r8", SampleType::U8}, {"r16", SampleType::U16}, {"r32ui", SampleType::U32}};
+      break;
+    case AtlasContent::Occupancy:
+    case AtlasContent::Occupancy2: {
+      const uint32_t perByte = info.content == AtlasContent::Occupancy ? 8 : 4;
+      shape.width = (info.layout.width + perByte - 1) / perByte;
+      shape.channels = 1;
+      formats = {{"bitmap", SampleType::U8}};
+      break;
+    }
+  }
+  std::string names;
+  for (const auto& [name, type] : formats) {
+    if (info.format == name) {
+      shape.type = type;
+      return shape;
+    }
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  }
+  throwBadInput(context + ": format \"" + info.format + "\" is not one a " + atlasContentName(info.content) +
+                " atlas is written in (" + names + ")");
+}
+
+std::optional<AtlasImageInfo> atlasInfoOfImage(const Image& img, const std::string& path) {
+  const std::string text = img.textValue(kAtlasTextKey);
+  if (text.empty()) return std::nullopt;
+  AtlasImageInfo info = atlasInfoFromJson(text, path);
+  const AtlasImageShape want = atlasImageShape(info, path);
+  auto shapeText = [](uint32_t w, uint32_t h, uint32_t c, SampleType t) {
+    return std::to_string(w) + " x " + std::to_string(h) + " x " + std::to_string(c) + " " + sampleTypeName(t);
+  };
+  if (img.width != want.width || img.height != want.height || img.channels != want.channels || img.type != want.type)
+    throwBadInput(path + ": the image is " + shapeText(img.width, img.height, img.channels, img.type) + " but its \"" +
+                  kAtlasTextKey + "\" entry (" + atlasContentName(info.content) + ", " + info.format + ") says " +
+                  shapeText(want.width, want.height, want.channels, want.type) +
+                  "; the file was changed after vox wrote it");
+  return info;
+}
+
 Image readAtlasImage(const std::string& path, AtlasImageInfo& info) {
   Image img;
   if (isPngFile(path)) img = readPng(path);
   else if (isExrFile(path)) img = readExr(path);
   else throwBadInput(path + ": not a PNG or EXR file (or unreadable)");
-  const std::string text = img.textValue(kAtlasTextKey);
-  if (text.empty())
+  const std::optional<AtlasImageInfo> found = atlasInfoOfImage(img, path);
+  if (!found)
     throwBadInput(path + ": no \"" + kAtlasTextKey + "\" metadata; this image was not written by vox build-atlas");
-  info = atlasInfoFromJson(text, path);
-  const uint32_t perByte = info.content == AtlasContent::Occupancy ? 8 : 4;
-  const uint32_t wantW = isBitmap(info.content) ? (info.layout.width + perByte - 1) / perByte : info.layout.width;
-  if (img.width != wantW || img.height != info.layout.height)
-    throwBadInput(path + ": image is " + std::to_string(img.width) + " x " + std::to_string(img.height) +
-                  " but its layout says " + std::to_string(wantW) + " x " + std::to_string(info.layout.height));
+  info = *found;
   return img;
 }
 

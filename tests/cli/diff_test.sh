@@ -160,6 +160,22 @@ EOF
   "$vox" build-atlas m4.vdb -o a4 --summary --quiet
   expect_exit 1 "$vox" diff a1/m1.summary.png a4/m4.summary.png
   expect_stdout "atlas layouts differ"
+  # An atlas whose image size contradicts its entry's layout (m1's image with
+  # m4's layout) is refused as info and verify-bijection refuse it, even
+  # against itself.
+  python3 -c "
+import json
+entry = json.load(open('a1/m1.atlas.json'))
+entry = {k: v for k, v in entry['files'][0].items() if k != 'file'}
+entry['layout'] = json.load(open('a4/m4.atlas.json'))['layout']
+entry['scene'] = 'm1.vdb'
+open('entry.json', 'w').write(json.dumps(entry))" || fail "entry with m4's layout"
+  python3 "$tests/cli/png_text.py" a1/m1.summary.png contra.png vox:atlas "$(cat entry.json)" || fail "png_text.py"
+  for cmd in "diff contra.png contra.png" "diff a1/m1.summary.png contra.png" "info contra.png" \
+             "verify-bijection --atlas contra.png --scene m4.vdb"; do
+    expect_exit 3 "$vox" $cmd
+    expect_stderr "contra.png: the image is 12 x 18 x 4 uint8 but its \"vox:atlas\" entry (summary, rgba8) says 18 x 14 x 4"
+  done
   ;;
 pages)
   maps

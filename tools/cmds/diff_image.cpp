@@ -46,11 +46,12 @@ struct AtlasPair {
   std::string mismatch;  // why they cannot be compared texel for texel, if so
 };
 
-AtlasPair atlasInfos(const vox::Image& a, const vox::Image& b, const DiffOptions& o) {
+// Each entry is read and checked against its image by the reader info and
+// verify-bijection use: an atlas whose size contradicts its layout is refused.
+AtlasPair atlasInfos(const vox::Image& a, const vox::Image& b, const std::string& nameA, const std::string& nameB) {
   AtlasPair p;
-  const std::string ta = a.textValue(vox::kAtlasTextKey), tb = b.textValue(vox::kAtlasTextKey);
-  if (!ta.empty()) p.a = vox::atlasInfoFromJson(ta, o.a);
-  if (!tb.empty()) p.b = vox::atlasInfoFromJson(tb, o.b);
+  p.a = vox::atlasInfoOfImage(a, nameA);
+  p.b = vox::atlasInfoOfImage(b, nameB);
   if (p.a.has_value() != p.b.has_value())
     p.mismatch = std::string("only ") + (p.a ? "A" : "B") + " is an atlas (has a " + vox::kAtlasTextKey + " entry)";
   else if (p.a && !(p.a->layout == p.b->layout))
@@ -110,7 +111,7 @@ double percent(uint64_t n, uint64_t of) { return of ? 100.0 * double(n) / double
 // Compares two decoded images and reports; shared by files and references.
 int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string& nameB, const DiffOptions& o,
                      Run& run, const std::string& kind, nlohmann::json extra) {
-  const AtlasPair atlas = atlasInfos(a, b, o);
+  const AtlasPair atlas = atlasInfos(a, b, o.a, nameB);
   vox::ImageDiffOptions io;
   // 32-bit integer samples: one unit is 2.3e-10 once normalised, far under
   // idiff's 1e-6, so the defaults become 0 (any difference fails).

@@ -110,27 +110,16 @@ std::vector<std::string> channelMeaning(const vox::AtlasImageInfo& info, const s
 
 int infoAtlas(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& sceneArg,
               bool asJson) {
-  const std::string metaText = img.textValue(vox::kAtlasTextKey);
-  if (metaText.empty())
+  // The entry, checked against the image (so that every read below stays in
+  // it): the reader diff and verify-bijection use too.
+  const std::optional<vox::AtlasImageInfo> entry = vox::atlasInfoOfImage(img, path);
+  if (!entry)
     throw vox::Error(vox::ErrorKind::BadInput,
                      path + ": an image without a 'vox:atlas' or 'vox:canonical' entry: not an atlas, bitmap or render "
                             "written by vox");
-  const vox::AtlasImageInfo info = vox::atlasInfoFromJson(metaText, path);
+  const vox::AtlasImageInfo& info = *entry;
   const vox::AtlasLayout& L = info.layout;
   const bool bitmap = isBitmap(info.content);
-  // The shape the content needs, so that every read below stays in the image.
-  const uint32_t perByte = info.content == vox::AtlasContent::Occupancy ? 8 : 4;
-  const uint32_t wantWidth = bitmap ? (L.width + perByte - 1) / perByte : L.width;
-  const uint32_t wantChannels = bitmap || info.content == vox::AtlasContent::Votes ? 1 : 4;
-  const bool wantU8 = bitmap || info.content == vox::AtlasContent::Summary || info.content == vox::AtlasContent::Color;
-  if (img.width != wantWidth || img.height != L.height || img.channels != wantChannels ||
-      (wantU8 && img.type != vox::SampleType::U8))
-    throw vox::Error(vox::ErrorKind::BadInput,
-                     path + ": the image is " + std::to_string(img.width) + " x " + std::to_string(img.height) + " x " +
-                         std::to_string(img.channels) + " " + vox::sampleTypeName(img.type) + " but a " +
-                         vox::atlasContentName(info.content) + " atlas of its layout is " + std::to_string(wantWidth) +
-                         " x " + std::to_string(L.height) + " x " + std::to_string(wantChannels) +
-                         (wantU8 ? " uint8" : "") + "; the file was changed after vox wrote it");
 
   // Class names: from --scene, else from the scene the atlas names (as given,
   // then beside the atlas), when it is there. A scene of other dims is not the
