@@ -128,6 +128,15 @@ w, h, rows = read('d.png')
 nonzero = [(x, y, tuple(rows[y][3 * x:3 * x + 3])) for y in range(h) for x in range(w) if any(rows[y][3 * x:3 * x + 3])]
 assert nonzero == [(11, 17, (1, 0, 0))], nonzero
 EOF
+  # --diff-image OUT.exr: an EXR of float differences, not rounded or clamped
+  # (510 * 1/255 = 2); another extension is refused before the work.
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.exr --diff-scale 510
+  [ "$(head -c 4 d.exr | od -An -tx1 | tr -d ' ')" = 762f3101 ] || fail "d.exr is not an EXR file"
+  iinfo --stats d.exr > stats.txt 2>&1 || fail "iinfo cannot read d.exr: $(cat stats.txt)"
+  grep -q "Stats Max: 2.000000 0.000000 0.000000 (float)" stats.txt || fail "d.exr stats: $(cat stats.txt)"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.tif
+  expect_stderr "--diff-image d.tif: the difference image is written as .png (RGB8) or .exr (float)"
+  [ ! -e d.tif ] || fail "a refused --diff-image was written"
   # idiff's thresholds: the error is 1/255 = 0.0039.
   expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004
   expect_stdout "WARNING"

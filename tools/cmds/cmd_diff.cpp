@@ -181,7 +181,7 @@ Command registerDiff(CLI::App& root) {
       ->check(FiniteInRange(0.0, 100.0));
   cmd->add_option("--hardwarn", o.hardWarn, "Images: warn if any one pixel differs by more than this (default inf)")
       ->check(NonNegativeOrInfinity);
-  cmd->add_option("--diff-image", o.diffImage, "Images: write |A - B| as an RGB8 PNG here");
+  cmd->add_option("--diff-image", o.diffImage, "Images: write |A - B| here, an RGB8 PNG (.png) or float EXR (.exr)");
   cmd->add_option("--diff-scale", o.diffScale, "Images: multiply the difference image by this (default 1)")
       ->check(FinitePositive);
   cmd->add_option("--background", o.background,

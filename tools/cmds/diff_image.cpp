@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/core/json_diff.h"
 #include "formats/core/json_text.h"
@@ -134,7 +135,10 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
   }
   if (!o.diffImage.empty() && d.incompatible.empty()) {
     const std::string tmp = run.output(o.diffImage);
-    vox::writePng(vox::differenceImage(a, b, o.diffScale), tmp);
+    if (vox::hasExtension(o.diffImage, ".exr"))
+      vox::writeExr(vox::differenceImage(a, b, o.diffScale, vox::SampleType::F32), tmp);
+    else
+      vox::writePng(vox::differenceImage(a, b, o.diffScale), tmp);
   }
 
   if (o.json) {
@@ -256,9 +260,19 @@ std::string atlasKind(const vox::Image& a, const vox::Image& b) {
   return a.textValue(vox::kAtlasTextKey).empty() && b.textValue(vox::kAtlasTextKey).empty() ? "images" : "atlases";
 }
 
+// --diff-image is written in the format its name says: refused before the
+// work when that is neither (PNG bytes went into a .exr).
+void checkDiffImageName(const DiffOptions& o) {
+  if (!o.diffImage.empty() && !vox::hasExtension(o.diffImage, ".png") && !vox::hasExtension(o.diffImage, ".exr"))
+    throw vox::Error(vox::ErrorKind::Usage, "--diff-image " + o.diffImage +
+                                                ": the difference image is written as .png (RGB8) or .exr (float); "
+                                                "name it so");
+}
+
 }  // namespace
 
 int diffImageFiles(const DiffOptions& o, Run& run) {
+  checkDiffImageName(o);
   auto second = std::async(std::launch::async, [&] { return readImage(o.b); });
   vox::Image a;
   try {
@@ -286,6 +300,7 @@ int diffImageFiles(const DiffOptions& o, Run& run) {
 }
 
 int diffRenderReference(const DiffOptions& o, Run& run) {
+  checkDiffImageName(o);
   const nlohmann::json meta = vox::parseJsonDocument(vox::readFileBytes(o.b), o.b);
   if (!meta.is_object() || !meta.contains("views") || !meta["views"].is_array())
     throw vox::Error(vox::ErrorKind::BadInput, o.b + ": no \"views\" array (expected the block-map format's metadata.json)");
