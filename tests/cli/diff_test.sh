@@ -280,6 +280,21 @@ kinds)
   expect_stderr "not a file vox diff reads"
   head -c 100 m1.vdb > cut.vdb
   expect_exit 3 "$vox" diff m1.vdb cut.vdb
+  # --json prints one object for refusals and unreadable inputs too, with the
+  # error (also on stderr) and the exit code; "kind" is null until both files
+  # are known to be of one kind.
+  expect_exit 2 "$vox" diff m1.vdb a1/m1.summary.png --json
+  jq_py "assert d['same'] is False and d['kind'] is None and d['exit_code']==2 and 'is an image' in d['error'], d"
+  expect_exit 3 "$vox" diff m1.vdb missing.vdb --json
+  jq_py "assert d['same'] is False and d['kind'] is None and d['exit_code']==3 and d['error']=='missing.vdb: no such file', d"
+  expect_exit 3 "$vox" diff m1.vdb cut.vdb --json
+  jq_py "assert d['same'] is False and d['kind']=='scene' and d['exit_code']==3 and d['b']=='cut.vdb', d"
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --fail 0.1 --json
+  jq_py "assert d['kind']=='scene' and d['exit_code']==2 and d['error'].startswith('--fail applies to images'), d"
+  expect_stderr "--fail applies to images"
+  # A command line that does not parse stops before vox diff runs: stderr only.
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --fail nan --json
+  [ ! -s out.txt ] || fail "a parse error printed on stdout: $(cat out.txt)"
   ;;
 options)
   maps

@@ -8,15 +8,19 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <optional>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/core/json_text.h"
 #include "formats/image/image.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/vdb/scene_vdb.h"
 #include "libvox/core/error.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/dispatch.h"
 #include "tools/cli/number_checks.h"
 #include "tools/cmds/diff_common.h"
 
@@ -120,18 +124,28 @@ struct DiffCommand {
   CLI::App* app = nullptr;
 };
 
-int runDiff(DiffCommand& c) {
+/// The `kind` of --json for a comparison of this kind ("scene", "images"...;
+/// the reports name scenes "pyramid" and images "atlases" when they are).
+const char* kindKey(DiffKind k) {
+  switch (k) {
+    case DiffKind::Scene: return "scene";
+    case DiffKind::Pages: return "pages";
+    case DiffKind::Image: return "images";
+    case DiffKind::Json: return "json";
+    case DiffKind::RenderReference: return "render vs reference";
+  }
+  return "?";
+}
+
+int compare(DiffCommand& c, Run& run, std::optional<DiffKind>& known) {
   DiffOptions& o = c.o;
-  Run run("diff", c.common);
-  o.threads = run.threads();
-  run.input(o.a);
-  run.input(o.b);
   const DiffKind ka = kindOf(o.a), kb = kindOf(o.b);
   const DiffKind kind = ka == DiffKind::Image && kb == DiffKind::Json ? DiffKind::RenderReference : ka;
   if (kind != DiffKind::RenderReference && ka != kb)
     throw vox::Error(vox::ErrorKind::Usage, o.a + " is " + kindText(ka) + " but " + o.b + " is " + kindText(kb) +
                                                 ": vox diff compares two files of one kind (or a render with a "
                                                 "metadata.json and --view N)");
+  known = kind;
   // Options that belong to another kind are refused rather than ignored.
   refuseOptionsOfOtherKinds(*c.app, kind);
   int code = kExitOk;
@@ -141,6 +155,33 @@ int runDiff(DiffCommand& c) {
     case DiffKind::Pages: code = diffPageFiles(o); break;
     case DiffKind::Image: code = diffImageFiles(o, run); break;
     case DiffKind::Json: code = diffJsonFiles(o); break;
+  }
+  return code;
+}
+
+int runDiff(DiffCommand& c) {
+  DiffOptions& o = c.o;
+  Run run("diff", c.common);
+  o.threads = run.threads();
+  std::optional<DiffKind> kind;  // once both files are known to be of one kind
+  int code = kExitOk;
+  try {
+    run.input(o.a);
+    run.input(o.b);
+    code = compare(c, run, kind);
+  } catch (const vox::Error& e) {
+    // --json promises one object with "same" and "kind", refusals (exit 2)
+    // and unreadable inputs (exit 3) included; the message goes to stderr too.
+    if (o.json && (e.kind == vox::ErrorKind::Usage || e.kind == vox::ErrorKind::BadInput)) {
+      const nlohmann::json j = {{"kind", kind ? nlohmann::json(kindKey(*kind)) : nlohmann::json(nullptr)},
+                                {"a", o.a},
+                                {"b", o.b},
+                                {"same", false},
+                                {"error", messageFor(e)},
+                                {"exit_code", exitCodeFor(e.kind)}};
+      std::cout << vox::jsonText(j, 2) << "\n";
+    }
+    throw;
   }
   return run.finish(code);
 }
