@@ -53,6 +53,23 @@ scenes)
   expect_exit 1 "$vox" diff h12.vdb h11.vdb
   expect_stdout "header dims: 12 x 12 x 12 vs 11 x 11 x 11"
   expect_stdout "header voxel_size"
+  expect_stdout "(scenes 12 x 12 x 12 vs 11 x 11 x 11)"
+  # A voxel only in B is where B's header places it (A's voxel size and origin
+  # put (11, 0, 0) elsewhere); one in both gives both positions.
+  expect_exit 1 "$vox" diff h11.vdb h12.vdb --json
+  cp out.txt d1112.json
+  "$vox" info h12.vdb --json > i12.json
+  "$vox" info h11.vdb --json > i11.json
+  python3 - <<'EOF2' || fail "world positions of B's voxels"
+import json
+d, b, a = (json.load(open(f)) for f in ('d1112.json', 'i12.json', 'i11.json'))
+assert d['dims_a'] == [11, 11, 11] and d['dims_b'] == [12, 12, 12], d
+def world(h, v): return [h['origin'][k] + (v[k] + 0.5) * h['voxel_size'] for k in range(3)]
+f = d['kinds']['occupancy']['first']
+assert f['a'] is None and f['voxel'] == [11, 0, 0] and f['world'] == world(b, f['voxel']), f
+v = d['kinds']['votes']['first']
+assert v['world'] == world(a, v['voxel']) and v['world_b'] == world(b, v['voxel']), v
+EOF2
   # Pyramids: per level, and a level count that differs.
   "$vox" mip h12.vdb -o p12.vdb --quiet
   "$vox" mip h12.vdb -o p12b.vdb --quiet --threads 1
