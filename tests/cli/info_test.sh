@@ -282,6 +282,31 @@ atlas_inputs)
   expect_stderr "with voxel size 2.0 but scale1.vdb is at"
   expect_exit 3 "$vox" info r.png --pixel 0,0 --scene h8.vdb
   expect_stderr "rendered from a grid of 4 x 3 x 2"
+  # --pixel is x,y in whole numbers: anything else is refused, not truncated
+  # ("1.5,2" was read as 1,2) or passed over ("" was ignored).
+  for bad in 1.5,2 " 1,2" "1 ,2" "" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 1, ,2 4294967296,0; do
+    expect_exit 2 "$vox" info a/small.summary.png --pixel "$bad"
+    expect_stderr "--pixel '$bad': expected x,y, two whole numbers"
+  done
+  expect_exit 2 "$vox" info a/small.summary.png --pixel 4,0
+  expect_stderr "--pixel 4,0: outside the 4 x 6 atlas (x 0..3, y 0..5)"
+  expect_exit 0 "$vox" info a/small.summary.png --pixel 003,5
+  expect_exit 2 "$vox" info r.png --pixel 1.5,2
+  expect_exit 2 "$vox" info a/small.summary.png --scene ""
+  # --pixel and --scene decode atlases and canonical renders (--scene with a
+  # render: with --pixel); on any other file they are refused, not ignored.
+  expect_exit 0 "$vox" build-atlas small.vdb -o p --summary --preview
+  expect_exit 0 "$vox" pack-chunks small.vdb -o small.vpk --chunk 8
+  expect_exit 0 "$vox" build-atlas small.vdb -o rep --summary --report rep.json
+  for file in p/small.summary.preview.png small.vdb small.vpk rep.json a/small.atlas.json; do
+    expect_exit 2 "$vox" info "$file" --pixel 0,0
+    expect_stderr "--pixel applies to atlases and canonical renders, not to"
+    expect_exit 2 "$vox" info "$file" --scene small.vdb
+    expect_stderr "--scene applies to atlases and canonical renders, not to"
+  done
+  expect_exit 2 "$vox" info r.png --scene small.vdb
+  expect_stderr "--scene with a render goes with --pixel x,y"
+  expect_exit 0 "$vox" info a/small.summary.png --scene small.vdb
   ;;
 mip)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb

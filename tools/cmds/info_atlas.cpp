@@ -108,8 +108,8 @@ std::vector<std::string> channelMeaning(const vox::AtlasImageInfo& info, const s
 
 }  // namespace
 
-int infoAtlas(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& sceneArg,
-              bool asJson) {
+int infoAtlas(const std::string& path, const vox::Image& img, const std::optional<PixelXY>& pixel,
+              const std::string& sceneArg, bool asJson) {
   // The entry, checked against the image (so that every read below stays in
   // it): the reader diff and verify-bijection use too.
   const std::optional<vox::AtlasImageInfo> entry = vox::atlasInfoOfImage(img, path);
@@ -230,14 +230,13 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
   j["texels"] = texels;
 
   // --pixel x,y: the texel's voxel and values.
-  if (!pixel.empty()) {
-    const size_t comma = pixel.find(',');
-    char* end = nullptr;
-    const unsigned long x = std::strtoul(pixel.c_str(), &end, 10);
-    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(pixel.c_str() + comma + 1, &end, 10);
-    if (comma == std::string::npos || *end != '\0' || x >= L.width || y >= L.height)
-      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + pixel + ": expected x,y inside the " +
-                                                  std::to_string(L.width) + " x " + std::to_string(L.height) + " atlas");
+  if (pixel) {
+    const uint32_t x = pixel->x, y = pixel->y;
+    if (x >= L.width || y >= L.height)
+      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + pixel->text() + ": outside the " + std::to_string(L.width) +
+                                                  " x " + std::to_string(L.height) + " atlas (x 0.." +
+                                                  std::to_string(L.width - 1) + ", y 0.." +
+                                                  std::to_string(L.height - 1) + ")");
     nlohmann::json p = {{"texel", {info.layer, x, y}}};
     const auto voxel = L.toVoxel(info.layer, uint32_t(x), uint32_t(y));
     p["voxel"] = voxel ? nlohmann::json{voxel->u, voxel->v, voxel->w} : nlohmann::json(nullptr);

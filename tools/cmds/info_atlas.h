@@ -10,17 +10,19 @@
 
 #include "formats/image/image.h"
 #include "libvox/core/classes.h"
+#include "tools/cmds/info_pixel.h"
 
 namespace voxcli {
 
 /// Describes the atlas `image` read from `path` on stdout (text or JSON).
-/// `pixel` is "" or "x,y"; `scene` is "" or the scene / page file for class
+/// `pixel` is the texel asked for, if any (outside the atlas: vox::Error,
+/// Usage); `scene` is "" or the scene / page file for class
 /// names and votes (default: the scene the atlas names, when it exists and
 /// has the atlas's dims). Throws vox::Error (BadInput) when `scene` is given
 /// and its dims are not the atlas's: it is not the scene the atlas was built
 /// from.
-int infoAtlas(const std::string& path, const vox::Image& image, const std::string& pixel, const std::string& scene,
-              bool json);
+int infoAtlas(const std::string& path, const vox::Image& image, const std::optional<PixelXY>& pixel,
+              const std::string& scene, bool json);
 
 /// What `vox info` takes from a scene (.vdb, level 0) or page file (.vpk):
 /// its class table, and its grid's dims, which must be an atlas's dims for the

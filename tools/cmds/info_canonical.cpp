@@ -30,8 +30,8 @@ std::string worldText(const std::array<double, 3>& v) {
 
 }  // namespace
 
-int infoCanonical(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& scenePath,
-                  bool json) {
+int infoCanonical(const std::string& path, const vox::Image& img, const std::optional<PixelXY>& pixel,
+                  const std::string& scenePath, bool json) {
   const vox::RenderMeta meta = *vox::readRenderMeta(img, path);
   const std::string mode = vox::renderModeName(meta.mode);
   nlohmann::json j = {{"file", path},
@@ -41,14 +41,14 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
                                  {"sample", vox::sampleTypeName(img.type)}}},
                       {"file_bytes", vox::fileSizeOrMinusOne(path)},
                       {"render", nlohmann::json::parse(vox::renderMetaJson(meta))}};
-  if (!pixel.empty()) {
-    const size_t comma = pixel.find(',');
-    char* end = nullptr;
-    const unsigned long x = std::strtoul(pixel.c_str(), &end, 10);
-    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(pixel.c_str() + comma + 1, &end, 10);
-    if (comma == std::string::npos || *end != '\0' || x >= img.width || y >= img.height)
-      vox::throwUsage("--pixel " + pixel + ": expected x,y inside the " + std::to_string(img.width) + " x " +
-                      std::to_string(img.height) + " image (row 0 at the top)");
+  if (!pixel && !scenePath.empty())
+    vox::throwUsage("--scene with a render goes with --pixel x,y: the scene the picked voxel is looked up in");
+  if (pixel) {
+    const uint32_t x = pixel->x, y = pixel->y;
+    if (x >= img.width || y >= img.height)
+      vox::throwUsage("--pixel " + pixel->text() + ": outside the " + std::to_string(img.width) + " x " +
+                      std::to_string(img.height) + " image (x 0.." + std::to_string(img.width - 1) + ", y 0.." +
+                      std::to_string(img.height - 1) + ", row 0 at the top)");
     if (meta.mode != vox::RenderMode::Canonical)
       vox::throwUsage("--pixel: " + path + " is a '" + mode +
                       "' render; picking decodes canonical renders (render with --mode canonical)");
