@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/file_util.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
@@ -124,6 +125,7 @@ std::optional<AtlasImageInfo> atlasInfoOfImage(const Image& img, const std::stri
 }
 
 Image readAtlasImage(const std::string& path, AtlasImageInfo& info) {
+  requireRegularFile(path);  // "no such file", "is a directory": not "not a PNG or EXR file"
   Image img;
   if (isPngFile(path)) img = readPng(path);
   else if (isExrFile(path)) img = readExr(path);

@@ -69,8 +69,9 @@ AtlasImageShape atlasImageShape(const AtlasImageInfo& info, const std::string& c
 std::optional<AtlasImageInfo> atlasInfoOfImage(const Image& image, const std::string& path);
 
 /// Reads a PNG or EXR written with atlasImageText and its entry. Throws
-/// vox::Error (BadInput) when the file is not an image, lacks a `vox:atlas`
-/// entry, or atlasInfoOfImage refuses it.
+/// vox::Error (BadInput) when there is no regular file at `path`
+/// (requireRegularFile), the file is not an image, lacks a `vox:atlas` entry,
+/// or atlasInfoOfImage refuses it.
 Image readAtlasImage(const std::string& path, AtlasImageInfo& info);
 
 /// One file of a sidecar: the image's info and its file name (no directory).

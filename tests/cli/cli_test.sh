@@ -295,6 +295,24 @@ PY
   expect_exit 0 "$vox" verify-bijection --atlas idf/big.identity.exr --scene big.vdb
   expect_exit 3 "$vox" verify-bijection --atlas g.vdb --scene g.vdb
   expect_exit 2 "$vox" verify-bijection --atlas a1/g.summary.png
+  # An atlas that is not there, or a directory, is named as such.
+  expect_exit 3 "$vox" verify-bijection --atlas missing.png --scene g.vdb
+  expect_stderr "missing.png: no such file"
+  expect_exit 3 "$vox" verify-bijection --atlas a1 --scene g.vdb
+  expect_stderr "a1: is a directory"
+  # The output directory: an empty path is a usage error; a file in its way is named.
+  expect_exit 2 "$vox" build-atlas g.vdb -o ""
+  expect_stderr "--output '': an empty path"
+  : > keep_afile
+  expect_exit 4 "$vox" build-atlas g.vdb -o keep_afile
+  expect_stderr "keep_afile: cannot create the output directory: it is a file"
+  expect_exit 4 "$vox" build-atlas g.vdb -o keep_afile/sub
+  expect_stderr "keep_afile/sub: cannot create the output directory: keep_afile is a file"
+  # --format is the identity atlas's: with other contents only it would be ignored.
+  expect_exit 2 "$vox" build-atlas g.vdb -o fmt --summary --format rgba16
+  expect_stderr "--format applies to the identity atlas"
+  [ ! -e fmt ] || fail "a refused build-atlas made its directory"
+  expect_exit 0 "$vox" build-atlas g.vdb -o fmt --identity --format rgba16
   ;;
 bijection)
   expect_exit 0 "$vox" verify-bijection --res 256
