@@ -132,12 +132,18 @@ TEST(AtlasMeta, RefusesEachMalformedEntry) {
   EXPECT_TRUE(refused("{", {"a.png", "malformed"}));
   EXPECT_TRUE(refused("[]", {"a.png", "malformed"}));
   for (const char* key : {"layout", "content", "format", "layer"})
-    EXPECT_TRUE(refused(withKey(votes, key, nullptr), {"a.png", key})) << key;
+    EXPECT_TRUE(refused(withKey(votes, key, nullptr), {"a.png", "no \"" + std::string(key) + "\" key"})) << key;
+  // In words, not the JSON library's exception text.
+  for (const std::string& text : {std::string("{"), withKey(votes, "content", nullptr), withKey(votes, "format", 3),
+                                  withKey(votes, "class_id", "x")})
+    EXPECT_TRUE(refused(text, {"a.png"}) && !throwsVoxError([&] { atlasInfoFromJson(text, "a.png"); },
+                                                            ErrorKind::BadInput, {"json.exception"}))
+        << text;
   EXPECT_TRUE(refused(withKey(votes, "content", "depth"), {"a.png", "unknown atlas content", "depth"}));
   EXPECT_TRUE(refused(withKey(votes, "content", 3), {"a.png", "malformed"}));
   EXPECT_TRUE(refused(withKey(votes, "layer", -1), {"a.png", "\"layer\""}));
   EXPECT_TRUE(refused(withKey(votes, "layer", 0.5), {"a.png", "\"layer\""}));
-  EXPECT_TRUE(refused(withKey(votes, "layer", 1), {"a.png", "layer 1", "1 layers"}));
+  EXPECT_TRUE(refused(withKey(votes, "layer", 1), {"a.png", "layer 1", "the layout's 1 layer"}));
   EXPECT_TRUE(refused(withKey(votes, "class_id", 256), {"a.png", "class_id"}));
   EXPECT_TRUE(refused(withKey(votes, "scene", 5), {"a.png", "malformed"}));
   json layout = atlasInfoJson(votes)["layout"];

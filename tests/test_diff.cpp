@@ -258,6 +258,21 @@ TEST(ImageDiff, DifferenceImage) {
   EXPECT_EQ(d.pixels[0], 0);
 }
 
+TEST(SceneDiff, ValuesInTheirShortestExactText) {
+  VoxelValues v;
+  v.occupied = v.surface = true;
+  v.votes = {{3, 2}};
+  v.color = RgbLinear{0.87499809265136719f, 0.5f, 0.1f};
+  EXPECT_EQ(describeVoxel(v), "surface votes{3:2} color(0.8749981,0.5,0.1)") << "a float's digits, not a double's 17";
+  SceneHeader ha = header(), hb = header();
+  ha.voxelSize = 0.8, hb.voxelSize = 0.4;
+  const SceneDiff d = diffScenes(scene({}, ha), scene({}, hb));
+  ASSERT_EQ(d.header.size(), 1u);
+  EXPECT_EQ(d.header[0].field, "voxel_size");
+  EXPECT_EQ(d.header[0].a, "0.8") << "not 0.80000000000000004";
+  EXPECT_EQ(d.header[0].b, "0.4");
+}
+
 TEST(ImageDiff, FloatDifferenceImageForExr) {
   Image a = rgba8(3, 2, 10), b = a;
   b.pixels[(1 * 3 + 2) * 4 + 0] = 61;  // (2, 1) R +51

@@ -13,38 +13,64 @@ namespace {
 
 using nlohmann::json;
 
+/// "CONTEXT: malformed "vox:atlas" metadata: WHAT": every fault of an entry.
+[[noreturn]] void malformed(const std::string& context, const std::string& what) {
+  throwBadInput(context + ": malformed \"" + kAtlasTextKey + "\" metadata: " + what);
+}
+
+/// nlohmann's message without its "[json.exception.parse_error.101] " tag.
+std::string withoutTag(const std::string& message) {
+  if (message.rfind("[json.exception.", 0) == 0)
+    if (const size_t end = message.find("] "); end != std::string::npos) return message.substr(end + 2);
+  return message;
+}
+
 /// An image's info from a `vox:atlas` object (the sidecar's entries are
-/// completed with its layout and scene first).
+/// completed with its layout and scene first). Every key is checked here, so
+/// that a fault is named in words ("no "content" key"), not by the JSON
+/// library's exception text.
 AtlasImageInfo infoFromObject(const json& j, const std::string& context) {
+  if (!j.is_object()) malformed(context, "not a JSON object");
+  auto member = [&](const char* key) -> const json& {
+    if (!j.contains(key)) malformed(context, std::string("no \"") + key + "\" key");
+    return j[key];
+  };
+  auto string = [&](const char* key) {
+    const json& v = member(key);
+    if (!v.is_string()) malformed(context, std::string("\"") + key + "\" must be a string, not " + v.dump());
+    return v.get<std::string>();
+  };
   AtlasImageInfo info;
-  try {
-    info.layout = AtlasLayout::fromJson(j.at("layout").dump(), context);
-    const auto content = parseAtlasContent(j.at("content").get<std::string>());
-    if (!content) throwBadInput(context + ": unknown atlas content " + j.at("content").dump());
-    info.content = *content;
-    info.format = j.at("format").get<std::string>();
-    const json& layer = j.at("layer");
-    if (!layer.is_number_unsigned() || layer.get<uint64_t>() > UINT32_MAX)
-      throwBadInput(context + ": \"layer\" must be an integer 0..2^32-1");
-    info.layer = layer.get<uint32_t>();
-    const int64_t classId = j.value("class_id", int64_t(0));
-    if (classId < 0 || classId > kMaxClassId) throwBadInput(context + ": \"class_id\" must be 0..255");
-    info.classId = uint8_t(classId);
-    info.scene = j.value("scene", "");
-  } catch (const json::exception& e) {
-    throwBadInput(context + ": malformed \"" + kAtlasTextKey + "\" metadata: " + e.what());
+  const json& layout = member("layout");
+  if (!layout.is_object()) malformed(context, "\"layout\" must be an object, not " + layout.dump());
+  info.layout = AtlasLayout::fromJson(layout.dump(), context);
+  const std::string contentName = string("content");
+  const auto content = parseAtlasContent(contentName);
+  if (!content) throwBadInput(context + ": unknown atlas content \"" + contentName + "\"");
+  info.content = *content;
+  info.format = string("format");
+  const json& layer = member("layer");
+  if (!layer.is_number_unsigned() || layer.get<uint64_t>() > UINT32_MAX)
+    throwBadInput(context + ": \"layer\" must be an integer 0..2^32-1");
+  info.layer = layer.get<uint32_t>();
+  if (j.contains("class_id")) {
+    const json& id = j["class_id"];
+    if (!id.is_number_integer() || id.get<int64_t>() < 0 || id.get<int64_t>() > kMaxClassId)
+      throwBadInput(context + ": \"class_id\" must be 0..255");
+    info.classId = uint8_t(id.get<int64_t>());
   }
+  if (j.contains("scene")) info.scene = string("scene");
   if (info.layer >= info.layout.layers)
     throwBadInput(context + ": layer " + std::to_string(info.layer) + " is past the layout's " +
-                  std::to_string(info.layout.layers) + " layers");
+                  std::to_string(info.layout.layers) + (info.layout.layers == 1 ? " layer" : " layers"));
   return info;
 }
 
 json parseJson(const std::string& text, const std::string& context) {
   try {
     return json::parse(text);
-  } catch (const json::exception& e) {
-    throwBadInput(context + ": malformed \"" + kAtlasTextKey + "\" metadata: " + e.what());
+  } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
+    malformed(context, withoutTag(e.what()));
   }
 }
 

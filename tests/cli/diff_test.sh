@@ -44,6 +44,18 @@ scenes)
   # Without --ignore-sources the map files' digests differ too.
   expect_exit 1 "$vox" diff m1.vdb m2.vdb --votes-tolerance 1
   expect_stdout "header sources"
+  # Counts in the singular where one; numbers in their shortest exact form.
+  printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}]}' > o1.json
+  sed 's/Stone/Dirt/' o1.json > o2.json
+  "$vox" voxelize o1.json -o o1.vdb --quiet && "$vox" voxelize o2.json -o o2.vdb --quiet
+  expect_exit 1 "$vox" diff o1.vdb o2.vdb --ignore-sources
+  expect_stdout "DIFFERENT: 1 voxel compared, 1 differ (scenes 1 x 1 x 1)"
+  expect_exit 0 "$vox" diff o1.vdb o2.vdb --ignore-sources --votes-tolerance 1
+  expect_stdout "same: 1 voxel compared, 0 differ"
+  "$vox" voxelize demo:hamlet --res 8 -o h8.vdb --quiet
+  "$vox" voxelize demo:hamlet --res 16 -o h16.vdb --quiet
+  expect_exit 1 "$vox" diff h8.vdb h16.vdb
+  expect_stdout "header voxel_size: 3.2 vs 1.6"
   # One voxel only in B.
   expect_exit 1 "$vox" diff m1.vdb m3.vdb --ignore-sources --json
   jq_py "assert d['voxels_differing']==1 and d['only_in_b']==1 and d['only_in_a']==0 and d['kinds']['occupancy']['first']['voxel']==[0,5,0], d"
@@ -87,6 +99,7 @@ EOF2
   expect_exit 0 "$vox" diff p12.vdb h12.vdb --level 0
   expect_exit 1 "$vox" diff p12.vdb h12.vdb
   expect_stdout "--level N compares one level"
+  expect_stdout "pyramid metadata differs at the top level: "
   expect_exit 0 "$vox" diff p12.vdb p12c.vdb --level 2 --json
   jq_py "assert d['same'] and d['level']==2, d"
   expect_exit 2 "$vox" diff p12.vdb p12c.vdb --level 3
@@ -113,7 +126,8 @@ images)
   jcheck rz_report.json "assert d['counts']['channels_not_compared'] == {'rz.exr': ['Z']}, d['counts']"
   # One texel: named by its pixel, channel and voxel.
   expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.png
-  expect_stdout "1 pixels (0.463%) differ"
+  expect_stdout "1 pixel (0.463%) differs"
+  expect_stdout "1 pixel (0.463%) over 1e-06 (fail)"
   expect_stdout "= voxel (5, 5, 5)  values are 1, 255, 16, 255 vs 2, 255, 16, 255"
   expect_stdout "FAILURE"
   expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --json
@@ -216,6 +230,8 @@ pages)
   jq_py "assert d['chunks_differing']==1 and d['voxels_differing']==1 and d['voxel_kinds']['summary']==1; c=d['first_chunk']; assert c['level']==0 and c['chunk']==[0,0,0] and c['first_voxel']['voxel']==[5,5,5] and c['first_voxel']['a']['summary'][0]==1 and c['first_voxel']['b']['summary'][0]==2, c"
   expect_exit 1 "$vox" diff p1.vpk p3.vpk
   expect_stdout "first voxel (0, 5, 0) of level 0"
+  expect_stdout "DIFFERENT: page files, 1 chunk compared, 1 differ, 1 voxel differs"
+  expect_stdout "(key 0): 1 voxel differs (occupied 4 vs 5)"
   # Another layout of the same voxels: the header differs, no chunk does.
   expect_exit 1 "$vox" diff p1.vpk p1s.vpk --json
   jq_py "assert d['chunks_differing']==0 and [h['field'] for h in d['header']]==['layout'], d['header']"
@@ -240,6 +256,12 @@ d = json.load(open('r1.json')); d['counts']['probe'] = 1000; json.dump(d, open('
 d['counts']['probe'] = 1001; json.dump(d, open('n2.json', 'w'))"
   expect_exit 1 "$vox" diff n1.json n2.json
   expect_stdout "/counts/probe: 1000 vs 1001"
+  printf '{"a": 2}' > a1.json
+  printf '[1]' > top.json
+  expect_exit 1 "$vox" diff a1.json one.json --rel-tolerance 0.25
+  expect_stdout "DIFFERENT: JSON, 1 value compared, 1 differ (relative tolerance 0.25; 0 ignored keys skipped)"
+  expect_exit 1 "$vox" diff a1.json top.json
+  expect_stdout "  the top level: "
   expect_exit 1 "$vox" diff n1.json n2.json --json
   jq_py "assert d['values_differing']==1 and d['first_difference']['pointer']=='/counts/probe' and d['first_difference']['a']=='1000' and d['first_difference']['b']=='1001'"
   expect_exit 0 "$vox" diff n1.json n2.json --rel-tolerance 0.000999001

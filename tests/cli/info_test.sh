@@ -307,6 +307,33 @@ atlas_inputs)
   expect_exit 2 "$vox" info r.png --scene small.vdb
   expect_stderr "--scene with a render goes with --pixel x,y"
   expect_exit 0 "$vox" info a/small.summary.png --scene small.vdb
+  # Counts and units in the singular where one.
+  printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}]}' > keep_one.json
+  expect_exit 0 "$vox" voxelize keep_one.json -o one.vdb
+  expect_exit 0 "$vox" info one.vdb
+  expect_stdout "dims          1 x 1 x 1 (1 voxel)"
+  expect_stdout "voxel size    1 world unit"
+  expect_stdout "occupied      1 voxel (100% of the domain)"
+  expect_exit 0 "$vox" build-atlas one.vdb -o o --summary --occupancy --threads 1 --report o.json
+  expect_exit 0 "$vox" info o/one.summary.png
+  expect_stdout "1 texel in use"
+  expect_stdout "1 tile of 1 x 1 per row, 1 tile row"
+  expect_exit 0 "$vox" info o/one.occupancy.png
+  expect_stdout "1 bit set"
+  expect_exit 0 "$vox" info o/one.atlas.json
+  expect_stdout "1 x 1 texels, 1 tile per row, 1 layer"
+  expect_exit 0 "$vox" info o.json
+  expect_stdout "s on 1 thread"
+  expect_exit 0 "$vox" verify-bijection --dims 1,1,1 --threads 1
+  expect_stdout "1 voxel, 1 texel (0 padding), 0 failures"
+  expect_stdout "on 1 thread ("
+  expect_exit 0 "$vox" verify-bijection --atlas o/one.summary.png --scene one.vdb
+  expect_stdout "1 texel checked, 0 differ"
+  # A malformed entry is named in words, not by the JSON library's exception.
+  retext o/one.summary.png nocontent.png vox:atlas '{"format":"rgba8","layer":0,"layout":{"dims":[1,1,1],"height":1,"layers":1,"max_side":16384,"rows_per_layer":1,"tiles_per_row":1,"width":1},"scene":"one.vdb"}'
+  expect_exit 3 "$vox" info nocontent.png
+  expect_stderr "nocontent.png: malformed \"vox:atlas\" metadata: no \"content\" key"
+  grep -q "json.exception" err.txt && fail "nlohmann's exception text in a message: $(cat err.txt)"
   ;;
 mip)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb

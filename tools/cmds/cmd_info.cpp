@@ -121,8 +121,8 @@ void printScene(const nlohmann::json& j) {
   const uint64_t domain = j["dims"][0].get<uint64_t>() * j["dims"][1].get<uint64_t>() * j["dims"][2].get<uint64_t>();
   const uint64_t occupied = j["occupied"], surface = j["surface"], interior = j["interior"];
   o << j["file"].get<std::string>() << ": voxbake scene\n";
-  o << line("dims", dimsText(j["dims"]) + " (" + count(domain) + " voxels)");
-  o << line("voxel size", real(j["voxel_size"].get<double>(), 6) + " world units");
+  o << line("dims", dimsText(j["dims"]) + " (" + countOf(domain, "voxel", "voxels") + ")");
+  o << line("voxel size", measured(j["voxel_size"].get<double>(), 6, "world unit", "world units"));
   o << line("world bounds", v3(j["world_bounds"]["min"]) + " .. " + v3(j["world_bounds"]["max"]));
   if (j.contains("block_world"))
     o << line("block world", "worldScale " + real(j["block_world"]["world_scale"].get<double>(), 6) + ", grid " +
@@ -130,12 +130,12 @@ void printScene(const nlohmann::json& j) {
                                  "," + j["block_world"]["grid_size"][2].dump() + " (block-map placement)");
   if (j["mip_level"].get<int>() != 0) o << line("mip level", j["mip_level"].dump());
   if (j.contains("region")) o << line("region", regionText(j["region"]));
-  o << line("occupied", count(occupied) + " voxels (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
+  o << line("occupied", countOf(occupied, "voxel", "voxels") + " (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
                             " of the domain)");
   o << line("", count(surface) + " surface (" + percent(occupied ? double(surface) / double(occupied) : 0.0) + "), " +
                     count(interior) + " interior");
   if (j["has_color"].get<bool>())
-    o << line("colour", count(j["colored"].get<uint64_t>()) + " voxels coloured (" +
+    o << line("colour", countOf(j["colored"].get<uint64_t>(), "voxel", "voxels") + " coloured (" +
                             percent(occupied ? double(j["colored"].get<uint64_t>()) / double(occupied) : 0.0) + ")");
   else
     o << line("colour", "none (class colours only)");

@@ -209,14 +209,16 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
         s << "  values are " << pixelValuesText(a, fx, fy) << " vs " << pixelValuesText(b, fx, fy) << "\n";
       }
       char line[160];
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) differ\n", (unsigned long long)d.pixelsDiffering,
-                    percent(d.pixelsDiffering, d.pixels));
+      auto pixels = [](uint64_t n) { return n == 1 ? "pixel" : "pixels"; };
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) %s\n", (unsigned long long)d.pixelsDiffering,
+                    pixels(d.pixelsDiffering), percent(d.pixelsDiffering, d.pixels),
+                    d.pixelsDiffering == 1 ? "differs" : "differ");
       s << line;
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) over %g (warn)\n", (unsigned long long)d.warnPixels,
-                    percent(d.warnPixels, d.pixels), io.warnThreshold);
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) over %g (warn)\n", (unsigned long long)d.warnPixels,
+                    pixels(d.warnPixels), percent(d.warnPixels, d.pixels), io.warnThreshold);
       s << line;
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) over %g (fail)\n", (unsigned long long)d.failPixels,
-                    percent(d.failPixels, d.pixels), io.failThreshold);
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) over %g (fail)\n", (unsigned long long)d.failPixels,
+                    pixels(d.failPixels), percent(d.failPixels, d.pixels), io.failThreshold);
       s << line;
       std::snprintf(line, sizeof line, "  hit/miss mask agrees on %.4f%% of pixels (%s)\n",
                     100.0 * d.maskAgreeFraction(), d.maskSource.c_str());

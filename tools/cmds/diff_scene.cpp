@@ -121,13 +121,14 @@ std::string sceneDiffText(const vox::SceneDiff& d, const vox::SceneHeader& h, co
     std::snprintf(name, sizeof name, "%-10s", vox::voxelDiffKindName(kind));
     s << indent << "  " << name << " " << kd.count;
     if (kind == vox::VoxelDiffKind::Occupancy) s << " (only in A " << d.onlyInA << ", only in B " << d.onlyInB << ")";
-    if (kind == vox::VoxelDiffKind::Votes) s << " (tolerance " << o.votesTolerance << " votes per class)";
+    if (kind == vox::VoxelDiffKind::Votes) s << " (tolerance " << counted(o.votesTolerance, "vote", "votes") << " per class)";
     if (kind == vox::VoxelDiffKind::Color) s << " (tolerance " << num(o.colorTolerance) << " per linear channel)";
     s << "\n";
     if (kd.first) s << indent << "    first " << exampleText(*kd.first, h, hb) << "\n";
     if (kd.worst && kd.count > 1) {
       s << indent << "    worst " << exampleText(*kd.worst, h, hb);
-      if (kind == vox::VoxelDiffKind::Votes) s << " (" << num(kd.worst->magnitude) << " votes)";
+      if (kind == vox::VoxelDiffKind::Votes)
+        s << " (" << num(kd.worst->magnitude) << (kd.worst->magnitude == 1 ? " vote)" : " votes)");
       if (kind == vox::VoxelDiffKind::Color) s << " (" << num(kd.worst->magnitude) << ")";
       s << "\n";
     }
@@ -190,7 +191,7 @@ int diffSceneFiles(const DiffOptions& o) {
       if (o.level) j["level"] = *o.level;
       std::cout << vox::jsonText(j, 2) << "\n";
     } else {
-      std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
+      std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << counted(d.voxelsCompared, "voxel", "voxels") << " compared, "
                 << d.voxelsDiffering << " differ (" << (o.level ? "level " + std::to_string(*o.level) + ", " : "")
                 << "scenes " << dimsText(a.header(), b.header()) << ")\n";
       std::cout << sceneDiffText(d, a.header(), b.header(), o, "  ");
@@ -232,11 +233,12 @@ int diffSceneFiles(const DiffOptions& o) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << (same ? "same" : "DIFFERENT") << ": pyramids of " << la.size() << " and " << lb.size()
-              << " levels, " << compared << " voxels compared, " << differing << " differ\n";
+              << " levels, " << counted(compared, "voxel", "voxels") << " compared, " << differing << " differ\n";
     if (la.size() != lb.size() && std::min(la.size(), lb.size()) == 1)
       std::cout << "  (a plain scene is a pyramid of one level; --level N compares one level with it)\n";
     if (!meta.same() && !meta.differences.empty())
-      std::cout << "  pyramid metadata differs at " << meta.differences[0].pointer << ": " << meta.differences[0].a
+      std::cout << "  pyramid metadata differs at " << pointerText(meta.differences[0].pointer) << ": "
+                << meta.differences[0].a
                 << " vs " << meta.differences[0].b << "\n";
     for (size_t i = 0; i < diffs.size(); ++i) {
       std::cout << "  level " << i << " (" << dimsText(la[i].header(), lb[i].header()) << "): "

@@ -302,11 +302,14 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::optiona
                          (fileBytes >= 0 ? ", " + bytes(uint64_t(fileBytes)) + " on disk" : ""));
   const std::vector<std::string> meaning = channelMeaning(info, className);
   for (size_t i = 0; i < meaning.size(); ++i) o << line(i ? "" : bitmap ? "bits" : "channels", meaning[i]);
-  const std::string what = bitmap ? "bits set" : info.content == vox::AtlasContent::Votes ? "texels with votes" : "texels in use";
+  const std::string what = bitmap ? "bit set" : info.content == vox::AtlasContent::Votes ? "texel with votes" : "texel in use";
+  const std::string whatMany = bitmap                                     ? "bits set"
+                               : info.content == vox::AtlasContent::Votes ? "texels with votes"
+                                                                          : "texels in use";
   o << line(bitmap ? "occupied" : "texels",
-            count(occupied) + " " + what + " (" + percent(domainTexels ? double(occupied) / double(domainTexels) : 0) +
+            countOf(occupied, what, whatMany) + " (" + percent(domainTexels ? double(occupied) / double(domainTexels) : 0) +
                 " of the layout's voxels)");
-  if (info.content == vox::AtlasContent::Occupancy2) o << line("touched", count(touched) + " voxels");
+  if (info.content == vox::AtlasContent::Occupancy2) o << line("touched", countOf(touched, "voxel", "voxels"));
   if (info.content == vox::AtlasContent::Votes && occupied)
     o << line("votes", "max " + count(uint64_t(maxValue)) + ", mean " +
                            (sumValue / double(occupied) >= 1000 ? count(uint64_t(sumValue / double(occupied) + 0.5))

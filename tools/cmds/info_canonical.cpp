@@ -128,7 +128,8 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::opt
     << vox::sampleTypeName(img.type) << "\n";
   o << line("rendered from", meta.scene + (meta.level ? " (level " + std::to_string(*meta.level) + ")" : ""));
   o << line("scene dims", std::to_string(meta.dims.x) + " x " + std::to_string(meta.dims.y) + " x " +
-                              std::to_string(meta.dims.z) + " voxels of " + real(meta.voxelSize, 6) + " world units");
+                              std::to_string(meta.dims.z) + " voxels of " +
+                              measured(meta.voxelSize, 6, "world unit", "world units"));
   // The camera in words: the eye is -R^T t of the view matrix (column-major),
   // it looks along -z of the camera frame; the vertical field of view comes
   // from the projection's y scale.
@@ -147,8 +148,9 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::opt
   if (p11 > 0) o << line("", "vertical field of view " + real(2.0 * std::atan(1.0 / p11) * 180.0 / M_PI, 4) + " degrees, view " +
                                  std::to_string(meta.view));
   if (j.contains("hit_pixels"))
-    o << line("hits", count(j["hit_pixels"].get<uint64_t>()) + " of " + count(uint64_t(img.width) * img.height) +
-                          " pixels show a voxel (" +
+    o << line("hits", count(j["hit_pixels"].get<uint64_t>()) + " of " +
+                          countOf(uint64_t(img.width) * img.height, "pixel", "pixels") +
+                          (j["hit_pixels"].get<uint64_t>() == 1 ? " shows" : " show") + " a voxel (" +
                           percent(double(j["hit_pixels"].get<uint64_t>()) / double(uint64_t(img.width) * img.height)) + ")");
   if (meta.mode == vox::RenderMode::Canonical)
     o << line("channels", "RGB = (u, v, w) of the first voxel a pixel's ray enters,")
