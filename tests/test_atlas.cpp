@@ -3,6 +3,7 @@
 // long double reference, exhaustive round trips).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 #include <random>
@@ -58,6 +59,64 @@ TEST(AtlasMapping, LayersWhenASideWouldPassTheMaximum) {
   EXPECT_TRUE(proveBijection(L, 2).ok());
   EXPECT_THROW(AtlasLayout::make({40, 10, 5}, 0, 32), Error);
   EXPECT_THROW(AtlasLayout::make({10, 10, 5}, 4, 32), Error) << "forced T too wide";
+}
+
+// The default T as ATLAS.md states it, by scanning every T (64-bit, so a T
+// range that ends at 2^32 - 1 ends): the reference the direct search must equal.
+AtlasLayout referenceDefaultLayout(Dims d, uint32_t maxSide) {
+  const uint64_t maxT = std::min<uint64_t>(d.z, maxSide / d.x), maxR = maxSide / d.y;
+  uint64_t best = 0, bestArea = 0, bestSkew = 0;
+  for (uint64_t T = 1; T <= maxT; ++T) {
+    const uint64_t rows = (uint64_t(d.z) + T - 1) / T;
+    if (rows > maxR) continue;
+    const uint64_t w = T * d.x, h = rows * d.y, area = w * h, skew = w > h ? w - h : h - w;
+    if (!best || area < bestArea || (area == bestArea && skew < bestSkew)) best = T, bestArea = area, bestSkew = skew;
+  }
+  return AtlasLayout::make(d, uint32_t(best ? best : maxT), maxSide);
+}
+
+TEST(AtlasMapping, DefaultTilesPerRowEqualsTheScanOfEveryT) {
+  std::mt19937 rng(11);
+  for (int i = 0; i < 3000; ++i) {
+    const Dims d{1 + uint32_t(rng() % 40), 1 + uint32_t(rng() % 40), 1 + uint32_t(rng() % (i % 3 ? 300 : 5000))};
+    const uint32_t maxSide = std::max(d.x, d.y) + uint32_t(rng() % (i % 2 ? 200 : 3000));
+    ASSERT_EQ(AtlasLayout::make(d, 0, maxSide), referenceDefaultLayout(d, maxSide)) << toString(d) << " " << maxSide;
+  }
+  for (const Dims& d : {Dims{1, 1, 65536}, Dims{256, 256, 256}, Dims{1, 1, 4097}, Dims{3, 1, 99991}, Dims{7, 300, 1000}})
+    EXPECT_EQ(AtlasLayout::make(d), referenceDefaultLayout(d, kDefaultAtlasMaxSide)) << toString(d);
+}
+
+TEST(AtlasMapping, HugeMaximumSidesAreQuickOrRefused) {
+  // A counter of 32 bits wrapped past T = 2^32 - 1 and divided by zero (SIGFPE).
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_TRUE(voxtest::throwsVoxError([] { AtlasLayout::make({1, 1, 0xffffffffu}, 0, 0xffffffffu); },
+                                      ErrorKind::Usage, {"4294967295", "2147483647"}));
+  // 2^32 - 1 = 65535 * 65537: no padding, and the most square such split.
+  const AtlasLayout L = AtlasLayout::make({1, 1, 0xffffffffu}, 0, kMaxAtlasSide);
+  EXPECT_EQ(L.tilesPerRow, 65535u);
+  EXPECT_EQ(L.width, 65535u);
+  EXPECT_EQ(L.height, 65537u);
+  EXPECT_EQ(L.layers, 1u);
+  const AtlasLayout flat = AtlasLayout::make({1, 1, 0x7fffffffu}, 0, kMaxAtlasSide);
+  EXPECT_EQ(uint64_t(flat.width) * flat.height, 0x7fffffffull) << "2^31 - 1 is prime: only 1 x (2^31 - 1) has no padding";
+  EXPECT_EQ(AtlasLayout::make({1, 1, 1000}, 0, kMaxAtlasSide).width, 25u) << "25 x 40";
+  // The same layout in a file's metadata: refused as bad input, at once.
+  const std::string huge = R"({"dims":[1,1,4294967295],"tiles_per_row":0,"rows_per_layer":1,"layers":1,)"
+                           R"("width":1,"height":1,"max_side":4294967295})";
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { AtlasLayout::fromJson(huge, "fpe.png"); }, ErrorKind::BadInput,
+                                      {"fpe.png", "tiles_per_row"}));
+  std::string hugeT1 = huge;
+  hugeT1.replace(hugeT1.find("\"tiles_per_row\":0"), 17, "\"tiles_per_row\":1");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { AtlasLayout::fromJson(hugeT1, "fpe.png"); }, ErrorKind::BadInput,
+                                      {"fpe.png", "inconsistent atlas layout", "2147483647"}));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+}
+
+TEST(AtlasMapping, LayoutsNameTheirTilesPerRow) {
+  std::string text = AtlasLayout::make({3, 5, 7}).toJson();
+  text.replace(text.find("\"tiles_per_row\":7"), 17, "\"tiles_per_row\":0");
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { AtlasLayout::fromJson(text, "a.png"); }, ErrorKind::BadInput,
+                                      {"a.png", "'tiles_per_row' must be >= 1"}));
 }
 
 TEST(AtlasMapping, InverseRejectsPaddingAndOutOfRange) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "formats/image/atlas_meta.h"
 #include "libvox/core/version.h"
@@ -62,14 +63,51 @@ TEST(AtlasMeta, ImageFilesRoundTrip) {
     const bool bitmap = info.content == AtlasContent::Occupancy || info.content == AtlasContent::Occupancy2;
     const uint32_t perByte = info.content == AtlasContent::Occupancy ? 8 : 4;
     const uint32_t width = bitmap ? (info.layout.width + perByte - 1) / perByte : info.layout.width;
-    Image img(width, info.layout.height, bitmap || info.content == AtlasContent::Votes ? 1 : 4, SampleType::U8);
+    const SampleType type = info.format == "rgba16f" ? SampleType::F16 : info.format == "r16" ? SampleType::U16 : SampleType::U8;
+    Image img(width, info.layout.height, bitmap || info.content == AtlasContent::Votes ? 1 : 4, type);
     img.text = atlasImageText(info);
-    const std::string path = dir.file(std::string(atlasContentName(info.content)) + ".png");
-    writePng(img, path);
+    const AtlasImageShape shape = atlasImageShape(info, "a.png");
+    EXPECT_EQ(std::tie(shape.width, shape.height, shape.channels), std::tie(img.width, img.height, img.channels));
+    EXPECT_EQ(shape.type, type);
+    const bool exr = type == SampleType::F16;
+    const std::string path = dir.file(std::string(atlasContentName(info.content)) + (exr ? ".exr" : ".png"));
+    if (exr) writeExr(img, path);
+    else writePng(img, path);
     AtlasImageInfo back;
     readAtlasImage(path, back);
     EXPECT_EQ(back, info) << path;
   }
+}
+
+TEST(AtlasMeta, AnImageMustHaveTheShapeItsEntryGives) {
+  // diff compared such images (exit 0) while info and verify-bijection
+  // refused them: one reader for all three.
+  const AtlasImageInfo summary = everyKind()[0];
+  Image img(summary.layout.width, summary.layout.height, 4, SampleType::U8);
+  img.text = atlasImageText(summary);
+  ASSERT_TRUE(atlasInfoOfImage(img, "a.png"));
+  EXPECT_EQ(*atlasInfoOfImage(img, "a.png"), summary);
+  EXPECT_FALSE(atlasInfoOfImage(Image(2, 2, 4, SampleType::U8), "plain.png")) << "no entry: not an atlas";
+  const std::string want = "says " + std::to_string(summary.layout.width) + " x " +
+                           std::to_string(summary.layout.height) + " x 4 uint8";
+  Image taller(summary.layout.width, summary.layout.height + 1, 4, SampleType::U8);
+  taller.text = img.text;
+  EXPECT_TRUE(throwsVoxError([&] { atlasInfoOfImage(taller, "a.png"); }, ErrorKind::BadInput,
+                             {"a.png: the image is", "(summary, rgba8) " + want, "changed after vox wrote it"}));
+  Image gray(summary.layout.width, summary.layout.height, 1, SampleType::U8);
+  gray.text = img.text;
+  EXPECT_TRUE(throwsVoxError([&] { atlasInfoOfImage(gray, "a.png"); }, ErrorKind::BadInput, {"x 1 uint8", want}));
+  Image wide(summary.layout.width, summary.layout.height, 4, SampleType::U16);
+  wide.text = img.text;
+  EXPECT_TRUE(throwsVoxError([&] { atlasInfoOfImage(wide, "a.png"); }, ErrorKind::BadInput, {"x 4 uint16", want}));
+  AtlasImageInfo oddFormat = summary;
+  oddFormat.format = "rgba16";
+  img.text = atlasImageText(oddFormat);
+  EXPECT_TRUE(throwsVoxError([&] { atlasInfoOfImage(img, "a.png"); }, ErrorKind::BadInput,
+                             {"a.png: format \"rgba16\" is not one a summary atlas is written in (rgba8)"}));
+  AtlasImageInfo votes = everyKind()[3];
+  votes.format = "rgba8";
+  EXPECT_TRUE(throwsVoxError([&] { atlasImageShape(votes, "v.png"); }, ErrorKind::BadInput, {"(r8, r16, r32ui)"}));
 }
 
 TEST(AtlasMeta, SidecarRoundTrips) {
@@ -94,12 +132,18 @@ TEST(AtlasMeta, RefusesEachMalformedEntry) {
   EXPECT_TRUE(refused("{", {"a.png", "malformed"}));
   EXPECT_TRUE(refused("[]", {"a.png", "malformed"}));
   for (const char* key : {"layout", "content", "format", "layer"})
-    EXPECT_TRUE(refused(withKey(votes, key, nullptr), {"a.png", key})) << key;
+    EXPECT_TRUE(refused(withKey(votes, key, nullptr), {"a.png", "no \"" + std::string(key) + "\" key"})) << key;
+  // In words, not the JSON library's exception text.
+  for (const std::string& text : {std::string("{"), withKey(votes, "content", nullptr), withKey(votes, "format", 3),
+                                  withKey(votes, "class_id", "x")})
+    EXPECT_TRUE(refused(text, {"a.png"}) && !throwsVoxError([&] { atlasInfoFromJson(text, "a.png"); },
+                                                            ErrorKind::BadInput, {"json.exception"}))
+        << text;
   EXPECT_TRUE(refused(withKey(votes, "content", "depth"), {"a.png", "unknown atlas content", "depth"}));
   EXPECT_TRUE(refused(withKey(votes, "content", 3), {"a.png", "malformed"}));
   EXPECT_TRUE(refused(withKey(votes, "layer", -1), {"a.png", "\"layer\""}));
   EXPECT_TRUE(refused(withKey(votes, "layer", 0.5), {"a.png", "\"layer\""}));
-  EXPECT_TRUE(refused(withKey(votes, "layer", 1), {"a.png", "layer 1", "1 layers"}));
+  EXPECT_TRUE(refused(withKey(votes, "layer", 1), {"a.png", "layer 1", "the layout's 1 layer"}));
   EXPECT_TRUE(refused(withKey(votes, "class_id", 256), {"a.png", "class_id"}));
   EXPECT_TRUE(refused(withKey(votes, "scene", 5), {"a.png", "malformed"}));
   json layout = atlasInfoJson(votes)["layout"];
@@ -140,7 +184,7 @@ TEST(AtlasMeta, RefusesMalformedSidecarsAndImages) {
   const std::string height = " x " + std::to_string(info.layout.height);
   EXPECT_TRUE(throwsVoxError([&] { readAtlasImage(dir.file("size.png"), back); }, ErrorKind::BadInput,
                              {"size.png", "is " + std::to_string(info.layout.width + 1) + height,
-                              "layout says " + std::to_string(info.layout.width) + height}));
+                              "says " + std::to_string(info.layout.width) + height}));
   voxtest::writeText(dir.file("text.png"), "not an image");
   EXPECT_TRUE(throwsVoxError([&] { readAtlasImage(dir.file("text.png"), back); }, ErrorKind::BadInput,
                              {"text.png", "not a PNG or EXR"}));

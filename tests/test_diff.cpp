@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "formats/core/json_diff.h"
@@ -255,6 +256,40 @@ TEST(ImageDiff, DifferenceImage) {
   EXPECT_EQ(d.pixels[(1 * 3 + 2) * 3 + 1], 0);
   EXPECT_EQ(d.pixels[(0 * 3 + 1) * 3 + 0], 20);  // alpha error shown in every channel
   EXPECT_EQ(d.pixels[0], 0);
+}
+
+TEST(SceneDiff, ValuesInTheirShortestExactText) {
+  VoxelValues v;
+  v.occupied = v.surface = true;
+  v.votes = {{3, 2}};
+  v.color = RgbLinear{0.87499809265136719f, 0.5f, 0.1f};
+  EXPECT_EQ(describeVoxel(v), "surface votes{3:2} color(0.8749981,0.5,0.1)") << "a float's digits, not a double's 17";
+  SceneHeader ha = header(), hb = header();
+  ha.voxelSize = 0.8, hb.voxelSize = 0.4;
+  const SceneDiff d = diffScenes(scene({}, ha), scene({}, hb));
+  ASSERT_EQ(d.header.size(), 1u);
+  EXPECT_EQ(d.header[0].field, "voxel_size");
+  EXPECT_EQ(d.header[0].a, "0.8") << "not 0.80000000000000004";
+  EXPECT_EQ(d.header[0].b, "0.4");
+}
+
+TEST(ImageDiff, FloatDifferenceImageForExr) {
+  Image a = rgba8(3, 2, 10), b = a;
+  b.pixels[(1 * 3 + 2) * 4 + 0] = 61;  // (2, 1) R +51
+  const Image d = differenceImage(a, b, 10.0, SampleType::F32);
+  ASSERT_EQ(d.type, SampleType::F32);
+  ASSERT_EQ(d.channels, 3u);
+  EXPECT_FLOAT_EQ(d.row<float>(1)[2 * 3 + 0], float(10.0 * 51 / 255)) << "neither rounded nor clamped at 1";
+  EXPECT_EQ(d.row<float>(1)[2 * 3 + 1], 0.0f);
+  EXPECT_EQ(d.row<float>(0)[0], 0.0f);
+  // Depth renders: two misses (+inf) are equal, a difference of 0, not NaN.
+  Image za(2, 1, 1, SampleType::F32), zb = za;
+  za.row<float>(0)[0] = zb.row<float>(0)[0] = std::numeric_limits<float>::infinity();
+  za.row<float>(0)[1] = 1.5f, zb.row<float>(0)[1] = 1.0f;
+  const Image dz = differenceImage(za, zb, 1.0, SampleType::F32);
+  EXPECT_EQ(dz.row<float>(0)[0], 0.0f);
+  EXPECT_EQ(dz.row<float>(0)[3], 0.5f);
+  EXPECT_EQ(differenceImage(za, zb).row<uint8_t>(0)[0], 0);
 }
 
 TEST(JsonDiff, FirstPointerAndRelativeTolerance) {

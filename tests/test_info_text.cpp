@@ -27,6 +27,15 @@ TEST(InfoText, CountsBytesAndPercentages) {
   EXPECT_EQ(percent(0.9996), "99.9%");
 }
 
+TEST(InfoText, NounsAgreeWithTheirCount) {
+  EXPECT_EQ(countOf(1, "voxel", "voxels"), "1 voxel");
+  EXPECT_EQ(countOf(0, "voxel", "voxels"), "0 voxels");
+  EXPECT_EQ(countOf(1234, "voxel", "voxels"), "1,234 voxels");
+  EXPECT_EQ(measured(1.0, 6, "world unit", "world units"), "1 world unit");
+  EXPECT_EQ(measured(1.0000000001, 6, "world unit", "world units"), "1 world unit") << "as printed";
+  EXPECT_EQ(measured(0.8, 6, "world unit", "world units"), "0.8 world units");
+}
+
 TEST(InfoText, RealsDropTrailingZeros) {
   EXPECT_EQ(real(0.1), "0.1");
   EXPECT_EQ(real(0.1 + 0.2), "0.3");

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,9 +50,28 @@ std::vector<std::pair<std::string, std::string>> atlasImageText(const AtlasImage
 /// inconsistent layout or a layer past the layout's layers.
 AtlasImageInfo atlasInfoFromJson(const std::string& text, const std::string& context);
 
+/// The shape of an atlas image: what its layout, content and format give.
+struct AtlasImageShape {
+  uint32_t width = 0, height = 0, channels = 0;
+  SampleType type = SampleType::U8;
+};
+/// Throws vox::Error (BadInput) naming `context` when `info.format` is not a
+/// format its content is written in (summary and colour: rgba8; identity: a
+/// texel format; votes: r8, r16, r32ui; bitmaps: bitmap).
+AtlasImageShape atlasImageShape(const AtlasImageInfo& info, const std::string& context);
+
+/// The one reader of an atlas image's entry, for every command that reads
+/// atlases (info, diff, verify-bijection): the `vox:atlas` entry of a decoded
+/// image, checked against the image. std::nullopt when the image has no
+/// entry. Throws vox::Error (BadInput) naming `path` on a malformed entry
+/// (atlasInfoFromJson) or an image whose size, channel count or sample type
+/// is not the atlasImageShape of its entry (a file changed after vox wrote it).
+std::optional<AtlasImageInfo> atlasInfoOfImage(const Image& image, const std::string& path);
+
 /// Reads a PNG or EXR written with atlasImageText and its entry. Throws
-/// vox::Error (BadInput) when the file is not an image, lacks a valid
-/// `vox:atlas` entry, or its size is not the one its layout gives.
+/// vox::Error (BadInput) when there is no regular file at `path`
+/// (requireRegularFile), the file is not an image, lacks a `vox:atlas` entry,
+/// or atlasInfoOfImage refuses it.
 Image readAtlasImage(const std::string& path, AtlasImageInfo& info);
 
 /// One file of a sidecar: the image's info and its file name (no directory).

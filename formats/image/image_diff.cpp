@@ -325,21 +325,24 @@ ImageDiff diffImages(const Image& a, const Image& b, const ImageDiffOptions& o) 
   return d;
 }
 
-Image differenceImage(const Image& a, const Image& b, double scale) {
+Image differenceImage(const Image& a, const Image& b, double scale, SampleType type) {
   if (a.width != b.width || a.height != b.height) throw Error(ErrorKind::Internal, "differenceImage: sizes differ");
-  Image out(a.width, a.height, 3, SampleType::U8);
+  if (type != SampleType::U8 && type != SampleType::F32)
+    throw Error(ErrorKind::Internal, "differenceImage: the difference is written as uint8 or float");
+  Image out(a.width, a.height, 3, type);
   const uint32_t channels = std::min(a.channels, b.channels);
   const uint32_t colour = hasAlpha(channels) ? channels - 1 : channels;
   const bool alpha = hasAlpha(a.channels) && hasAlpha(b.channels);
-  std::vector<double> fa(a.width), fb(a.width);
-  auto toByte = [scale](double e) { return uint8_t(std::lround(255.0 * std::min(1.0, scale * e))); };
+  std::vector<double> fa(a.width), fb(a.width), row(size_t(a.width) * 3);
+  // Equal samples differ by 0: inf - inf would be NaN.
+  auto error = [scale](double x, double y) { return x == y ? 0.0 : scale * std::fabs(x - y); };
   for (uint32_t y = 0; y < a.height; ++y) {
-    uint8_t* row = out.row<uint8_t>(y);
+    std::fill(row.begin(), row.end(), 0.0);
     for (uint32_t c = 0; c < colour; ++c) {
       channelRow(a, y, c, true, fa.data());
       channelRow(b, y, c, true, fb.data());
       for (uint32_t x = 0; x < a.width; ++x) {
-        const uint8_t v = toByte(std::fabs(fa[x] - fb[x]));
+        const double v = error(fa[x], fb[x]);
         if (colour == 1)
           row[3 * x] = row[3 * x + 1] = row[3 * x + 2] = v;
         else if (c < 3)
@@ -350,9 +353,16 @@ Image differenceImage(const Image& a, const Image& b, double scale) {
       channelRow(a, y, a.channels - 1, true, fa.data());
       channelRow(b, y, b.channels - 1, true, fb.data());
       for (uint32_t x = 0; x < a.width; ++x) {
-        const uint8_t v = toByte(std::fabs(fa[x] - fb[x]));
+        const double v = error(fa[x], fb[x]);
         for (int k = 0; k < 3; ++k) row[3 * x + k] = std::max(row[3 * x + k], v);
       }
+    }
+    if (type == SampleType::U8) {
+      uint8_t* o = out.row<uint8_t>(y);
+      for (size_t i = 0; i < row.size(); ++i) o[i] = uint8_t(std::lround(255.0 * std::min(1.0, row[i])));
+    } else {
+      float* o = out.row<float>(y);
+      for (size_t i = 0; i < row.size(); ++i) o[i] = float(row[i]);
     }
   }
   return out;

@@ -90,11 +90,13 @@ double sampleAt(const Image& image, uint32_t x, uint32_t y, uint32_t c);
 /// What a sample is divided by to normalise it: 255, 65535, 2^32 - 1 or 1.
 double sampleFullScale(SampleType t);
 
-/// The difference image: RGB8, each of R, G, B = round(255 * min(1, scale *
-/// |a - b|)) of that channel (normalised samples; gray images repeat their one
-/// channel), raised to the alpha error where that is larger, so a pixel that
-/// differs only in alpha still shows. Opaque, so every viewer shows it.
-/// Requires compatible images (diffImages' `incompatible` empty).
-Image differenceImage(const Image& a, const Image& b, double scale = 1.0);
+/// The difference image: RGB, each of R, G, B = scale * |a - b| of that
+/// channel (normalised samples; gray images repeat their one channel), raised
+/// to the alpha error where that is larger, so a pixel that differs only in
+/// alpha still shows. Opaque, so every viewer shows it. `type` U8 (for PNG):
+/// round(255 * min(1, value)); F32 (for EXR): the value itself, neither
+/// rounded nor clamped. Equal samples (two infinities of depth misses too)
+/// differ by 0. Requires compatible images (diffImages' `incompatible` empty).
+Image differenceImage(const Image& a, const Image& b, double scale = 1.0, SampleType type = SampleType::U8);
 
 }  // namespace vox

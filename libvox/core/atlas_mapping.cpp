@@ -11,6 +11,10 @@ namespace vox {
 AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
   if (d.x == 0 || d.y == 0 || d.z == 0) throwUsage("atlas dims must be >= 1 on every axis, got " + toString(d));
   if (maxSide == 0) throwUsage("the largest atlas side must be >= 1", Setting::AtlasMaxSide);
+  if (maxSide > kMaxAtlasSide)
+    throwUsage("the largest atlas side " + std::to_string(maxSide) + " is past " + std::to_string(kMaxAtlasSide) +
+                   ", the largest side a PNG or EXR image can have; lower the largest atlas side",
+               Setting::AtlasMaxSide);
   if (d.x > maxSide)
     throwUsage("a tile is " + std::to_string(d.x) + " texels wide (X), more than the maximum side " +
                    std::to_string(maxSide) + "; raise the largest atlas side",
@@ -19,17 +23,17 @@ AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
     throwUsage("a tile is " + std::to_string(d.y) + " texels high (Y), more than the maximum side " +
                    std::to_string(maxSide) + "; raise the largest atlas side",
                Setting::AtlasMaxSide);
-  const uint32_t maxT = std::min<uint64_t>(d.z, maxSide / d.x);  // T * X <= maxSide, and no empty columns
-  const uint32_t maxR = maxSide / d.y;
+  const uint64_t maxT = std::min<uint64_t>(d.z, maxSide / d.x);  // T * X <= maxSide, and no empty columns
+  const uint64_t maxR = maxSide / d.y;
   AtlasLayout L;
   L.dims = d;
   L.maxSide = maxSide;
-  auto finish = [&](uint32_t T) {
-    L.tilesPerRow = T;
+  auto finish = [&](uint64_t T) {
+    L.tilesPerRow = uint32_t(T);
     L.tileRows = uint32_t((uint64_t(d.z) + T - 1) / T);
-    L.rowsPerLayer = std::min(L.tileRows, maxR);
+    L.rowsPerLayer = uint32_t(std::min<uint64_t>(L.tileRows, maxR));
     L.layers = (L.tileRows + L.rowsPerLayer - 1) / L.rowsPerLayer;
-    L.width = T * d.x;
+    L.width = uint32_t(T * d.x);
     L.height = L.rowsPerLayer * d.y;
     return L;
   };
@@ -40,14 +44,20 @@ AtlasLayout AtlasLayout::make(Dims d, uint32_t forcedT, uint32_t maxSide) {
                  Setting::AtlasTilesPerRow);
     return finish(forcedT);
   }
-  uint32_t best = 0;
-  uint64_t bestArea = 0, bestSkew = 0;
-  for (uint32_t T = 1; T <= maxT; ++T) {
+  // The best T by (area, skew, T). For a row count r = ceil(Z / T) the area
+  // T * X * r * Y grows with T, so only the smallest T of each r can win:
+  // T = ceil(Z / r). Those are visited from the first T that fits one layer
+  // (r <= maxR) upward, jumping from one row count to the next, so the search
+  // takes at most 2 sqrt(Z) steps (a scan of every T up to maxSide / X took
+  // 14 s for Z = 2^32 - 1). 64-bit T: maxT may be 2^32 - 1.
+  uint64_t best = 0, bestArea = 0, bestSkew = 0;
+  for (uint64_t T = (uint64_t(d.z) + maxR - 1) / maxR; T <= maxT;) {
     const uint64_t rows = (uint64_t(d.z) + T - 1) / T;
-    if (rows > maxR) continue;  // needs more than one layer
-    const uint64_t w = uint64_t(T) * d.x, h = rows * d.y;
+    const uint64_t w = T * d.x, h = rows * d.y;
     const uint64_t area = w * h, skew = w > h ? w - h : h - w;
     if (!best || area < bestArea || (area == bestArea && skew < bestSkew)) best = T, bestArea = area, bestSkew = skew;
+    if (rows == 1) break;
+    T = (uint64_t(d.z) + rows - 2) / (rows - 1);  // the smallest T with fewer rows
   }
   return finish(best ? best : maxT);
 }
@@ -90,6 +100,8 @@ AtlasLayout AtlasLayout::fromJson(const std::string& json, const std::string& co
     return number(q, name);
   };
   const uint32_t T = get("tiles_per_row"), maxSide = get("max_side");
+  // 0 would ask make() for the default T: a written layout always names its T.
+  if (T == 0) throwBadInput(context + ": atlas layout field 'tiles_per_row' must be >= 1");
   AtlasLayout L;
   try {
     L = make(d, T, maxSide);

@@ -39,6 +39,9 @@ struct TexelAddress {
 /// The largest texture side an atlas uses unless told otherwise (16384: what
 /// current GPUs allow for 2D textures).
 inline constexpr uint32_t kDefaultAtlasMaxSide = 16384;
+/// The largest maximum side a layout may have: 2^31 - 1, the largest side of a
+/// PNG (and of an EXR data window), so every side fits an int32.
+inline constexpr uint32_t kMaxAtlasSide = 0x7fffffff;
 
 struct AtlasLayout {
   Dims dims;                   // X, Y, Z
@@ -49,8 +52,9 @@ struct AtlasLayout {
   uint32_t width = 0, height = 0;  // per layer: T * X, R * Y (the last layer may be partly padding)
   uint32_t maxSide = kDefaultAtlasMaxSide;
 
-  /// Throws vox::Error (Usage) when X or Y exceed maxSide, a forced T is 0 or too
-  /// wide, or the dims are 0.
+  /// Throws vox::Error (Usage) when X or Y exceed maxSide, maxSide is 0 or past
+  /// kMaxAtlasSide, a forced T is too wide, or the dims are 0 (tilesPerRow 0:
+  /// the default T). Takes at most about 2 sqrt(Z) steps, whatever maxSide.
   static AtlasLayout make(Dims dims, uint32_t tilesPerRow = 0, uint32_t maxSide = kDefaultAtlasMaxSide);
 
   TexelAddress toTexel(uint32_t u, uint32_t v, uint32_t w) const {
@@ -69,8 +73,9 @@ struct AtlasLayout {
 
   /// {"dims":[X,Y,Z],"tiles_per_row":T,"rows_per_layer":R,"layers":L,"width":W,"height":H,"max_side":S}
   std::string toJson() const;
-  /// Parses toJson()'s output and checks it is consistent; throws vox::Error
-  /// (BadInput) with `context` (file name) on anything else.
+  /// Parses toJson()'s output and checks it is consistent (tiles_per_row >= 1,
+  /// the sizes make() gives for dims, tiles_per_row and max_side); throws
+  /// vox::Error (BadInput) with `context` (file name) on anything else.
   static AtlasLayout fromJson(const std::string& json, const std::string& context);
 };
 

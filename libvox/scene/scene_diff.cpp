@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "libvox/core/number_text.h"
 #include "libvox/core/parallel.h"
 #include "libvox/scene/scene_grids.h"
 
@@ -28,12 +29,8 @@ std::array<double, 3> voxelCentreWorld(const SceneHeader& h, Coord3 c) {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
+// Exact but short: "0.8", not "0.80000000000000004".
+std::string num(double x) { return shortestText(x); }
 
 std::string triple(const std::array<double, 3>& v) { return num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]); }
 
@@ -200,7 +197,9 @@ std::string describeVoxel(const VoxelValues& v) {
   for (size_t i = 0; i < v.votes.size(); ++i)
     s += (i ? "," : "") + std::to_string(v.votes[i].classId) + ":" + std::to_string(v.votes[i].votes);
   s += "}";
-  if (v.color) s += " color(" + num(v.color->r) + "," + num(v.color->g) + "," + num(v.color->b) + ")";
+  // Colours are floats: their own shortest text ("0.8749981", not 17 digits of a double).
+  if (v.color)
+    s += " color(" + shortestText(v.color->r) + "," + shortestText(v.color->g) + "," + shortestText(v.color->b) + ")";
   return s;
 }
 

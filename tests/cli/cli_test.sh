@@ -323,6 +323,24 @@ PY
   expect_exit 0 "$vox" verify-bijection --atlas idf/big.identity.exr --scene big.vdb
   expect_exit 3 "$vox" verify-bijection --atlas g.vdb --scene g.vdb
   expect_exit 2 "$vox" verify-bijection --atlas a1/g.summary.png
+  # An atlas that is not there, or a directory, is named as such.
+  expect_exit 3 "$vox" verify-bijection --atlas missing.png --scene g.vdb
+  expect_stderr "missing.png: no such file"
+  expect_exit 3 "$vox" verify-bijection --atlas a1 --scene g.vdb
+  expect_stderr "a1: is a directory"
+  # The output directory: an empty path is a usage error; a file in its way is named.
+  expect_exit 2 "$vox" build-atlas g.vdb -o ""
+  expect_stderr "--output '': an empty path"
+  : > keep_afile
+  expect_exit 4 "$vox" build-atlas g.vdb -o keep_afile
+  expect_stderr "keep_afile: cannot create the output directory: it is a file"
+  expect_exit 4 "$vox" build-atlas g.vdb -o keep_afile/sub
+  expect_stderr "keep_afile/sub: cannot create the output directory: keep_afile is a file"
+  # --format is the identity atlas's: with other contents only it would be ignored.
+  expect_exit 2 "$vox" build-atlas g.vdb -o fmt --summary --format rgba16
+  expect_stderr "--format applies to the identity atlas"
+  [ ! -e fmt ] || fail "a refused build-atlas made its directory"
+  expect_exit 0 "$vox" build-atlas g.vdb -o fmt --identity --format rgba16
   ;;
 bijection)
   expect_exit 0 "$vox" verify-bijection --res 256
@@ -344,6 +362,10 @@ bijection)
   expect_exit 2 "$vox" verify-bijection --format rgba12
   expect_exit 2 "$vox" verify-bijection --dims 40000,1,1
   expect_stderr "--max-side"
+  # A maximum side past what an image can have is refused at once (a 32-bit
+  # search counter wrapped there: 14 s, then a division by zero).
+  expect_exit 2 timeout 20 "$vox" verify-bijection --dims 1,1,4294967295 --max-side 4294967295
+  expect_stderr "past 2147483647"
   expect_exit 0 "$vox" verify-bijection --res 64 --report r.json
   jcheck r.json "assert d['command']=='verify-bijection' and d['error']['failures']==0"
   ;;

@@ -44,6 +44,18 @@ scenes)
   # Without --ignore-sources the map files' digests differ too.
   expect_exit 1 "$vox" diff m1.vdb m2.vdb --votes-tolerance 1
   expect_stdout "header sources"
+  # Counts in the singular where one; numbers in their shortest exact form.
+  printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}]}' > o1.json
+  sed 's/Stone/Dirt/' o1.json > o2.json
+  "$vox" voxelize o1.json -o o1.vdb --quiet && "$vox" voxelize o2.json -o o2.vdb --quiet
+  expect_exit 1 "$vox" diff o1.vdb o2.vdb --ignore-sources
+  expect_stdout "DIFFERENT: 1 voxel compared, 1 differ (scenes 1 x 1 x 1)"
+  expect_exit 0 "$vox" diff o1.vdb o2.vdb --ignore-sources --votes-tolerance 1
+  expect_stdout "same: 1 voxel compared, 0 differ"
+  "$vox" voxelize demo:hamlet --res 8 -o h8.vdb --quiet
+  "$vox" voxelize demo:hamlet --res 16 -o h16.vdb --quiet
+  expect_exit 1 "$vox" diff h8.vdb h16.vdb
+  expect_stdout "header voxel_size: 3.2 vs 1.6"
   # One voxel only in B.
   expect_exit 1 "$vox" diff m1.vdb m3.vdb --ignore-sources --json
   jq_py "assert d['voxels_differing']==1 and d['only_in_b']==1 and d['only_in_a']==0 and d['kinds']['occupancy']['first']['voxel']==[0,5,0], d"
@@ -53,6 +65,23 @@ scenes)
   expect_exit 1 "$vox" diff h12.vdb h11.vdb
   expect_stdout "header dims: 12 x 12 x 12 vs 11 x 11 x 11"
   expect_stdout "header voxel_size"
+  expect_stdout "(scenes 12 x 12 x 12 vs 11 x 11 x 11)"
+  # A voxel only in B is where B's header places it (A's voxel size and origin
+  # put (11, 0, 0) elsewhere); one in both gives both positions.
+  expect_exit 1 "$vox" diff h11.vdb h12.vdb --json
+  cp out.txt d1112.json
+  "$vox" info h12.vdb --json > i12.json
+  "$vox" info h11.vdb --json > i11.json
+  python3 - <<'EOF2' || fail "world positions of B's voxels"
+import json
+d, b, a = (json.load(open(f)) for f in ('d1112.json', 'i12.json', 'i11.json'))
+assert d['dims_a'] == [11, 11, 11] and d['dims_b'] == [12, 12, 12], d
+def world(h, v): return [h['origin'][k] + (v[k] + 0.5) * h['voxel_size'] for k in range(3)]
+f = d['kinds']['occupancy']['first']
+assert f['a'] is None and f['voxel'] == [11, 0, 0] and f['world'] == world(b, f['voxel']), f
+v = d['kinds']['votes']['first']
+assert v['world'] == world(a, v['voxel']) and v['world_b'] == world(b, v['voxel']), v
+EOF2
   # Pyramids: per level, and a level count that differs.
   "$vox" mip h12.vdb -o p12.vdb --quiet
   "$vox" mip h12.vdb -o p12b.vdb --quiet --threads 1
@@ -70,6 +99,7 @@ scenes)
   expect_exit 0 "$vox" diff p12.vdb h12.vdb --level 0
   expect_exit 1 "$vox" diff p12.vdb h12.vdb
   expect_stdout "--level N compares one level"
+  expect_stdout "pyramid metadata differs at the top level: "
   expect_exit 0 "$vox" diff p12.vdb p12c.vdb --level 2 --json
   jq_py "assert d['same'] and d['level']==2, d"
   expect_exit 2 "$vox" diff p12.vdb p12c.vdb --level 3
@@ -96,7 +126,8 @@ images)
   jcheck rz_report.json "assert d['counts']['channels_not_compared'] == {'rz.exr': ['Z']}, d['counts']"
   # One texel: named by its pixel, channel and voxel.
   expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.png
-  expect_stdout "1 pixels (0.463%) differ"
+  expect_stdout "1 pixel (0.463%) differs"
+  expect_stdout "1 pixel (0.463%) over 1e-06 (fail)"
   expect_stdout "= voxel (5, 5, 5)  values are 1, 255, 16, 255 vs 2, 255, 16, 255"
   expect_stdout "FAILURE"
   expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --json
@@ -128,6 +159,15 @@ w, h, rows = read('d.png')
 nonzero = [(x, y, tuple(rows[y][3 * x:3 * x + 3])) for y in range(h) for x in range(w) if any(rows[y][3 * x:3 * x + 3])]
 assert nonzero == [(11, 17, (1, 0, 0))], nonzero
 EOF
+  # --diff-image OUT.exr: an EXR of float differences, not rounded or clamped
+  # (510 * 1/255 = 2); another extension is refused before the work.
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.exr --diff-scale 510
+  [ "$(head -c 4 d.exr | od -An -tx1 | tr -d ' ')" = 762f3101 ] || fail "d.exr is not an EXR file"
+  iinfo --stats d.exr > stats.txt 2>&1 || fail "iinfo cannot read d.exr: $(cat stats.txt)"
+  grep -q "Stats Max: 2.000000 0.000000 0.000000 (float)" stats.txt || fail "d.exr stats: $(cat stats.txt)"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.tif
+  expect_stderr "--diff-image d.tif: the difference image is written as .png (RGB8) or .exr (float)"
+  [ ! -e d.tif ] || fail "a refused --diff-image was written"
   # idiff's thresholds: the error is 1/255 = 0.0039.
   expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004
   expect_stdout "WARNING"
@@ -160,6 +200,22 @@ EOF
   "$vox" build-atlas m4.vdb -o a4 --summary --quiet
   expect_exit 1 "$vox" diff a1/m1.summary.png a4/m4.summary.png
   expect_stdout "atlas layouts differ"
+  # An atlas whose image size contradicts its entry's layout (m1's image with
+  # m4's layout) is refused as info and verify-bijection refuse it, even
+  # against itself.
+  python3 -c "
+import json
+entry = json.load(open('a1/m1.atlas.json'))
+entry = {k: v for k, v in entry['files'][0].items() if k != 'file'}
+entry['layout'] = json.load(open('a4/m4.atlas.json'))['layout']
+entry['scene'] = 'm1.vdb'
+open('entry.json', 'w').write(json.dumps(entry))" || fail "entry with m4's layout"
+  python3 "$tests/cli/png_text.py" a1/m1.summary.png contra.png vox:atlas "$(cat entry.json)" || fail "png_text.py"
+  for cmd in "diff contra.png contra.png" "diff a1/m1.summary.png contra.png" "info contra.png" \
+             "verify-bijection --atlas contra.png --scene m4.vdb"; do
+    expect_exit 3 "$vox" $cmd
+    expect_stderr "contra.png: the image is 12 x 18 x 4 uint8 but its \"vox:atlas\" entry (summary, rgba8) says 18 x 14 x 4"
+  done
   ;;
 pages)
   maps
@@ -174,6 +230,8 @@ pages)
   jq_py "assert d['chunks_differing']==1 and d['voxels_differing']==1 and d['voxel_kinds']['summary']==1; c=d['first_chunk']; assert c['level']==0 and c['chunk']==[0,0,0] and c['first_voxel']['voxel']==[5,5,5] and c['first_voxel']['a']['summary'][0]==1 and c['first_voxel']['b']['summary'][0]==2, c"
   expect_exit 1 "$vox" diff p1.vpk p3.vpk
   expect_stdout "first voxel (0, 5, 0) of level 0"
+  expect_stdout "DIFFERENT: page files, 1 chunk compared, 1 differ, 1 voxel differs"
+  expect_stdout "(key 0): 1 voxel differs (occupied 4 vs 5)"
   # Another layout of the same voxels: the header differs, no chunk does.
   expect_exit 1 "$vox" diff p1.vpk p1s.vpk --json
   jq_py "assert d['chunks_differing']==0 and [h['field'] for h in d['header']]==['layout'], d['header']"
@@ -198,6 +256,12 @@ d = json.load(open('r1.json')); d['counts']['probe'] = 1000; json.dump(d, open('
 d['counts']['probe'] = 1001; json.dump(d, open('n2.json', 'w'))"
   expect_exit 1 "$vox" diff n1.json n2.json
   expect_stdout "/counts/probe: 1000 vs 1001"
+  printf '{"a": 2}' > a1.json
+  printf '[1]' > top.json
+  expect_exit 1 "$vox" diff a1.json one.json --rel-tolerance 0.25
+  expect_stdout "DIFFERENT: JSON, 1 value compared, 1 differ (relative tolerance 0.25; 0 ignored keys skipped)"
+  expect_exit 1 "$vox" diff a1.json top.json
+  expect_stdout "  the top level: "
   expect_exit 1 "$vox" diff n1.json n2.json --json
   jq_py "assert d['values_differing']==1 and d['first_difference']['pointer']=='/counts/probe' and d['first_difference']['a']=='1000' and d['first_difference']['b']=='1001'"
   expect_exit 0 "$vox" diff n1.json n2.json --rel-tolerance 0.000999001
@@ -255,6 +319,95 @@ kinds)
   expect_stderr "not a file vox diff reads"
   head -c 100 m1.vdb > cut.vdb
   expect_exit 3 "$vox" diff m1.vdb cut.vdb
+  # --json prints one object for refusals and unreadable inputs too, with the
+  # error (also on stderr) and the exit code; "kind" is null until both files
+  # are known to be of one kind.
+  expect_exit 2 "$vox" diff m1.vdb a1/m1.summary.png --json
+  jq_py "assert d['same'] is False and d['kind'] is None and d['exit_code']==2 and 'is an image' in d['error'], d"
+  expect_exit 3 "$vox" diff m1.vdb missing.vdb --json
+  jq_py "assert d['same'] is False and d['kind'] is None and d['exit_code']==3 and d['error']=='missing.vdb: no such file', d"
+  expect_exit 3 "$vox" diff m1.vdb cut.vdb --json
+  jq_py "assert d['same'] is False and d['kind']=='scene' and d['exit_code']==3 and d['b']=='cut.vdb', d"
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --fail 0.1 --json
+  jq_py "assert d['kind']=='scene' and d['exit_code']==2 and d['error'].startswith('--fail applies to images'), d"
+  expect_stderr "--fail applies to images"
+  # A command line that does not parse stops before vox diff runs: stderr only.
+  expect_exit 2 "$vox" diff m1.vdb m1.vdb --fail nan --json
+  [ ! -s out.txt ] || fail "a parse error printed on stdout: $(cat out.txt)"
+  ;;
+options)
+  maps
+  "$vox" build-atlas m1.vdb -o a1 --summary --quiet
+  "$vox" build-atlas m2.vdb -o a2 --summary --quiet
+  printf '{"a": 1}' > j1.json
+  printf '{"a": 2}' > j2.json
+  # NaN passes every comparison, so it would turn a gate off: refused for every
+  # numeric option, whatever the kind of file.
+  for opt in --fail --failpercent --warn --warnpercent --hardfail --hardwarn --diff-scale; do
+    expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png $opt nan
+    expect_stderr "$opt: expected a"
+    expect_stderr "got 'nan'"
+  done
+  for opt in --color-tolerance --votes-tolerance; do
+    expect_exit 2 "$vox" diff m1.vdb m2.vdb $opt nan
+  done
+  expect_exit 2 "$vox" diff j1.json j2.json --rel-tolerance nan
+  expect_stderr "--rel-tolerance: expected a finite number >= 0, got 'nan'"
+  # inf is the documented default of --hardfail and --hardwarn (off): accepted.
+  expect_exit 1 "$vox" diff a1/m1.summary.png a2/m2.summary.png --hardfail inf --hardwarn inf
+  expect_stdout "FAILURE"
+  expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004 --hardfail inf
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail inf
+  # Range errors print their bounds readably (not DBL_MAX's 309 digits).
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail -1
+  expect_stderr "--fail: expected a finite number >= 0, got '-1'"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --failpercent 101
+  expect_stderr "--failpercent: expected a finite number in [0, 100], got '101'"
+  [ "$(wc -c < err.txt)" -lt 200 ] || fail "a long range message: $(cat err.txt)"
+  # An option of another kind is a usage error naming it and the kinds it
+  # applies to, never silently without effect.
+  "$vox" pack-chunks m1.vdb -o p1.vpk --chunk 8 --quiet
+  "$vox" pack-chunks m2.vdb -o p2.vpk --chunk 8 --quiet
+  img="a1/m1.summary.png a2/m2.summary.png"
+  while read -r a b opt value kinds; do  # value "-": a flag
+    if [ "$value" = - ]; then expect_exit 2 "$vox" diff "$a" "$b" "$opt"; else expect_exit 2 "$vox" diff "$a" "$b" "$opt" "$value"; fi
+    expect_stderr "$opt applies to $kinds, not to"
+  done <<EOF2
+$img --votes-tolerance 1 scenes and pyramids (.vdb)
+$img --color-tolerance 0.1 scenes and pyramids (.vdb) and page files (.vpk)
+$img --ignore-sources - scenes and pyramids (.vdb)
+$img --rel-tolerance 0.1 JSON files
+$img --ignore-key x JSON files
+$img --no-default-ignores - JSON files
+m1.vdb m2.vdb --rel-tolerance 0.1 JSON files
+m1.vdb m2.vdb --ignore-key x JSON files
+m1.vdb m2.vdb --diff-scale 2 images (.png, .exr)
+m1.vdb m2.vdb --background 0,0,0 images (.png, .exr)
+p1.vpk p2.vpk --votes-tolerance 1 scenes and pyramids (.vdb)
+p1.vpk p2.vpk --ignore-sources - scenes and pyramids (.vdb)
+p1.vpk p2.vpk --rel-tolerance 0.1 JSON files
+p1.vpk p2.vpk --ignore-key x JSON files
+p1.vpk p2.vpk --fail 0.1 images (.png, .exr)
+j1.json j2.json --votes-tolerance 1 scenes and pyramids (.vdb)
+j1.json j2.json --ignore-sources - scenes and pyramids (.vdb)
+j1.json j2.json --color-tolerance 0.1 scenes and pyramids (.vdb) and page files (.vpk)
+j1.json j2.json --fail 0.1 images (.png, .exr)
+j1.json j2.json --level 0 scenes and pyramids (.vdb)
+EOF2
+  # The options of a kind still apply to it.
+  expect_exit 1 "$vox" diff p1.vpk p2.vpk --color-tolerance 0.1
+  expect_exit 0 "$vox" diff m1.vdb m2.vdb --ignore-sources --votes-tolerance 1
+  expect_exit 0 "$vox" diff j1.json j2.json --ignore-key a --rel-tolerance 0.5 --no-default-ignores
+  # A render against a metadata.json takes the image options, and --view.
+  "$vox" render-canonical m1.vdb -o s1.png --mode shaded --eye 4,9,12 --target 3,3,3 --size 20x16 --quiet
+  python3 -c "
+import base64, json
+json.dump({'views': [{'index': 0, 'rgbBase64': base64.b64encode(open('s1.png', 'rb').read()).decode()}]}, open('metadata.json', 'w'))"
+  expect_exit 0 "$vox" diff s1.png metadata.json --view 0 --fail 0.1 --hardfail inf
+  expect_exit 2 "$vox" diff s1.png metadata.json --view 0 --rel-tolerance 0.1
+  expect_stderr "--rel-tolerance applies to JSON files, not to a render compared with a metadata.json"
+  expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --view 0
+  expect_stderr "--view applies to a render compared with a metadata.json"
   ;;
 metrics_numpy)
   py=""

@@ -237,6 +237,104 @@ classes)
   expect_exit 0 "$vox" info c.vdb --json
   jcheck out.txt "assert [(c['id'],c['name']) for c in d['classes']]==[(3,'rest'),(9,'roof')], d['classes']"
   ;;
+atlas_inputs)
+  # Atlases whose metadata was changed after vox wrote them (tests/cli/png_text.py).
+  small_scene
+  expect_exit 0 "$vox" build-atlas small.vdb -o a --summary
+  retext() { python3 "$(dirname "$0")/png_text.py" "$@" || fail "png_text.py $*"; }
+  # A layout of 2^32 - 1 slices with a maximum side of 2^32 - 1: refused at
+  # once (the layout search divided by zero there after 14 s).
+  retext a/small.summary.png huge.png vox:atlas '{"content":"summary","format":"rgba8","layer":0,"layout":{"dims":[1,1,4294967295],"height":1,"layers":1,"max_side":4294967295,"rows_per_layer":1,"tiles_per_row":0,"width":1},"scene":"small.vdb"}'
+  expect_exit 3 timeout 20 "$vox" info huge.png
+  expect_stderr "huge.png: atlas layout field 'tiles_per_row' must be >= 1"
+  retext a/small.summary.png huge1.png vox:atlas '{"content":"summary","format":"rgba8","layer":0,"layout":{"dims":[1,1,4294967295],"height":1,"layers":1,"max_side":4294967295,"rows_per_layer":1,"tiles_per_row":1,"width":1},"scene":"small.vdb"}'
+  expect_exit 3 timeout 20 "$vox" info huge1.png
+  expect_stderr "huge1.png: inconsistent atlas layout"
+  expect_exit 3 timeout 20 "$vox" diff huge1.png a/small.summary.png
+  expect_stderr "huge1.png: inconsistent atlas layout"
+  # --scene must be the scene the atlas was built from: other dims are refused
+  # (its votes would be another scene's), as verify-bijection refuses them.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o h8.vdb
+  expect_exit 3 "$vox" info a/small.summary.png --pixel 0,0 --scene h8.vdb
+  expect_stderr "a/small.summary.png: built for dims 4 x 3 x 2 but h8.vdb has 8 x 8 x 8"
+  expect_exit 3 "$vox" info a/small.summary.png --scene h8.vdb --json
+  [ ! -s out.txt ] || fail "info printed the atlas with another scene's class names"
+  expect_exit 0 "$vox" info a/small.summary.png --pixel 0,0 --scene small.vdb
+  # A directory or a FIFO as --scene is refused up front, like any input.
+  expect_exit 3 "$vox" info a/small.summary.png --scene .
+  expect_stderr ".: is a directory, expected a regular file (--scene)"
+  mkfifo keep_fifo
+  expect_exit 3 timeout 20 "$vox" info a/small.summary.png --scene keep_fifo
+  expect_stderr "keep_fifo: is a FIFO"
+  # The scene the atlas names, found with other dims: not used, and said so.
+  mkdir other && cp a/small.summary.png other/ && cp h8.vdb other/small.vdb
+  (cd other && "$vox" info small.summary.png --json >../out.txt 2>../err.txt) || fail "info with a stale scene beside it"
+  jcheck out.txt "assert 'classes_from' not in d and d['scene_not_used']==\"small.vdb has dims 8 x 8 x 8, not the atlas's\", d"
+  # Renders: the scene must be the rendered grid, the same dims and placement.
+  expect_exit 0 "$vox" render-canonical small.vdb -o r.png --eye -48,12,-48 --target -60,2,-62 --size 32x24
+  expect_exit 0 "$vox" info r.png --pixel 16,12 --scene small.vdb --json
+  jcheck out.txt "assert d['pixel']['hit'] and d['pixel']['scene_voxel'] is not None, d['pixel']"
+  expect_exit 3 "$vox" info r.png --pixel 16,12 --scene h8.vdb
+  expect_stderr "r.png: rendered from a grid of 4 x 3 x 2 but h8.vdb has 8 x 8 x 8"
+  sed 's/"worldScale": 2.0/"worldScale": 1.0/' map_small.json > keep_scale1.json
+  expect_exit 0 "$vox" voxelize keep_scale1.json -o scale1.vdb
+  expect_exit 3 "$vox" info r.png --pixel 16,12 --scene scale1.vdb
+  expect_stderr "with voxel size 2.0 but scale1.vdb is at"
+  expect_exit 3 "$vox" info r.png --pixel 0,0 --scene h8.vdb
+  expect_stderr "rendered from a grid of 4 x 3 x 2"
+  # --pixel is x,y in whole numbers: anything else is refused, not truncated
+  # ("1.5,2" was read as 1,2) or passed over ("" was ignored).
+  for bad in 1.5,2 " 1,2" "1 ,2" "" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 1, ,2 4294967296,0; do
+    expect_exit 2 "$vox" info a/small.summary.png --pixel "$bad"
+    expect_stderr "--pixel '$bad': expected x,y, two whole numbers"
+  done
+  expect_exit 2 "$vox" info a/small.summary.png --pixel 4,0
+  expect_stderr "--pixel 4,0: outside the 4 x 6 atlas (x 0..3, y 0..5)"
+  expect_exit 0 "$vox" info a/small.summary.png --pixel 003,5
+  expect_exit 2 "$vox" info r.png --pixel 1.5,2
+  expect_exit 2 "$vox" info a/small.summary.png --scene ""
+  # --pixel and --scene decode atlases and canonical renders (--scene with a
+  # render: with --pixel); on any other file they are refused, not ignored.
+  expect_exit 0 "$vox" build-atlas small.vdb -o p --summary --preview
+  expect_exit 0 "$vox" pack-chunks small.vdb -o small.vpk --chunk 8
+  expect_exit 0 "$vox" build-atlas small.vdb -o rep --summary --report rep.json
+  for file in p/small.summary.preview.png small.vdb small.vpk rep.json a/small.atlas.json; do
+    expect_exit 2 "$vox" info "$file" --pixel 0,0
+    expect_stderr "--pixel applies to atlases and canonical renders, not to"
+    expect_exit 2 "$vox" info "$file" --scene small.vdb
+    expect_stderr "--scene applies to atlases and canonical renders, not to"
+  done
+  expect_exit 2 "$vox" info r.png --scene small.vdb
+  expect_stderr "--scene with a render goes with --pixel x,y"
+  expect_exit 0 "$vox" info a/small.summary.png --scene small.vdb
+  # Counts and units in the singular where one.
+  printf '{"worldScale": 1.0, "blocks": [{"position": [0, 0, 0], "blockType": "Stone"}]}' > keep_one.json
+  expect_exit 0 "$vox" voxelize keep_one.json -o one.vdb
+  expect_exit 0 "$vox" info one.vdb
+  expect_stdout "dims          1 x 1 x 1 (1 voxel)"
+  expect_stdout "voxel size    1 world unit"
+  expect_stdout "occupied      1 voxel (100% of the domain)"
+  expect_exit 0 "$vox" build-atlas one.vdb -o o --summary --occupancy --threads 1 --report o.json
+  expect_exit 0 "$vox" info o/one.summary.png
+  expect_stdout "1 texel in use"
+  expect_stdout "1 tile of 1 x 1 per row, 1 tile row"
+  expect_exit 0 "$vox" info o/one.occupancy.png
+  expect_stdout "1 bit set"
+  expect_exit 0 "$vox" info o/one.atlas.json
+  expect_stdout "1 x 1 texels, 1 tile per row, 1 layer"
+  expect_exit 0 "$vox" info o.json
+  expect_stdout "s on 1 thread"
+  expect_exit 0 "$vox" verify-bijection --dims 1,1,1 --threads 1
+  expect_stdout "1 voxel, 1 texel (0 padding), 0 failures"
+  expect_stdout "on 1 thread ("
+  expect_exit 0 "$vox" verify-bijection --atlas o/one.summary.png --scene one.vdb
+  expect_stdout "1 texel checked, 0 differ"
+  # A malformed entry is named in words, not by the JSON library's exception.
+  retext o/one.summary.png nocontent.png vox:atlas '{"format":"rgba8","layer":0,"layout":{"dims":[1,1,1],"height":1,"layers":1,"max_side":16384,"rows_per_layer":1,"tiles_per_row":1,"width":1},"scene":"one.vdb"}'
+  expect_exit 3 "$vox" info nocontent.png
+  expect_stderr "nocontent.png: malformed \"vox:atlas\" metadata: no \"content\" key"
+  grep -q "json.exception" err.txt && fail "nlohmann's exception text in a message: $(cat err.txt)"
+  ;;
 mip)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb
   # --split takes the stem its help promises, or OUT.vdb.

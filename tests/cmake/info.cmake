@@ -7,7 +7,7 @@ target_sources(vox_unit_tests PRIVATE
                ${CMAKE_CURRENT_SOURCE_DIR}/test_info_classes.cpp
                # The text helpers have no dependencies: tested here directly.
                ${CMAKE_SOURCE_DIR}/tools/cmds/info_text.cpp)
-foreach(group scene artefacts json preview classes mip)
+foreach(group scene artefacts json preview classes mip atlas_inputs)
   add_test(NAME info.${group}
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/info_test.sh ${group}
                    $<TARGET_FILE:vox> ${CMAKE_CURRENT_SOURCE_DIR}/cli)

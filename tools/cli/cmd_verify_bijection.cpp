@@ -64,14 +64,17 @@ int runProof(const VerifyBijectionOptions& o, Run& run, std::ostream& out) {
         << (L.layers == 1 ? " layer" : " layers") << " (tiles per row " << L.tilesPerRow << ", tile rows per layer "
         << L.rowsPerLayer << "): " << r.method << "\n";
     if (r.method == "exhaustive")
-      out << "  " << r.voxelsChecked << " voxels, " << r.texelsChecked << " texels (" << r.paddingTexels
-          << " padding), " << r.failures << " failures\n";
+      out << "  " << counted(r.voxelsChecked, "voxel", "voxels") << ", " << counted(r.texelsChecked, "texel", "texels")
+          << " (" << r.paddingTexels << " padding), " << counted(r.failures, "failure", "failures") << "\n";
     else
-      out << "  " << r.voxelsChecked << " axis positions, " << r.texelsChecked << " tile slots ("
-          << r.paddingTexels << " padding texels), " << r.failures << " failures\n";
+      out << "  " << counted(r.voxelsChecked, "axis position", "axis positions") << ", "
+          << counted(r.texelsChecked, "tile slot", "tile slots") << " ("
+          << counted(r.paddingTexels, "padding texel", "padding texels") << "), "
+          << counted(r.failures, "failure", "failures") << "\n";
     char rate[96];
-    std::snprintf(rate, sizeof rate, "  %.1f M %s/s on %u threads (%.3f s)\n", pairsPerSecond / 1e6,
-                  r.method == "exhaustive" ? "pairs" : "checks", run.threads(), seconds);
+    std::snprintf(rate, sizeof rate, "  %.1f M %s/s on %s (%.3f s)\n", pairsPerSecond / 1e6,
+                  r.method == "exhaustive" ? "pairs" : "checks", counted(run.threads(), "thread", "threads").c_str(),
+                  seconds);
     out << rate;
     if (!r.argument.empty()) out << "  " << r.argument << "\n";
     if (r.first)

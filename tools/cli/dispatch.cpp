@@ -30,6 +30,8 @@ class WorkerThreadsJoinedAtEnd {
   tbb::task_scheduler_handle handle_{tbb::attach{}};
 };
 
+}  // namespace
+
 int exitCodeFor(vox::ErrorKind kind) {
   switch (kind) {
     case vox::ErrorKind::Usage: return kExitUsage;
@@ -40,7 +42,6 @@ int exitCodeFor(vox::ErrorKind kind) {
   }
   return kExitIoOrInternal;
 }
-}  // namespace
 
 const char* optionFor(vox::Setting s) {
   switch (s) {

@@ -13,6 +13,9 @@ namespace voxcli {
 
 int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** argv);
 
+/// The exit code of an error of `kind` (README "Exit codes").
+int exitCodeFor(vox::ErrorKind kind);
+
 /// The command-line option that sets `setting` ("--res"); "" for Setting::None.
 const char* optionFor(vox::Setting setting);
 

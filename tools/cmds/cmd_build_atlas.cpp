@@ -57,6 +57,24 @@ struct Output {
 class CreatedDirectory {
  public:
   CreatedDirectory() = default;
+  /// Refuses, before the work, a directory that cannot be made because
+  /// something other than a directory stands where it or a parent would be
+  /// (create() said only "cannot create the output directory").
+  static void checkCanCreate(const std::string& path) {
+    const fs::path want = fs::path(path).lexically_normal();
+    for (fs::path p = want; !p.empty(); p = p.parent_path()) {
+      std::error_code ec;
+      const fs::file_status st = fs::status(p, ec);
+      if (fs::exists(st)) {
+        if (fs::is_directory(st)) return;
+        const std::string what = fs::is_regular_file(st) ? "a file" : "not a directory";
+        throw vox::Error(vox::ErrorKind::Io, path + ": cannot create the output directory: " +
+                                                 (p == want ? "it is " + what : p.string() + " is " + what) +
+                                                 "; give -o a directory (it is created if missing)");
+      }
+      if (p == p.parent_path()) break;
+    }
+  }
   void create(const std::string& path) {
     for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p); p = p.parent_path()) {
       created_.push_back(p);
@@ -85,6 +103,16 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   if (!o.stem.empty() && (o.stem.find('/') != std::string::npos || o.stem == "." || o.stem == ".."))
     throw vox::Error(vox::ErrorKind::Usage, "--stem " + o.stem + ": a file name stem, without '/', is expected; "
                                             "choose the directory with -o");
+
+  if (o.outDir.empty())
+    throw vox::Error(vox::ErrorKind::Usage, "--output '': an empty path; give the output directory (created if missing)");
+  CreatedDirectory::checkCanCreate(o.outDir);
+  // --format chooses the identity atlas's texel format; the other contents
+  // have one format each, so it would be ignored (--summary --format rgba16
+  // wrote rgba8).
+  if (o.identityFormatOption->count() > 0 && !o.identity && !o.all)
+    throw vox::Error(vox::ErrorKind::Usage, "--format applies to the identity atlas (--identity or --all); the "
+                                            "summary, colour, votes and bitmaps are written in their own formats");
 
   // The images are tens of MB of fresh heap filled once: huge pages spare the
   // page faults (alloc_tuning.h).

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "formats/core/file_kinds.h"
@@ -29,6 +30,7 @@
 #include "tools/cmds/info_canonical.h"
 #include "tools/cmds/info_json_files.h"
 #include "tools/cmds/info_pages.h"
+#include "tools/cmds/info_pixel.h"
 #include "tools/cmds/info_text.h"
 
 namespace voxcli {
@@ -38,8 +40,10 @@ namespace {
 struct InfoOptions {
   std::string file;
   bool json = false;
-  std::string pixel;  // "x,y" for atlases
-  std::string scene;  // with --pixel: the scene, for class names and votes
+  std::string pixel;  // "x,y" for atlases and canonical renders
+  std::string scene;  // atlases: the scene, for class names and votes; renders: with --pixel
+  CLI::Option* pixelOption = nullptr;  // given, even as "": parsed (an empty text is refused, not ignored)
+  CLI::Option* sceneOption = nullptr;
   std::string maxMemory;  // --max-memory (info has no other common option)
 };
 
@@ -117,8 +121,8 @@ void printScene(const nlohmann::json& j) {
   const uint64_t domain = j["dims"][0].get<uint64_t>() * j["dims"][1].get<uint64_t>() * j["dims"][2].get<uint64_t>();
   const uint64_t occupied = j["occupied"], surface = j["surface"], interior = j["interior"];
   o << j["file"].get<std::string>() << ": voxbake scene\n";
-  o << line("dims", dimsText(j["dims"]) + " (" + count(domain) + " voxels)");
-  o << line("voxel size", real(j["voxel_size"].get<double>(), 6) + " world units");
+  o << line("dims", dimsText(j["dims"]) + " (" + countOf(domain, "voxel", "voxels") + ")");
+  o << line("voxel size", measured(j["voxel_size"].get<double>(), 6, "world unit", "world units"));
   o << line("world bounds", v3(j["world_bounds"]["min"]) + " .. " + v3(j["world_bounds"]["max"]));
   if (j.contains("block_world"))
     o << line("block world", "worldScale " + real(j["block_world"]["world_scale"].get<double>(), 6) + ", grid " +
@@ -126,12 +130,12 @@ void printScene(const nlohmann::json& j) {
                                  "," + j["block_world"]["grid_size"][2].dump() + " (block-map placement)");
   if (j["mip_level"].get<int>() != 0) o << line("mip level", j["mip_level"].dump());
   if (j.contains("region")) o << line("region", regionText(j["region"]));
-  o << line("occupied", count(occupied) + " voxels (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
+  o << line("occupied", countOf(occupied, "voxel", "voxels") + " (" + percent(domain ? double(occupied) / double(domain) : 0.0) +
                             " of the domain)");
   o << line("", count(surface) + " surface (" + percent(occupied ? double(surface) / double(occupied) : 0.0) + "), " +
                     count(interior) + " interior");
   if (j["has_color"].get<bool>())
-    o << line("colour", count(j["colored"].get<uint64_t>()) + " voxels coloured (" +
+    o << line("colour", countOf(j["colored"].get<uint64_t>(), "voxel", "voxels") + " coloured (" +
                             percent(occupied ? double(j["colored"].get<uint64_t>()) / double(occupied) : 0.0) + ")");
   else
     o << line("colour", "none (class colours only)");
@@ -172,6 +176,16 @@ void printScene(const nlohmann::json& j) {
   std::cout << o.str();
 }
 
+/// --pixel and --scene decode atlases and canonical renders (--scene with a
+/// render: with --pixel): given with `what`, another kind, they are refused
+/// rather than ignored.
+void refusePixelAndScene(const InfoOptions& o, const std::string& what) {
+  if (o.pixelOption->count() > 0)
+    throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders, not to " + what);
+  if (o.sceneOption->count() > 0)
+    throw vox::Error(vox::ErrorKind::Usage, "--scene applies to atlases and canonical renders, not to " + what);
+}
+
 /// Every kind `vox info` reads, for the "unsupported file" message.
 std::string kindsRead() {
   return "a scene or pyramid (.vdb), an OpenVDB grid file (.vdb), an atlas or occupancy bitmap (.png, .exr), a "
@@ -192,19 +206,31 @@ int infoJsonFile(const InfoOptions& o) {
                      o.file + ": a JSON file vox info does not know (not a touched set, \"format\": "
                               "\"voxbake-touched\", an atlas sidecar or a report, \"tool\": \"vox\"); vox info reads " +
                          kindsRead());
-  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
+  refusePixelAndScene(o, kind == "atlas_sidecar" ? "an atlas sidecar" : kind == "touched" ? "a touched set" : "a report");
   if (kind == "atlas_sidecar") return infoAtlasSidecar(o.file, o.json);
   return kind == "touched" ? infoTouchedSet(o.file, o.json) : infoReport(o.file, doc, o.json);
 }
 
 int runInfo(const InfoOptions& o) {
   vox::setProcessMemoryLimit(vox::memoryLimitFrom(o.maxMemory, "--max-memory"), "--max-memory");
+  std::optional<PixelXY> pixel;
+  if (o.pixelOption->count() > 0) pixel = parsePixel(o.pixel);
+  if (o.sceneOption->count() > 0 && o.scene.empty())
+    throw vox::Error(vox::ErrorKind::Usage, "--scene '': an empty path; give the scene or page file");
   vox::requireRegularFile(o.file);
+  // --scene is an input like FILE: a directory or a FIFO is refused up front
+  // (it was passed over, and the atlas's own scene reported "not found").
+  if (!o.scene.empty()) try {
+      vox::requireRegularFile(o.scene);
+    } catch (const vox::Error& e) {
+      throw vox::Error(e.kind, std::string(e.what()) + " (--scene)");
+    }
   if (vox::isPngFile(o.file) || vox::isExrFile(o.file)) {
     const vox::Image img = vox::isPngFile(o.file) ? vox::readPng(o.file) : vox::readExr(o.file);
-    if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, o.pixel, o.scene, o.json);
+    if (!img.textValue(vox::kRenderMetaKey).empty()) return infoCanonical(o.file, img, pixel, o.scene, o.json);
     if (const std::string preview = img.textValue(vox::kPreviewTextKey); !preview.empty()) {
       // A build-atlas --preview image: for looking at, not for sampling.
+      refusePixelAndScene(o, "a preview (a picture of an atlas: give the atlas itself)");
       nlohmann::json j = nlohmann::json::parse(preview, nullptr, false);
       if (j.is_discarded() || !j.is_object())
         throw vox::Error(vox::ErrorKind::BadInput, o.file + ": its 'vox:preview' entry is not a JSON object");
@@ -230,20 +256,20 @@ int runInfo(const InfoOptions& o) {
       }
       return kExitOk;
     }
-    return infoAtlas(o.file, img, o.pixel, o.scene, o.json);
+    return infoAtlas(o.file, img, pixel, o.scene, o.json);
   }
   if (vox::pagefile::looksLikePageFile(o.file)) {
-    if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
+    refusePixelAndScene(o, "a page file (.vpk)");
     return infoPageFile(o.file, o.json);
   }
   if (vox::hasExtension(o.file, ".json")) return infoJsonFile(o);
-  if (!o.pixel.empty()) throw vox::Error(vox::ErrorKind::Usage, "--pixel applies to atlases and canonical renders");
   if (!vox::looksLikeVdb(o.file))
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not a file vox info reads; it reads " + kindsRead());
   // A .vdb without voxbake metadata (a level set, a fog volume): list its
   // grids, walked whole. A scene is walked while it is read (readSceneVdb):
   // here only its framing.
   vox::VdbFrame frame = vox::checkVdbStructure(o.file, vox::VdbCheck::Framing);
+  refusePixelAndScene(o, "a scene or OpenVDB file (.vdb)");
   if (std::find(frame.metadataNames.begin(), frame.metadataNames.end(), "vox:format") == frame.metadataNames.end()) {
     frame = vox::checkVdbStructure(o.file);
     nlohmann::json j = {{"file", o.file},
@@ -295,10 +321,13 @@ Command registerInfo(CLI::App& root) {
               "a page file (.vpk), a touched set, atlas sidecar or run report (.json)");
   cmd->add_option("file", opts->file, "File to describe")->required();
   cmd->add_flag("--json", opts->json, "Print JSON on stdout instead of a summary");
-  cmd->add_option("--pixel", opts->pixel, "Atlases: decode texel x,y to its voxel and values; canonical renders: the voxel under pixel x,y");
-  cmd->add_option("--scene", opts->scene,
-                  "Atlases and renders: the scene (or page file) for class names and, with --pixel, votes "
-                  "(default for atlases: the scene they name, when it exists)");
+  opts->pixelOption = cmd->add_option(
+      "--pixel", opts->pixel,
+      "Atlases: decode texel x,y to its voxel and values; canonical renders: the voxel under pixel x,y");
+  opts->sceneOption = cmd->add_option(
+      "--scene", opts->scene,
+      "Atlases: the scene (or page file) built from, for class names and, with --pixel, votes (default: the scene "
+      "they name, when it exists with their dims); canonical renders, with --pixel: the scene rendered");
   addMaxMemoryOption(*cmd, opts->maxMemory);
   return {cmd, [opts] { return runInfo(*opts); }};
 }

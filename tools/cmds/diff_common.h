@@ -48,6 +48,9 @@ int diffImageFiles(const DiffOptions& o, Run& run);
 int diffRenderReference(const DiffOptions& o, Run& run);
 int diffJsonFiles(const DiffOptions& o);
 
+/// A JSON pointer for people: "" (the whole document) is "the top level".
+inline std::string pointerText(const std::string& pointer) { return pointer.empty() ? "the top level" : pointer; }
+
 /// "(u, v, w)" as a JSON array.
 inline nlohmann::json coordJson(const vox::Coord3& c) { return {c.u, c.v, c.w}; }
 

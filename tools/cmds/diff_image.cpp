@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/core/json_diff.h"
 #include "formats/core/json_text.h"
@@ -46,11 +47,12 @@ struct AtlasPair {
   std::string mismatch;  // why they cannot be compared texel for texel, if so
 };
 
-AtlasPair atlasInfos(const vox::Image& a, const vox::Image& b, const DiffOptions& o) {
+// Each entry is read and checked against its image by the reader info and
+// verify-bijection use: an atlas whose size contradicts its layout is refused.
+AtlasPair atlasInfos(const vox::Image& a, const vox::Image& b, const std::string& nameA, const std::string& nameB) {
   AtlasPair p;
-  const std::string ta = a.textValue(vox::kAtlasTextKey), tb = b.textValue(vox::kAtlasTextKey);
-  if (!ta.empty()) p.a = vox::atlasInfoFromJson(ta, o.a);
-  if (!tb.empty()) p.b = vox::atlasInfoFromJson(tb, o.b);
+  p.a = vox::atlasInfoOfImage(a, nameA);
+  p.b = vox::atlasInfoOfImage(b, nameB);
   if (p.a.has_value() != p.b.has_value())
     p.mismatch = std::string("only ") + (p.a ? "A" : "B") + " is an atlas (has a " + vox::kAtlasTextKey + " entry)";
   else if (p.a && !(p.a->layout == p.b->layout))
@@ -110,7 +112,7 @@ double percent(uint64_t n, uint64_t of) { return of ? 100.0 * double(n) / double
 // Compares two decoded images and reports; shared by files and references.
 int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string& nameB, const DiffOptions& o,
                      Run& run, const std::string& kind, nlohmann::json extra) {
-  const AtlasPair atlas = atlasInfos(a, b, o);
+  const AtlasPair atlas = atlasInfos(a, b, o.a, nameB);
   vox::ImageDiffOptions io;
   // 32-bit integer samples: one unit is 2.3e-10 once normalised, far under
   // idiff's 1e-6, so the defaults become 0 (any difference fails).
@@ -133,7 +135,10 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
   }
   if (!o.diffImage.empty() && d.incompatible.empty()) {
     const std::string tmp = run.output(o.diffImage);
-    vox::writePng(vox::differenceImage(a, b, o.diffScale), tmp);
+    if (vox::hasExtension(o.diffImage, ".exr"))
+      vox::writeExr(vox::differenceImage(a, b, o.diffScale, vox::SampleType::F32), tmp);
+    else
+      vox::writePng(vox::differenceImage(a, b, o.diffScale), tmp);
   }
 
   if (o.json) {
@@ -204,14 +209,16 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
         s << "  values are " << pixelValuesText(a, fx, fy) << " vs " << pixelValuesText(b, fx, fy) << "\n";
       }
       char line[160];
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) differ\n", (unsigned long long)d.pixelsDiffering,
-                    percent(d.pixelsDiffering, d.pixels));
+      auto pixels = [](uint64_t n) { return n == 1 ? "pixel" : "pixels"; };
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) %s\n", (unsigned long long)d.pixelsDiffering,
+                    pixels(d.pixelsDiffering), percent(d.pixelsDiffering, d.pixels),
+                    d.pixelsDiffering == 1 ? "differs" : "differ");
       s << line;
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) over %g (warn)\n", (unsigned long long)d.warnPixels,
-                    percent(d.warnPixels, d.pixels), io.warnThreshold);
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) over %g (warn)\n", (unsigned long long)d.warnPixels,
+                    pixels(d.warnPixels), percent(d.warnPixels, d.pixels), io.warnThreshold);
       s << line;
-      std::snprintf(line, sizeof line, "  %llu pixels (%.3g%%) over %g (fail)\n", (unsigned long long)d.failPixels,
-                    percent(d.failPixels, d.pixels), io.failThreshold);
+      std::snprintf(line, sizeof line, "  %llu %s (%.3g%%) over %g (fail)\n", (unsigned long long)d.failPixels,
+                    pixels(d.failPixels), percent(d.failPixels, d.pixels), io.failThreshold);
       s << line;
       std::snprintf(line, sizeof line, "  hit/miss mask agrees on %.4f%% of pixels (%s)\n",
                     100.0 * d.maskAgreeFraction(), d.maskSource.c_str());
@@ -255,9 +262,19 @@ std::string atlasKind(const vox::Image& a, const vox::Image& b) {
   return a.textValue(vox::kAtlasTextKey).empty() && b.textValue(vox::kAtlasTextKey).empty() ? "images" : "atlases";
 }
 
+// --diff-image is written in the format its name says: refused before the
+// work when that is neither (PNG bytes went into a .exr).
+void checkDiffImageName(const DiffOptions& o) {
+  if (!o.diffImage.empty() && !vox::hasExtension(o.diffImage, ".png") && !vox::hasExtension(o.diffImage, ".exr"))
+    throw vox::Error(vox::ErrorKind::Usage, "--diff-image " + o.diffImage +
+                                                ": the difference image is written as .png (RGB8) or .exr (float); "
+                                                "name it so");
+}
+
 }  // namespace
 
 int diffImageFiles(const DiffOptions& o, Run& run) {
+  checkDiffImageName(o);
   auto second = std::async(std::launch::async, [&] { return readImage(o.b); });
   vox::Image a;
   try {
@@ -285,6 +302,7 @@ int diffImageFiles(const DiffOptions& o, Run& run) {
 }
 
 int diffRenderReference(const DiffOptions& o, Run& run) {
+  checkDiffImageName(o);
   const nlohmann::json meta = vox::parseJsonDocument(vox::readFileBytes(o.b), o.b);
   if (!meta.is_object() || !meta.contains("views") || !meta["views"].is_array())
     throw vox::Error(vox::ErrorKind::BadInput, o.b + ": no \"views\" array (expected the block-map format's metadata.json)");

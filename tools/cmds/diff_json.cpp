@@ -6,6 +6,7 @@
 #include "formats/core/file_util.h"
 #include "formats/core/json_diff.h"
 #include "formats/core/json_text.h"
+#include "libvox/core/number_text.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/diff_common.h"
 
@@ -42,16 +43,17 @@ int diffJsonFiles(const DiffOptions& o) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::ostringstream s;
-    s << (d.same() ? "same" : "DIFFERENT") << ": JSON, " << d.valuesCompared << " values compared, " << d.differing
-      << " differ (relative tolerance " << o.relTolerance << "; " << d.ignored << " ignored keys skipped)\n";
+    s << (d.same() ? "same" : "DIFFERENT") << ": JSON, " << counted(d.valuesCompared, "value", "values")
+      << " compared, " << d.differing << " differ (relative tolerance " << vox::shortestText(o.relTolerance) << "; "
+      << counted(d.ignored, "ignored key", "ignored keys") << " skipped)\n";
     for (const auto& v : d.differences) {
-      s << "  " << (v.pointer.empty() ? "(document)" : v.pointer) << ": " << v.a << " vs " << v.b;
+      s << "  " << pointerText(v.pointer) << ": " << v.a << " vs " << v.b;
       if (v.relativeError) s << " (relative error " << *v.relativeError << ")";
       s << "\n";
     }
     if (d.differing > d.differences.size()) s << "  ... " << (d.differing - d.differences.size()) << " more\n";
     if (d.worstNumber && d.differing > 1)
-      s << "  worst number: " << d.worstNumber->pointer << ": " << d.worstNumber->a << " vs " << d.worstNumber->b
+      s << "  worst number: " << pointerText(d.worstNumber->pointer) << ": " << d.worstNumber->a << " vs " << d.worstNumber->b
         << " (relative error " << *d.worstNumber->relativeError << ")\n";
     std::cout << s.str();
   }

@@ -10,6 +10,7 @@
 #include "formats/core/json_diff.h"
 #include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
+#include "libvox/core/number_text.h"
 #include "libvox/core/parallel.h"
 #include "tools/cli/cli.h"
 #include "tools/cmds/diff_common.h"
@@ -20,12 +21,8 @@ namespace {
 
 namespace pf = vox::pagefile;
 
-std::string num(double x) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
+// Exact but short: "0.8", not "0.80000000000000004".
+std::string num(double x) { return vox::shortestText(x); }
 
 struct FieldDiff {
   std::string field, a, b;
@@ -240,12 +237,12 @@ int diffPageFiles(const DiffOptions& o) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::ostringstream s;
-    s << (same ? "same" : "DIFFERENT") << ": page files, " << pairs.size() << " chunks compared, " << chunksDiffering
-      << " differ, " << voxelsDiffering << " voxels differ\n";
+    s << (same ? "same" : "DIFFERENT") << ": page files, " << counted(pairs.size(), "chunk", "chunks") << " compared, "
+      << chunksDiffering << " differ, " << counted(voxelsDiffering, "voxel differs", "voxels differ") << "\n";
     for (const FieldDiff& f : header) s << "  header " << f.field << ": " << f.a << " vs " << f.b << "\n";
     if (!comparable) s << "  chunk sides differ: chunks cannot be compared one for one\n";
     if (!meta.same() && !meta.differences.empty())
-      s << "  metadata differs at " << meta.differences[0].pointer << ": " << meta.differences[0].a << " vs "
+      s << "  metadata differs at " << pointerText(meta.differences[0].pointer) << ": " << meta.differences[0].a << " vs "
         << meta.differences[0].b << "\n";
     if (chunksDiffering) {
       s << "  chunks only in A " << onlyA << ", only in B " << onlyB << "; voxels:";
@@ -257,12 +254,14 @@ int diffPageFiles(const DiffOptions& o) {
         ++shown;
         const nlohmann::json c = chunkInfo(q);
         s << "  chunk (" << c["chunk"][0] << ", " << c["chunk"][1] << ", " << c["chunk"][2] << ") of level "
-          << c["level"] << " (key " << c["key"] << "): " << c["voxels_differing"] << " voxels differ";
+          << c["level"] << " (key " << c["key"] << "): "
+          << counted(c["voxels_differing"].get<uint64_t>(), "voxel differs", "voxels differ");
         if (c.contains("note")) s << " (" << c["note"].get<std::string>() << ")";
         s << "\n";
         if (c.contains("first_voxel_text")) s << "    first " << c["first_voxel_text"].get<std::string>() << "\n";
       }
-      if (chunksDiffering > shown) s << "  ... " << (chunksDiffering - shown) << " more chunks (--json lists 20)\n";
+      if (chunksDiffering > shown)
+        s << "  ... " << counted(chunksDiffering - shown, "more chunk", "more chunks") << " (--json lists 20)\n";
     }
     std::cout << s.str();
   }

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <future>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "formats/core/json_diff.h"
@@ -34,19 +35,42 @@ nlohmann::json valuesJson(const vox::VoxelValues& v) {
   return j;
 }
 
-nlohmann::json exampleJson(const vox::VoxelDiffExample& e, const vox::SceneHeader& h) {
-  const auto w = vox::voxelCentreWorld(h, e.at);
-  return {{"voxel", coordJson(e.at)}, {"world", {w[0], w[1], w[2]}}, {"magnitude", e.magnitude},
-          {"a", valuesJson(e.a)},      {"b", valuesJson(e.b)}};
+// Where a voxel is in the world: in the scene it is occupied in (a voxel only
+// in B is placed by B's header, which may differ from A's), and in both when
+// both have it and their placements differ.
+struct VoxelWorld {
+  std::array<double, 3> at;
+  std::optional<std::array<double, 3>> inB;  // B's position, when it is not `at`
+};
+VoxelWorld voxelWorld(const vox::VoxelDiffExample& e, const vox::SceneHeader& ha, const vox::SceneHeader& hb) {
+  if (!e.a.occupied) return {vox::voxelCentreWorld(hb, e.at), std::nullopt};
+  VoxelWorld w{vox::voxelCentreWorld(ha, e.at), std::nullopt};
+  if (e.b.occupied && vox::voxelCentreWorld(hb, e.at) != w.at) w.inB = vox::voxelCentreWorld(hb, e.at);
+  return w;
 }
 
-std::string exampleText(const vox::VoxelDiffExample& e, const vox::SceneHeader& h) {
-  const auto w = vox::voxelCentreWorld(h, e.at);
-  return "voxel " + vox::toString(e.at) + " world (" + num(w[0]) + ", " + num(w[1]) + ", " + num(w[2]) +
-         "): A " + vox::describeVoxel(e.a) + " | B " + vox::describeVoxel(e.b);
+nlohmann::json exampleJson(const vox::VoxelDiffExample& e, const vox::SceneHeader& ha, const vox::SceneHeader& hb) {
+  const VoxelWorld w = voxelWorld(e, ha, hb);
+  nlohmann::json j = {{"voxel", coordJson(e.at)}, {"world", {w.at[0], w.at[1], w.at[2]}}, {"magnitude", e.magnitude},
+                      {"a", valuesJson(e.a)},      {"b", valuesJson(e.b)}};
+  if (w.inB) j["world_b"] = {(*w.inB)[0], (*w.inB)[1], (*w.inB)[2]};
+  return j;
 }
 
-nlohmann::json sceneDiffJson(const vox::SceneDiff& d, const vox::SceneHeader& h, const DiffOptions& o) {
+std::string exampleText(const vox::VoxelDiffExample& e, const vox::SceneHeader& ha, const vox::SceneHeader& hb) {
+  const VoxelWorld w = voxelWorld(e, ha, hb);
+  auto pos = [](const std::array<double, 3>& p) { return "(" + num(p[0]) + ", " + num(p[1]) + ", " + num(p[2]) + ")"; };
+  return "voxel " + vox::toString(e.at) + " world " + pos(w.at) + (w.inB ? " in A, " + pos(*w.inB) + " in B" : "") +
+         ": A " + vox::describeVoxel(e.a) + " | B " + vox::describeVoxel(e.b);
+}
+
+/// "32 x 32 x 32", or "32 x 32 x 32 vs 64 x 64 x 64" when the scenes' dims differ.
+std::string dimsText(const vox::SceneHeader& ha, const vox::SceneHeader& hb) {
+  return vox::toString(ha.dims) + (ha.dims == hb.dims ? "" : " vs " + vox::toString(hb.dims));
+}
+
+nlohmann::json sceneDiffJson(const vox::SceneDiff& d, const vox::SceneHeader& h, const vox::SceneHeader& hb,
+                             const DiffOptions& o) {
   nlohmann::json header = nlohmann::json::array(), classes = nlohmann::json::array();
   for (const auto& f : d.header) header.push_back({{"field", f.field}, {"a", f.a}, {"b", f.b}});
   for (const auto& c : d.classes) classes.push_back({{"id", c.id}, {"a", c.a}, {"b", c.b}});
@@ -56,6 +80,8 @@ nlohmann::json sceneDiffJson(const vox::SceneDiff& d, const vox::SceneHeader& h,
                                                        : d.header[0].field + " " + d.header[0].a + " vs " + d.header[0].b},
                       {"header", header},
                       {"classes", classes},
+                      {"dims_a", {h.dims.x, h.dims.y, h.dims.z}},
+                      {"dims_b", {hb.dims.x, hb.dims.y, hb.dims.z}},
                       {"voxels_a", d.voxelsA},
                       {"voxels_b", d.voxelsB},
                       {"voxels_compared", d.voxelsCompared},
@@ -67,21 +93,21 @@ nlohmann::json sceneDiffJson(const vox::SceneDiff& d, const vox::SceneHeader& h,
   for (int k = 0; k < vox::kVoxelDiffKinds; ++k) {
     const vox::VoxelKindDiff& kd = d.kinds[size_t(k)];
     nlohmann::json e = {{"count", kd.count}};
-    e["first"] = kd.first ? exampleJson(*kd.first, h) : nlohmann::json(nullptr);
-    e["worst"] = kd.worst ? exampleJson(*kd.worst, h) : nlohmann::json(nullptr);
+    e["first"] = kd.first ? exampleJson(*kd.first, h, hb) : nlohmann::json(nullptr);
+    e["worst"] = kd.worst ? exampleJson(*kd.worst, h, hb) : nlohmann::json(nullptr);
     kinds[vox::voxelDiffKindName(vox::VoxelDiffKind(k))] = e;
   }
   j["kinds"] = kinds;
   if (d.first) {
-    nlohmann::json f = exampleJson(*d.first, h);
+    nlohmann::json f = exampleJson(*d.first, h, hb);
     f["values"] = vox::describeVoxel(d.first->a) + " vs " + vox::describeVoxel(d.first->b);
     j["first_difference"] = f;
   }
   return j;
 }
 
-std::string sceneDiffText(const vox::SceneDiff& d, const vox::SceneHeader& h, const DiffOptions& o,
-                          const std::string& indent) {
+std::string sceneDiffText(const vox::SceneDiff& d, const vox::SceneHeader& h, const vox::SceneHeader& hb,
+                          const DiffOptions& o, const std::string& indent) {
   std::ostringstream s;
   for (const auto& f : d.header) s << indent << "header " << f.field << ": " << f.a << " vs " << f.b << "\n";
   for (const auto& c : d.classes) s << indent << "class " << int(c.id) << ": " << c.a << " vs " << c.b << "\n";
@@ -95,13 +121,14 @@ std::string sceneDiffText(const vox::SceneDiff& d, const vox::SceneHeader& h, co
     std::snprintf(name, sizeof name, "%-10s", vox::voxelDiffKindName(kind));
     s << indent << "  " << name << " " << kd.count;
     if (kind == vox::VoxelDiffKind::Occupancy) s << " (only in A " << d.onlyInA << ", only in B " << d.onlyInB << ")";
-    if (kind == vox::VoxelDiffKind::Votes) s << " (tolerance " << o.votesTolerance << " votes per class)";
+    if (kind == vox::VoxelDiffKind::Votes) s << " (tolerance " << counted(o.votesTolerance, "vote", "votes") << " per class)";
     if (kind == vox::VoxelDiffKind::Color) s << " (tolerance " << num(o.colorTolerance) << " per linear channel)";
     s << "\n";
-    if (kd.first) s << indent << "    first " << exampleText(*kd.first, h) << "\n";
+    if (kd.first) s << indent << "    first " << exampleText(*kd.first, h, hb) << "\n";
     if (kd.worst && kd.count > 1) {
-      s << indent << "    worst " << exampleText(*kd.worst, h);
-      if (kind == vox::VoxelDiffKind::Votes) s << " (" << num(kd.worst->magnitude) << " votes)";
+      s << indent << "    worst " << exampleText(*kd.worst, h, hb);
+      if (kind == vox::VoxelDiffKind::Votes)
+        s << " (" << num(kd.worst->magnitude) << (kd.worst->magnitude == 1 ? " vote)" : " votes)");
       if (kind == vox::VoxelDiffKind::Color) s << " (" << num(kd.worst->magnitude) << ")";
       s << "\n";
     }
@@ -158,16 +185,16 @@ int diffSceneFiles(const DiffOptions& o) {
     auto [a, b] = readBoth<vox::Scene>(o, [level](const std::string& p) { return readLevel(p, level); });
     const vox::SceneDiff d = vox::diffScenes(a, b, sceneOptions(o));
     if (o.json) {
-      nlohmann::json j = sceneDiffJson(d, a.header(), o);
+      nlohmann::json j = sceneDiffJson(d, a.header(), b.header(), o);
       j["kind"] = "scene";
       j["a"] = o.a, j["b"] = o.b;
       if (o.level) j["level"] = *o.level;
       std::cout << vox::jsonText(j, 2) << "\n";
     } else {
-      std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << d.voxelsCompared << " voxels compared, "
+      std::cout << (d.same() ? "same" : "DIFFERENT") << ": " << counted(d.voxelsCompared, "voxel", "voxels") << " compared, "
                 << d.voxelsDiffering << " differ (" << (o.level ? "level " + std::to_string(*o.level) + ", " : "")
-                << "scenes " << vox::toString(a.header().dims) << ")\n";
-      std::cout << sceneDiffText(d, a.header(), o, "  ");
+                << "scenes " << dimsText(a.header(), b.header()) << ")\n";
+      std::cout << sceneDiffText(d, a.header(), b.header(), o, "  ");
     }
     return d.same() ? kExitOk : kExitCheckFailed;
   }
@@ -190,7 +217,7 @@ int diffSceneFiles(const DiffOptions& o) {
   if (o.json) {
     nlohmann::json levels = nlohmann::json::array();
     for (size_t i = 0; i < diffs.size(); ++i) {
-      nlohmann::json l = sceneDiffJson(diffs[i], la[i].header(), o);
+      nlohmann::json l = sceneDiffJson(diffs[i], la[i].header(), lb[i].header(), o);
       l["level"] = i;
       levels.push_back(l);
     }
@@ -206,16 +233,17 @@ int diffSceneFiles(const DiffOptions& o) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << (same ? "same" : "DIFFERENT") << ": pyramids of " << la.size() << " and " << lb.size()
-              << " levels, " << compared << " voxels compared, " << differing << " differ\n";
+              << " levels, " << counted(compared, "voxel", "voxels") << " compared, " << differing << " differ\n";
     if (la.size() != lb.size() && std::min(la.size(), lb.size()) == 1)
       std::cout << "  (a plain scene is a pyramid of one level; --level N compares one level with it)\n";
     if (!meta.same() && !meta.differences.empty())
-      std::cout << "  pyramid metadata differs at " << meta.differences[0].pointer << ": " << meta.differences[0].a
+      std::cout << "  pyramid metadata differs at " << pointerText(meta.differences[0].pointer) << ": "
+                << meta.differences[0].a
                 << " vs " << meta.differences[0].b << "\n";
     for (size_t i = 0; i < diffs.size(); ++i) {
-      std::cout << "  level " << i << " (" << vox::toString(la[i].header().dims) << "): "
+      std::cout << "  level " << i << " (" << dimsText(la[i].header(), lb[i].header()) << "): "
                 << (diffs[i].same() ? "same" : "DIFFERENT") << "\n";
-      if (!diffs[i].same()) std::cout << sceneDiffText(diffs[i], la[i].header(), o, "    ");
+      if (!diffs[i].same()) std::cout << sceneDiffText(diffs[i], la[i].header(), lb[i].header(), o, "    ");
     }
   }
   return same ? kExitOk : kExitCheckFailed;

@@ -24,15 +24,17 @@ namespace voxcli {
 namespace fs = std::filesystem;
 using namespace infotext;
 
-std::optional<vox::ClassTable> classTableOf(const std::string& path) {
+std::optional<SceneFacts> sceneFactsOf(const std::string& path) {
   std::error_code ec;
   if (path.empty() || !fs::is_regular_file(path, ec)) return std::nullopt;
   if (vox::pagefile::looksLikePageFile(path)) {
     const vox::pagefile::Reader r = vox::pagefile::Reader::open(path);
-    return vox::pagefile::readPageMeta(r.metaJson(), path).classes;
+    const auto& d = r.header().dims;
+    return SceneFacts{vox::pagefile::readPageMeta(r.metaJson(), path).classes, vox::Dims{d[0], d[1], d[2]}};
   }
   // The header is all that is needed: leave the vote and colour grids in the file.
-  return vox::readSceneVdb(path, vox::SceneParts::OccupancyOnly).header().classes;
+  const vox::Scene scene = vox::readSceneVdb(path, vox::SceneParts::OccupancyOnly);
+  return SceneFacts{scene.header().classes, scene.header().dims};
 }
 
 std::vector<std::string> explainSummary(int cls, int conf, int obs, int mrg, const vox::ClassTable* classes) {
@@ -106,45 +108,47 @@ std::vector<std::string> channelMeaning(const vox::AtlasImageInfo& info, const s
 
 }  // namespace
 
-int infoAtlas(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& sceneArg,
-              bool asJson) {
-  const std::string metaText = img.textValue(vox::kAtlasTextKey);
-  if (metaText.empty())
+int infoAtlas(const std::string& path, const vox::Image& img, const std::optional<PixelXY>& pixel,
+              const std::string& sceneArg, bool asJson) {
+  // The entry, checked against the image (so that every read below stays in
+  // it): the reader diff and verify-bijection use too.
+  const std::optional<vox::AtlasImageInfo> entry = vox::atlasInfoOfImage(img, path);
+  if (!entry)
     throw vox::Error(vox::ErrorKind::BadInput,
                      path + ": an image without a 'vox:atlas' or 'vox:canonical' entry: not an atlas, bitmap or render "
                             "written by vox");
-  const vox::AtlasImageInfo info = vox::atlasInfoFromJson(metaText, path);
+  const vox::AtlasImageInfo& info = *entry;
   const vox::AtlasLayout& L = info.layout;
   const bool bitmap = isBitmap(info.content);
-  // The shape the content needs, so that every read below stays in the image.
-  const uint32_t perByte = info.content == vox::AtlasContent::Occupancy ? 8 : 4;
-  const uint32_t wantWidth = bitmap ? (L.width + perByte - 1) / perByte : L.width;
-  const uint32_t wantChannels = bitmap || info.content == vox::AtlasContent::Votes ? 1 : 4;
-  const bool wantU8 = bitmap || info.content == vox::AtlasContent::Summary || info.content == vox::AtlasContent::Color;
-  if (img.width != wantWidth || img.height != L.height || img.channels != wantChannels ||
-      (wantU8 && img.type != vox::SampleType::U8))
-    throw vox::Error(vox::ErrorKind::BadInput,
-                     path + ": the image is " + std::to_string(img.width) + " x " + std::to_string(img.height) + " x " +
-                         std::to_string(img.channels) + " " + vox::sampleTypeName(img.type) + " but a " +
-                         vox::atlasContentName(info.content) + " atlas of its layout is " + std::to_string(wantWidth) +
-                         " x " + std::to_string(L.height) + " x " + std::to_string(wantChannels) +
-                         (wantU8 ? " uint8" : "") + "; the file was changed after vox wrote it");
 
   // Class names: from --scene, else from the scene the atlas names (as given,
-  // then beside the atlas), when it is there.
-  std::string classesFrom = sceneArg;
+  // then beside the atlas), when it is there. A scene of other dims is not the
+  // one the atlas was built from (its names and votes would be another
+  // scene's): refused when given, passed over when found.
+  std::string classesFrom = sceneArg, foundOtherDims;
   std::optional<vox::ClassTable> classes;
   if (!sceneArg.empty()) {
-    if (!fs::exists(sceneArg)) throw vox::Error(vox::ErrorKind::BadInput, sceneArg + ": no such file (--scene)");
-    classes = classTableOf(sceneArg);
+    const std::optional<SceneFacts> facts = sceneFactsOf(sceneArg);
+    if (!facts) throw vox::Error(vox::ErrorKind::BadInput, sceneArg + ": no such file (--scene)");
+    if (!(facts->dims == L.dims))
+      throw vox::Error(vox::ErrorKind::BadInput,
+                       path + ": built for dims " + vox::toString(L.dims) + " but " + sceneArg + " has " +
+                           vox::toString(facts->dims) + "; give --scene the scene the atlas was built from");
+    classes = facts->classes;
   } else {
     for (const fs::path& p : {fs::path(info.scene), fs::path(path).parent_path() / fs::path(info.scene).filename()}) {
+      std::optional<SceneFacts> facts;
       try {
-        classes = classTableOf(p.string());
+        facts = sceneFactsOf(p.string());
       } catch (const vox::Error&) {
-        classes.reset();  // not a scene after all: names stay unknown
+        facts.reset();  // not a scene after all: names stay unknown
       }
-      if (classes) {
+      if (facts && !(facts->dims == L.dims)) {
+        if (foundOtherDims.empty()) foundOtherDims = p.string() + " has dims " + vox::toString(facts->dims);
+        continue;
+      }
+      if (facts) {
+        classes = facts->classes;
         classesFrom = p.string();
         break;
       }
@@ -162,6 +166,7 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
                 {"sample", vox::sampleTypeName(img.type)}};
   j["file_bytes"] = vox::fileSizeOrMinusOne(path);
   if (classes) j["classes_from"] = classesFrom;
+  if (!classes && !foundOtherDims.empty()) j["scene_not_used"] = foundOtherDims + ", not the atlas's";
   if (info.content == vox::AtlasContent::Votes) {
     const vox::ClassInfo* ci = classes ? classes->find(info.classId) : nullptr;
     j["class_name"] = ci ? nlohmann::json(ci->name) : nlohmann::json(nullptr);
@@ -225,14 +230,13 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
   j["texels"] = texels;
 
   // --pixel x,y: the texel's voxel and values.
-  if (!pixel.empty()) {
-    const size_t comma = pixel.find(',');
-    char* end = nullptr;
-    const unsigned long x = std::strtoul(pixel.c_str(), &end, 10);
-    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(pixel.c_str() + comma + 1, &end, 10);
-    if (comma == std::string::npos || *end != '\0' || x >= L.width || y >= L.height)
-      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + pixel + ": expected x,y inside the " +
-                                                  std::to_string(L.width) + " x " + std::to_string(L.height) + " atlas");
+  if (pixel) {
+    const uint32_t x = pixel->x, y = pixel->y;
+    if (x >= L.width || y >= L.height)
+      throw vox::Error(vox::ErrorKind::Usage, "--pixel " + pixel->text() + ": outside the " + std::to_string(L.width) +
+                                                  " x " + std::to_string(L.height) + " atlas (x 0.." +
+                                                  std::to_string(L.width - 1) + ", y 0.." +
+                                                  std::to_string(L.height - 1) + ")");
     nlohmann::json p = {{"texel", {info.layer, x, y}}};
     const auto voxel = L.toVoxel(info.layer, uint32_t(x), uint32_t(y));
     p["voxel"] = voxel ? nlohmann::json{voxel->u, voxel->v, voxel->w} : nlohmann::json(nullptr);
@@ -282,7 +286,10 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
   o << path << ": " << vox::atlasContentName(info.content) << " atlas (" << info.format << ")";
   if (info.content == vox::AtlasContent::Votes) o << " of " << className;
   o << ", layer " << info.layer << " of " << L.layers << "\n";
-  o << line("built from", info.scene + (classes ? "" : "  (not found: class ids only; --scene S names them)"));
+  o << line("built from", info.scene + (classes                   ? ""
+                                        : foundOtherDims.empty() ? "  (not found: class ids only; --scene S names them)"
+                                                                 : "  (not this atlas's scene: class ids only)"));
+  if (!classes && !foundOtherDims.empty()) o << line("", fit(foundOtherDims + ", not the atlas's", kWidth - 16));
   o << line("scene dims", std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " x " + std::to_string(L.dims.z) +
                               " voxels");
   o << line("atlas", std::to_string(L.width) + " x " + std::to_string(L.height) + " texels: " +
@@ -295,11 +302,14 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::string&
                          (fileBytes >= 0 ? ", " + bytes(uint64_t(fileBytes)) + " on disk" : ""));
   const std::vector<std::string> meaning = channelMeaning(info, className);
   for (size_t i = 0; i < meaning.size(); ++i) o << line(i ? "" : bitmap ? "bits" : "channels", meaning[i]);
-  const std::string what = bitmap ? "bits set" : info.content == vox::AtlasContent::Votes ? "texels with votes" : "texels in use";
+  const std::string what = bitmap ? "bit set" : info.content == vox::AtlasContent::Votes ? "texel with votes" : "texel in use";
+  const std::string whatMany = bitmap                                     ? "bits set"
+                               : info.content == vox::AtlasContent::Votes ? "texels with votes"
+                                                                          : "texels in use";
   o << line(bitmap ? "occupied" : "texels",
-            count(occupied) + " " + what + " (" + percent(domainTexels ? double(occupied) / double(domainTexels) : 0) +
+            countOf(occupied, what, whatMany) + " (" + percent(domainTexels ? double(occupied) / double(domainTexels) : 0) +
                 " of the layout's voxels)");
-  if (info.content == vox::AtlasContent::Occupancy2) o << line("touched", count(touched) + " voxels");
+  if (info.content == vox::AtlasContent::Occupancy2) o << line("touched", countOf(touched, "voxel", "voxels"));
   if (info.content == vox::AtlasContent::Votes && occupied)
     o << line("votes", "max " + count(uint64_t(maxValue)) + ", mean " +
                            (sumValue / double(occupied) >= 1000 ? count(uint64_t(sumValue / double(occupied) + 0.5))

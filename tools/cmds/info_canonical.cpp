@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -19,8 +20,18 @@
 
 namespace voxcli {
 
-int infoCanonical(const std::string& path, const vox::Image& img, const std::string& pixel, const std::string& scenePath,
-                  bool json) {
+namespace {
+
+// A world position or length with every digit that tells two apart.
+std::string worldText(double v) { return nlohmann::json(v).dump(); }
+std::string worldText(const std::array<double, 3>& v) {
+  return "(" + worldText(v[0]) + ", " + worldText(v[1]) + ", " + worldText(v[2]) + ")";
+}
+
+}  // namespace
+
+int infoCanonical(const std::string& path, const vox::Image& img, const std::optional<PixelXY>& pixel,
+                  const std::string& scenePath, bool json) {
   const vox::RenderMeta meta = *vox::readRenderMeta(img, path);
   const std::string mode = vox::renderModeName(meta.mode);
   nlohmann::json j = {{"file", path},
@@ -30,18 +41,32 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
                                  {"sample", vox::sampleTypeName(img.type)}}},
                       {"file_bytes", vox::fileSizeOrMinusOne(path)},
                       {"render", nlohmann::json::parse(vox::renderMetaJson(meta))}};
-  if (!pixel.empty()) {
-    const size_t comma = pixel.find(',');
-    char* end = nullptr;
-    const unsigned long x = std::strtoul(pixel.c_str(), &end, 10);
-    const unsigned long y = comma == std::string::npos ? 0 : std::strtoul(pixel.c_str() + comma + 1, &end, 10);
-    if (comma == std::string::npos || *end != '\0' || x >= img.width || y >= img.height)
-      vox::throwUsage("--pixel " + pixel + ": expected x,y inside the " + std::to_string(img.width) + " x " +
-                      std::to_string(img.height) + " image (row 0 at the top)");
+  if (!pixel && !scenePath.empty())
+    vox::throwUsage("--scene with a render goes with --pixel x,y: the scene the picked voxel is looked up in");
+  if (pixel) {
+    const uint32_t x = pixel->x, y = pixel->y;
+    if (x >= img.width || y >= img.height)
+      vox::throwUsage("--pixel " + pixel->text() + ": outside the " + std::to_string(img.width) + " x " +
+                      std::to_string(img.height) + " image (x 0.." + std::to_string(img.width - 1) + ", y 0.." +
+                      std::to_string(img.height - 1) + ", row 0 at the top)");
     if (meta.mode != vox::RenderMode::Canonical)
       vox::throwUsage("--pixel: " + path + " is a '" + mode +
                       "' render; picking decodes canonical renders (render with --mode canonical)");
     vox::requireCanonicalImage(img, path);
+    // The scene must be the render's: the same grid, placed the same, else
+    // the voxel would be looked up in another scene.
+    std::optional<RenderInput> in;
+    if (!scenePath.empty()) {
+      in.emplace(loadRenderInput(scenePath, meta.level.value_or(0), /*needSummaries=*/true));
+      if (!(in->dims == meta.dims))
+        vox::throwBadInput(path + ": rendered from a grid of " + vox::toString(meta.dims) + " but " + scenePath +
+                           " has " + vox::toString(in->dims) + "; give --scene the scene (or page file) rendered");
+      if (in->frame.origin != meta.origin || in->frame.voxelSize != meta.voxelSize)
+        vox::throwBadInput(path + ": rendered from a grid at origin " + worldText(meta.origin) + " with voxel size " +
+                           worldText(meta.voxelSize) + " but " + scenePath + " is at " + worldText(in->frame.origin) +
+                           " with voxel size " + worldText(in->frame.voxelSize) +
+                           "; give --scene the scene (or page file) rendered");
+    }
     const std::array<uint64_t, 4> v = vox::canonicalSamples(img, size_t(y) * img.width + x);
     nlohmann::json p = {{"pixel", {x, y}}, {"values", {v[0], v[1], v[2], v[3]}}, {"hit", v[3] != 0}};
     if (v[3] != 0) {
@@ -53,23 +78,22 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
         worldMax.push_back(meta.origin[a] + double(v[a] + 1) * meta.voxelSize);
       }
       p["world_box"] = {{"min", worldMin}, {"max", worldMax}};
-      if (!scenePath.empty()) {
-        const RenderInput in = loadRenderInput(scenePath, meta.level.value_or(0), /*needSummaries=*/true);
+      if (in) {
         const vox::Coord3 c{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])};
-        const bool inside = v[0] < in.dims.x && v[1] < in.dims.y && v[2] < in.dims.z;
-        if (!inside || !in.grid->occupied(c.u, c.v, c.w)) {
+        const bool inside = v[0] < in->dims.x && v[1] < in->dims.y && v[2] < in->dims.z;
+        if (!inside || !in->grid->occupied(c.u, c.v, c.w)) {
           p["scene_voxel"] = nullptr;
           p["note"] = "the voxel is empty in " + scenePath + ": the image was not rendered from it";
         } else {
-          const vox::SummaryTexel s = in.summaries(std::span<const vox::Coord3>(&c, 1))[0];
+          const vox::SummaryTexel s = in->summaries(std::span<const vox::Coord3>(&c, 1))[0];
           nlohmann::json sv = {{"summary", {{"cls", s.cls}, {"conf", s.conf}, {"obs", s.obs}, {"mrg", s.mrg}}}};
-          if (const vox::ClassInfo* ci = in.classes.find(s.cls)) sv["class_name"] = ci->name;
-          if (in.scene) {
+          if (const vox::ClassInfo* ci = in->classes.find(s.cls)) sv["class_name"] = ci->name;
+          if (in->scene) {
             std::vector<vox::ClassVotes> storage;
-            if (const auto vv = in.scene->voxel(c, storage)) {
+            if (const auto vv = in->scene->voxel(c, storage)) {
               nlohmann::json votes = nlohmann::json::object();
               for (const vox::ClassVotes& cv : vv->votes) {
-                const vox::ClassInfo* ci = in.classes.find(cv.classId);
+                const vox::ClassInfo* ci = in->classes.find(cv.classId);
                 votes[ci ? ci->name : std::to_string(cv.classId)] = cv.votes;
               }
               sv["votes"] = votes;
@@ -104,7 +128,8 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
     << vox::sampleTypeName(img.type) << "\n";
   o << line("rendered from", meta.scene + (meta.level ? " (level " + std::to_string(*meta.level) + ")" : ""));
   o << line("scene dims", std::to_string(meta.dims.x) + " x " + std::to_string(meta.dims.y) + " x " +
-                              std::to_string(meta.dims.z) + " voxels of " + real(meta.voxelSize, 6) + " world units");
+                              std::to_string(meta.dims.z) + " voxels of " +
+                              measured(meta.voxelSize, 6, "world unit", "world units"));
   // The camera in words: the eye is -R^T t of the view matrix (column-major),
   // it looks along -z of the camera frame; the vertical field of view comes
   // from the projection's y scale.
@@ -123,8 +148,9 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::str
   if (p11 > 0) o << line("", "vertical field of view " + real(2.0 * std::atan(1.0 / p11) * 180.0 / M_PI, 4) + " degrees, view " +
                                  std::to_string(meta.view));
   if (j.contains("hit_pixels"))
-    o << line("hits", count(j["hit_pixels"].get<uint64_t>()) + " of " + count(uint64_t(img.width) * img.height) +
-                          " pixels show a voxel (" +
+    o << line("hits", count(j["hit_pixels"].get<uint64_t>()) + " of " +
+                          countOf(uint64_t(img.width) * img.height, "pixel", "pixels") +
+                          (j["hit_pixels"].get<uint64_t>() == 1 ? " shows" : " show") + " a voxel (" +
                           percent(double(j["hit_pixels"].get<uint64_t>()) / double(uint64_t(img.width) * img.height)) + ")");
   if (meta.mode == vox::RenderMode::Canonical)
     o << line("channels", "RGB = (u, v, w) of the first voxel a pixel's ray enters,")

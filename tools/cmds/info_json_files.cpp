@@ -42,8 +42,7 @@ int infoAtlasSidecar(const std::string& path, bool asJson) {
     o << line("scene dims", std::to_string(L.dims.x) + " x " + std::to_string(L.dims.y) + " x " +
                                 std::to_string(L.dims.z) + " voxels");
     o << line("atlas", std::to_string(L.width) + " x " + std::to_string(L.height) + " texels, " +
-                           std::to_string(L.tilesPerRow) + " tiles per row, " + std::to_string(L.layers) +
-                           (L.layers == 1 ? " layer" : " layers"));
+                           countOf(L.tilesPerRow, "tile", "tiles") + " per row, " + countOf(L.layers, "layer", "layers"));
   }
   Table t({{"file", false, true}, {"content", false}, {"format", false}, {"layer", true}, {"class", true}});
   for (const auto& f : files)
@@ -76,7 +75,8 @@ int infoTouchedSet(const std::string& path, bool asJson) {
   o << line("scene", t.scene);
   o << line("dims", std::to_string(t.dims.x) + " x " + std::to_string(t.dims.y) + " x " + std::to_string(t.dims.z) +
                         " voxels, chunks of " + std::to_string(C) + "^3");
-  o << line("views", count(t.views) + ", " + count(t.rays) + " rays, " + count(t.hits) + " hit a voxel (" +
+  o << line("views", count(t.views) + ", " + countOf(t.rays, "ray", "rays") + ", " + count(t.hits) +
+                         (t.hits == 1 ? " hits" : " hit") + " a voxel (" +
                          percent(t.rays ? double(t.hits) / double(t.rays) : 0) + ")");
   o << line("chunks", count(t.chunks.size()) + " of " + count(gridChunks) + " touched (" +
                           percent(gridChunks ? double(t.chunks.size()) / double(gridChunks) : 0) + ")");
@@ -212,7 +212,8 @@ int infoReport(const std::string& path, const nlohmann::json& doc, bool asJson) 
   std::ostringstream o;
   const double total = doc.value("total_seconds", 0.0);
   o << path << ": report of `vox " << doc.value("command", std::string("?")) << "`, exit "
-    << doc.value("exit_code", -1) << ", " << real(total, 3) << " s on " << doc.value("threads", 0) << " threads\n";
+    << doc.value("exit_code", -1) << ", " << real(total, 3) << " s on "
+    << countOf(doc.value("threads", uint64_t(0)), "thread", "threads") << "\n";
   if (doc.contains("argv") && doc["argv"].is_array()) {
     std::string cmd;
     for (const auto& a : doc["argv"]) cmd += (cmd.empty() ? "" : " ") + (a.is_string() ? a.get<std::string>() : a.dump());

@@ -83,13 +83,13 @@ std::string pageFileText(const std::string& path, const vox::pagefile::Header& h
   o << path << ": voxbake page file (version " << vox::pagefile::kVersion << ", " << j["layout"].get<std::string>()
     << " layout)\n";
   o << line("dims", std::to_string(h.dims[0]) + " x " + std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) +
-                        " voxels of " + real(h.voxelSize, 6) + " world units");
+                        " voxels of " + measured(h.voxelSize, 6, "world unit", "world units"));
   o << line("chunks", count(h.chunkCount) + " of " + std::to_string(h.chunkSide()) + "^3 voxels, payloads aligned to " +
                           std::to_string(1u << h.alignLog2) + " bytes");
   std::string ch;
   for (const auto& c : j["channels"]) ch += (ch.empty() ? "" : ", ") + c.get<std::string>();
   o << line("channels", ch);
-  o << line("size", bytes(h.fileBytes) + " for " + count(voxels) + " voxels: " +
+  o << line("size", bytes(h.fileBytes) + " for " + countOf(voxels, "voxel", "voxels") + ": " +
                         real(j["bytes_per_voxel"].get<double>(), 3) + " bytes per voxel");
   o << line("", "payloads " + bytes(payload) + " (" + percent(h.fileBytes ? double(payload) / double(h.fileBytes) : 0) +
                     "), index " + bytes(j["index_bytes"].get<uint64_t>()) + ", metadata " +

@@ -58,6 +58,15 @@ std::string percent(double f) {
   return s;
 }
 
+std::string countOf(uint64_t n, const std::string& one, const std::string& many) {
+  return count(n) + " " + (n == 1 ? one : many);
+}
+
+std::string measured(double x, int significant, const std::string& one, const std::string& many) {
+  const std::string text = real(x, significant);
+  return text + " " + (text == "1" ? one : many);
+}
+
 std::string real(double x, int significant) {
   if (!std::isfinite(x)) return std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
   if (x == 0) return "0";

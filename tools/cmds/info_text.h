@@ -16,6 +16,10 @@ inline constexpr size_t kWidth = 80;
 
 /// 1234567 -> "1,234,567".
 std::string count(uint64_t n);
+/// count(n) and its noun: "1 voxel", "1,234 voxels".
+std::string countOf(uint64_t n, const std::string& one, const std::string& many);
+/// real(x, significant) and its unit: "1 world unit", "0.8 world units".
+std::string measured(double x, int significant, const std::string& one, const std::string& many);
 /// Bytes in decimal units: "512 B", "12.3 kB", "4.56 MB", "1.20 GB".
 std::string bytes(uint64_t n);
 /// A fraction as a percentage, "0%", "<0.01%", "12.3%", "99.99%", "100%"

@@ -146,8 +146,8 @@ int runAtlasCheck(const VerifyBijectionOptions& o) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
     std::cout << o.atlas << " (" << vox::atlasContentName(info.content) << ", " << info.format << ", layer "
-              << info.layer << ") against " << o.scene << ": " << checked << " texels checked, " << failures
-              << " differ\n";
+              << info.layer << ") against " << o.scene << ": " << counted(checked, "texel", "texels") << " checked, "
+              << failures << " differ\n";
     if (first) std::cout << "  first: " << describe(*first, channels) << "\n";
     if (worst) std::cout << "  worst: " << describe(*worst, channels) << "\n";
     std::cout << (failures == 0 ? "OK" : "FAILED") << "\n";

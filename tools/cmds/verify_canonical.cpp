@@ -183,12 +183,15 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   if (o.json) {
     std::cout << vox::jsonText(j, 2) << "\n";
   } else {
-    std::cout << o.canonical << ": " << n << " pixels, " << hitPixels << " hits; " << decodeFailures
-              << " do not decode to an occupied voxel of " << o.scene << "\n";
+    std::cout << o.canonical << ": " << counted(n, "pixel", "pixels") << ", " << counted(hitPixels, "hit", "hits") << "; "
+              << decodeFailures << (decodeFailures == 1 ? " does" : " do") << " not decode to an occupied voxel of "
+              << o.scene << "\n";
     if (camera)
-      std::cout << "  camera from the " << cameraFrom << ": " << castDiffer << " pixels differ from the exact ray, "
+      std::cout << "  camera from the " << cameraFrom << ": "
+                << counted(castDiffer, "pixel differs", "pixels differ") << " from the exact ray, "
                 << walkDiffer << " from the voxel-walk ray (every pixel), "
-                << bruteDiffer << " of " << bruteChecked << " pixels checked against the brute-force ray differ"
+                << bruteDiffer << " of " << counted(bruteChecked, "pixel", "pixels")
+                << " checked against the brute-force ray " << (bruteDiffer == 1 ? "differs" : "differ")
                 << (bruteStride > 1 ? " (sampled 1 in " + std::to_string(bruteStride) + ")" : std::string(" (every pixel)"))
                 << "\n";
     else
