@@ -3,7 +3,6 @@
 // libvox/render/fuse.h, the carve rule libvox/scene/fuse_scene.h, the views
 // file formats/image/fuse_views.h, the `free` grid formats/vdb/fuse_vdb.h.
 #include <CLI/CLI.hpp>
-#include <charconv>
 #include <filesystem>
 #include <map>
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include "libvox/render/fuse.h"
 #include "libvox/render/fuse_memory.h"
 #include "libvox/scene/fuse_scene.h"
+#include "libvox/core/number_text.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
@@ -63,12 +63,8 @@ const EnumNames<DepthKindOption>& depthKindNames() {
 }
 
 std::string placementText(const vox::FuseGridSpec& g) {
-  // The shortest text that reads back the same double: 0.4 rather than
-  // 0.40000000000000002, yet two placements that differ never print alike.
-  auto shortest = [](double v) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
-  };
+  // 0.4 rather than 0.40000000000000002, yet two placements that differ never print alike.
+  const auto shortest = [](double v) { return vox::shortestText(v); };
   return "dims " + vox::toString(g.dims) + ", voxel size " + shortest(g.voxelSize) + ", origin (" + shortest(g.origin[0]) +
          ", " + shortest(g.origin[1]) + ", " + shortest(g.origin[2]) + ")";
 }
