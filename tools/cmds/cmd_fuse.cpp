@@ -380,8 +380,8 @@ int runFuse(const FuseOptions& o) {
   if (total.ambiguous > 0) {
     const std::string w = counted(total.ambiguous, "pixel's ray runs", "pixels' rays run") +
                           " along a grid plane or through a voxel edge (ambiguous): a depth cannot tell which of the "
-                          "voxels touched there was seen, so such a vote may land beside it; a camera off the grid's "
-                          "planes (or an even image size for a named view) has none";
+                          "voxels touched there was seen, so such a vote may land beside it (a named view at an odd "
+                          "image size has a row and a column of such rays: its eye is on grid planes)";
     run.note("warning: " + w);
     warnings.push_back(w);
   }
