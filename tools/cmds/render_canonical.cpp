@@ -29,6 +29,7 @@
 #include "tools/cli/alloc_tuning.h"
 #include "tools/cli/camera_options.h"
 #include "tools/cli/cli.h"
+#include "tools/cli/number_checks.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cmds/render_canonical.h"
@@ -570,7 +571,7 @@ CLI::App* addRenderCanonicalOptions(CLI::App& root, RenderCanonicalOptions& opts
                 "The reference: a plain voxel-by-voxel DDA, or every voxel against every ray");
   cmd->add_option("--check-seconds", o->checkSeconds,
                   "About how long the check may take (a measured rate decides how many pixels: 1 in K); 0 = every pixel")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegativeOrInfinity)
       ->capture_default_str();
   cmd->add_option("--check-budget", o->checkBudget,
                   "brute-force: ray-voxel tests the check may spend per view; past it, 1 pixel in K is checked")
