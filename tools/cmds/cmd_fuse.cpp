@@ -248,8 +248,9 @@ int runFuse(const FuseOptions& o) {
     if (!limit.unlimited() && estimate.bytes() > limit.bytes) {
       // The first setting that fits, from the least change: fewer threads,
       // free counts at voted voxels only, both; else fewer views per run.
-      // With 3% to spare: the next run's resident memory differs a little.
-      auto fits = [&](const vox::FuseMemoryInputs& in) { return double(estimateWith(in).bytes()) <= 0.97 * double(limit.bytes); };
+      // With 1% (at least 1 MiB) to spare: the next run's resident memory differs a little.
+      const double spare = std::max(double(1 << 20), 0.01 * double(limit.bytes));
+      auto fits = [&](const vox::FuseMemoryInputs& in) { return double(estimateWith(in).bytes()) + spare <= double(limit.bytes); };
       std::vector<std::pair<std::string, vox::FuseMemoryInputs>> settingsToTry;
       vox::FuseMemoryInputs oneThread = mi, voted = mi;
       oneThread.threads = 1;
