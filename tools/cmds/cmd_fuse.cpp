@@ -64,9 +64,9 @@ const EnumNames<DepthKindOption>& depthKindNames() {
 
 std::string placementText(const vox::FuseGridSpec& g) {
   // 0.4 rather than 0.40000000000000002, yet two placements that differ never print alike.
-  const auto shortest = [](double v) { return vox::shortestText(v); };
-  return "dims " + vox::toString(g.dims) + ", voxel size " + shortest(g.voxelSize) + ", origin (" + shortest(g.origin[0]) +
-         ", " + shortest(g.origin[1]) + ", " + shortest(g.origin[2]) + ")";
+  using vox::shortestText;
+  return "dims " + vox::toString(g.dims) + ", voxel size " + shortestText(g.voxelSize) + ", origin (" +
+         shortestText(g.origin[0]) + ", " + shortestText(g.origin[1]) + ", " + shortestText(g.origin[2]) + ")";
 }
 
 bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
