@@ -80,3 +80,52 @@ TEST(VdbGridInput, FogNeedsAThresholdAndBadFilesAreNamed) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readVdbGridAsScene(dir.file("cut.vdb"), o); }, ErrorKind::BadInput,
                                       {"cut.vdb", "truncated"}));
 }
+
+// Double grids (written by some solvers and by Houdini at 64-bit precision)
+// are read like float ones, compared in double: a density of 0.0999999999 is
+// below a threshold of 0.1 although it rounds to 0.1f as a float.
+TEST(VdbGridInput, DoubleGridsAreReadInTheirOwnPrecision) {
+  ensureOpenVdbInitialized();
+  voxtest::TempDir dir;
+  auto fog = openvdb::DoubleGrid::create(0.0);
+  fog->setName("density");
+  fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+  for (int x = 0; x < 10; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 3; ++z) fog->tree().setValue(openvdb::Coord(x, y, z), x < 5 ? 0.1 : 0.0999999999);
+  writeGrid(dir.file("fog64.vdb"), fog);
+  VdbGridInputOptions o;
+  o.voxelSize = 1.0;
+  o.threshold = 0.1;
+  const Scene s = readVdbGridAsScene(dir.file("fog64.vdb"), o);
+  EXPECT_EQ(s.occupiedCount(), 5u * 4 * 3);
+  EXPECT_EQ(s.header().dims, (Dims{5, 4, 3}));
+  EXPECT_EQ(s.header().classes.find(1)->name, "density");
+
+  // A double level set: the same voxels as the float sphere of the same shape
+  // but where the two precisions round a distance across zero.
+  auto ls64 = openvdb::tools::createLevelSetSphere<openvdb::DoubleGrid>(6.0, openvdb::Vec3d(0.3, 0.2, 0.1), 0.25);
+  auto ls32 = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(6.0f, openvdb::Vec3f(0.3f, 0.2f, 0.1f), 0.25f);
+  writeGrid(dir.file("ball64.vdb"), ls64);
+  writeGrid(dir.file("ball32.vdb"), ls32);
+  VdbGridInputOptions r;
+  r.resolution = 48;
+  const Scene a = readVdbGridAsScene(dir.file("ball64.vdb"), r), b = readVdbGridAsScene(dir.file("ball32.vdb"), r);
+  EXPECT_EQ(a.header().dims, b.header().dims);
+  EXPECT_NEAR(double(a.occupiedCount()), double(b.occupiedCount()), 1e-3 * double(b.occupiedCount()));
+  const double want = 4.0 / 3.0 * M_PI * 216.0 / std::pow(a.header().voxelSize, 3);
+  EXPECT_NEAR(double(a.occupiedCount()), want, want * 0.03);
+
+  // Other value types are refused by name, with what is read.
+  auto v = openvdb::Vec3SGrid::create();
+  v->setName("velocity");
+  v->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3s(1, 0, 0));
+  writeGrid(dir.file("vel.vdb"), v);
+  VdbGridInputOptions q;
+  q.voxelSize = 1.0;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readVdbGridAsScene(dir.file("vel.vdb"), q); }, ErrorKind::BadInput,
+                                      {"vel.vdb", "no float or double grid", "velocity"}));
+  q.gridName = "velocity";
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readVdbGridAsScene(dir.file("vel.vdb"), q); }, ErrorKind::BadInput,
+                                      {"velocity", "vec3s", "float and double grids"}));
+}

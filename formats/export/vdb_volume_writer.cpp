@@ -4,11 +4,14 @@
 #include <openvdb/tools/TopologyToLevelSet.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cstdint>
 #include <vector>
 
 #include "formats/core/file_util.h"
 #include "formats/vdb/vdb_memory.h"
+#include "formats/vdb/vdb_structure.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/scene_grids.h"
 
@@ -103,12 +106,24 @@ VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame
     const openvdb::CoordBBox bb = out->evalActiveVoxelBoundingBox();
     r.activeBox = {{bb.min().x(), bb.min().y(), bb.min().z()}, {bb.max().x(), bb.max().y(), bb.max().z()}};
   }
+  int writeErrno = 0;  // the stream hides it; a failed write leaves it in errno
   try {
     openvdb::io::File file(path);
+    errno = 0;
     file.write({out});
     file.close();
-  } catch (const openvdb::Exception& e) {
-    throwIo(path + ": cannot write: " + e.what());
+    writeErrno = errno;
+  } catch (const std::exception& e) {
+    throwIo(outputName(path) + ": cannot write: " + e.what());
+  }
+  // OpenVDB's std::ofstream failures go unchecked: a full disk or a file size
+  // limit leaves a truncated file and no error. Its framing must end in the file.
+  try {
+    checkVdbStructure(path, VdbCheck::Framing);
+  } catch (const Error&) {
+    const bool known = writeErrno == ENOSPC || writeErrno == EFBIG || writeErrno == EDQUOT || writeErrno == EIO;
+    throwIo(outputName(path) + ": the volume was not written completely (the file on disk ends early: " +
+            (known ? std::string(std::strerror(writeErrno)) : std::string("is the disk full?")) + ")");
   }
   r.bytes = uint64_t(fileSizeOrMinusOne(path));
   return r;

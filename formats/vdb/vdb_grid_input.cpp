@@ -24,13 +24,14 @@ namespace {
 /// whose share is measured on a 32^3 lattice of output voxel centres (cheap:
 /// 32768 samples). Refuses before the sampling, with the largest resolution
 /// that fits (the estimate scales with the voxel count).
-void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double thr, const SceneHeader& header,
+template <typename GridT>
+void checkGridInputMemory(const GridT& grid, bool levelSet, double thr, const SceneHeader& header,
                           const std::string& path, double sampledShare) {
   const Dims dims = header.dims;
   const double count = double(dims.count()) * sampledShare;  // a region samples its share
-  const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
-  openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(accessor,
-                                                                                                     grid.transform());
+  const typename GridT::ConstAccessor accessor = grid.getConstAccessor();
+  openvdb::tools::GridSampler<typename GridT::ConstAccessor, openvdb::tools::BoxSampler> sampler(accessor,
+                                                                                                 grid.transform());
   const uint32_t n[3] = {std::min(dims.x, 32u), std::min(dims.y, 32u), std::min(dims.z, 32u)};
   uint64_t inside = 0, samples = 0;
   for (uint32_t a = 0; a < n[0]; ++a)
@@ -41,9 +42,9 @@ void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double 
                                header.origin[2] + w * header.voxelSize);
         const openvdb::Vec3d ip = grid.worldToIndex(p);
         if (!(std::abs(ip.x()) < 1e9 && std::abs(ip.y()) < 1e9 && std::abs(ip.z()) < 1e9)) continue;
-        const float value = sampler.isSample(ip);
+        const auto value = sampler.isSample(ip);
         ++samples;
-        if (levelSet ? value <= 0.0f : double(value) >= thr) ++inside;
+        if (levelSet ? value <= 0 : double(value) >= thr) ++inside;
       }
   const double share = samples ? std::max(double(inside) / double(samples), 0.01) : 1.0;
   // Per inside voxel: its share of an 8^3 builder block with one 2 KB vote
@@ -74,27 +75,10 @@ void checkGridInputMemory(const openvdb::FloatGrid& grid, bool levelSet, double 
   checkProcessMemory(e, "resampling " + path + " at " + toString(dims), suggestion);
 }
 
-}  // namespace
-
-Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) {
-  ensureOpenVdbInitialized();
-  if ((o.resolution == 0) == (o.voxelSize <= 0))
-    throwUsage(path + ": give exactly one of a resolution or a voxel size for an OpenVDB grid", Setting::Resolution);
-  CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB reads them
-  openvdb::FloatGrid::Ptr grid;
-  std::string available;
-  for (const VdbGridFrame& g : file.frame().grids) {
-    available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
-    const bool isFloat = g.type.rfind("Tree_float_", 0) == 0;
-    if (!grid && ((o.gridName.empty() && isFloat) || g.uniqueName == o.gridName)) {
-      openvdb::GridBase::Ptr base = file.readGrid(g.uniqueName);
-      grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-      if (!grid) throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + base->type() + "; vox reads float grids");
-    }
-  }
-  if (!grid)
-    throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float grid") : "no grid named '" + o.gridName + "'") +
-                  "; grids in the file: " + (available.empty() ? "none" : available));
+/// The scene of one level set or fog volume; GridT: FloatGrid or DoubleGrid
+/// (sampled and compared in the grid's own precision).
+template <typename GridT>
+Scene sceneFromGrid(const typename GridT::Ptr& grid, const std::string& path, const VdbGridInputOptions& o) {
   const std::string name = grid->getName().empty() ? "inside" : utf8FromLegacy(grid->getName());  // the class name, written in JSON
   const bool levelSet = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
   if (!levelSet && !o.threshold)
@@ -108,7 +92,7 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   const double thr = o.threshold.value_or(0.0);
   openvdb::CoordBBox ibox;
   for (auto it = grid->cbeginValueOn(); it; ++it)
-    if (levelSet ? *it <= 0.0f : double(*it) >= thr) ibox.expand(it.getBoundingBox());
+    if (levelSet ? *it <= 0 : double(*it) >= thr) ibox.expand(it.getBoundingBox());
   if (ibox.empty())
     throwBadInput(path + ": grid '" + name + "' has no voxel inside (" +
                   (levelSet ? std::string("no value <= 0") : "no value >= " + std::to_string(thr)) + ")");
@@ -171,8 +155,8 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
   };
   parallelPieces(slicesTotal, slabs, slabs, [&](size_t w0, size_t w1, size_t) {
     // GridSampler keeps a reference to the accessor: it must outlive the sampler.
-    const openvdb::FloatGrid::ConstAccessor accessor = grid->getConstAccessor();
-    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+    const typename GridT::ConstAccessor accessor = grid->getConstAccessor();
+    openvdb::tools::GridSampler<typename GridT::ConstAccessor, openvdb::tools::BoxSampler> sampler(
         accessor, grid->transform());
     for (int64_t w = slo[2] + int64_t(w0); w < slo[2] + int64_t(w1); ++w) {
       for (int64_t v = slo[1]; v <= shi[1]; ++v)
@@ -183,8 +167,8 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
             outOfRange.store(true, std::memory_order_relaxed);
             continue;
           }
-          const float value = sampler.isSample(ip);
-          if (levelSet ? value <= 0.0f : double(value) >= thr) {
+          const auto value = sampler.isSample(ip);
+          if (levelSet ? value <= 0 : double(value) >= thr) {
             const uint64_t i = bit(u, v, w);
             inside[i >> 6].fetch_or(uint64_t(1) << (i & 63), std::memory_order_relaxed);
           }
@@ -210,6 +194,32 @@ Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) 
         builder.addVotes({int32_t(u), int32_t(v), int32_t(w)}, 1, kInteriorVotes, surface);
       }
   return std::move(builder).build();
+}
+
+}  // namespace
+
+Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& o) {
+  ensureOpenVdbInitialized();
+  if ((o.resolution == 0) == (o.voxelSize <= 0))
+    throwUsage(path + ": give exactly one of a resolution or a voxel size for an OpenVDB grid", Setting::Resolution);
+  CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB reads them
+  openvdb::GridBase::Ptr grid;
+  std::string available;
+  for (const VdbGridFrame& g : file.frame().grids) {
+    available += (available.empty() ? "" : ", ") + g.uniqueName + " (" + g.type + ")";
+    const bool isScalar = g.type.rfind("Tree_float_", 0) == 0 || g.type.rfind("Tree_double_", 0) == 0;
+    if (!grid && ((o.gridName.empty() && isScalar) || g.uniqueName == o.gridName)) {
+      grid = file.readGrid(g.uniqueName);
+      if (!grid->isType<openvdb::FloatGrid>() && !grid->isType<openvdb::DoubleGrid>())
+        throwBadInput(path + ": grid '" + g.uniqueName + "' has type " + grid->type() +
+                      "; vox reads float and double grids (level sets and fog volumes)");
+    }
+  }
+  if (!grid)
+    throwBadInput(path + ": " + (o.gridName.empty() ? std::string("no float or double grid") : "no grid named '" + o.gridName + "'") +
+                  "; grids in the file: " + (available.empty() ? "none" : available));
+  if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return sceneFromGrid<openvdb::FloatGrid>(f, path, o);
+  return sceneFromGrid<openvdb::DoubleGrid>(openvdb::gridPtrCast<openvdb::DoubleGrid>(grid), path, o);
 }
 
 }  // namespace vox

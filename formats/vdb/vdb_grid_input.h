@@ -2,7 +2,8 @@
 //
 // * Level set (grid class "level set"): inside where the trilinearly sampled
 //   signed distance at a voxel centre is <= 0.
-// * Fog volume or any other float grid: inside where the sampled density is
+// * Float and double grids are read, each sampled in its own precision.
+// * Fog volume or any other scalar grid: inside where the sampled density is
 //   >= the threshold, which must be given (there is no universal default).
 // The output grid covers the world bounding box of the input's active region
 // (level sets: the narrow band), with the requested resolution on its longest
@@ -22,7 +23,7 @@
 namespace vox {
 
 struct VdbGridInputOptions {
-  std::string gridName;              // empty: the file's first float grid
+  std::string gridName;              // empty: the file's first float or double grid
   std::optional<double> threshold;   // required for grids that are not level sets
   uint32_t resolution = 0;           // voxels on the longest axis, or
   double voxelSize = 0;              // world units per voxel (one of the two > 0)

@@ -972,6 +972,11 @@ disk_full)
   expect_exit 4 limited "$vox" render-canonical keep_h.vdb -o r.png --eye 20,15,20 --target 0,2,0 --size 800x600 --mode canonical,depth
   printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > keep_tri.stl
   expect_exit 4 limited "$vox" voxelize keep_tri.stl --res 512 --fill solid -o m.vdb
+  # Volume exports go through OpenVDB's unchecked stream too (they once exited 0 with a cut file).
+  expect_exit 4 limited16 "$vox" export keep_h.vdb -o fog.vdb --fog
+  expect_stderr "fog.vdb: the volume was not written completely"
+  expect_exit 4 limited16 "$vox" export keep_h.vdb -o ls.vdb --level-set
+  expect_stderr "ls.vdb: the volume was not written completely"
   # A report that cannot be written fails the run before any output is committed.
   expect_exit 4 "$vox" voxelize demo:hamlet --res 16 -o small.vdb --report no_such_dir/r.json
   [ -e small.vdb ] && fail "the scene was committed although its report failed"

@@ -83,6 +83,16 @@ PY
   expect_exit 3 "$vox" verify-bijection --canonical stripped.png --scene h.vdb
   expect_stderr "stripped.png: has no render metadata"
   expect_exit 0 "$vox" verify-bijection --canonical stripped.png --scene h.vdb --eye 20,20,20 --target 0,0,0
+  # The same dims placed elsewhere (a block map at another worldScale): named once, not a failure per ray.
+  printf '{"worldScale":%s,"blocks":[{"position":[0,0,0],"blockType":"Stone"},{"position":[3,2,1],"blockType":"Dirt"}]}' 1 > m1.json
+  printf '{"worldScale":%s,"blocks":[{"position":[0,0,0],"blockType":"Stone"},{"position":[3,2,1],"blockType":"Dirt"}]}' 2 > m2.json
+  expect_exit 0 "$vox" voxelize m1.json -o m1.vdb
+  expect_exit 0 "$vox" voxelize m2.json -o m2.vdb
+  expect_exit 0 "$vox" render-canonical m1.vdb -o mc.png --view front --size 16x16
+  expect_exit 0 "$vox" verify-bijection --canonical mc.png --scene m1.vdb
+  expect_exit 3 "$vox" verify-bijection --canonical mc.png --scene m2.vdb
+  expect_stderr "mc.png: rendered from a grid at origin"
+  expect_stderr "but m2.vdb is at origin"
   ;;
 outputs)
   # Failed runs leave nothing behind and nothing escapes -o.

@@ -148,6 +148,29 @@ cmp -s t1.vdb t2.vdb || fail "a part differs between --threads 1 and 2"
 cmp -s tm1.vdb tm2.vdb || fail "a merge differs between --threads 1 and 2"
 cmp -s tm1.vdb solid_open.whole.vdb || fail "a merge of parts given out of order differs"
 
+# A class whose triangles all lie outside --bounds: the whole bake leaves it
+# out, and so does every part (it was an internal error, exit 4, in parts).
+python3 - <<'PY'
+def cube(x0, out, base):
+    for x in (x0, x0 + 1):
+        for y in (0, 1):
+            for z in (0, 1):
+                out.append("v %g %g %g" % (x, y, z))
+    for f in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
+              (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4)):
+        out.append("f %d %d %d" % tuple(base + i for i in f))
+lines = ["usemtl A"]
+cube(0, lines, 0)
+lines.append("usemtl B")
+cube(5, lines, 8)
+open("ab.obj", "w").write("\n".join(lines) + "\n")
+PY
+expect_exit 0 "$vox" voxelize ab.obj --res 16 --bounds 0,0,0,1,1,1 -o ab.whole.vdb -q
+expect_exit 0 "$vox" voxelize ab.obj --res 16 --bounds 0,0,0,1,1,1 --region 0/2 -o ab.0.vdb -q
+expect_exit 0 "$vox" voxelize ab.obj --res 16 --bounds 0,0,0,1,1,1 --region 1/2 -o ab.1.vdb -q
+expect_exit 0 "$vox" merge ab.0.vdb ab.1.vdb -o ab.merged.vdb -q
+cmp -s ab.whole.vdb ab.merged.vdb || fail "parts of a bake with a class outside --bounds merge to another scene"
+
 # vox mip on a part: levels inside the part, region record kept (its box in each level's voxels).
 expect_exit 0 "$vox" mip hamlet.3.1.vdb --split -o partmip -q
 "$vox" info partmip.mip2.vdb > info.txt; grep -q "tile 1 of 3, box (8, 0, 0) .. (31, 31, 15)" info.txt ||

@@ -287,7 +287,15 @@ int runInfo(const InfoOptions& o) {
       infotext::Table t({{"grid", false, true}, {"type", false}});
       for (const vox::VdbGridFrame& g : frame.grids) t.row({g.uniqueName, g.type});
       std::cout << infotext::line("grids", std::to_string(frame.grids.size())) << t.str();
-      std::cout << "  make a scene of it with: vox voxelize " << o.file << " --res N -o scene.vdb\n";
+      // voxelize reads the first float or double grid (formats/vdb/vdb_grid_input.h).
+      const bool scalar = std::any_of(frame.grids.begin(), frame.grids.end(), [](const vox::VdbGridFrame& g) {
+        return g.type.rfind("Tree_float_", 0) == 0 || g.type.rfind("Tree_double_", 0) == 0;
+      });
+      if (scalar)
+        std::cout << "  make a scene of it with: vox voxelize " << o.file
+                  << " --res N -o scene.vdb  (a fog volume also needs --threshold T)\n";
+      else
+        std::cout << "  vox voxelize reads float and double grids (level sets, fog volumes); this file has none\n";
     }
     return kExitOk;
   }

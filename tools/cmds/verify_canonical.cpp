@@ -14,6 +14,7 @@
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "libvox/core/error.h"
+#include "libvox/core/number_text.h"
 #include "libvox/render/render.h"
 #include "libvox/render/voxel_walk.h"
 #include "tools/cmds/render_input.h"
@@ -44,6 +45,16 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     auto dimsText = [](const vox::Dims& d) { return nlohmann::json{d.x, d.y, d.z}.dump(); };
     vox::throwBadInput(o.canonical + ": rendered from a " + dimsText(meta->dims) + " grid, but " + o.scene + " is " +
                        dimsText(in.dims));
+  }
+  // A scene of the same dims placed elsewhere (another origin or voxel size)
+  // would fail every ray; say why once instead.
+  if (meta && (meta->origin != in.frame.origin || meta->voxelSize != in.frame.voxelSize)) {
+    auto placement = [](const std::array<double, 3>& origin, double voxelSize) {
+      return "origin " + nlohmann::json(origin).dump() + ", voxel size " + vox::shortestText(voxelSize);
+    };
+    vox::throwBadInput(o.canonical + ": rendered from a grid at " + placement(meta->origin, meta->voxelSize) + ", but " +
+                       o.scene + " is at " + placement(in.frame.origin, in.frame.voxelSize) +
+                       "; check it against the scene it was rendered from");
   }
 
   // The camera: given on the command line, else the image's own.
