@@ -46,7 +46,7 @@ bad_usage() {
 for extent in 65537,8,8 8,8,65537 8,4097,8; do
   bad_usage "--extent $extent" voxelize demo:city --extent "$extent" -o bad.vdb
 done
-for extent in 0,8,8 8,0,8 nan,8,8 8,8 a,b,c -1,8,8 8,8,8,8 "" 1e3,8,8 8,,8 99999999999,8,8; do
+for extent in 0,8,8 8,0,8 nan,8,8 8,8 a,b,c -1,8,8 +8,8,8 " 8,8,8" "8, 8,8" 8,8,8,8 "" 1e3,8,8 8,,8 99999999999,8,8; do
   bad_usage "--extent" voxelize demo:city --extent "$extent" -o bad.vdb
 done
 bad_usage "--extent applies to demo:city only" voxelize demo:hamlet --extent 64,64,64 -o bad.vdb

@@ -168,6 +168,14 @@ EOF
   expect_exit 2 "$vox" diff a1/m1.summary.png a2/m2.summary.png --diff-image d.tif
   expect_stderr "--diff-image d.tif: the difference image is written as .png (RGB8) or .exr (float)"
   [ ! -e d.tif ] || fail "a refused --diff-image was written"
+  # Images of other sizes have no pixel pairs to draw: an earlier difference
+  # image under the name is said to be left as it was, not passed off as new.
+  oiiotool --create 4x4 3 -o s4.png && oiiotool --create 5x5 3 -o s5.png || fail "oiiotool could not make images"
+  echo OLD > old.png
+  expect_exit 1 "$vox" diff s4.png s5.png --diff-image old.png
+  expect_stderr "no difference image written"
+  expect_stderr "old.png is an earlier run's, left as it was"
+  [ "$(cat old.png)" = OLD ] || fail "the earlier difference image was touched"
   # idiff's thresholds: the error is 1/255 = 0.0039.
   expect_exit 0 "$vox" diff a1/m1.summary.png a2/m2.summary.png --fail 0.004
   expect_stdout "WARNING"

@@ -95,6 +95,16 @@ PY
   expect_stderr "but m2.vdb is at origin"
   ;;
 outputs)
+  # An output that is not a regular file (a FIFO here; /dev/null or /dev/stdout
+  # alike) cannot be replaced whole: refused before the work, left as it was.
+  mkfifo fifo.vdb fifo.json
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 16 -o fifo.vdb
+  expect_stderr "fifo.vdb: cannot write: it is not a regular file"
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 16 -o ok.vdb --report fifo.json
+  expect_stderr "fifo.json: cannot write: it is not a regular file"
+  [ -p fifo.vdb ] && [ -p fifo.json ] || fail "a FIFO given as an output was replaced"
+  no_output ok.vdb
+  rm -f fifo.vdb fifo.json
   # Failed runs leave nothing behind and nothing escapes -o.
   echo "not a scene" > bad.vdb
   expect_exit 3 "$vox" build-atlas bad.vdb -o atlases/deep

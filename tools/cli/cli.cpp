@@ -156,6 +156,19 @@ bool sameFile(const std::string& a, const std::string& b) {
   return !ca && !cb && pa == pb;
 }
 /// Fails before the work, with the name the user gave, when `finalPath` cannot be created.
+/// Outputs replace a regular file whole (a temporary renamed over it): a
+/// directory, a device (/dev/null: as root the rename would replace the node),
+/// a pipe or /dev/stdout cannot take one.
+void refuseUnreplaceable(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (st.type() == std::filesystem::file_type::directory)
+    throw vox::Error(vox::ErrorKind::Io, path + ": cannot write: it is a directory");
+  if (std::filesystem::exists(st) && st.type() != std::filesystem::file_type::regular)
+    throw vox::Error(vox::ErrorKind::Io, path + ": cannot write: it is not a regular file (a device, pipe or "
+                                         "socket); vox writes every output as a file it replaces whole");
+}
+
 void checkDestination(const std::string& finalPath) {
   const std::filesystem::path p(finalPath);
   const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
@@ -164,8 +177,7 @@ void checkDestination(const std::string& finalPath) {
     throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' does not exist");
   if (access(dir.c_str(), W_OK) != 0)
     throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: directory '" + dir + "' is not writable");
-  if (std::filesystem::is_directory(p, ec))
-    throw vox::Error(vox::ErrorKind::Io, finalPath + ": cannot write: it is a directory");
+  refuseUnreplaceable(finalPath);
 }
 }  // namespace
 
@@ -186,9 +198,7 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
   // the demo writes the atlas's report into it. If it still does not exist
   // when the run ends, writing them fails before anything is committed.)
   for (const std::string* path : {&options.reportPath, &options.depfilePath}) {
-    std::error_code ec;
-    if (!path->empty() && std::filesystem::is_directory(*path, ec))
-      throw vox::Error(vox::ErrorKind::Io, *path + ": cannot write: it is a directory");
+    if (!path->empty()) refuseUnreplaceable(*path);
   }
   if (!options.reportPath.empty() && !options.depfilePath.empty() && sameFile(options.reportPath, options.depfilePath))
     throw vox::Error(vox::ErrorKind::Usage, options.reportPath + ": given as both --report and --depfile; give them different names");
@@ -340,7 +350,9 @@ std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& 
     std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
     char* stop = nullptr;
     unsigned long v = part.empty() ? 0 : std::strtoul(part.c_str(), &stop, 10);
-    if (part.empty() || *stop != '\0' || v == 0 || v > 0xffffffffUL || part[0] == '-')
+    // Digits only: strtoul alone would take "+8", " 8" and "-8" (wrapped).
+    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos || *stop != '\0' || v == 0 ||
+        v > 0xffffffffUL)
       throw vox::Error(vox::ErrorKind::Usage, option + " expects X,Y,Z (three positive integers), got '" + text + "'");
     out[i] = uint32_t(v);
     pos = end + 1;

@@ -2,6 +2,7 @@
 // OpenImageIO's idiff, and of a render against the reference image a
 // block-map metadata.json carries for a view (`rgbBase64`).
 #include <cstdio>
+#include <filesystem>
 #include <future>
 #include <iostream>
 #include <sstream>
@@ -139,6 +140,11 @@ int compareAndReport(const vox::Image& a, const vox::Image& b, const std::string
       vox::writeExr(vox::differenceImage(a, b, o.diffScale, vox::SampleType::F32), tmp);
     else
       vox::writePng(vox::differenceImage(a, b, o.diffScale), tmp);
+  } else if (!o.diffImage.empty()) {
+    // No pixel pairs to draw; an older image under that name would pass for this run's.
+    run.note("warning: no difference image written (" + d.incompatible + "); " + o.diffImage +
+             (std::filesystem::exists(o.diffImage) ? " is an earlier run's, left as it was" : " does not exist"));
+    run.counts()["diff_image_written"] = false;
   }
 
   if (o.json) {
