@@ -155,7 +155,6 @@ bool sameFile(const std::string& a, const std::string& b) {
   const std::filesystem::path pb = std::filesystem::weakly_canonical(std::filesystem::absolute(b), cb);
   return !ca && !cb && pa == pb;
 }
-/// Fails before the work, with the name the user gave, when `finalPath` cannot be created.
 /// Outputs replace a regular file whole (a temporary renamed over it): a
 /// directory, a device (/dev/null: as root the rename would replace the node),
 /// a pipe or /dev/stdout cannot take one.
@@ -169,6 +168,7 @@ void refuseUnreplaceable(const std::string& path) {
                                          "socket); vox writes every output as a file it replaces whole");
 }
 
+/// Fails before the work, with the name the user gave, when `finalPath` cannot be created.
 void checkDestination(const std::string& finalPath) {
   const std::filesystem::path p(finalPath);
   const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
