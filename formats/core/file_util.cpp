@@ -92,36 +92,50 @@ std::optional<TemporaryName> parseTemporaryName(const std::string& name) {
 }
 
 // ---- Live temporaries, for signal handlers ---------------------------------
-// A fixed table a signal handler can walk without locks or allocation: a
-// slot's path is written before its state becomes Live and is not rewritten
-// until the slot has been Free again. More live outputs than slots are not
-// tracked (their destructors still remove them on every normal exit).
-// constinit, every member initialized: the 1 MB table is zero-initialized
-// storage that no page of is touched before a slot is used. Left to dynamic
-// initialization (a member without an initializer), the constructors wrote
-// every slot at startup: 256 page faults in `vox` and as many in each module
-// (a one-triangle bake: 1,012 faults before, 375 after, docs/startup.md).
+// A list a signal handler can walk without locks or allocation: nodes are
+// pushed at the head with a compare-and-swap and never freed (a handler may be
+// walking them), only reused; a node's path is written while it is Claimed and
+// read by the handler only once it is Live. The list grows to the most outputs
+// live at once (a run writing 700 render views tracks all 700), and costs
+// nothing before the first output (a static table was written page by page at
+// start-up: docs/bench-voxelize.md).
 enum SlotState : int { kFree = 0, kClaimed = 1, kLive = 2 };
-struct LiveSlot {
-  std::atomic<int> state{kFree};
-  char path[PATH_MAX]{};
-};
-constinit LiveSlot gLive[256];
 
-int trackTemporary(const std::string& path) {
-  if (path.size() >= PATH_MAX) return -1;
-  for (int i = 0; i < int(std::size(gLive)); ++i) {
+}  // namespace
+
+struct LiveTemporary {
+  std::atomic<int> state{kClaimed};
+  char* path = nullptr;
+  size_t capacity = 0;
+  LiveTemporary* next = nullptr;
+};
+
+namespace {
+
+std::atomic<LiveTemporary*> gLiveHead{nullptr};
+
+LiveTemporary* trackTemporary(const std::string& path) {
+  for (LiveTemporary* n = gLiveHead.load(); n; n = n->next) {
+    if (n->capacity <= path.size()) continue;
     int expected = kFree;
-    if (!gLive[i].state.compare_exchange_strong(expected, kClaimed)) continue;
-    std::memcpy(gLive[i].path, path.c_str(), path.size() + 1);
-    gLive[i].state.store(kLive);
-    return i;
+    if (!n->state.compare_exchange_strong(expected, kClaimed)) continue;
+    std::memcpy(n->path, path.c_str(), path.size() + 1);
+    n->state.store(kLive);
+    return n;
   }
-  return -1;
+  auto* n = new LiveTemporary;  // never freed: see above
+  n->capacity = std::max<size_t>(path.size() + 1, 256);
+  n->path = new char[n->capacity];
+  std::memcpy(n->path, path.c_str(), path.size() + 1);
+  n->state.store(kLive);
+  n->next = gLiveHead.load();
+  while (!gLiveHead.compare_exchange_weak(n->next, n)) {
+  }
+  return n;
 }
 
-void untrackTemporary(int slot) {
-  if (slot >= 0) gLive[slot].state.store(kFree);
+void untrackTemporary(LiveTemporary* live) {
+  if (live) live->state.store(kFree);
 }
 
 // Removes the temporaries of `finalPath` left by runs on this host that no
@@ -151,31 +165,38 @@ int committedOutputCount() noexcept { return gCommittedOutputs.load(); }
 
 int removeUncommittedOutputs() noexcept {
   int removed = 0;
-  for (LiveSlot& s : gLive)
-    if (s.state.load() == kLive && ::unlink(s.path) == 0) ++removed;
+  for (LiveTemporary* n = gLiveHead.load(); n; n = n->next)
+    if (n->state.load() == kLive && ::unlink(n->path) == 0) ++removed;
   return removed;
 }
 
-AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
+namespace {
+// A new temporary name for `finalPath`: same directory, so the rename is
+// atomic; a dot-name keeps it out of globs.
+std::string temporaryPathFor(const std::string& finalPath) {
   static std::atomic<unsigned> counter{0};
-  const fs::path p(final_);
-  removeStaleTemporaries(p);
-  // Same directory, so the rename is atomic; a dot-name keeps it out of globs.
+  const fs::path p(finalPath);
   char tag[64];
   std::snprintf(tag, sizeof tag, ".tmp-%08x-%ld-%u", hostHash(), long(getpid()), counter++);
-  temp_ = (p.parent_path() / ("." + temporaryStem(p.filename().string()) + tag)).string();
-  slot_ = trackTemporary(temp_);
+  return (p.parent_path() / ("." + temporaryStem(p.filename().string()) + tag)).string();
+}
+}  // namespace
+
+AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
+  removeStaleTemporaries(fs::path(final_));
+  temp_ = temporaryPathFor(final_);
+  live_ = trackTemporary(temp_);
 }
 
 AtomicOutput::AtomicOutput(AtomicOutput&& o) noexcept
-    : final_(std::move(o.final_)), temp_(std::move(o.temp_)), committed_(o.committed_), slot_(o.slot_) {
+    : final_(std::move(o.final_)), temp_(std::move(o.temp_)), committed_(o.committed_), live_(o.live_) {
   o.committed_ = true;  // the moved-from object owns nothing
-  o.slot_ = -1;
+  o.live_ = nullptr;
 }
 
 AtomicOutput::~AtomicOutput() {
   if (!committed_) std::remove(temp_.c_str());
-  untrackTemporary(slot_);
+  untrackTemporary(live_);
 }
 
 std::string outputName(const std::string& path) {
@@ -221,17 +242,29 @@ void AtomicOutput::sync() const {
   if (rc != 0) throwIo(final_ + ": cannot write the output: " + std::strerror(err));
 }
 
-void AtomicOutput::renameIntoPlace() {
-  if (committed_) return;
-  if (std::rename(temp_.c_str(), final_.c_str()) != 0)
-    throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
-  committed_ = true;
-  gCommittedOutputs.fetch_add(1);
-  untrackTemporary(slot_);  // after the rename: a signal before it still removes the temporary
-  slot_ = -1;
-  // The rename itself reaches the disk with the directory (best effort: some
-  // file systems refuse fsync on directories, and the data is already safe).
-  const std::string dir = fs::path(final_).parent_path().string();
+namespace {
+
+// ---- The commit window -----------------------------------------------------
+// While a run's outputs are renamed into place, a terminating signal waits:
+// the renames take microseconds, and a handler running between two of them
+// would leave new outputs beside old ones. 0: no commit; 1: committing; more:
+// committing, and that signal arrived meanwhile (raised again at the end).
+std::atomic<int> gCommitWindow{0};
+
+struct CommitWindow {
+  CommitWindow() { gCommitWindow.store(1); }
+  ~CommitWindow() {
+    const int pending = gCommitWindow.exchange(0);
+    if (pending > 1) ::raise(pending);
+  }
+  CommitWindow(const CommitWindow&) = delete;
+  CommitWindow& operator=(const CommitWindow&) = delete;
+};
+
+// `dir` ("" for the current one): a rename reaches the disk with its
+// directory (best effort: some file systems refuse fsync on directories, and
+// the data is already safe).
+void syncDirectory(const std::string& dir) {
   const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd >= 0) {
     ::fsync(fd);
@@ -239,9 +272,29 @@ void AtomicOutput::renameIntoPlace() {
   }
 }
 
+}  // namespace
+
+bool deferSignalDuringCommit(int signal) noexcept {
+  int expected = 1;
+  if (gCommitWindow.compare_exchange_strong(expected, signal)) return true;
+  return expected > 1;  // one is already waiting: the run ends with it
+}
+
+void AtomicOutput::renameIntoPlace() {
+  if (committed_) return;
+  if (std::rename(temp_.c_str(), final_.c_str()) != 0)
+    throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
+  committed_ = true;
+  gCommittedOutputs.fetch_add(1);
+  untrackTemporary(live_);  // after the rename: a signal before it still removes the temporary
+  live_ = nullptr;
+}
+
 void AtomicOutput::commit() {
   sync();
+  const CommitWindow window;
   renameIntoPlace();
+  syncDirectory(fs::path(final_).parent_path().string());
 }
 
 void commitAll(std::vector<AtomicOutput*> outputs) {
@@ -253,7 +306,65 @@ void commitAll(std::vector<AtomicOutput*> outputs) {
     if (fs::is_directory(o->finalPath(), ec))
       throwIo(o->finalPath() + ": cannot move the finished output into place: it is a directory");
   }
-  for (AtomicOutput* o : outputs) o->renameIntoPlace();
+  const CommitWindow window;
+  // A rename can still fail after others succeeded (an immutable file, a
+  // sticky directory, a file system gone read-only): each existing
+  // destination is kept under a second name (a hard link, no copy) until all
+  // are in place, so a failure puts every earlier one back.
+  struct Previous {
+    std::string keptAt;  // "" when the destination did not exist or cannot be linked
+    bool existed = false;
+  };
+  std::vector<Previous> previous(outputs.size());
+  struct RemoveKept {  // on every way out: after success, or after a failure put some back
+    std::vector<Previous>& previous;
+    ~RemoveKept() {
+      for (const Previous& p : previous)
+        if (!p.keptAt.empty()) ::unlink(p.keptAt.c_str());
+    }
+  } removeKept{previous};
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    struct stat st {};
+    previous[i].existed = ::lstat(outputs[i]->finalPath().c_str(), &st) == 0;
+    // Named like a temporary of this run: a run killed here leaves it to the next run's cleanup.
+    const std::string keptAt = temporaryPathFor(outputs[i]->finalPath());
+    if (previous[i].existed && ::link(outputs[i]->finalPath().c_str(), keptAt.c_str()) == 0) previous[i].keptAt = keptAt;
+  }
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    try {
+      outputs[i]->renameIntoPlace();
+    } catch (const Error& e) {
+      std::vector<std::string> restored, replaced;
+      for (size_t j = 0; j < i; ++j) {
+        const std::string& path = outputs[j]->finalPath();
+        bool back = false;
+        if (!previous[j].existed) {
+          back = ::unlink(path.c_str()) == 0;
+        } else if (!previous[j].keptAt.empty() && std::rename(previous[j].keptAt.c_str(), path.c_str()) == 0) {
+          back = true;
+          previous[j].keptAt.clear();
+        }
+        (back ? restored : replaced).push_back(path);
+        if (back) gCommittedOutputs.fetch_sub(1);
+      }
+      std::string message = e.what();
+      const auto list = [](const std::vector<std::string>& paths) {
+        std::string text;
+        for (size_t k = 0; k < paths.size(); ++k) text += (k ? ", " : "") + paths[k];
+        return text;
+      };
+      if (!restored.empty()) message += "; the outputs already moved were put back as they were (" + list(restored) + ")";
+      if (!replaced.empty()) message += "; these outputs were already replaced and could not be put back: " + list(replaced);
+      throwIo(message);
+    }
+  }
+  // Once per directory, not per output: 700 render views share one.
+  std::vector<std::string> directories;
+  for (const AtomicOutput* o : outputs) {
+    const std::string dir = fs::path(o->finalPath()).parent_path().string();
+    if (std::find(directories.begin(), directories.end(), dir) == directories.end()) directories.push_back(dir);
+  }
+  for (const std::string& dir : directories) syncDirectory(dir);
 }
 
 void requireRegularFile(const std::string& path) {

@@ -16,7 +16,9 @@ namespace vox {
 /// temporary file is flushed to disk first (fsync: a full disk or an I/O error
 /// that the writes did not report surfaces here), and only when all of them are
 /// safe are they renamed into place. So a failure leaves every existing output
-/// untouched and no temporary file behind.
+/// untouched and no temporary file behind. A rename that fails after others
+/// succeeded (an immutable file) puts the earlier ones back; a terminating
+/// signal during the renames waits for them (deferSignalDuringCommit).
 ///
 /// The temporary is "DIR/.NAME.tmp-HOST-PID-N" (HOST: 8 hex digits hashing the
 /// host name). Live temporaries are tracked so that removeUncommittedOutputs()
@@ -39,13 +41,14 @@ class AtomicOutput {
   /// directory entry. Throws vox::Error (Io) when the temporary file is missing,
   /// cannot be flushed, or the rename fails.
   void commit();
-  /// Renames without syncing again: for commitAll, which synced every file first.
+  /// Renames without syncing the file again or its directory: for commitAll,
+  /// which synced every file first and syncs each directory once after.
   void renameIntoPlace();
 
  private:
   std::string final_, temp_;
   bool committed_ = false;
-  int slot_ = -1;  // in the table of live temporaries, -1 when not tracked
+  struct LiveTemporary* live_ = nullptr;  // its entry in the list of live temporaries
 };
 
 /// Deletes the temporary file of every uncommitted AtomicOutput of this
@@ -53,6 +56,12 @@ class AtomicOutput {
 /// only): for the CLI's SIGINT/SIGTERM handlers, which then exit without
 /// running destructors.
 int removeUncommittedOutputs() noexcept;
+
+/// For the CLI's SIGINT/SIGTERM handlers: true while commitAll is renaming
+/// outputs into place, in which case `signal` is recorded and raised again
+/// when the renames are done (the handler returns at once), so an interrupt
+/// never leaves some new outputs beside old ones. Async-signal-safe.
+bool deferSignalDuringCommit(int signal) noexcept;
 
 /// How many AtomicOutputs of this process were renamed into place so far.
 /// Async-signal-safe (an atomic load): the signal handlers tell "nothing was
@@ -67,7 +76,11 @@ std::string outputName(const std::string& path);
 std::string withOutputNames(const std::string& message);
 
 /// Commits outputs together: syncs every one first, then renames them all.
-/// Nothing is renamed unless every file reached the disk and no destination is a directory.
+/// Nothing is renamed unless every file reached the disk and no destination is
+/// a directory. When a rename fails, the outputs renamed before it are put back
+/// as they were (kept meanwhile under a hard link; removed when they did not
+/// exist) and the vox::Error (Io) names the failed one and any that could not
+/// be put back.
 void commitAll(std::vector<AtomicOutput*> outputs);
 
 /// The one check every input file passes before it is opened: it must exist

@@ -105,6 +105,17 @@ outputs)
   [ -p fifo.vdb ] && [ -p fifo.json ] || fail "a FIFO given as an output was replaced"
   no_output ok.vdb
   rm -f fifo.vdb fifo.json
+  # '-' is no file: nothing goes to standard output, and no file named '-' appears.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o dash.vdb --quiet
+  expect_exit 2 "$vox" export dash.vdb -o - --format ply
+  expect_stderr "'-' names no file: vox writes every output, --report and --depfile to a file"
+  expect_exit 2 "$vox" diff dash.vdb dash.vdb --report -
+  expect_stderr "'-' names no file"
+  expect_exit 2 "$vox" build-atlas dash.vdb -o -
+  expect_stderr "-o -: build-atlas writes a directory of files, never standard output"
+  [ ! -e - ] || fail "a file or directory named '-' was written"
+  [ ! -s out.txt ] || fail "something went to standard output: $(head -c 100 out.txt)"
+  rm -f dash.vdb
   # Failed runs leave nothing behind and nothing escapes -o.
   echo "not a scene" > bad.vdb
   expect_exit 3 "$vox" build-atlas bad.vdb -o atlases/deep

@@ -136,6 +136,105 @@ file_size_limit)
   expect_stderr "File too large"
   [ ! -e pages.vpk ] && [ -z "$(temporaries .)" ] || fail "ulimit -f pack-chunks left files: $(ls -A)"
   ;;
+many_outputs)
+  # 300 outputs at once (render views): an interrupt while they are written
+  # removes every temporary, not only the first few hundred.
+  "$vox" voxelize demo:hamlet --res 64 -o h.vdb --quiet || fail "setup bake"
+  mkdir views
+  caught=0
+  for tries in 1 2 3 4 5 6; do
+    "$vox" render-canonical h.vdb -o views/v.png --orbit 300 --size 96x96 >out.txt 2>err.txt &
+    pid=$!
+    while kill -0 $pid 2>/dev/null && ! handles_sigint $pid; do sleep 0.005; done
+    pending=()
+    while kill -0 $pid 2>/dev/null; do
+      pending=(views/.*.tmp-*)
+      [ ${#pending[@]} -gt 270 ] && break
+    done
+    kill -INT $pid 2>/dev/null
+    wait $pid
+    got=$?
+    rm -f views/v_*.png
+    [ "$got" = 0 ] && continue  # finished first
+    caught=1
+    [ "$got" = 130 ] || fail "300 views: exit $got, expected 130 ($(head -c 300 err.txt))"
+    [ ${#pending[@]} -gt 256 ] || echo "note: interrupted with ${#pending[@]} temporaries"
+    left=$(temporaries views)
+    [ -z "$left" ] || fail "300 views: $(echo "$left" | wc -l) temporaries left after SIGINT"
+    break
+  done
+  [ $caught = 1 ] || fail "300 views: never caught the run writing (it finished first 6 times)"
+  ;;
+commit_window)
+  # Several outputs replace old ones: a signal at any moment leaves either all
+  # of the old files or all of the new ones, and says which.
+  "$vox" voxelize demo:hamlet --res 96 -o h.vdb --quiet || fail "setup bake"
+  render=("$vox" render-canonical h.vdb -o shot.png --eye 40,30,40 --target 0,0,0 --size 320x240
+          --mode canonical,class,shaded,depth,normal --report shot.json)
+  "${render[@]}" --quiet || fail "setup render"
+  files=(shot*.png shot*.exr shot.json)
+  [ ${#files[@]} -ge 5 ] || fail "expected 5 render outputs and a report, got: ${files[*]}"
+  start=$(date +%s%N)
+  "${render[@]}" --quiet || fail "timing render"
+  span=$(( ($(date +%s%N) - start) / 1000 ))  # microseconds
+  for step in $(seq 1 24); do
+    for f in "${files[@]}"; do printf 'previous output\n' >"$f"; done
+    "${render[@]}" >out.txt 2>err.txt &
+    pid=$!
+    while kill -0 $pid 2>/dev/null && ! handles_sigint $pid; do sleep 0.001; done
+    # Spread the signals over the run, the end (the renames) included.
+    sleep "$(awk -v s=$span -v k=$step 'BEGIN { printf "%.6f", s * (0.5 + k / 24.0) / 1e6 }')"
+    kill -TERM $pid 2>/dev/null
+    wait $pid
+    got=$?
+    old=0
+    for f in "${files[@]}"; do [ "$(head -c 15 "$f")" = "previous output" ] && old=$((old + 1)); done
+    if [ "$old" != 0 ] && [ "$old" != ${#files[@]} ]; then
+      fail "SIGTERM at step $step (exit $got): $old of ${#files[@]} outputs old, the rest new"
+    fi
+    if [ "$got" = 143 ]; then
+      if [ "$old" = 0 ]; then
+        grep -qF "every output was already in place" err.txt || fail "step $step: new outputs, but: $(head -c 300 err.txt)"
+      else
+        ! grep -qF "already in place" err.txt || fail "step $step: old outputs, but: $(head -c 300 err.txt)"
+        ! grep -qF "wrote" err.txt || fail "step $step: says it wrote: $(head -c 300 err.txt)"
+      fi
+    else
+      [ "$got" = 0 ] && [ "$old" = 0 ] || fail "step $step: exit $got with $old old outputs"
+    fi
+    left=$(temporaries .)
+    [ -z "$left" ] || fail "step $step: temporaries left: $left"
+  done
+  ;;
+rollback)
+  # A rename that fails after others succeeded (here the report, immutable)
+  # puts the outputs already moved back: the old file, or no file.
+  touch probe && chattr +i probe 2>/dev/null || { echo "SKIP rollback: chattr +i is not supported here"; echo "ok: $group"; exit 0; }
+  chattr -i probe
+  trap 'chattr -i "$work"/* 2>/dev/null; rm -rf "$work"' EXIT
+  printf 'previous output\n' >scene.vdb
+  printf 'previous report\n' >r.json
+  chattr +i r.json
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 32 -o scene.vdb --report r.json
+  expect_stderr "r.json: cannot move the finished output into place"
+  expect_stderr "put back as they were (scene.vdb)"
+  ! grep -qF "wrote" err.txt || fail "a failed commit says it wrote: $(head -c 300 err.txt)"
+  [ "$(cat scene.vdb)" = "previous output" ] || fail "the failed commit left a new scene.vdb"
+  rm scene.vdb
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 32 -o scene.vdb --report r.json
+  expect_stderr "put back as they were (scene.vdb)"
+  [ ! -e scene.vdb ] || fail "the failed commit left a scene.vdb that did not exist before"
+  left=$(temporaries .)
+  [ -z "$left" ] || fail "rollback: temporaries left: $left"
+  chattr -i r.json
+  # A report directory that cannot be written is refused before the work.
+  mkdir locked
+  chattr +i locked
+  expect_exit 4 "$vox" voxelize demo:hamlet --res 32 -o scene.vdb --report locked/r.json
+  expect_stderr "locked/r.json: cannot write: directory 'locked' is not writable"
+  [ ! -e scene.vdb ] || fail "an unwritable report directory still let the scene be written"
+  chattr -i locked
+  ;;
 *)
   echo "unknown group $group" >&2
   exit 2

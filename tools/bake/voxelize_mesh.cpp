@@ -579,7 +579,7 @@ int finishMeshBake(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, 
                               {"box", b.empty() ? nlohmann::json(nullptr)
                                                 : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
   }
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(occupied, "occupied voxel", "occupied voxels") +
+  run.noteWhenDone("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(occupied, "occupied voxel", "occupied voxels") +
            " from " + counted(p.mesh.triangles.size(), "triangle", "triangles"));
   return run.finish();
 }

@@ -2,6 +2,7 @@
 
 #include "tools/cli/dispatch.h"
 
+#include <sys/stat.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <mutex>
+#include <unordered_map>
 #include <thread>
 
 #include "formats/core/json_text.h"
@@ -139,26 +141,62 @@ void ProgressBar::done() {
 }
 
 namespace {
-/// True when `a` and `b` name one file: the same file when both exist (hard
-/// and symbolic links seen through), else the same normalised absolute path
-/// (its existing part's links resolved).
-bool sameFile(const std::string& a, const std::string& b) {
-  std::error_code ea, eb;
-  const bool existA = std::filesystem::exists(a, ea), existB = std::filesystem::exists(b, eb);
-  if (existA && existB) {
-    std::error_code ec;
-    return std::filesystem::equivalent(a, b, ec);
+/// What sameFile compares, worked out once per path: a run with 700 outputs
+/// compared each new one with every earlier one by stat and path resolution
+/// again (18 s of system calls); comparing identities costs nothing.
+struct FileIdentity {
+  bool exists = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  std::string resolved;  // when it does not exist: the normalised absolute path, its existing part's links resolved
+};
+
+FileIdentity identityOf(const std::string& path) {
+  FileIdentity id;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    id.exists = true;
+    id.device = st.st_dev;
+    id.inode = st.st_ino;
+    return id;
   }
-  if (existA != existB) return false;
-  std::error_code ca, cb;
-  const std::filesystem::path pa = std::filesystem::weakly_canonical(std::filesystem::absolute(a), ca);
-  const std::filesystem::path pb = std::filesystem::weakly_canonical(std::filesystem::absolute(b), cb);
-  return !ca && !cb && pa == pb;
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(path), ec);
+  id.resolved = ec ? std::string() : p.string();
+  return id;
 }
+
+/// True when `a` and `b` name one file: the same file when both exist (hard
+/// and symbolic links seen through), else the same resolved path.
+bool sameFile(const FileIdentity& a, const FileIdentity& b) {
+  if (a.exists != b.exists) return false;
+  if (a.exists) return a.device == b.device && a.inode == b.inode;
+  return !a.resolved.empty() && a.resolved == b.resolved;
+}
+bool sameFile(const std::string& a, const std::string& b) { return sameFile(identityOf(a), identityOf(b)); }
+}  // namespace
+
+/// The identities of the paths a run compared, each worked out once.
+struct PathIdentities {
+  std::unordered_map<std::string, FileIdentity> known;
+  const FileIdentity& of(const std::string& path) {
+    auto it = known.find(path);
+    if (it == known.end()) it = known.emplace(path, identityOf(path)).first;
+    return it->second;
+  }
+  bool same(const std::string& a, const std::string& b) { return sameFile(of(a), of(b)); }
+};
+
+namespace {
+
 /// Outputs replace a regular file whole (a temporary renamed over it): a
 /// directory, a device (/dev/null: as root the rename would replace the node),
 /// a pipe or /dev/stdout cannot take one.
 void refuseUnreplaceable(const std::string& path) {
+  if (path == "-")
+    throw vox::Error(vox::ErrorKind::Usage, "'-' names no file: vox writes every output, --report and --depfile to "
+                                            "a file (written whole, then renamed into place, so a failed run leaves "
+                                            "nothing), never to standard output; give a file name");
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
   if (st.type() == std::filesystem::file_type::directory)
@@ -181,7 +219,8 @@ void checkDestination(const std::string& finalPath) {
 }
 }  // namespace
 
-Run::Run(std::string command, const CommonOptions& options) : command_(std::move(command)), options_(options) {
+Run::Run(std::string command, const CommonOptions& options)
+    : command_(std::move(command)), options_(options), ids_(std::make_unique<PathIdentities>()) {
   const std::vector<std::string>& argv = invocation();
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   threads_ = options.threads == 0 ? cores : options.threads;
@@ -198,7 +237,13 @@ Run::Run(std::string command, const CommonOptions& options) : command_(std::move
   // the demo writes the atlas's report into it. If it still does not exist
   // when the run ends, writing them fails before anything is committed.)
   for (const std::string* path : {&options.reportPath, &options.depfilePath}) {
-    if (!path->empty()) refuseUnreplaceable(*path);
+    if (path->empty()) continue;
+    refuseUnreplaceable(*path);
+    const std::filesystem::path p(*path);
+    const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+    std::error_code ec;
+    if (std::filesystem::is_directory(dir, ec) && access(dir.c_str(), W_OK) != 0)
+      throw vox::Error(vox::ErrorKind::Io, *path + ": cannot write: directory '" + dir + "' is not writable");
   }
   if (!options.reportPath.empty() && !options.depfilePath.empty() && sameFile(options.reportPath, options.depfilePath))
     throw vox::Error(vox::ErrorKind::Usage, options.reportPath + ": given as both --report and --depfile; give them different names");
@@ -229,14 +274,14 @@ void Run::checkOutputPath(const std::string& finalPath) const {
                      finalPath + ": this run would write it as an output and it is also " + what + "; " + fix);
   };
   for (const std::string& in : inputs_)
-    if (sameFile(finalPath, in) &&
-        std::none_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return sameFile(r, in); }))
+    if (ids_->same(finalPath, in) &&
+        std::none_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return ids_->same(r, in); }))
       clash("an input (" + in + "), which the output would replace", "write the output to another file");
   for (const vox::AtomicOutput& o : outputs_)
-    if (sameFile(finalPath, o.finalPath())) clash("another output (" + o.finalPath() + ")", "give the outputs different names");
-  if (!options_.reportPath.empty() && sameFile(finalPath, options_.reportPath))
+    if (ids_->same(finalPath, o.finalPath())) clash("another output (" + o.finalPath() + ")", "give the outputs different names");
+  if (!options_.reportPath.empty() && ids_->same(finalPath, options_.reportPath))
     clash("the --report file", "give --report another name");
-  if (!options_.depfilePath.empty() && sameFile(finalPath, options_.depfilePath))
+  if (!options_.depfilePath.empty() && ids_->same(finalPath, options_.depfilePath))
     clash("the --depfile file", "give --depfile another name");
 }
 
@@ -249,11 +294,11 @@ void Run::input(const std::string& path) {
                                                 ", replacing it; " + fix);
   };
   const bool replaceable =
-      std::any_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return sameFile(r, path); });
+      std::any_of(replaceable_.begin(), replaceable_.end(), [&](const std::string& r) { return ids_->same(r, path); });
   for (const vox::AtomicOutput& o : outputs_)
-    if (!replaceable && sameFile(path, o.finalPath())) clash("an output (" + o.finalPath() + ")", "write the output to another file");
-  if (!options_.reportPath.empty() && sameFile(path, options_.reportPath)) clash("its --report", "give --report another name");
-  if (!options_.depfilePath.empty() && sameFile(path, options_.depfilePath)) clash("its --depfile", "give --depfile another name");
+    if (!replaceable && ids_->same(path, o.finalPath())) clash("an output (" + o.finalPath() + ")", "write the output to another file");
+  if (!options_.reportPath.empty() && ids_->same(path, options_.reportPath)) clash("its --report", "give --report another name");
+  if (!options_.depfilePath.empty() && ids_->same(path, options_.depfilePath)) clash("its --depfile", "give --depfile another name");
   inputs_.push_back(path);
 }
 
@@ -286,6 +331,8 @@ void Run::note(const std::string& message) const {
   std::lock_guard<std::mutex> lock(gStderrMutex);
   std::cerr << "vox " << command_ << ": " << message << "\n";
 }
+
+void Run::noteWhenDone(const std::string& message) { finishNotes_.push_back(message); }
 
 void throwLevelOutOfRange(int level, const std::string& path, uint64_t levels) {
   vox::throwUsage("--level " + std::to_string(level) + ": " + path +
@@ -333,6 +380,7 @@ int Run::finish(int code) {
   for (vox::AtomicOutput& o : outputs_) all.push_back(&o);
   for (vox::AtomicOutput& s : sidecars) all.push_back(&s);
   vox::commitAll(std::move(all));
+  for (const std::string& message : finishNotes_) note(message);
   return code;
 }
 

@@ -104,6 +104,9 @@ class Run {
   std::unique_ptr<ProgressBar> progress(const std::string& label) const;
   /// A message on stderr ("vox CMD: ..."), suppressed by --quiet.
   void note(const std::string& message) const;
+  /// A note printed by finish() once every output is in place ("wrote ..."):
+  /// a run that fails to commit never claims to have written anything.
+  void noteWhenDone(const std::string& message);
 
   /// The memory limit of this run (--max-memory, else the default share of
   /// physical memory; libvox/core/memory_budget.h).
@@ -139,6 +142,8 @@ class Run {
   std::vector<std::string> inputs_;
   std::vector<std::string> replaceable_;  // inputs an output may replace (mayReplace)
   std::vector<vox::AtomicOutput> outputs_;
+  std::unique_ptr<struct PathIdentities> ids_;  // sameFile's identities, each path's worked out once
+  std::vector<std::string> finishNotes_;        // noteWhenDone's, printed once the outputs are in place
   std::chrono::steady_clock::time_point start_, phaseStart_;
   std::string phaseName_;
 };

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstring>
 
 #include "formats/core/file_util.h"
@@ -23,24 +24,47 @@ void writeAll(const char* s) {
   }
 }
 
-// Async-signal-safe only: unlink, write, _exit.
+void writeCount(int value) {
+  char digits[16];
+  int n = sizeof digits;
+  digits[--n] = '\0';
+  if (value == 0) digits[--n] = '0';
+  for (int v = value; v > 0 && n > 0; v /= 10) digits[--n] = char('0' + v % 10);
+  writeAll(digits + n);
+}
+
+std::atomic<bool> gHandling{false};
+
+// Async-signal-safe only: unlink, write, pause, _exit.
 extern "C" void onTerminatingSignal(int sig) {
+  // While outputs are renamed into place the signal waits (microseconds): the
+  // commit raises it again when every rename is done.
+  if (vox::deferSignalDuringCommit(sig)) return;
+  // Signals reach any thread: the first handler speaks and exits, a second
+  // one (another thread, another signal) waits for that exit.
+  if (gHandling.exchange(true)) {
+    for (;;) ::pause();
+  }
   const int removed = vox::removeUncommittedOutputs();
+  const int committed = vox::committedOutputCount();
   const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
   writeAll("\n");
   writeAll(gCommand);
   writeAll(": interrupted by ");
   writeAll(name);
-  if (removed > 0) {
-    char digits[16];
-    int n = sizeof digits;
-    digits[--n] = '\0';
-    for (int v = removed; v > 0 && n > 0; v /= 10) digits[--n] = char('0' + v % 10);
+  if (removed > 0 && committed > 0) {
+    // Only after a failed commit that could not put everything back (its error says which).
     writeAll("; ");
-    writeAll(digits + n);
+    writeCount(removed);
+    writeAll(removed == 1 ? " unfinished output removed, " : " unfinished outputs removed, ");
+    writeCount(committed);
+    writeAll(committed == 1 ? " output already in place\n" : " outputs already in place\n");
+  } else if (removed > 0) {
+    writeAll("; ");
+    writeCount(removed);
     writeAll(removed == 1 ? " unfinished output removed" : " unfinished outputs removed");
     writeAll(", existing files left as they were\n");
-  } else if (vox::committedOutputCount() > 0) {
+  } else if (committed > 0) {
     writeAll("; every output was already in place\n");
   } else {
     writeAll("; nothing was written\n");
@@ -54,6 +78,7 @@ void installSignalCleanup(const char* command) {
   std::strncpy(gCommand, command, sizeof gCommand - 1);
   struct sigaction sa {};
   sa.sa_handler = onTerminatingSignal;
+  sa.sa_flags = SA_RESTART;  // a deferred signal returns: the calls it interrupted carry on
   sigemptyset(&sa.sa_mask);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, sig);  // one handler at a time
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) {

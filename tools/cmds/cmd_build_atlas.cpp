@@ -106,6 +106,9 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
 
   if (o.outDir.empty())
     throw vox::Error(vox::ErrorKind::Usage, "--output '': an empty path; give the output directory (created if missing)");
+  if (o.outDir == "-")
+    throw vox::Error(vox::ErrorKind::Usage, "-o -: build-atlas writes a directory of files, never standard output; "
+                                            "give the output directory (created if missing)");
   CreatedDirectory::checkCanCreate(o.outDir);
   // --format chooses the identity atlas's texel format; the other contents
   // have one format each, so it would be ignored (--summary --format rgba16
@@ -463,7 +466,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const size_t files = outs.size() * (o.preview ? 2 : 1) + 1;
   run.counts() = {{"occupied_voxels", stats.occupied}, {"files", files}, {"layers", L.layers},
                   {"atlas", {L.width, L.height}}, {"previews", o.preview ? outs.size() : 0}};
-  run.note("wrote " + counted(files, "file", "files") + " to " + o.outDir + " (" + std::to_string(L.width) + " x " +
+  run.noteWhenDone("wrote " + counted(files, "file", "files") + " to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
   outDir.keep();
   return run.finish();

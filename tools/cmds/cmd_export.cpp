@@ -76,7 +76,7 @@ void exportVdbVolume(const ExportOptions& o, const ExportInput& in, Run& run) {
   if (r.activeVoxels) c["active_box"] = boxJson(r.activeBox);
   if (o.levelSet) c["half_width"] = o.halfWidth;
   c["bytes"] = r.bytes;
-  run.note("wrote " + o.output + ": " + (o.fog ? "fog volume" : "level set") + ", " +
+  run.noteWhenDone("wrote " + o.output + ": " + (o.fog ? "fog volume" : "level set") + ", " +
            counted(r.activeVoxels, "active voxel", "active voxels"));
 }
 

@@ -429,7 +429,7 @@ int runFuse(const FuseOptions& o) {
                 (unsigned long long)t.occupiedAfter, (unsigned long long)t.occupiedBefore, (unsigned long long)t.created,
                 (unsigned long long)t.removed, (unsigned long long)t.freeVoxels);
   run.note(line);
-  run.note("wrote " + o.output);
+  run.noteWhenDone("wrote " + o.output);
   return run.finish();
 }
 

@@ -98,7 +98,7 @@ int runMerge(const MergeOptions& o) {
   run.counts()["classes_present"] = s.classesPresent.size();
   run.counts()["file_bytes"] = s.fileBytes;
   run.counts()["world_key"] = r.worldKey;
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+  run.noteWhenDone("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
            " from " + counted(o.parts.size(), "part", "parts"));
   return run.finish();
 }

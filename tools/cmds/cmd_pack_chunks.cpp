@@ -170,7 +170,7 @@ int runMerge(const PackOptions& o) {
                     {"copy", st.copySeconds},
                     {"total", total}}},
                   {"merge_mb_per_s", total > 0 ? double(res.fileBytes) / 1e6 / total : 0.0}};
-  run.note("merged " + counted(o.merge.size(), "part", "parts") + " into " + o.output + ": " +
+  run.noteWhenDone("merged " + counted(o.merge.size(), "part", "parts") + " into " + o.output + ": " +
            counted(res.levels.size(), "level", "levels") + ", " + counted(chunks, "chunk", "chunks") + " (" +
            std::to_string(st.copiedChunks) + " copied, " + std::to_string(st.reencodedChunks) + " re-encoded, " +
            std::to_string(st.rebuiltChunks) + " rebuilt from the seam level), " +

@@ -180,7 +180,7 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
                               {"box", b.empty() ? nlohmann::json(nullptr)
                                                 : nlohmann::json{b.min.u, b.min.v, b.min.w, b.max.u, b.max.v, b.max.w}}};
   }
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+  run.noteWhenDone("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
            ", " + counted(s.classesPresent.size(), "class", "classes"));
   return run.finish();
 }
@@ -288,7 +288,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (s.occupied == 0 && !baked.header.region)  // a region of the world may be empty; the whole world is worth a word
     run.note("warning: " + o.inputs[0] + " gave no occupied voxel at " + vox::toString(d) +
              ": the scene is empty" + (vox::isDemoName(o.inputs[0]) ? std::string(" (a finer --res resolves it)") : ""));
-  run.note("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
+  run.noteWhenDone("wrote " + o.output + ": " + vox::toString(d) + ", " + counted(s.occupied, "occupied voxel", "occupied voxels") +
            ", " + counted(s.classesPresent.size(), "class", "classes"));
   return run.finish();
 }

@@ -224,7 +224,7 @@ void exportGltf(const ExportOptions& o, ExportFormat format, const ExportInput& 
   if (o.greedy)
     what += " (" + std::to_string(2 * culledQuads) + " before merging, ratio " +
             std::to_string(c["greedy_triangle_ratio"].get<double>()).substr(0, 5) + ")";
-  run.note("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
+  run.noteWhenDone("wrote " + o.output + ": " + what + ", " + std::to_string(written.fileBytes) + " bytes");
 }
 
 /// PLY and .vox write every voxel, interior ones too: their uncoloured voxels are counted.
@@ -243,7 +243,7 @@ void exportPly(const ExportOptions& o, const ExportInput& in, Run& run) {
   run.counts()["points"] = r.points;
   run.counts()["bytes"] = r.bytes;
   if (o.color == vox::FaceColor::Voxel) noteUncolored(o.input, r.uncolored, run);
-  run.note("wrote " + o.output + ": " + counted(r.points, "point", "points") + ", " + std::to_string(r.bytes) + " bytes");
+  run.noteWhenDone("wrote " + o.output + ": " + counted(r.points, "point", "points") + ", " + std::to_string(r.bytes) + " bytes");
 }
 
 /// MagicaVoxel models; the palette is the class table (index = class id) or
@@ -300,7 +300,7 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
   c["points"] = r.voxels;
   c["size"] = r.size;
   c["bytes"] = r.bytes;
-  run.note("wrote " + o.output + ": " + counted(r.voxels, "voxel", "voxels") + " in " + counted(r.models, "model", "models") +
+  run.noteWhenDone("wrote " + o.output + ": " + counted(r.voxels, "voxel", "voxels") + " in " + counted(r.models, "model", "models") +
            ", " + std::to_string(r.bytes) + " bytes");
 }
 

@@ -84,7 +84,7 @@ void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t level
            "; a coarse voxel is occupied where " +
            (o.occupancy == vox::MipOccupancy::Majority ? "most of its children are" : "any of its children is");
   }
-  run.note("wrote " + (o.split ? std::to_string(levelCount) + " level files " + (levelCount == 0 ? std::string() : splitName(stem, 1) + "...")
+  run.noteWhenDone("wrote " + (o.split ? std::to_string(levelCount) + " level files " + (levelCount == 0 ? std::string() : splitName(stem, 1) + "...")
                                : o.output) +
            ": " + what);
   if (o.split) {

@@ -67,7 +67,7 @@ void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::
                   {"pack_mb_per_s", packSecs > 0 ? double(fileBytes) / 1e6 / packSecs : 0.0}};
   char bpv[32];
   std::snprintf(bpv, sizeof bpv, "%.2f", bytesPerVoxel);
-  run.note("wrote " + o.output + ": " + counted(levels.size(), "level", "levels") + ", " + counted(chunks, "chunk", "chunks") +
+  run.noteWhenDone("wrote " + o.output + ": " + counted(levels.size(), "level", "levels") + ", " + counted(chunks, "chunk", "chunks") +
            " of " + std::to_string(pack.chunkSide) + "^3, " + counted(voxels, "voxel", "voxels") + ", " +
            std::to_string(fileBytes) + " bytes (" + bpv + " per voxel)");
 }
