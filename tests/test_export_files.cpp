@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
@@ -392,6 +393,45 @@ TEST(MagicaVoxelWriter, ChunksFollowTheSpec) {
   EXPECT_EQ(ids, (std::vector<std::string>{"SIZE", "XYZI", "nTRN", "nGRP", "nTRN", "nSHP", "RGBA"}));
   // The palette: entry k is index k + 1.
   EXPECT_EQ(f.substr(f.size() - 1024 + 8, 4), std::string("\x94\x99\xa3\xff", 4));
+}
+
+// Two voxels at opposite corners of a box 2^21 wide: 8192 x 8192 tiles, two
+// with voxels, two models; the plan the check sees is the file written.
+TEST(MagicaVoxelWriter, FarApartVoxelsMakeTwoModels) {
+  voxtest::TempDir dir;
+  const int32_t far = (1 << 21) - 1;
+  vox::ClassVolume vol({{0, 0, 0}, {far, 3, far}}, false);
+  for (const vox::Coord3 at : {vox::Coord3{0, 0, 0}, vox::Coord3{far, 3, far}}) {
+    vox::ClassVolume::Brick b = vol.makeBrick({at.u & ~7, at.v & ~7, at.w & ~7});
+    b.classes[size_t(vox::ClassVolume::voxelIndex(at.u & 7, at.v & 7, at.w & 7))] = 1;
+    vol.add(std::move(b));
+  }
+  vol.finish();
+  std::optional<vox::MagicaVoxelPlan> plan;
+  const auto one = [](const vox::ClassVolume::Brick&, int) { return uint8_t(1); };
+  const vox::MagicaVoxelResult r = vox::writeMagicaVoxel(
+      vol, {}, one, dir.file("far.vox"), [&](const vox::MagicaVoxelPlan& p) { plan = p; });
+  ASSERT_TRUE(plan);
+  EXPECT_EQ(r.models, 2u);
+  EXPECT_EQ(r.voxels, 2u);
+  EXPECT_EQ(plan->models, 2u);
+  EXPECT_EQ(plan->voxels, 2u);
+  EXPECT_EQ(plan->fileBytes, r.bytes);
+  EXPECT_LT(plan->memoryBytes, 4096u);
+  const std::string f = vox::readFileBytes(dir.file("far.vox"));
+  ASSERT_EQ(f.size(), r.bytes);
+  // Models in (z, y, x) tile order: (u, w) = (far, far) is tile (8191, 0, 0),
+  // before (0, 0), tile (0, 8191, 0); translations o + 128 - 2^20 (z: 0 + 2 - 2).
+  EXPECT_NE(f.find("1048448 -1048448 0"), std::string::npos);
+  EXPECT_LT(f.find("1048448 -1048448 0"), f.find("-1048448 1048448 0"));
+  // A check that refuses: nothing written.
+  EXPECT_TRUE(voxtest::throwsVoxError(
+      [&] {
+        vox::writeMagicaVoxel(vol, {}, one, dir.file("no.vox"),
+                              [](const vox::MagicaVoxelPlan&) { vox::throwBadInput("refused"); });
+      },
+      vox::ErrorKind::BadInput, {"refused"}));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("no.vox")));
 }
 
 TEST(PlyWriter, HeaderAndRecords) {

@@ -46,6 +46,15 @@ TEST(VdbGridInput, LevelSetSphereVolume) {
   const Scene s2 = readVdbGridAsScene(dir.file("ball.vdb"), r);
   EXPECT_EQ(std::max({s2.header().dims.x, s2.header().dims.y, s2.header().dims.z}), 40u);
   EXPECT_NEAR(double(s2.occupiedCount()), double(s.occupiedCount()), 0.05 * double(s.occupiedCount()));
+  // A threshold would change nothing on a level set (its sign is the inside): refused, naming the setting.
+  r.threshold = 0.5;
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { readVdbGridAsScene(dir.file("ball.vdb"), r); }, ErrorKind::Usage,
+                                      {"ball.vdb", "grid 'ball' is a level set", "drop the threshold"}));
+  try {
+    readVdbGridAsScene(dir.file("ball.vdb"), r);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.setting, Setting::GridThreshold) << "the CLI names --threshold";
+  }
 }
 
 TEST(VdbGridInput, FogNeedsAThresholdAndBadFilesAreNamed) {

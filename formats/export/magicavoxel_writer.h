@@ -14,6 +14,13 @@
 // models fit together and the whole box is centred as MagicaVoxel centres a
 // single model (one model: translation 0).
 //
+// Only tiles that hold voxels are kept (in memory too), so a wide, sparse box
+// costs its voxels, not its tiles.
+//
+// Limits: chunk sizes are 32-bit signed (the spec's `int`), so the MAIN
+// chunk, which holds every other, ends at 2^31 - 1 bytes: about 536 million
+// voxels. Translations (int32) and node ids reach far beyond what that holds.
+//
 // Palette: the RGBA chunk's 255 entries are palette indices 1..255.
 #pragma once
 
@@ -32,11 +39,24 @@ struct MagicaVoxelResult {
   std::array<uint32_t, 3> size{};  // of the box in MagicaVoxel axes
 };
 
+/// The largest chunk (content + children) a .vox file holds.
+inline constexpr uint64_t kMagicaVoxelMaxChunkBytes = 0x7FFFFFFF;
+
+/// What a file will take, known before its voxel lists are allocated.
+struct MagicaVoxelPlan {
+  uint64_t models = 0, voxels = 0;
+  uint64_t fileBytes = 0;    // the whole file; its MAIN chunk is fileBytes - 20
+  uint64_t memoryBytes = 0;  // the models held while writing (voxel lists, scene graph)
+};
+
 /// Writes every voxel of `volume` (inside its box) with the palette index
 /// `indexOf(brick, i)` (1..255) and `palette` (entry k is index k + 1).
-/// Throws vox::Error (Io) when writing fails.
+/// `check`, when given, sees the plan first and may throw to refuse it (a
+/// memory guard). Throws vox::Error (BadInput) when the file would exceed the
+/// format's chunk size, before anything is written, and (Io) when writing fails.
 MagicaVoxelResult writeMagicaVoxel(const ClassVolume& volume, const std::array<Rgb8, 255>& palette,
                                    const std::function<uint8_t(const ClassVolume::Brick&, int)>& indexOf,
-                                   const std::string& path);
+                                   const std::string& path,
+                                   const std::function<void(const MagicaVoxelPlan&)>& check = nullptr);
 
 }  // namespace vox

@@ -44,7 +44,8 @@ struct PackResult {
 /// that level's voxels in full (what `--merge` rebuilds the coarse levels from).
 /// Throws vox::Error (Usage, with the Setting to change) for an unsupported
 /// chunk side, alignment or layout, and for a scene the layout cannot hold
-/// (columns: a coloured interior voxel).
+/// (columns: a coloured interior voxel); (BadInput) for dims past the format's
+/// (pageFileDimsProblem).
 PackResult packChunks(const std::vector<const Scene*>& levels, const PackSettings& settings);
 
 struct SceneLeaves;
@@ -61,6 +62,11 @@ struct PlannedPack {
 /// the file of packChunks of readSceneVdb's scene of the same file, byte for
 /// byte, at any thread count, without OpenVDB trees. Throws as packChunks.
 PlannedPack packChunks(const SceneLeaves& scene, const PackSettings& settings);
+
+/// Why a page file cannot hold a scene of level-0 `dims` (an axis past
+/// pagefile::kMaxDim, which every reader refuses), with what to do; "" when it
+/// can. packChunks throws it (BadInput); commands check it before the work.
+std::string pageFileDimsProblem(const Dims& dims);
 
 /// MipSettings::levels for packing `header`'s scene with `--levels asked`
 /// (0: automatic): `asked` for a whole scene; for a region part, every level

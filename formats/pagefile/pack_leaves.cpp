@@ -31,6 +31,7 @@ void checkSettings(const PackSettings& s, size_t levelCount) {
 
 pagefile::Header fileHeader(const SceneHeader& bh, const PackSettings& s, size_t levelCount, bool anyColor,
                             bool anyInterior) {
+  if (const std::string problem = pageFileDimsProblem(bh.dims); !problem.empty()) throwBadInput(problem);
   pagefile::Header h;
   h.layout = s.layout;
   h.chunkLog2 = uint8_t(std::countr_zero(s.chunkSide));
@@ -183,6 +184,18 @@ class LeavesGatherer {
 };
 
 }  // namespace
+
+std::string pageFileDimsProblem(const Dims& dims) {
+  const uint32_t d[3] = {dims.x, dims.y, dims.z};
+  for (int a = 0; a < 3; ++a)
+    if (d[a] > pagefile::kMaxDim)
+      return "the scene is " + std::to_string(d[a]) + " voxels along " + "xyz"[a] + " (dims " + std::to_string(d[0]) +
+             " x " + std::to_string(d[1]) + " x " + std::to_string(d[2]) + ") and a page file holds at most " +
+             std::to_string(pagefile::kMaxDim) + " (2^20) per axis: pack a scene at most that wide (a block map's " +
+             "positions along " + "xyz"[a] + " below " + std::to_string(pagefile::kMaxDim) +
+             "; split a wider map, as region bakes keep the world's dims)";
+  return {};
+}
 
 PlannedPack packChunks(const SceneLeaves& scene, const PackSettings& s) {
   checkSettings(s, 1);

@@ -85,6 +85,11 @@ Scene sceneFromGrid(const typename GridT::Ptr& grid, const std::string& path, co
     throwUsage(path + ": grid '" + name + "' is not a level set (a fog volume?); give the density threshold T above "
                    "which a voxel is inside (value >= T)",
                Setting::GridThreshold);
+  // A level set's inside is its sign; a threshold would change nothing.
+  if (levelSet && o.threshold)
+    throwUsage(path + ": grid '" + name + "' is a level set, inside where its value <= 0, so a density threshold "
+                   "does not apply to it; drop the threshold",
+               Setting::GridThreshold);
   if (grid->activeVoxelCount() == 0) throwBadInput(path + ": grid '" + name + "' has no active voxels");
 
   // Index box of the active values that are inside (for level sets the narrow

@@ -4,7 +4,8 @@
 //   signed distance at a voxel centre is <= 0.
 // * Float and double grids are read, each sampled in its own precision.
 // * Fog volume or any other scalar grid: inside where the sampled density is
-//   >= the threshold, which must be given (there is no universal default).
+//   >= the threshold, which must be given (there is no universal default);
+//   a level set refuses one (it would change nothing).
 // The output grid covers the world bounding box of the input's active region
 // (level sets: the narrow band), with the requested resolution on its longest
 // axis or the given voxel size; origin = that box's minimum corner.
@@ -24,7 +25,7 @@ namespace vox {
 
 struct VdbGridInputOptions {
   std::string gridName;              // empty: the file's first float or double grid
-  std::optional<double> threshold;   // required for grids that are not level sets
+  std::optional<double> threshold;   // required for grids that are not level sets, refused for level sets
   uint32_t resolution = 0;           // voxels on the longest axis, or
   double voxelSize = 0;              // world units per voxel (one of the two > 0)
   unsigned threads = 1;
@@ -38,7 +39,7 @@ struct VdbGridInputOptions {
 };
 
 /// Throws vox::Error (BadInput) naming the file and grid, (Usage) for a fog
-/// volume without a threshold or a missing resolution.
+/// volume without a threshold, a level set with one, or a missing resolution.
 Scene readVdbGridAsScene(const std::string& path, const VdbGridInputOptions& options);
 
 }  // namespace vox

@@ -983,6 +983,108 @@ disk_full)
   if [ -d atl ]; then [ -z "$(ls -A atl)" ] || fail "build-atlas left files behind: $(ls -A atl)"; rmdir atl; fi
   no_outputs
   ;;
+no_effect)
+  # Options that would do nothing for the input at hand: exit 2 before any work,
+  # naming the option, why, and the fix; nothing written.
+  # refused WANT_MESSAGE OUTPUT CMD...: exit 2, the message, OUTPUT not written.
+  refused() {
+    local want=$1 out=$2; shift 2
+    expect_exit 2 "$@"
+    expect_stderr "$want"
+    [ "$(wc -l < err.txt)" = 1 ] || fail "a usage error is one line: $(cat err.txt)"
+    [ ! -e "$out" ] || fail "$out was written by a refused run: $*"
+  }
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > keep_t.stl
+  cp keep_t.stl keep_u.stl
+  # Meshes refuse the grid and block-map options (--threshold would also split a
+  # region bake's world key), symmetric to a grid refusing --fill.
+  refused "--threshold applies to .vdb grid inputs, and keep_t.stl is a mesh: drop --threshold" x.vdb \
+    "$vox" voxelize keep_t.stl --threshold 0.5 -o x.vdb
+  refused "--threshold applies to .vdb grid inputs, and keep_t.stl is a mesh: drop --threshold" x.vdb \
+    "$vox" voxelize keep_t.stl --res 64 --region 0/2 --threshold 0.5 -o x.vdb
+  refused "--grid applies to .vdb grid inputs, and keep_t.stl is a mesh: drop --grid" x.vdb \
+    "$vox" voxelize keep_t.stl --grid density -o x.vdb
+  refused "--grid-size applies to block maps, and the inputs are meshes: drop --grid-size" x.vdb \
+    "$vox" voxelize keep_t.stl keep_u.stl --grid-size 64,48,64 -o x.vdb
+  # --solid-rule: only --fill solid fills an inside, and only the exact method has rules.
+  refused "--solid-rule decides the inside of --fill solid, and this bake is --fill surface" x.vdb \
+    "$vox" voxelize keep_t.stl --solid-rule parity -o x.vdb
+  expect_stderr "add --fill solid, or drop --solid-rule"
+  refused "--solid-rule is the exact voxelizer's; --method sdf fills OpenVDB's inside mask" x.vdb \
+    "$vox" voxelize keep_t.stl --fill solid --solid-rule parity --method sdf -o x.vdb
+  expect_exit 0 "$vox" voxelize keep_t.stl --fill solid --solid-rule parity -o keep_solid.vdb -q
+  # Block maps: one block is one voxel; the hamlet is sized by --res.
+  refused "--voxel-size does not apply to block maps: one block is one voxel, of the map's worldScale; drop --voxel-size" \
+    x.vdb "$vox" voxelize "$data/map_small.json" --voxel-size 2 -o x.vdb
+  refused "--res does not apply to block maps" x.vdb "$vox" voxelize "$data/map_small.json" --res 4 -o x.vdb
+  refused "--voxel-size does not apply to demo:hamlet" x.vdb "$vox" voxelize demo:hamlet --voxel-size 0.5 -o x.vdb
+  expect_stderr "drop --voxel-size, or give --res"
+  # A level set's inside is its sign: --threshold is refused where the grid is
+  # read (its class is in the file), a fog volume still needs one.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o keep_h.vdb -q
+  expect_exit 0 "$vox" export keep_h.vdb -o keep_ls.vdb --level-set -q
+  expect_exit 0 "$vox" export keep_h.vdb -o keep_fog.vdb --fog -q
+  refused "keep_ls.vdb: grid 'surface' is a level set, inside where its value <= 0, so a density threshold does not apply to it; drop the threshold (--threshold)" \
+    x.vdb "$vox" voxelize keep_ls.vdb --res 16 --threshold 0.5 -o x.vdb
+  expect_exit 0 "$vox" voxelize keep_ls.vdb --res 16 -o keep_ls_scene.vdb -q
+  expect_exit 0 "$vox" voxelize keep_fog.vdb --res 16 --threshold 0.5 -o keep_fog_scene.vdb -q
+
+  # render-canonical: a camera file gives every view's fov and up.
+  echo '{"eye": [20, 15, 20], "target": [0, 2, 0], "size": [40, 30]}' > cam.json
+  refused "--fov does nothing with --camera cam.json: the file gives each view's field of view and up vector" r.png \
+    "$vox" render-canonical keep_h.vdb -o r.png --camera cam.json --fov 30
+  expect_stderr "drop --fov, or set \"fov\" in the file"
+  refused "--up does nothing with --camera cam.json" r.png \
+    "$vox" render-canonical keep_h.vdb -o r.png --camera cam.json --up 0,0,1
+  expect_stderr "drop --up, or set \"up\" in the file"
+  refused "--fov and --up do nothing with --camera cam.json" r.png \
+    "$vox" render-canonical keep_h.vdb -o r.png --camera cam.json --view 0 --fov 30 --up 0,0,1
+  # --check's settings without --check, the brute force's budget with the walk, --chunk-size without --touched.
+  cam="--eye 20,15,20 --target 0,2,0 --size 40x30"
+  for opt in "--check-reference brute-force" "--check-seconds 1" "--check-budget 1e6"; do
+    # shellcheck disable=SC2086
+    refused "${opt%% *} sets how --check compares pixels, and --check is not given: add --check, or drop ${opt%% *}" r.png \
+      "$vox" render-canonical keep_h.vdb -o r.png $cam $opt
+  done
+  # shellcheck disable=SC2086
+  refused "--check-budget limits the brute-force reference, and this check uses the voxel walk" r.png \
+    "$vox" render-canonical keep_h.vdb -o r.png $cam --check --check-budget 1e6
+  expect_stderr "add --check-reference brute-force, or drop --check-budget"
+  for v in nan inf -inf -1 0; do
+    # shellcheck disable=SC2086
+    refused "--check-budget: expected a finite number > 0, got '$v'" r.png \
+      "$vox" render-canonical keep_h.vdb -o r.png $cam --check --check-reference brute-force --check-budget "$v"
+  done
+  # shellcheck disable=SC2086
+  refused "--chunk-size sets the chunks of --touched FILE.json" tb.png \
+    "$vox" render-canonical keep_h.vdb $cam --touched-bitmap tb.png --chunk-size 16
+  expect_stderr "add --touched FILE.json, or drop --chunk-size"
+  # Each takes effect where it applies.
+  # shellcheck disable=SC2086
+  expect_exit 0 "$vox" render-canonical keep_h.vdb -o keep_r.png $cam --check --check-reference brute-force \
+    --check-budget 1e6 --check-seconds 5 --touched t.json --chunk-size 16 -q
+  jcheck t.json "assert d['chunk_size']==16, d"
+  expect_exit 0 "$vox" render-canonical keep_h.vdb -o keep_rc.png --camera cam.json -q
+
+  # verify-bijection: the budget is --canonical's, a bare --fov/--up/--size has no camera to shape.
+  refused "--check-budget limits the brute force of --canonical, and --canonical is not given: add --canonical IMG --scene S, or drop --check-budget" \
+    x.json "$vox" verify-bijection --res 8 --check-budget 100
+  for v in nan inf -1; do
+    refused "--check-budget: expected a finite number > 0, got '$v'" x.json \
+      "$vox" verify-bijection --canonical keep_r.png --scene keep_h.vdb --check-budget "$v"
+  done
+  for opt in "--fov 30" "--up 0,0,1" "--size 40x30"; do
+    # shellcheck disable=SC2086
+    refused "${opt%% *} shapes a camera given on the command line, and none is" x.json \
+      "$vox" verify-bijection --canonical keep_r.png --scene keep_h.vdb $opt
+    expect_stderr "add --eye X,Y,Z --target X,Y,Z (or --camera FILE), or drop ${opt%% *}"
+  done
+  refused "--up does nothing with --camera cam.json" x.json \
+    "$vox" verify-bijection --canonical keep_rc.png --scene keep_h.vdb --camera cam.json --up 0,0,1
+  expect_exit 0 "$vox" verify-bijection --canonical keep_r.png --scene keep_h.vdb --check-budget 1e6
+  expect_exit 0 "$vox" verify-bijection --canonical keep_rc.png --scene keep_h.vdb --camera cam.json
+  no_outputs
+  ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac
 

@@ -51,11 +51,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // the same path with fewer grids.
   expectVoxErrorOnly([&] { vox::readPyramidMetadata(path); });
   expectVoxErrorOnly([&] { vox::readPyramidVdb(path); });
-  expectVoxErrorOnly([&] {
-    vox::VdbGridInputOptions o;
-    o.resolution = 12;
-    o.threshold = 0.5;
-    vox::readVdbGridAsScene(path, o);
-  });
+  // Without a threshold (level sets read) and with one (fog volumes read).
+  for (const bool fog : {false, true})
+    expectVoxErrorOnly([&] {
+      vox::VdbGridInputOptions o;
+      o.resolution = 12;
+      if (fog) o.threshold = 0.5;
+      vox::readVdbGridAsScene(path, o);
+    });
   return 0;
 }

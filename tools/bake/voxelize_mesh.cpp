@@ -72,6 +72,9 @@ const EnumNames<VoxelizeMethod>& methodNames() {
   return names;
 }
 
+/// libvox/scene/demo_hamlet.h's kHamletName (a header of the full module).
+constexpr const char* kHamlet = "demo:hamlet";
+
 /// ".obj .ply .stl .gltf .glb"
 std::string meshExtensions() {
   std::string s;
@@ -268,25 +271,51 @@ void checkVoxelizeOptions(const VoxelizeOptions& o) {
     throw vox::Error(vox::ErrorKind::Usage,
                      "several inputs combine only when all are meshes (" + meshExtensions() + "); demo:hamlet, demo:city, "
                      "map.json and .vdb inputs go one at a time");
-  // An option of another input kind would do nothing: refused, like --res on a block map.
-  if (o.app && !allInputsAreMeshes(o) && !o.inputs.empty()) {
-    const std::string& input = o.inputs[0];
-    const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
-    const bool grid = !vox::isDemoName(input) && input != vox::kCityName && kind == vox::FileKind::Vdb;
-    const bool map = !vox::isDemoName(input) && input != vox::kCityName && kind == vox::FileKind::BlockMap;
-    const std::string what = vox::isDemoName(input) || input == vox::kCityName ? "the built-in " + input
-                             : grid ? "an OpenVDB grid" : map ? "a block map" : "not a mesh";
-    auto refuse = [&](const std::string& option, const std::string& appliesTo) {
-      throw vox::Error(vox::ErrorKind::Usage, option + " applies to " + appliesTo + ", and " + input + " is " + what +
-                                                  ": drop " + option);
-    };
-    for (const char* option : {"--fill", "--solid-rule", "--method", "--bounds", "--pad", "--classes", "--drop-invalid",
-                               "--ignore-missing-materials", "--check"})
-      if (o.app->get_option(option)->count() > 0) refuse(option, "meshes");
+  // An option of another input kind would do nothing: refused, like --res on a
+  // block map. Meshes refuse the grid and block-map options the same way (a
+  // --threshold would also enter a region bake's world key, so parts baked with
+  // and without it would not merge).
+  auto given = [&o](const char* option) { return o.app && o.app->get_option(option)->count() > 0; };
+  if (o.inputs.empty()) return;
+  const std::string& input = o.inputs[0];
+  auto refuse = [&](const std::string& option, const std::string& appliesTo, const std::string& what) {
+    throw vox::Error(vox::ErrorKind::Usage, option + " applies to " + appliesTo + ", and " + what + ": drop " + option);
+  };
+  if (allInputsAreMeshes(o)) {
+    const std::string what = o.inputs.size() == 1 ? input + " is a mesh" : "the inputs are meshes";
     for (const char* option : {"--grid", "--threshold"})
-      if (!grid && o.app->get_option(option)->count() > 0) refuse(option, ".vdb grid inputs");
-    if (!map && o.app->get_option("--grid-size")->count() > 0) refuse("--grid-size", "block maps");
+      if (given(option)) refuse(option, ".vdb grid inputs", what);
+    if (given("--grid-size")) refuse("--grid-size", "block maps", what);
+    if (given("--solid-rule") && o.fill != vox::FillMode::Solid)
+      throw vox::Error(vox::ErrorKind::Usage, "--solid-rule decides the inside of --fill solid, and this bake is --fill "
+                                              "surface (no inside is filled): add --fill solid, or drop --solid-rule");
+    if (given("--solid-rule") && o.method == VoxelizeMethod::Sdf)
+      throw vox::Error(vox::ErrorKind::Usage, "--solid-rule is the exact voxelizer's; --method sdf fills OpenVDB's "
+                                              "inside mask whatever the rule: drop --solid-rule, or use --method exact");
+    return;
   }
+  const std::optional<vox::FileKind> kind = vox::fileKindOf(input);
+  const bool demo = vox::isDemoName(input) || input == vox::kCityName;
+  const bool grid = !demo && kind == vox::FileKind::Vdb;
+  const bool map = !demo && kind == vox::FileKind::BlockMap;
+  const std::string what = input + " is " + (demo ? "the built-in " + input : grid ? "an OpenVDB grid"
+                                                                            : map ? "a block map" : "not a mesh");
+  for (const char* option : {"--fill", "--solid-rule", "--method", "--bounds", "--pad", "--classes", "--drop-invalid",
+                             "--ignore-missing-materials", "--check"})
+    if (given(option)) refuse(option, "meshes", what);
+  for (const char* option : {"--grid", "--threshold"})
+    if (!grid && given(option)) refuse(option, ".vdb grid inputs", what);
+  if (!map && given("--grid-size")) refuse("--grid-size", "block maps", what);
+  // A block map's voxel is its block (worldScale world units), the hamlet's
+  // 25.6 / --res: neither is placed by a voxel size.
+  if (map && (o.resolution || o.voxelSize > 0)) {
+    const std::string option = o.resolution ? "--res" : "--voxel-size";
+    throw vox::Error(vox::ErrorKind::Usage, option + " does not apply to block maps: one block is one voxel, of the "
+                                                     "map's worldScale; drop " + option);
+  }
+  if (input == kHamlet && o.voxelSize > 0)
+    throw vox::Error(vox::ErrorKind::Usage, "--voxel-size does not apply to demo:hamlet: it spans 25.6 world units "
+                                            "at --res N voxels (voxel size 25.6 / N); drop --voxel-size, or give --res");
 }
 
 bool isLightBake(const VoxelizeOptions& o) {

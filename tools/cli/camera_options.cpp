@@ -51,8 +51,10 @@ std::pair<uint32_t, uint32_t> parseImageSize(const std::string& text) {
 void addCameraOptions(CLI::App& cmd, CameraOptions& o) {
   cmd.add_option("--eye", o.eye, "Camera position X,Y,Z (world units)");
   cmd.add_option("--target", o.target, "Point the camera looks at X,Y,Z");
-  cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll)")->default_str(vecText(vox::kLookAtUp));
-  cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(FinitePositive)->capture_default_str();
+  cmd.add_option("--up", o.up, "Up vector X,Y,Z (fixes the roll; not with --camera: the file's)")->default_str(vecText(vox::kLookAtUp));
+  o.fovOption = cmd.add_option("--fov", o.fov, "Vertical field of view, degrees (not with --camera: the file's)")
+                    ->check(FinitePositive)
+                    ->capture_default_str();
   const std::string side = std::to_string(vox::kDefaultImageSide);
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT (default " + side + "x" + side + ", or the camera file's)");
   cmd.add_option("--camera", o.cameraFile, "Camera JSON, or a block-map metadata.json (views[] with matrices)");
@@ -80,10 +82,25 @@ std::string viewNames() {
 
 bool CameraOptions::needsFraming() const { return orbit > 0 || (!view.empty() && !isIndex(view)); }
 
+bool CameraOptions::fovGiven() const { return fovOption && fovOption->count() > 0; }
+
 void CameraOptions::check() const {
   if (!view.empty() && !isIndex(view) && !vox::namedViewFrom(view))
     vox::throwUsage("--view " + view + ": expected one of " + viewNames() + ", or with --camera a view INDEX");
-  if (!needsFraming()) return;
+  if (!needsFraming()) {
+    // A camera file is every view's whole camera: a look-at camera's "fov" and
+    // "up" (absent: the documented defaults, as --camera-out writes them), a
+    // metadata.json view's matrices. --fov/--up would be ignored, so refused.
+    if (!cameraFile.empty() && (fovGiven() || !up.empty())) {
+      const bool both = fovGiven() && !up.empty();
+      const std::string option = both ? "--fov and --up" : fovGiven() ? "--fov" : "--up";
+      const std::string keys = both ? "\"fov\" and \"up\"" : fovGiven() ? "\"fov\"" : "\"up\"";
+      vox::throwUsage(option + (both ? " do" : " does") + " nothing with --camera " + cameraFile +
+                      ": the file gives each view's field of view and up vector (a look-at camera's \"fov\" and "
+                      "\"up\", a metadata.json view's matrices); drop " + option + ", or set " + keys + " in the file");
+    }
+    return;
+  }
   const std::string what = orbit > 0 ? "--orbit" : "--view " + view;
   if (orbit > 0 && !view.empty()) vox::throwUsage("--orbit and --view " + view + " both choose the cameras; give one");
   if (!cameraFile.empty() || !eye.empty() || !target.empty() || !up.empty())

@@ -12,6 +12,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace voxcli {
@@ -24,11 +25,15 @@ struct CameraOptions {
   std::string cameraFile;  // camera JSON or a block-map metadata.json
   std::string view;        // with --camera: one view's INDEX; else a named view
   uint32_t orbit = 0;      // --orbit N: N framed views around the scene
+  const CLI::Option* fovOption = nullptr;  // to tell --fov given from its default
 
   bool given() const { return !eye.empty() || !target.empty() || !cameraFile.empty() || needsFraming(); }
   /// --view NAME or --orbit: the cameras depend on the scene's occupied box.
   bool needsFraming() const;
-  /// Refuses contradictory options (before anything is read). Throws vox::Error (Usage).
+  /// --fov was given (not only its default).
+  bool fovGiven() const;
+  /// Refuses contradictory options, and options the cameras would not use
+  /// (--fov/--up with --camera FILE), before anything is read. Throws vox::Error (Usage).
   void check() const;
 };
 

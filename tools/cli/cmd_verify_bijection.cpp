@@ -16,6 +16,7 @@
 #include "libvox/core/texel_formats.h"
 #include "tools/cli/cli.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/number_checks.h"
 
 namespace voxcli {
 
@@ -160,17 +161,32 @@ Command registerVerifyBijection(CLI::App& root) {
   cmd->add_option("--scene", o->scene, "The scene the atlas was built from (or the render's scene / page file)");
   cmd->add_option("--canonical", o->canonical, "A canonical image written by vox render-canonical");
   addCameraOptions(*cmd, o->camera);
-  cmd->add_option("--check-budget", o->checkBudget,
-                  "--canonical: ray-voxel tests the brute force may spend; past it, 1 pixel in K is checked (sampled 1 in K)")
-      ->capture_default_str();
+  const CLI::Option* budget =
+      cmd->add_option("--check-budget", o->checkBudget,
+                      "--canonical: ray-voxel tests the brute force may spend; past it, 1 pixel in K is checked (sampled 1 in K)")
+          ->check(FinitePositive)
+          ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as JSON on stdout");
   addCommonOptions(*cmd, o->common);
-  return {cmd, [o] {
+  return {cmd, [o, budget] {
             if (!o->canonical.empty()) {
               if (o->scene.empty()) throw vox::Error(vox::ErrorKind::Usage, "--canonical needs --scene (the scene or page file rendered)");
               if (!o->atlas.empty()) throw vox::Error(vox::ErrorKind::Usage, "give --atlas or --canonical, not both");
+              o->camera.check();  // before the image and the scene are read
+              // Without a camera on the command line the image's own is used whole.
+              if (!o->camera.given() && (o->camera.fovGiven() || !o->camera.up.empty() || !o->camera.size.empty())) {
+                const std::string option = o->camera.fovGiven() ? "--fov" : !o->camera.up.empty() ? "--up" : "--size";
+                throw vox::Error(vox::ErrorKind::Usage,
+                                 option + " shapes a camera given on the command line, and none is: the image's own "
+                                          "camera is checked as it is; add --eye X,Y,Z --target X,Y,Z (or --camera "
+                                          "FILE), or drop " + option);
+              }
               return runCanonicalCheck(*o);
             }
+            if (budget->count() > 0)
+              throw vox::Error(vox::ErrorKind::Usage,
+                               "--check-budget limits the brute force of --canonical, and --canonical is not given: add "
+                               "--canonical IMG --scene S, or drop --check-budget");
             if (o->camera.given()) throw vox::Error(vox::ErrorKind::Usage, "camera options go with --canonical");
             if (!o->atlas.empty() || !o->scene.empty()) {
               if (o->atlas.empty() || o->scene.empty())

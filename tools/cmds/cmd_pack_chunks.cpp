@@ -84,10 +84,12 @@ std::vector<vox::Scene> readLevels(const PackOptions& o, Run& run, vox::PackSett
     checkStoredLevels(o, *stored);
     pack.mipOccupancy = "from " + o.input;
     levels = vox::readPyramidVdb(o.input);  // the levels `vox mip` stored
+    checkPageFileDims(o.input, levels.at(0).header().dims);
     if (o.levels > 0) levels.resize(size_t(o.levels) + 1);
     return levels;
   }
   levels.push_back(vox::readSceneVdb(o.input));
+  checkPageFileDims(o.input, levels[0].header().dims);  // before the mips
   if (!o.mips) return levels;
   run.phase("mip");
   vox::MipSettings ms;

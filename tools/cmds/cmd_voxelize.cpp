@@ -187,8 +187,7 @@ int runCity(const VoxelizeOptions& o, Run& run, const std::string& outputTemp) {
 
 /// A block map: one block is one voxel, placed in the world grid --grid-size.
 vox::Scene readBlockMapInput(const VoxelizeOptions& o, Run& run, const std::string& input) {
-  if (o.resolution)
-    throw vox::Error(vox::ErrorKind::Usage, "--res does not apply to block maps: one block is one voxel");
+  // --res and --voxel-size were refused up front (checkVoxelizeOptions).
   run.phase("parse");
   run.input(input);
   {

@@ -295,7 +295,22 @@ void exportMagicaVoxel(const ExportOptions& o, const ExportInput& in, Run& run) 
                " (8-bit sRGB units)");
   }
   run.phase("write");
-  const vox::MagicaVoxelResult r = vox::writeMagicaVoxel(*in.volume, palette, indexOf, run.output(o.output));
+  // Before the models are allocated or anything is written: the format's
+  // size limit, then memory (4 bytes per voxel and a little per model).
+  auto check = [&](const vox::MagicaVoxelPlan& plan) {
+    if (plan.fileBytes - 20 > vox::kMagicaVoxelMaxChunkBytes)
+      vox::throwBadInput(o.input + ": " + counted(plan.voxels, "voxel", "voxels") + " in " +
+                         counted(plan.models, "model", "models") + " make a MagicaVoxel file of " +
+                         std::to_string(plan.fileBytes) + " bytes, and a .vox file's chunks hold at most " +
+                         std::to_string(vox::kMagicaVoxelMaxChunkBytes) +
+                         " bytes (about 536 million voxels): export a part with --region" +
+                         (in.kind == "scene" ? "" : ", or a coarser --level"));
+    vox::MemoryEstimate e;
+    e.add("resident before the models", vox::residentBytesNow());
+    e.add("MagicaVoxel models", double(plan.memoryBytes));
+    run.checkMemory(e, "the " + counted(plan.models, "MagicaVoxel model", "MagicaVoxel models") + " of " + o.input);
+  };
+  const vox::MagicaVoxelResult r = vox::writeMagicaVoxel(*in.volume, palette, indexOf, run.output(o.output), check);
   c["models"] = r.models;
   c["points"] = r.voxels;
   c["size"] = r.size;

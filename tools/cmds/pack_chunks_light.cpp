@@ -152,6 +152,7 @@ std::optional<int> runPackFromLeaves(const PackOptions& o) {
   vox::requireRegularFile(o.input);
   const std::optional<vox::SceneLeaves> leaves = vox::readSceneLeaves(o.input);
   if (!leaves) return std::nullopt;  // the temporary output goes with `run`
+  checkPageFileDims(o.input, leaves->header.dims);
   // The page file is assembled in memory before it is written: payloads of
   // a few bytes per voxel, chunk by chunk (measured).
   run.checkWorkMemory("packing " + o.input, 1.0);

@@ -58,6 +58,13 @@ nlohmann::json levelsJson(const Levels& levels, uint64_t& voxels, uint64_t& chun
 void reportPack(const PackOptions& o, const vox::PackSettings& pack, const std::vector<vox::PackResult::Level>& levels,
                 uint64_t fileBytes, uint32_t alignment, double packSecs, Run& run);
 
+/// Refuses (BadInput, exit 3) a scene too wide for a page file, naming the
+/// input: before the work, so that nothing is packed or written.
+inline void checkPageFileDims(const std::string& input, const vox::Dims& dims) {
+  if (const std::string problem = vox::pageFileDimsProblem(dims); !problem.empty())
+    vox::throwBadInput(input + ": " + problem);
+}
+
 /// Runs the packer, naming the input when the layout cannot hold the scene.
 template <typename Pack>
 auto packNamingInput(const std::string& input, const Pack& pack) {

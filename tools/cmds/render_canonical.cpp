@@ -68,6 +68,22 @@ void checkOutputOptions(const RenderCanonicalOptions& o) {
     vox::throwUsage("--chunk-size " + std::to_string(o.chunk) + ": expected a power of two 1..1024 (page files use 8, 16 or 32)");
 }
 
+// Options that tune another option's work do nothing without it: refused
+// before anything is read, naming what to add.
+void checkOptionsTakeEffect(const RenderCanonicalOptions& o) {
+  auto given = [&o](const char* option) { return o.app && o.app->get_option(option)->count() > 0; };
+  for (const char* option : {"--check-reference", "--check-seconds", "--check-budget"})
+    if (!o.check && given(option))
+      vox::throwUsage(std::string(option) + " sets how --check compares pixels, and --check is not given: add --check, "
+                                            "or drop " + option);
+  if (given("--check-budget") && o.checkReference != CheckReference::BruteForce)
+    vox::throwUsage("--check-budget limits the brute-force reference, and this check uses the voxel walk "
+                    "(--check-reference walk, the default): add --check-reference brute-force, or drop --check-budget");
+  if (given("--chunk-size") && o.touched.empty())
+    vox::throwUsage("--chunk-size sets the chunks of --touched FILE.json (--touched-bitmap is per voxel), and "
+                    "--touched is not given: add --touched FILE.json, or drop --chunk-size");
+}
+
 std::vector<vox::CameraView> makeCameras(const CameraOptions& options,
                                          const std::optional<vox::WorldBox>& framing = std::nullopt) {
   const std::vector<vox::CameraView> views = resolveCameras(options, kDefaultImageSide, kDefaultImageSide, framing);
@@ -419,6 +435,7 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   Run run("render-canonical", o.common);
   const std::vector<vox::RenderMode> modes = distinctModes(o.modes);
   checkOutputOptions(o);
+  checkOptionsTakeEffect(o);
   o.camera.check();
   // Cameras vox frames wait for the scene's occupied box; the others are checked before anything is read.
   std::vector<vox::CameraView> views;
@@ -575,10 +592,12 @@ CLI::App* addRenderCanonicalOptions(CLI::App& root, RenderCanonicalOptions& opts
       ->capture_default_str();
   cmd->add_option("--check-budget", o->checkBudget,
                   "brute-force: ray-voxel tests the check may spend per view; past it, 1 pixel in K is checked")
+      ->check(FinitePositive)
       ->capture_default_str();
   cmd->add_option("--level", o->level, "Page files: the level to render")->capture_default_str();
   cmd->add_option("--compression", o->compression, "PNG zlib level 0-9")->check(CLI::Range(0, 9))->capture_default_str();
   addCommonOptions(*cmd, o->common);
+  o->app = cmd;
   return cmd;
 }
 

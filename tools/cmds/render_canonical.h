@@ -38,6 +38,7 @@ struct RenderCanonicalOptions {
   int level = 0;
   int compression = 4;  // measured on a 1080p RGBA16 render: 2.7x faster than 6 for 25 % more bytes
   CommonOptions common;
+  const CLI::App* app = nullptr;  // to tell an option given from its default
 };
 
 /// Adds the render-canonical subcommand and its options, which fill `opts`.
