@@ -242,3 +242,24 @@ TEST(MeshData, ThirdPartyFilesWhenPresent) {
   EXPECT_EQ(read(kData + "/gltf/assimp/draco/2CylinderEngine.gltf").triangleCount(), 110336u) << "Draco-compressed";
   EXPECT_EQ(read(kData + "/gltf/assimp/Triangle-Mesh-Quantized/triangle_mesh_quantized.gltf").triangleCount(), 1u);
 }
+
+TEST(Mesh, KeepTrianglesKeepsOrderMaterialsPartsAndTheCallersValues) {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+  m.triangleMaterial = {10, 11, 12, 13};
+  m.trianglePart = {20, 21, 22, 23};
+  std::vector<uint8_t> classes{1, 2, 3, 4};
+  EXPECT_EQ(m.keepTriangles({true, false, true, false}, &classes), 2u);
+  EXPECT_EQ(m.triangles, (std::vector<std::array<uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}}));
+  EXPECT_EQ(m.triangleMaterial, (std::vector<uint32_t>{10, 12}));
+  EXPECT_EQ(m.trianglePart, (std::vector<uint32_t>{20, 22}));
+  EXPECT_EQ(classes, (std::vector<uint8_t>{1, 3}));
+  EXPECT_EQ(m.positions.size(), 4u);  // vertices stay: indices remain valid
+  Mesh bare;  // no materials or parts recorded per triangle
+  bare.positions = m.positions;
+  bare.triangles = {{0, 1, 2}, {1, 2, 3}};
+  EXPECT_EQ(bare.keepTriangles({false, true}), 1u);
+  EXPECT_EQ(bare.triangles, (std::vector<std::array<uint32_t, 3>>{{1, 2, 3}}));
+  EXPECT_TRUE(bare.triangleMaterial.empty());
+}

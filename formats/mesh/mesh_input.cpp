@@ -30,20 +30,14 @@ void checkFinite(Mesh& mesh, const std::string& name, const MeshReadOptions& opt
                       " NaN or infinite coordinates (the first is " + mesh.describeVertex(first, false) +
                       "); fix the file or drop their triangles",
                   Setting::DropInvalid);
-  size_t kept = 0;
+  std::vector<bool> keep(mesh.triangles.size());
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
-    if (invalid[tri[0]] || invalid[tri[1]] || invalid[tri[2]]) continue;
-    mesh.triangles[kept] = tri;
-    if (!mesh.triangleMaterial.empty()) mesh.triangleMaterial[kept] = mesh.triangleMaterial[t];
-    if (!mesh.trianglePart.empty()) mesh.trianglePart[kept] = mesh.trianglePart[t];
-    ++kept;
+    keep[t] = !invalid[tri[0]] && !invalid[tri[1]] && !invalid[tri[2]];
   }
-  warnings.push_back(name + ": dropped " + counted(mesh.triangles.size() - kept, "triangle", "triangles") +
-                     " touching " + counted(count, "vertex", "vertices") + " with NaN or infinite coordinates");
-  mesh.triangles.resize(kept);
-  if (!mesh.triangleMaterial.empty()) mesh.triangleMaterial.resize(kept);
-  if (!mesh.trianglePart.empty()) mesh.trianglePart.resize(kept);
+  const size_t dropped = mesh.keepTriangles(keep);
+  warnings.push_back(name + ": dropped " + counted(dropped, "triangle", "triangles") + " touching " +
+                     counted(count, "vertex", "vertices") + " with NaN or infinite coordinates");
   // The vertices stay (unreferenced) so indices remain valid; make them finite.
   for (size_t i = 0; i < mesh.positions.size(); ++i)
     if (invalid[i]) mesh.positions[i] = {0, 0, 0};

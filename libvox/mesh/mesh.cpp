@@ -61,4 +61,23 @@ std::string Mesh::describeVertex(size_t i, bool withFile) const {
   return (run.file.empty() || !withFile ? "" : run.file + ": ") + run.what + " " + std::to_string(n) + run.note;
 }
 
+size_t Mesh::keepTriangles(const std::vector<bool>& keep, std::vector<uint8_t>* alongside) {
+  const bool material = !triangleMaterial.empty(), part = !trianglePart.empty();
+  size_t kept = 0;
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    if (!keep[t]) continue;
+    triangles[kept] = triangles[t];
+    if (material) triangleMaterial[kept] = triangleMaterial[t];
+    if (part) trianglePart[kept] = trianglePart[t];
+    if (alongside) (*alongside)[kept] = (*alongside)[t];
+    ++kept;
+  }
+  const size_t dropped = triangles.size() - kept;
+  triangles.resize(kept);
+  if (material) triangleMaterial.resize(kept);
+  if (part) trianglePart.resize(kept);
+  if (alongside) alongside->resize(kept);
+  return dropped;
+}
+
 }  // namespace vox

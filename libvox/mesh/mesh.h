@@ -81,6 +81,11 @@ struct Mesh {
   /// Vertex `i` as its file names it ("model.obj: vertex 12 (...)", without
   /// "model.obj: " when not `withFile`), for messages.
   std::string describeVertex(size_t i, bool withFile = true) const;
+  /// Keeps, in order, the triangles t for which keep[t] is true, with their
+  /// material and part and, when given, the caller's own per-triangle values
+  /// (`alongside`, one per triangle). Vertices stay, so indices remain valid.
+  /// Returns how many triangles were dropped.
+  size_t keepTriangles(const std::vector<bool>& keep, std::vector<uint8_t>* alongside = nullptr);
 };
 
 }  // namespace vox

@@ -634,21 +634,9 @@ int runMeshesDirect(const VoxelizeOptions& o, Run& run, const std::string& outpu
     // A class none of whose triangles touches the domain (all of them outside
     // --bounds) is left out with its triangles: they vote in no voxel.
     if (std::any_of(p.triangleClass.begin(), p.triangleClass.end(), [&](uint8_t c) { return c != 0 && !used[c]; })) {
-      size_t kept = 0;
-      const bool material = !p.mesh.triangleMaterial.empty(), part = !p.mesh.trianglePart.empty();
-      for (size_t t = 0; t < p.mesh.triangles.size(); ++t) {
-        const uint8_t c = p.triangleClass[t];
-        if (c != 0 && !used[c]) continue;
-        p.mesh.triangles[kept] = p.mesh.triangles[t];
-        p.triangleClass[kept] = c;
-        if (material) p.mesh.triangleMaterial[kept] = p.mesh.triangleMaterial[t];
-        if (part) p.mesh.trianglePart[kept] = p.mesh.trianglePart[t];
-        ++kept;
-      }
-      p.mesh.triangles.resize(kept);
-      p.triangleClass.resize(kept);
-      if (material) p.mesh.triangleMaterial.resize(kept);
-      if (part) p.mesh.trianglePart.resize(kept);
+      std::vector<bool> keep(p.triangleClass.size());
+      for (size_t t = 0; t < keep.size(); ++t) keep[t] = p.triangleClass[t] == 0 || used[p.triangleClass[t]];
+      p.mesh.keepTriangles(keep, &p.triangleClass);
     }
     vox::remapTriangleClasses(p.triangleClass, vox::compactClassTable(p.header.classes, used, classIdPolicy(o)));
     region = regionRecord(o, p.header, voxelSettingsText(o, p.filesRead));
