@@ -226,3 +226,35 @@ TEST(RegionParts, BoxPartsMustBeDisjoint) {
   mixed.headers[1].region = SceneRegion{0, 1, IndexBox{{0, 0, 0}, {31, 31, 31}}, mixed.headers[0].region->worldKey};
   EXPECT_TRUE(throwsVoxError([&] { checkRegionParts(mixed.parts()); }, ErrorKind::BadInput, {"--region-box"}));
 }
+
+// Parts of one bake may spell their sources' paths differently (./a.obj,
+// a.obj): the merge keeps one part's, chosen by what the parts hold (tile 0;
+// among boxes the first by z, y, x; then the paths), never by their order.
+TEST(RegionParts, TheKeptHeaderDoesNotDependOnTheOrder) {
+  auto withPath = [](SceneHeader h, const std::string& path) {
+    h.sources = {SceneSource{path, "mesh", std::string(64, 'a'), 10}};
+    return h;
+  };
+  PartSet set = tiles(3);
+  set.headers = {withPath(set.headers[2], "c.obj"), withPath(set.headers[0], "./b.obj"),
+                 withPath(set.headers[1], "a.obj")};
+  EXPECT_EQ(worldHeaderPart(set.parts()), 1u);  // tile 0
+  std::reverse(set.headers.begin(), set.headers.end());
+  EXPECT_EQ(worldHeaderPart(set.parts()), 1u);
+
+  PartSet boxes = tiles(1);
+  SceneHeader a = withPath(boxes.headers[0], "z.obj"), b = withPath(boxes.headers[0], "y.obj");
+  SceneHeader c = withPath(boxes.headers[0], "x.obj"), d = withPath(boxes.headers[0], "w.obj");
+  a.region->box = IndexBox{{64, 0, 0}, {95, 31, 63}};  // first by z, then y, then x: before b despite its x
+  b.region->box = IndexBox{{0, 0, 64}, {63, 39, 99}};
+  c.region->box = IndexBox{};                          // empty boxes come last, then by path
+  d.region->box = IndexBox{};
+  boxes.headers = {b, c, a, d};
+  EXPECT_EQ(worldHeaderPart(boxes.parts()), 2u);
+  boxes.headers = {d, a, c, b};
+  EXPECT_EQ(worldHeaderPart(boxes.parts()), 1u);
+  boxes.headers = {c, d};
+  EXPECT_EQ(worldHeaderPart(boxes.parts()), 1u);  // "w.obj" < "x.obj"
+  boxes.headers = {d, c};
+  EXPECT_EQ(worldHeaderPart(boxes.parts()), 0u);
+}

@@ -387,10 +387,22 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
         view.classes[i] = 0;
         continue;
       }
+      // A label outside the map where the depth image has nothing (a
+      // segmenter's "unknown" often sits where the depth estimator gave no
+      // depth) is never voted: fuse skips the pixel and counts it no_depth.
+      // Class 0 here; the next pixel of the same colour is looked up afresh.
+      auto unmappedWithoutDepth = [&] {
+        if (view.hasDepth(i)) return false;
+        view.classes[i] = 0;
+        havePixel = false;
+        return true;
+      };
       if (identity) {
-        if (key != 0 && (key > uint32_t(kMaxClassId) || !classes.find(uint8_t(key))))
+        if (key != 0 && (key > uint32_t(kMaxClassId) || !classes.find(uint8_t(key)))) {
+          if (unmappedWithoutDepth()) continue;
           bad(where, labelName + ": label " + std::to_string(key) + " at pixel (" + std::to_string(x) + ", " +
                          std::to_string(y) + ") is no class id of the table; give the view a \"labels\" map");
+        }
         view.classes[i] = uint8_t(key);
         continue;
       }
@@ -399,13 +411,15 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
         continue;
       }
       const auto it = map.find(key);
-      if (it == map.end())
+      if (it == map.end()) {
+        if (unmappedWithoutDepth()) continue;
         bad(where, labelName + ": label " + (colour ? hexColor(key) : std::to_string(key)) + " at pixel (" +
                        std::to_string(x) + ", " + std::to_string(y) + ") is not in the label map" +
                        (spec.labels.is_string() || spec.labels.is_null()
                             ? " (no class has that display colour; for a render of a scene with its own classes, "
                               "give the views file that scene's \"classes\", or fuse with -i)"
                             : ""));
+      }
       view.classes[i] = it->second;
       lastKey = key;
       lastClass = it->second;

@@ -52,6 +52,11 @@ struct Image {
 /// OpenImageIO's default.
 inline constexpr int kDefaultPngZlibLevel = 6;
 
+/// The largest PNG side vox writes and reads: libpng's default limit (1e6),
+/// which vox keeps. The format allows 2^31 - 1, but a wider file written by
+/// vox's own encoder could not be read back by vox (nor by most viewers).
+inline constexpr uint32_t kMaxPngSide = 1000000;
+
 /// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
 /// `zlibLevel` 0..9. Throws vox::Error (Io).
 void writePng(const Image& image, const std::string& path, int zlibLevel = kDefaultPngZlibLevel);

@@ -352,6 +352,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   for (size_t i = 0; i < parts.size(); ++i) rp.push_back({parts[i].reader->name(), &parts[i].header});
   checkRegionParts(rp);
   checkSettingsAgree(parts);
+  const Part& keeper = parts[worldHeaderPart(rp)];  // gives the sources, whatever the parts' order
 
   const Part& first = parts.front();
   pagefile::Header h;
@@ -464,7 +465,7 @@ MergeResult mergePageFiles(std::span<const Reader* const> readers, const MergeSe
   pagefile::PageMeta meta;
   meta.toolVersion = kToolVersion;
   meta.classes = first.meta.classes;
-  meta.sources = first.meta.sources;
+  meta.sources = keeper.meta.sources;
   meta.mipOccupancy = first.meta.mipOccupancy;
   meta.blockWorld = first.meta.blockWorld;
   for (int l = 0; l < h.levelCount; ++l) {

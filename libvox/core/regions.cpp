@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <tuple>
 
 #include "libvox/core/error.h"
 #include "libvox/core/sha256.h"
@@ -220,6 +221,24 @@ RegionPartSet checkRegionParts(const std::vector<RegionPart>& parts) {
     }
   }
   return RegionPartSet::Boxes;
+}
+
+size_t worldHeaderPart(const std::vector<RegionPart>& parts) {
+  // Parts of one bake may differ only where the world key does not look:
+  // the sources' paths as spelled on each part's command line (./a.obj, a.obj,
+  // another directory). The merge takes them from one part chosen by what the
+  // parts hold, never by their order, so any order writes the same bytes.
+  auto key = [](const RegionPart& p) {
+    const SceneRegion& r = *p.header->region;
+    const IndexBox& b = r.box;
+    std::string sources;
+    for (const SceneSource& s : p.header->sources) sources += s.kind + '\n' + s.path + '\n';
+    return std::make_tuple(r.index, b.empty(), b.min.w, b.min.v, b.min.u, b.max.w, b.max.v, b.max.u, sources);
+  };
+  size_t best = 0;
+  for (size_t i = 1; i < parts.size(); ++i)
+    if (key(parts[i]) < key(parts[best])) best = i;
+  return best;
 }
 
 IndexBox intersect(const IndexBox& a, const IndexBox& b) {

@@ -84,6 +84,13 @@ enum class RegionPartSet {
 /// parts are tiles. `parts` must not be empty.
 RegionPartSet checkRegionParts(const std::vector<RegionPart>& parts);
 
+/// The part whose header a merge of `parts` keeps (its sources' paths, the
+/// one thing parts of one bake may differ in): tile 0, or among
+/// `--region-box` parts the one whose box starts first (z, then y, then x);
+/// ties by the sources' paths. The same part whatever the order of `parts`.
+/// Each part must have a region record; `parts` must not be empty.
+size_t worldHeaderPart(const std::vector<RegionPart>& parts);
+
 /// True when `box` is exactly tile `r.index` of `r.count` of `dims`.
 bool isTile(const SceneRegion& r, const Dims& dims);
 

@@ -523,11 +523,11 @@ FuseViewStats Fuser::add(const FuseView& view) {
     for (size_t y = y0; y < y1; ++y)
       for (size_t x = x0; x < x1; ++x) {
         const size_t i = y * W + x;
-        const double d = view.depth[i];
-        if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far)) {
+        if (!view.hasDepth(i)) {
           ++nd;
           continue;
         }
+        const double d = view.depth[i];
         const uint8_t cls = view.classes[i];
         if (cls == 0) {
           ++ul;
@@ -629,8 +629,7 @@ FuseViewStats Fuser::addFree(const FuseView& view) {
     const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
     // The pixels add() walks (same filter): they carve whether or not they voted.
     auto walks = [&](size_t i) {
-      const double d = view.depth[i];
-      if (!(d > 0) || !std::isfinite(d) || (view.far > 0 && d > view.far) || view.classes[i] == 0) return false;
+      if (!view.hasDepth(i) || view.classes[i] == 0) return false;
       return (view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) != 0;
     };
     // Sub-tiles of kBundle^2 pixels share one march through the tracked set's

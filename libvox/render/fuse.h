@@ -43,6 +43,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -220,6 +221,13 @@ struct FuseView {
   std::vector<uint16_t> weight;  // empty, or per pixel the vote weight (a confidence image; 0 = skip the pixel)
   static constexpr uint32_t kNoColor = 0xFFFFFFFFu;
   double far = 0;  // > 0: depths beyond it are skipped
+
+  /// False for the pixels fuse skips as `no_depth`: 0, negative, NaN, inf or
+  /// beyond `far`. The one test, so the label check and the fuser agree.
+  bool hasDepth(size_t i) const {
+    const double d = depth[i];
+    return d > 0 && std::isfinite(d) && !(far > 0 && d > far);
+  }
 };
 
 struct FuseViewStats {

@@ -122,7 +122,7 @@ SceneHeader mergedHeader(const std::vector<SceneHeader>& headers, const std::vec
       throwBadInput(partName(names, i) + ": a pyramid (mip level " + std::to_string(headers[i].mipLevel) +
                     "); vox merge joins level-0 parts: merge them, then run vox mip on the world");
   checkRegionParts(parts);
-  SceneHeader world = headers[0];
+  SceneHeader world = headers[worldHeaderPart(parts)];
   world.region.reset();
   return world;
 }

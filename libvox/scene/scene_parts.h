@@ -31,10 +31,11 @@ Scene cropScene(const Scene& scene, const IndexBox& box);
 void addPartBlocks(const Scene& part, const std::string& name, VoxelBlocks& into);
 
 /// The header of the world the parts join into: the parts' header without the
-/// region record. Checks the set first (checkRegionParts: missing, repeated,
-/// overlapping or foreign parts; vox::Error BadInput naming the part) and
-/// refuses pyramid levels (mip level > 0). `names` are the parts' files, for
-/// messages.
+/// region record, taken from the part worldHeaderPart picks
+/// (libvox/core/regions.h), so the order of `headers` does not change it.
+/// Checks the set first (checkRegionParts: missing, repeated, overlapping or
+/// foreign parts; vox::Error BadInput naming the part) and refuses pyramid
+/// levels (mip level > 0). `names` are the parts' files, for messages.
 SceneHeader mergedHeader(const std::vector<SceneHeader>& headers, const std::vector<std::string>& names);
 
 /// The union of `parts` (checked as mergedHeader and addPartBlocks do), as a

@@ -341,6 +341,12 @@ PY
   expect_stderr "--format applies to the identity atlas"
   [ ! -e fmt ] || fail "a refused build-atlas made its directory"
   expect_exit 0 "$vox" build-atlas g.vdb -o fmt --identity --format rgba16
+  # A --max-side past libpng's 1000000 is refused before the work (it failed at the write, exit 4, or wrote a
+  # PNG vox could not read back); 1000000 itself is fine.
+  expect_exit 2 "$vox" build-atlas g.vdb -o wide --max-side 2000000
+  expect_stderr "--max-side 2000000: past 1000000, the largest PNG side vox writes and reads back"
+  [ ! -e wide ] || fail "a refused build-atlas made its directory"
+  expect_exit 0 "$vox" build-atlas g.vdb -o wide --max-side 1000000
   ;;
 bijection)
   expect_exit 0 "$vox" verify-bijection --res 256

@@ -292,6 +292,27 @@ json.dump({'grid': grid, 'views': [dict(view, depth='depth8.png')]}, open('d8.js
 json.dump({'grid': grid, 'labels': {'1': None}, 'views': [view]}, open('null.json', 'w'))
 png('conf.png', W, H, 8, 0, [bytes([3 if x < W // 2 else 0 for x in range(W)]) for _ in range(H)])  # left half: 3 votes
 json.dump({'grid': grid, 'depth_kind': 'z', 'views': [dict(view, confidence='conf.png')]}, open('conf.json', 'w'))
+# Labels outside the map where there is no depth (a segmenter's "unknown" where the depth estimator gave
+# nothing): left half depth 8 and class 1, right half depth 0 and label 9, which no map holds.
+png('holes.png', W, H, 16, 0, [struct.pack('>' + 'H' * W, *([16] * (W // 2) + [0] * (W // 2))) for _ in range(H)])
+png('unknown.png', W, H, 8, 0, [bytes([1] * (W // 2) + [9] * (W // 2)) for _ in range(H)])
+hole = dict(view, depth='holes.png', label='unknown.png')
+json.dump({'grid': grid, 'depth_kind': 'z', 'views': [hole]}, open('hole_id.json', 'w'))
+json.dump({'grid': grid, 'depth_kind': 'z', 'labels': {'1': 1}, 'views': [hole]}, open('hole_map.json', 'w'))
+json.dump({'grid': grid, 'depth_kind': 'z', 'far': 7.5, 'labels': {'1': 1}, 'views': [dict(hole, depth='depth.png')]},
+          open('hole_far.json', 'w'))
+json.dump({'grid': grid, 'depth_kind': 'z', 'labels': {'1': 1}, 'views': [dict(view, label='unknown.png')]},
+          open('hole_refused.json', 'w'))
+# RGBA: red (class 1) with depth, then blue (unmapped) without depth, then blue again with depth on row 3 only:
+# the blue pixel (18, 3) after a run of blue without depth must still be refused.
+red, blue = bytes([255, 0, 0, 255]), bytes([0, 0, 255, 255])
+png('unknown_rgba.png', W, H, 8, 6, [red * (W // 2) + blue * (W // 2) for _ in range(H)])
+png('holes3.png', W, H, 16, 0, [struct.pack('>' + 'H' * W, *([16] * (W // 2) + [0] * (W // 4 if y == 3 else W // 2)
+                                                              + [16] * (W // 4 if y == 3 else 0))) for y in range(H)])
+rgba = dict(view, depth='holes.png', label='unknown_rgba.png')
+json.dump({'grid': grid, 'depth_kind': 'z', 'labels': {'#ff0000': 1}, 'views': [rgba]}, open('hole_rgba.json', 'w'))
+json.dump({'grid': grid, 'depth_kind': 'z', 'labels': {'#ff0000': 1}, 'views': [dict(rgba, depth='holes3.png')]},
+          open('hole_rgba_refused.json', 'w'))
 EOF2
   expect_exit 0 "$vox" fuse z.json -o z.vdb --report rz.json --quiet
   expect_exit 0 "$vox" info --json z.vdb
@@ -318,6 +339,20 @@ EOF2
   jcheck rw.json "t=d['counts']['totals']; assert t['used'] == 12 * 16 and t['skipped']['zero_confidence'] == 12 * 16, t"
   expect_exit 0 "$vox" info --json conf.vdb
   jcheck out.txt "assert sum(c['votes'] for c in d['classes']) == 6 * 12 * 16, d['classes']"
+  # A label outside the map (or, without a map, not a class id) where the pixel has no depth (0, or beyond
+  # "far") is skipped and counted as no_depth, not refused; with depth it is refused (exit 3), naming the pixel.
+  for f in hole_id hole_map hole_rgba; do
+    expect_exit 0 "$vox" fuse $f.json -o $f.vdb --report r$f.json --quiet
+    jcheck r$f.json "t=d['counts']['totals']; assert t['used'] == 12 * 16 and t['skipped']['no_depth'] == 12 * 16, t"
+  done
+  expect_exit 0 "$vox" diff hole_id.vdb hole_map.vdb
+  expect_exit 0 "$vox" fuse hole_far.json -o hole_far.vdb --report rhf.json --quiet
+  jcheck rhf.json "t=d['counts']['totals']; assert t['used'] == 0 and t['skipped']['no_depth'] == 24 * 16, t"
+  expect_exit 3 "$vox" fuse hole_refused.json -o bad.vdb
+  expect_stderr "label unknown.png: label 9 at pixel (12, 0) is not in the label map"
+  expect_exit 3 "$vox" fuse hole_rgba_refused.json -o bad.vdb
+  expect_stderr "label #0000ff at pixel (18, 3) is not in the label map"
+  [ -e bad.vdb ] && fail "a refused fuse wrote bad.vdb"
   # An 8-bit depth PNG is refused.
   expect_exit 3 "$vox" fuse d8.json -o d8.vdb
   expect_stderr "depth8.png"

@@ -159,6 +159,17 @@ expect_exit 3 "$vox" pack-chunks --merge m.0.vpk "$(p 1)" m.2.vpk -o bad.vpk
 expect_stderr "$(p 1): packed without --mips, but m.0.vpk has mip levels (occupancy 'any')"
 [ -e bad.vpk ] && fail "a refused merge wrote bad.vpk"
 
+# Parts baked from two spellings of the same mesh (./solid.obj, solid.obj) share the world key: merged in
+# either order they give the same bytes, with tile 0's source path (the whole pack of the bake run as tile 0 was).
+expect_exit 0 "$vox" voxelize ./solid.obj --res 60 --fill solid --region 0/2 -o sp.0.vdb -q
+expect_exit 0 "$vox" voxelize solid.obj --res 60 --fill solid --region 1/2 -o sp.1.vdb -q
+expect_exit 0 "$vox" voxelize ./solid.obj --res 60 --fill solid -o sp.vdb -q
+for f in sp.0 sp.1 sp; do expect_exit 0 "$vox" pack-chunks $f.vdb -o $f.vpk --chunk 16 -q; done
+expect_exit 0 "$vox" pack-chunks --merge sp.0.vpk sp.1.vpk -o sp.m01.vpk -q
+expect_exit 0 "$vox" pack-chunks --merge sp.1.vpk sp.0.vpk -o sp.m10.vpk -q
+cmp sp.m01.vpk sp.m10.vpk || fail "page merges of the same parts in two orders differ (paths spelled differently)"
+cmp sp.m01.vpk sp.vpk || fail "a page merge does not keep tile 0's source path"
+
 # --report: phases, bytes and MB/s.
 expect_exit 0 "$vox" pack-chunks --merge "$(p 0)" "$(p 1)" "$(p 2)" -o r.vpk --report r.json -q
 jcheck r.json "c = d['counts']; assert c['parts'] == 3 and c['merge_mb_per_s'] > 0 and set(c['seconds']) >= {'read', 'check', 'copy', 'reencode', 'mips', 'write'}"

@@ -148,6 +148,21 @@ cmp -s t1.vdb t2.vdb || fail "a part differs between --threads 1 and 2"
 cmp -s tm1.vdb tm2.vdb || fail "a merge differs between --threads 1 and 2"
 cmp -s tm1.vdb solid_open.whole.vdb || fail "a merge of parts given out of order differs"
 
+# Parts baked from different spellings of the same mesh (./closed.obj, closed.obj, from another directory)
+# share the world key (it holds the file's digest, not its path): any order of the parts merges to the same
+# bytes, with tile 0's source path, i.e. the single-process bake run as tile 0 was.
+mkdir -p spell
+expect_exit 0 "$vox" voxelize ./closed.obj --res 40 --region 0/3 -o sp.0.vdb -q
+expect_exit 0 "$vox" voxelize closed.obj --res 40 --region 1/3 -o sp.1.vdb -q
+(cd spell && "$vox" voxelize ../closed.obj --res 40 --region 2/3 -o ../sp.2.vdb -q) || fail "bake from spell/ failed"
+expect_exit 0 "$vox" voxelize ./closed.obj --res 40 -o sp.whole.vdb -q
+expect_exit 0 "$vox" merge sp.0.vdb sp.1.vdb sp.2.vdb -o sp.m012.vdb -q
+expect_exit 0 "$vox" merge sp.2.vdb sp.1.vdb sp.0.vdb -o sp.m210.vdb -q
+expect_exit 0 "$vox" merge sp.1.vdb sp.2.vdb sp.0.vdb -o sp.m120.vdb -q
+cmp sp.m012.vdb sp.m210.vdb || fail "merges of the same parts in two orders differ (paths spelled differently)"
+cmp sp.m012.vdb sp.m120.vdb || fail "merges of the same parts in two orders differ (paths spelled differently)"
+cmp sp.m012.vdb sp.whole.vdb || fail "a merge does not keep tile 0's source path"
+
 # A class whose triangles all lie outside --bounds: the whole bake leaves it
 # out, and so does every part (it was an internal error, exit 4, in parts).
 python3 - <<'PY'

@@ -115,6 +115,14 @@ EOF
   # The image's own camera checks out.
   expect_exit 0 "$vox" verify-bijection --canonical iso.png --scene h.vdb
   expect_exit 0 "$vox" verify-bijection --canonical iso.png --scene h.vdb --view iso --size 64x48
+  # One image, one camera: several are refused naming the option given (it said "--camera  holds 2 views").
+  expect_exit 2 "$vox" verify-bijection --canonical iso.png --scene h.vdb --orbit 2
+  expect_stderr "--orbit 2 makes 2 cameras, but iso.png is one image"
+  expect_exit 2 "$vox" verify-bijection --canonical iso.png --scene h.vdb --camera orbit.json
+  expect_stderr "--camera orbit.json holds 4 views, but iso.png is one image; pick the one it was rendered from with --view INDEX"
+  # A missing image is named as such (it said "not a PNG or EXR image").
+  expect_exit 3 "$vox" verify-bijection --canonical nonexistent.png --scene h.vdb
+  expect_stderr "nonexistent.png: no such file"
   # Usage errors name the options.
   expect_exit 2 "$vox" render-canonical h.vdb -o x.png --view diagonal
   expect_stderr "front, back, right, left, top, bottom, iso"

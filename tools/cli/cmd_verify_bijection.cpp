@@ -181,6 +181,12 @@ Command registerVerifyBijection(CLI::App& root) {
                                           "camera is checked as it is; add --eye X,Y,Z --target X,Y,Z (or --camera "
                                           "FILE), or drop " + option);
               }
+              if (o->camera.orbit > 1)
+                throw vox::Error(vox::ErrorKind::Usage,
+                                 "--orbit " + std::to_string(o->camera.orbit) + " makes " +
+                                     std::to_string(o->camera.orbit) + " cameras, but " + o->canonical +
+                                     " is one image; give the camera it was rendered from (--view NAME, --eye/--target, "
+                                     "or --camera FILE --view INDEX), or none to check it with its own");
               return runCanonicalCheck(*o);
             }
             if (budget->count() > 0)

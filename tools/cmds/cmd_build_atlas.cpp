@@ -117,6 +117,16 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
     throw vox::Error(vox::ErrorKind::Usage, "--format applies to the identity atlas (--identity or --all); the "
                                             "summary, colour, votes and bitmaps are written in their own formats");
 
+  // libpng refuses to write a PNG side past kMaxPngSide, and the parallel
+  // encoder's wider files could not be read back: a larger side is refused
+  // here, before the work, rather than at the write (one limit for every
+  // file, EXR too, so the layout does not depend on the contents asked for).
+  if (o.maxSide > vox::kMaxPngSide)
+    throw vox::Error(vox::ErrorKind::Usage, "--max-side " + std::to_string(o.maxSide) + ": past " +
+                                                std::to_string(vox::kMaxPngSide) +
+                                                ", the largest PNG side vox writes and reads back (libpng's limit); "
+                                                "give --max-side " + std::to_string(vox::kMaxPngSide) + " or less");
+
   // The images are tens of MB of fresh heap filled once: huge pages spare the
   // page faults (alloc_tuning.h).
   tuneAllocatorForShortRun();

@@ -32,6 +32,7 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
   Run run("verify-bijection", o.common);
   run.phase("read");
   run.input(o.canonical);
+  vox::requireRegularFile(o.canonical);  // "no such file" rather than "not a PNG or EXR image"
   vox::Image img;
   if (vox::isPngFile(o.canonical)) img = vox::readPng(o.canonical);
   else if (vox::isExrFile(o.canonical)) img = vox::readExr(o.canonical);
@@ -64,9 +65,14 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     std::vector<vox::CameraView> views = resolveCameras(
         o.camera, img.width, img.height,
         o.camera.needsFraming() ? std::optional<vox::WorldBox>(in.occupiedWorldBox()) : std::nullopt);
-    if (views.size() != 1)
-      vox::throwUsage("--camera " + o.camera.cameraFile + " holds " + std::to_string(views.size()) +
-                      " views; pick the one the image was rendered from with --view INDEX");
+    if (views.size() != 1) {
+      // A camera file with several views (--orbit N > 1 is refused before the reads).
+      const std::string given = o.camera.cameraFile.empty() ? "--orbit " + std::to_string(o.camera.orbit) + " makes"
+                                                             : "--camera " + o.camera.cameraFile + " holds";
+      vox::throwUsage(given + " " + std::to_string(views.size()) + " views, but " + o.canonical +
+                      " is one image; pick the one it was rendered from" +
+                      (o.camera.cameraFile.empty() ? std::string() : " with --view INDEX"));
+    }
     camera = views[0].camera;
     cameraFrom = "command line";
   } else if (meta) {
