@@ -188,7 +188,7 @@ commit_window)
     wait $pid
     got=$?
     old=0
-    for f in "${files[@]}"; do [ "$(head -c 15 "$f")" = "previous output" ] && old=$((old + 1)); done
+    for f in "${files[@]}"; do [ "$(head -c 15 "$f" | tr -d '\0')" = "previous output" ] && old=$((old + 1)); done
     if [ "$old" != 0 ] && [ "$old" != ${#files[@]} ]; then
       fail "SIGTERM at step $step (exit $got): $old of ${#files[@]} outputs old, the rest new"
     fi
