@@ -560,6 +560,35 @@ TEST(PageFileVerify, EveryClassIsInTheClassTable) {
     }
 }
 
+// verifyPageFile checks chunks in parallel, yet reports the first faulty
+// chunk in index order at any thread count, and counts every voxel.
+TEST(PageFileVerify, TheFirstFaultyChunkIsReportedAtAnyThreadCount) {
+  vox::SceneHeader h;
+  h.dims = {64, 64, 64};
+  h.classes.add({1, "a", {}, {}});
+  vox::SceneBuilder b(h);
+  for (int32_t z = 0; z < 64; z += 4)
+    for (int32_t y = 0; y < 64; y += 4)
+      for (int32_t x = 0; x < 64; x += 4) b.addVotes({x, y, z}, 1, 1, true);
+  const vox::Scene s = std::move(b).build();
+  vox::PackSettings p;
+  p.chunkSide = 8;
+  p.layout = Layout::Bricks;
+  const std::vector<uint8_t> file = vox::packChunks({&s}, p).bytes;
+  const Reader ok = Reader::fromMemory(file.data(), file.size(), "f.vpk");
+  ASSERT_EQ(ok.entries().size(), 512u);
+  for (unsigned threads : {1u, 2u, 0u}) EXPECT_EQ(vox::pagefile::verifyPageFile(ok, threads), 4096u);
+  std::vector<vox::pagefile::ChunkBlob> blobs = blobsOf(ok);
+  for (size_t i : {size_t(100), size_t(300), size_t(511)}) blobs[i].bytes[8 * 8 * 8 / 8] = 40;  // the first summary
+  const auto bytes = vox::pagefile::serialize(ok.header(), ok.metaJson(), blobs);
+  const Reader r = Reader::fromMemory(bytes.data(), bytes.size(), "c.vpk");
+  for (unsigned threads : {1u, 2u, 0u})
+    for (int round = 0; round < 20; ++round)
+      EXPECT_TRUE(voxtest::throwsVoxError([&] { vox::pagefile::verifyPageFile(r, threads); }, vox::ErrorKind::BadInput,
+                                          {"c.vpk: " + r.describe(100) + ": voxel", "class 40"}))
+          << "threads " << threads;
+}
+
 // Every bit of the structural part of every svo and columns payload (counts,
 // nodes, brick table, bitmaps / masks, ladder, colour offsets), flipped under a
 // correct CRC, is refused by decode() naming the chunk and a field.

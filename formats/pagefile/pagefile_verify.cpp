@@ -1,12 +1,16 @@
 #include "formats/pagefile/pagefile_verify.h"
 
 #include <array>
+#include <atomic>
+#include <exception>
+#include <mutex>
 #include <string>
 #include <vector>
 
 #include "formats/pagefile/pagefile_meta.h"
 #include "formats/pagefile/svo_layout.h"
 #include "libvox/core/error.h"
+#include "libvox/core/parallel.h"
 #include "libvox/core/types.h"
 
 namespace vox::pagefile {
@@ -29,7 +33,7 @@ std::string coords(uint32_t x, uint32_t y, uint32_t z) { return toString(Coord3{
 
 }  // namespace
 
-uint64_t verifyPageFile(const Reader& r) {
+uint64_t verifyPageFile(const Reader& r, unsigned threads) {
   const PageMeta meta = readPageMeta(r.metaJson(), r.name());
   std::array<bool, 256> known{};
   for (const ClassInfo& c : meta.classes.classes()) known[c.id] = true;
@@ -40,8 +44,8 @@ uint64_t verifyPageFile(const Reader& r) {
                     "); the file is corrupt: pack it again");
   };
   const uint32_t C = r.header().chunkSide();
-  uint64_t voxels = 0;
-  for (size_t i = 0; i < r.entries().size(); ++i) {
+  // One chunk's voxels, or its fault thrown.
+  auto verifyChunk = [&](size_t i) -> uint64_t {
     const IndexEntry& e = r.entries()[i];
     const auto c = e.chunk();
     // The voxel of the level at chunk-local index `at`, for messages.
@@ -61,15 +65,39 @@ uint64_t verifyPageFile(const Reader& r) {
             checkClass(i, v.summary[0], "mip brick of node " + std::to_string(b.node) + " (tree level " +
                                             std::to_string(b.level) + "), brick voxel " + coords(bx, by, bz));
         }
-      voxels += e.occupied;  // svoBricks checked that the leaves hold `occupied` voxels
-      continue;
+      return e.occupied;  // svoBricks checked that the leaves hold `occupied` voxels
     }
     const std::vector<DecodedVoxel> decoded = r.decode(i);
     for (const DecodedVoxel& v : decoded)
       if (!known[v.summary[0]]) checkClass(i, v.summary[0], levelVoxel(v.index));
-    voxels += decoded.size();
-  }
+    return decoded.size();
+  };
+
+  // Chunks are checked in parallel; the fault reported is that of the first
+  // faulty chunk in index order, whatever the thread count, so the message
+  // (and a golden file of it) does not depend on scheduling. Chunks after a
+  // known fault are skipped; chunks before it are still checked.
+  const size_t n = r.entries().size();
+  std::vector<uint64_t> voxelsOf(n, 0);
+  std::mutex faultMutex;
+  std::atomic<size_t> firstFault{n};
+  std::exception_ptr fault;
+  parallelForEach(n, threads, 16, [&](size_t i) {
+    if (i > firstFault.load(std::memory_order_relaxed)) return;
+    try {
+      voxelsOf[i] = verifyChunk(i);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(faultMutex);
+      if (i < firstFault.load(std::memory_order_relaxed)) {
+        firstFault.store(i, std::memory_order_relaxed);
+        fault = std::current_exception();
+      }
+    }
+  });
+  if (fault) std::rethrow_exception(fault);
   r.checkPadding();
+  uint64_t voxels = 0;
+  for (uint64_t v : voxelsOf) voxels += v;
   return voxels;
 }
 

@@ -19,7 +19,10 @@ namespace vox::pagefile {
 /// * the padding between the metadata and the payloads and between payloads
 ///   (Reader::checkPadding).
 /// Returns the voxels of the chunks (as Reader::verify). Throws vox::Error
-/// (BadInput) naming the file, and the chunk and voxel when one is at fault.
-uint64_t verifyPageFile(const Reader& reader);
+/// (BadInput) naming the file, and the chunk and voxel when one is at fault:
+/// the first faulty chunk in index order, at any thread count.
+/// Chunks are checked on up to `threads` workers (0 = every core,
+/// vox::parallelForEach); the Reader is only read, so it may be shared.
+uint64_t verifyPageFile(const Reader& reader, unsigned threads = 0);
 
 }  // namespace vox::pagefile

@@ -269,6 +269,9 @@ bad_input)
     expect_stderr "damaged.vpk: chunk (0, 0, 0), voxel (0, 1, 0): class 7 has no entry in the file's class table"
     expect_stderr "damaged or was written by another tool: check it with 'vox pack-chunks --verify damaged.vpk' and pack it again from its scene"
   done
+  # The check the message suggests finds the same voxel (exit 1: a check that failed).
+  expect_exit 1 "$vox" pack-chunks --verify damaged.vpk
+  expect_stderr "damaged.vpk: chunk 0 (level 0, chunk (0, 0, 0)): voxel (0, 1, 0) of level 0: field 'summary': class 7 is not in the metadata's class table"
   # Outside --region the voxel is not read: Stone, Stone, Grass export.
   expect_exit 0 "$vox" export damaged.vpk -o region.ply --region 0,0,0,3,0,1
   rm region.ply

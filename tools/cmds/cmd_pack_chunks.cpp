@@ -37,7 +37,7 @@ int runVerify(const PackOptions& o) {
   run.phase("verify");
   uint64_t voxels = 0;
   try {
-    voxels = vox::pagefile::verifyPageFile(r);
+    voxels = vox::pagefile::verifyPageFile(r, run.threads());
   } catch (const vox::Error& e) {
     std::cerr << "vox pack-chunks: verify failed: " << e.what() << "\n";
     run.counts()["verified"] = false;
