@@ -485,15 +485,20 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       // the blocks grow: they count where they exceed the bake's own parts.
       // They hold the mesh's distinct positions, not its vertices (an STL's
       // three per triangle are about half a position per triangle once
-      // equal positions are one), its edges between them (P + T for a
-      // closed mesh, by Euler's formula; 3 T at most) and an index and a
-      // moved copy per vertex. Fitted on /usr/bin/time peaks above the
-      // resident start at --res 16 (docs/reliability.md "Memory").
-      constexpr double kPerVertex = 56, kPerPosition = 300, kPerEdge = 80;
+      // equal positions are one), the edges between them (P + T for a
+      // closed surface, by Euler's formula; 3 T at most), an index and a
+      // moved copy per vertex, and for every boundary edge its walk and cap
+      // (2 E - 3 T of them, about 2 P - T; a soup of separate triangles has
+      // 3 T). Fitted on /usr/bin/time peaks above the resident start at
+      // --res 16 (a closed 80,000-triangle STL sphere, pig.stl, the bunny,
+      // fandisk, a soup of 30,000 separate triangles: 1.02-1.44x the peak,
+      // docs/reliability.md "Memory"); the unwelded count (520 bytes a
+      // vertex) was 3.8x high on the STL.
+      constexpr double kFixed = 2.5e6, kPerVertex = 48, kPerPosition = 250, kPerEdge = 80, kPerBoundaryEdge = 1400;
       const double v = double(mesh.positions.size()), t = double(mesh.triangles.size());
       const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
-      const double edges = std::min(3 * t, p + t);
-      const double tables = v * kPerVertex + p * kPerPosition + edges * kPerEdge;
+      const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
+      const double tables = kFixed + v * kPerVertex + p * kPerPosition + edges * kPerEdge + boundary * kPerBoundaryEdge;
       const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t);
       if (tables > bake) e.add("winding boundary tables (before the blocks)", tables - bake);
     }
