@@ -489,7 +489,12 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
     if (sdf) {
       // meshToVolume: a float distance and an int32 closest-triangle grid over a
       // band of 2 voxels each side, with its per-thread working grids (measured).
-      e.add("OpenVDB distance field", f.surfaceVoxels * 180.0);
+      e.add("OpenVDB distance field", f.surfaceVoxels * 200.0);
+      // What stays with each worker whatever the surface: its malloc arena
+      // and meshToVolume's thread-local state, about 12 MiB a thread and 5
+      // MiB more (measured: the cube at 64..384 missed 13-14 MiB at
+      // --threads 1 and 21-29 MiB at 2, docs/reliability.md "Memory").
+      e.add("OpenVDB workers", (5.0 + 12.0 * double(run.threads())) * 1024 * 1024);
       e.add("scene grids", f.blocks * 3000.0 + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 * 3000.0 : 0.0));
       return e;
     }
