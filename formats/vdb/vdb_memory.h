@@ -32,6 +32,14 @@ enum class SceneReadForm { Trees, PackedLeaves };
 /// part of checkSceneReadMemory, and what `vox info` reports per form.
 double sceneGridBytes(const VdbFrame& frame, bool occupancyOnly, SceneReadForm form);
 
+/// The frame of the .vdb at `path` once the topology of its grids is walked
+/// (leaf counts and active leaf voxels as a Full walk gives them), without
+/// decompressing a leaf buffer: for an estimate of several files that will
+/// be resident together, made before any is read (`vox diff`). A fault in a
+/// leaf buffer is left to the read; one in the framing or topology throws
+/// the walk's vox::Error (BadInput) naming the file.
+VdbFrame vdbTopologyFrame(const std::string& path);
+
 /// The guard of a scene read, before any grid is read: resident bytes now
 /// plus the grids of `frame` the read loads (checked, not instances; with
 /// `occupancyOnly` the `occupancy` grid only) in `form`; for packed leaves

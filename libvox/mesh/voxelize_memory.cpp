@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -44,18 +45,43 @@ double roundHalfAway(double x) {
   return frac >= 0.5 ? whole + 1 : frac <= -0.5 ? whole - 1 : whole;
 }
 
-/// The cells of side `side` (voxels) that the closed bounding box of piece `t`
-/// touches, clamped to the grid: [lo, hi] per axis; false when the box misses
-/// the grid (cropped by --bounds). One rule for both counts below.
-bool cellsOfPiece(const P3 t[3], const Dims& dims, double side, int64_t lo[3], int64_t hi[3]) {
-  const uint32_t d[3] = {dims.x, dims.y, dims.z};
+/// The voxels a bake works on, inclusive: the grid, or a region bake's box
+/// (the voxelizer clips every triangle's candidates to it).
+struct Domain {
+  int64_t lo[3], hi[3];
+};
+
+Domain domainOf(const SceneHeader& header) {
+  Domain d{{0, 0, 0}, {int64_t(header.dims.x) - 1, int64_t(header.dims.y) - 1, int64_t(header.dims.z) - 1}};
+  if (header.region) {
+    const IndexBox& b = header.region->box;
+    const int64_t lo[3] = {b.min.u, b.min.v, b.min.w}, hi[3] = {b.max.u, b.max.v, b.max.w};
+    for (int k = 0; k < 3; ++k) d.lo[k] = std::max(d.lo[k], lo[k]), d.hi[k] = std::min(d.hi[k], hi[k]);
+  }
+  return d;
+}
+
+/// The voxels along each axis that the closed bounding box of piece `t`
+/// touches (a vertex on a voxel face touches both voxels), not clamped.
+void voxelsOfPiece(const P3 t[3], int64_t lo[3], int64_t hi[3]) {
   for (int k = 0; k < 3; ++k) {
     const double mn = std::min({t[0][k], t[1][k], t[2][k]}), mx = std::max({t[0][k], t[1][k], t[2][k]});
-    int64_t a = int64_t(std::ceil(mn)) - 1, b = int64_t(std::floor(mx));
-    a = std::max<int64_t>(a, 0);
-    b = std::min<int64_t>(b, int64_t(d[k]) - 1);
-    if (a > b) return false;
-    lo[k] = int64_t(double(a) / side), hi[k] = int64_t(double(b) / side);
+    lo[k] = int64_t(std::ceil(mn)) - 1, hi[k] = int64_t(std::floor(mx));
+  }
+}
+
+/// The cells of side `side` (voxels) that the closed bounding box of piece `t`
+/// touches, clamped to the domain: [lo, hi] per axis; false when the box
+/// misses it (cropped by --bounds, or outside a region). One rule for both
+/// counts below.
+bool cellsOfPiece(const P3 t[3], const Domain& domain, double side, int64_t lo[3], int64_t hi[3]) {
+  int64_t a[3], b[3];
+  voxelsOfPiece(t, a, b);
+  for (int k = 0; k < 3; ++k) {
+    a[k] = std::max(a[k], domain.lo[k]);
+    b[k] = std::min(b[k], domain.hi[k]);
+    if (a[k] > b[k]) return false;
+    lo[k] = int64_t(double(a[k]) / side), hi[k] = int64_t(double(b[k]) / side);
   }
   return true;
 }
@@ -91,7 +117,7 @@ class CellCounter {
  public:
   /// `pieces`: how many pieces will be added; sizes the table (a small mesh
   /// does not pay for zeroing a large one).
-  CellCounter(const Dims& dims, double side, uint64_t pieces) : side_(side), dims_(dims) {
+  CellCounter(const Domain& domain, double side, uint64_t pieces) : side_(side), domain_(domain) {
     cells_.reserve(size_t(std::min<uint64_t>(pieces, 1 << 16)) / 8);
   }
 
@@ -99,7 +125,7 @@ class CellCounter {
   /// face touches both voxels), clamped to the grid, as cells.
   void add(const P3 t[3], double areaL1, uint8_t cls) {
     int64_t lo[3], hi[3];
-    if (!cellsOfPiece(t, dims_, side_, lo, hi)) return;
+    if (!cellsOfPiece(t, domain_, side_, lo, hi)) return;
     const double n = double((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1));
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
@@ -146,7 +172,7 @@ class CellCounter {
 
  private:
   double side_;
-  Dims dims_;
+  Domain domain_;
   FlatMap64<Cell> cells_;
 };
 
@@ -160,6 +186,7 @@ class CellCounter {
 /// 1/2, exact in any order). nullopt where it does not apply.
 std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>& g, const Mesh& mesh,
                                                           const std::vector<uint8_t>& triangleClass, const Dims& dims,
+                                                          const Domain& domain,
                                                           const std::vector<int>& depth, size_t nPieces,
                                                           unsigned threads) {
   constexpr uint64_t kMaxCells = uint64_t(1) << 24;
@@ -189,7 +216,7 @@ std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>&
       std::atomic<uint64_t>* set = bits[size_t(slotOf[i < triangleClass.size() ? triangleClass[i] : 0])].get();
       forEachSplitPiece(t, depth[i], [&](const P3 piece[3]) {
         int64_t lo[3], hi[3];
-        if (!cellsOfPiece(piece, dims, double(kBlockDim), lo, hi)) return;
+        if (!cellsOfPiece(piece, domain, double(kBlockDim), lo, hi)) return;
         for (int64_t x = lo[0]; x <= hi[0]; ++x)
           for (int64_t y = lo[1]; y <= hi[1]; ++y)
             for (int64_t z = lo[2]; z <= hi[2]; ++z) {
@@ -216,13 +243,66 @@ std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>&
   return std::make_pair(double(cells), double(cells) + 0.5 * double(cellClasses - cells));
 }
 
+/// A region bake's share of the surface sums, from the split pieces (no
+/// longer than a cell): each piece counts the share of its box's voxels
+/// inside the domain, along all three axes for its area and surface voxels
+/// (the voxelizer clips every triangle's voxels to the region) and across
+/// the rays for its crossings (a region's rays keep every crossing of the
+/// columns in its box, wherever along the ray). Replaces f's area,
+/// crossings and surface voxels.
+void regionSums(const std::vector<P3>& g, const Mesh& mesh, const Dims& dims, const Domain& domain,
+                const std::vector<int>& depth, size_t nPieces, unsigned threads, SurfaceFootprint& f) {
+  const int64_t last[3] = {int64_t(dims.x) - 1, int64_t(dims.y) - 1, int64_t(dims.z) - 1};
+  struct Sums {
+    double area = 0, surface = 0, crossings[3] = {0, 0, 0};
+  };
+  std::vector<Sums> sums(nPieces);
+  parallelPieces(mesh.triangles.size(), threads, nPieces, [&](size_t b, size_t e, size_t piece) {
+    Sums& s = sums[piece];
+    for (size_t i = b; i < e; ++i) {
+      const auto& tri = mesh.triangles[i];
+      const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
+      const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+      const double share = 1.0 / double(uint64_t(1) << (2 * depth[i]));  // of the triangle, per piece
+      const double area = len(n) / 2 * share, c[3] = {std::abs(n[0]) / 2 * share, std::abs(n[1]) / 2 * share,
+                                                      std::abs(n[2]) / 2 * share};
+      forEachSplitPiece(t, depth[i], [&](const P3 piece[3]) {
+        // The piece's voxels in the grid (as the whole bake's sums count the
+        // piece whole, the regions' shares add up to them), then the share
+        // of those in the domain.
+        int64_t lo[3], hi[3];
+        voxelsOfPiece(piece, lo, hi);
+        double in[3];
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::max<int64_t>(lo[k], 0), hi[k] = std::min(hi[k], last[k]);
+          in[k] = lo[k] > hi[k] ? 0.0
+                                : double(std::max<int64_t>(0, std::min(hi[k], domain.hi[k]) -
+                                                                  std::max(lo[k], domain.lo[k]) + 1)) /
+                                      double(hi[k] - lo[k] + 1);
+        }
+        const double inside = in[0] * in[1] * in[2];
+        s.area += area * inside;
+        s.surface += (c[0] + c[1] + c[2]) * inside;
+        for (int k = 0; k < 3; ++k) s.crossings[k] += c[k] * in[(k + 1) % 3] * in[(k + 2) % 3];
+      });
+    }
+  });
+  f.area = f.surfaceVoxels = 0;
+  for (double& c : f.crossings) c = 0;
+  for (const Sums& s : sums) {
+    f.area += s.area, f.surfaceVoxels += s.surface;
+    for (int k = 0; k < 3; ++k) f.crossings[k] += s.crossings[k];
+  }
+}
+
 }  // namespace
 
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                                   uint64_t maxPieces, unsigned threads) {
   SurfaceFootprint f;
   const size_t nt = mesh.triangles.size();
-  if (nt == 0) return f;
+  const Domain domain = domainOf(header);
+  if (nt == 0 || domain.lo[0] > domain.hi[0] || domain.lo[1] > domain.hi[1] || domain.lo[2] > domain.hi[2]) return f;
   // Grid space, g = (world - origin) / voxelSize, snapped to the voxelizer's
   // lattice (2^-kSubvoxelBits voxel): a face that the division puts a hair
   // beyond the grid's last voxel boundary still touches the last voxel.
@@ -288,10 +368,12 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
     pieces = std::min(maxPieces + 1, pieces + s.splitPieces);
   }
   f.enclosedVoxels = std::abs(volume6) / 6;
-  const uint32_t dims[3] = {header.dims.x, header.dims.y, header.dims.z};
+  // The solid fill's box: the mesh's voxels, cut to the domain (a region
+  // bake fills its part of the box only).
   f.boxVoxels = 1;
   for (int k = 0; k < 3; ++k)
-    f.boxVoxels *= std::max(0.0, std::min(double(dims[k]), std::floor(hi[k]) + 1) - std::max(0.0, std::ceil(lo[k]) - 1));
+    f.boxVoxels *= std::max(0.0, std::min(double(domain.hi[k]), std::floor(hi[k])) -
+                                     std::max(double(domain.lo[k]), std::ceil(lo[k]) - 1) + 1);
   f.enclosedVoxels = std::min(f.enclosedVoxels, f.boxVoxels);
   f.surfaceVoxels = f.crossings[0] + f.crossings[1] + f.crossings[2];
 
@@ -302,15 +384,16 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
     pieces = 0;
     for (const Sums& s : sums) pieces = std::min(maxPieces + 1, pieces + s.splitPieces);
   }
+  if (header.region) regionSums(g, mesh, header.dims, domain, depth, nPieces, threads, f);
   if (side == kBlockDim)
-    if (const auto counted = blocksByCellBits(g, mesh, triangleClass, header.dims, depth, nPieces, threads)) {
+    if (const auto counted = blocksByCellBits(g, mesh, triangleClass, header.dims, domain, depth, nPieces, threads)) {
       std::tie(f.blocks, f.blockClasses) = *counted;
       return f;
     }
   // Each piece's cells, then merged into the first in piece order.
   std::vector<CellCounter> counters;
   counters.reserve(nPieces);
-  for (size_t p = 0; p < nPieces; ++p) counters.emplace_back(header.dims, side, pieces / nPieces + 1);
+  for (size_t p = 0; p < nPieces; ++p) counters.emplace_back(domain, side, pieces / nPieces + 1);
   parallelPieces(nt, threads, nPieces, [&](size_t b, size_t e, size_t piece) {
     for (size_t i = b; i < e; ++i) {
       P3 t[3];
@@ -326,7 +409,27 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   return f;
 }
 
-MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings) {
+uint64_t distinctPositions(const Mesh& mesh) {
+  // A 64-bit digest of each position's coordinates (+0 and -0 alike) in a
+  // flat set: two distinct positions share a digest with a chance of about
+  // P^2 / 2^65, which counts one position too few.
+  FlatMap64<uint8_t> seen;
+  for (const auto& p : mesh.positions) {
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (double c : p) {
+      uint64_t bits;
+      const double x = c == 0 ? 0.0 : c;
+      std::memcpy(&bits, &x, sizeof bits);
+      h = (h ^ bits) * 0xBF58476D1CE4E5B9ull;
+      h ^= h >> 31;
+    }
+    seen[h == FlatMap64<uint8_t>::kEmptyKey ? 0 : h] = 1;
+  }
+  return seen.size();
+}
+
+MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings,
+                                uint64_t weldedVertices) {
   MemoryEstimate e;
   // Heap blocks carry ~16 bytes of malloc header; the block map's entry is a
   // key and a pointer in a flat table 1/4 to 1/2 full (flat_map64.h). Blocks on the
@@ -380,12 +483,23 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       // The winding rule's weld and boundary tables (hash maps of positions,
       // cells and edges) live before the blocks exist and are freed before
       // the blocks grow: they count where they exceed the bake's own parts.
-      // About 520 bytes per vertex at their peak, measured: a 69,451-triangle
-      // soup (208,353 vertices) at --res 16 peaked 109 MB above its resident
-      // start, the bunny (35,947 vertices) 14 MB.
-      constexpr double kTablesPerVertex = 520;
-      const double tables = double(mesh.positions.size()) * kTablesPerVertex;
-      const double bake = double(e.bytes()) - double(mesh.positions.size()) * 3 * sizeof(int64_t);
+      // They hold the mesh's distinct positions, not its vertices (an STL's
+      // three per triangle are about half a position per triangle once
+      // equal positions are one), the edges between them (P + T for a
+      // closed surface, by Euler's formula; 3 T at most), an index and a
+      // moved copy per vertex, and for every boundary edge its walk and cap
+      // (2 E - 3 T of them, about 2 P - T; a soup of separate triangles has
+      // 3 T). Fitted on /usr/bin/time peaks above the resident start at
+      // --res 16 (a closed 80,000-triangle STL sphere, pig.stl, the bunny,
+      // fandisk, a soup of 30,000 separate triangles: 1.02-1.44x the peak,
+      // docs/reliability.md "Memory"); the unwelded count (520 bytes a
+      // vertex) was 3.8x high on the STL.
+      constexpr double kFixed = 2.5e6, kPerVertex = 48, kPerPosition = 250, kPerEdge = 80, kPerBoundaryEdge = 1400;
+      const double v = double(mesh.positions.size()), t = double(mesh.triangles.size());
+      const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
+      const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
+      const double tables = kFixed + v * kPerVertex + p * kPerPosition + edges * kPerEdge + boundary * kPerBoundaryEdge;
+      const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t);
       if (tables > bake) e.add("winding boundary tables (before the blocks)", tables - bake);
     }
   }

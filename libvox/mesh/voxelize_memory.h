@@ -6,7 +6,7 @@
 // voted voxel: ~100 bytes plus 4 per voxel) and a 6 KB colour block when the
 // mesh has colour, so the surface costs memory in the
 // number of 8^3 blocks the triangles touch (proportional to the surface area,
-// not to the grid's volume). That count is estimated by splitting every
+// not to the grid's volume; a region bake's in its box). That count is estimated by splitting every
 // triangle into pieces no longer than a cell side and counting the distinct
 // cells their bounding boxes touch (cells of 8 voxels, coarser for very large
 // surfaces, where the blocks per cell come from the area inside it). A solid
@@ -44,16 +44,32 @@ struct SurfaceFootprint {
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
-/// dims). `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
+/// dims). A region bake's header (header.region) gives its box's footprint:
+/// blocks counted in the box only, the surface sums by the share of each
+/// split piece inside it (the crossings by the share across the rays, which
+/// keep every crossing of their columns), the solid-fill box cut to it; a
+/// large triangle spanning the world counts only its part in the box.
+/// `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
 /// `threads` workers (0: every core); the result does not depend on them.
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                                   uint64_t maxPieces = uint64_t(1) << 22, unsigned threads = 1);
+
+/// The mesh's distinct vertex positions (equal coordinates counted once):
+/// what the winding rule's weld and boundary tables grow with. An unindexed
+/// soup (STL: three vertices per triangle) has about a sixth as many as
+/// vertices when closed. Linear in the vertices, with a flat table of 32 to
+/// 96 bytes per distinct position meanwhile; it does not depend on the
+/// placement, so a caller estimating several resolutions counts once.
+uint64_t distinctPositions(const Mesh& mesh);
 
 /// The parts of a bake's peak beyond what is resident before it (the mesh is
 /// counted by the caller): vote blocks, colour blocks, solid-fill bits and
 /// crossings, interior blocks, and for the winding rule its weld and boundary
 /// tables where they outweigh those (they are gone before the blocks grow),
 /// and with settings.textureRows the textured pieces kept until they are read.
-MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings);
+/// `weldedVertices`: distinctPositions(mesh) for a winding-rule solid fill
+/// (the tables' size; at most the vertex count is used), else unused.
+MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings,
+                                uint64_t weldedVertices);
 
 }  // namespace vox

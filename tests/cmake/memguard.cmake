@@ -3,7 +3,7 @@
 # footprint against real block counts (unit), refusals, estimates against
 # measured peaks, build-atlas layer by layer and allocation failures (end to end).
 target_sources(vox_unit_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test_memory_budget.cpp)
-foreach(group refusals atlas estimates oom)
+foreach(group refusals atlas estimates accuracy oom)
   add_test(NAME memguard.${group}
            COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli/memory_guard_test.sh ${group}
                    $<TARGET_FILE:vox> ${CMAKE_SOURCE_DIR}/../shared/data)

@@ -463,42 +463,6 @@ std::string voxelSizeText(double size) {
 
 }  // namespace
 
-namespace {
-
-/// A region bake's share of the whole bake's footprint: the surface terms by
-/// the share of triangles whose box meets the region (a bound on what the
-/// region's surface pass touches), the solid-fill box and enclosed volume
-/// clamped to the region's volume.
-void scaleToRegion(vox::SurfaceFootprint& f, const PreparedMeshes& p, const vox::SceneHeader& header) {
-  const vox::IndexBox& b = header.region->box;
-  if (b.empty() || p.mesh.triangles.empty()) {
-    f = vox::SurfaceFootprint{};
-    return;
-  }
-  const double lo[3] = {header.origin[0] + b.min.u * header.voxelSize, header.origin[1] + b.min.v * header.voxelSize,
-                        header.origin[2] + b.min.w * header.voxelSize};
-  const double hi[3] = {header.origin[0] + (b.max.u + 1.0) * header.voxelSize,
-                        header.origin[1] + (b.max.v + 1.0) * header.voxelSize,
-                        header.origin[2] + (b.max.w + 1.0) * header.voxelSize};
-  size_t meeting = 0;
-  for (const auto& tri : p.mesh.triangles) {
-    bool meets = true;
-    for (int k = 0; k < 3 && meets; ++k) {
-      const double a = p.mesh.positions[tri[0]][k], c = p.mesh.positions[tri[1]][k], d = p.mesh.positions[tri[2]][k];
-      meets = std::max({a, c, d}) >= lo[k] - header.voxelSize && std::min({a, c, d}) <= hi[k] + header.voxelSize;
-    }
-    meeting += meets;
-  }
-  const double share = double(meeting) / double(p.mesh.triangles.size());
-  f.blocks *= share, f.blockClasses *= share, f.surfaceVoxels *= share, f.area *= share;
-  for (double& c : f.crossings) c *= share;
-  const double volume = double(b.max.u - b.min.u + 1) * double(b.max.v - b.min.v + 1) * double(b.max.w - b.min.w + 1);
-  f.boxVoxels = std::min(f.boxVoxels, volume);
-  f.enclosedVoxels = std::min(f.enclosedVoxels, f.boxVoxels);
-}
-
-}  // namespace
-
 void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
                          const vox::DeferredTextures* deferred) {
   const uint64_t resident = vox::residentBytesNow();
@@ -511,20 +475,30 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   vox::DeferredTextures none;  // as the bake will have a source: only its presence counts
   if (deferred && deferred->images() > 0) settings.textureRows = &none;
   const bool sdf = o.method == VoxelizeMethod::Sdf;
+  // The winding rule's tables hold the distinct positions (an STL's soup
+  // welded), counted once for every resolution the search below tries.
+  const uint64_t welded = o.fill == vox::FillMode::Solid && o.solidRule == vox::SolidRule::Winding && !sdf
+                              ? vox::distinctPositions(p.mesh)
+                              : p.mesh.positions.size();
   auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
-    vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces, run.threads());
-    if (header.region) scaleToRegion(f, p, header);
+    // A region bake's footprint is its box's (surfaceFootprint clips to header.region).
+    const vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces, run.threads());
     vox::MemoryEstimate e;
     e.add("resident before the bake", resident);
     if (decoding) e.add("texture rows being read", decoding);
     if (sdf) {
       // meshToVolume: a float distance and an int32 closest-triangle grid over a
       // band of 2 voxels each side, with its per-thread working grids (measured).
-      e.add("OpenVDB distance field", f.surfaceVoxels * 180.0);
+      e.add("OpenVDB distance field", f.surfaceVoxels * 200.0);
+      // What stays with each worker whatever the surface: its malloc arena
+      // and meshToVolume's thread-local state, about 12 MiB a thread and 5
+      // MiB more (measured: the cube at 64..384 missed 13-14 MiB at
+      // --threads 1 and 21-29 MiB at 2, docs/reliability.md "Memory").
+      e.add("OpenVDB workers", (5.0 + 12.0 * double(run.threads())) * 1024 * 1024);
       e.add("scene grids", f.blocks * 3000.0 + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 * 3000.0 : 0.0));
       return e;
     }
-    for (vox::MemoryPart& part : vox::estimateMeshBake(f, p.mesh, settings).parts) e.parts.push_back(std::move(part));
+    for (vox::MemoryPart& part : vox::estimateMeshBake(f, p.mesh, settings, welded).parts) e.parts.push_back(std::move(part));
     if (openvdb) {
       // The scene built from the blocks: bool leaves for occupancy and surface,
       // an int32 vote leaf per class, a Vec3s colour leaf.
@@ -546,6 +520,23 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
       r.voxelSize = 0;
       vox::SceneHeader h = p.header;
       placeScene(r, p.mesh, h);
+      if (h.region && !h.region->box.empty()) {
+        // The same part of the world at the other resolution: --region's tile
+        // of the new dims, or --region-box scaled with them.
+        if (!o.region.empty()) {
+          h.region->box = vox::regionTile(h.dims, h.region->index, h.region->count);
+        } else {
+          vox::IndexBox& b = h.region->box;
+          const double s[3] = {double(h.dims.x) / d.x, double(h.dims.y) / d.y, double(h.dims.z) / d.z};
+          int32_t* lo[3] = {&b.min.u, &b.min.v, &b.min.w};
+          int32_t* hi[3] = {&b.max.u, &b.max.v, &b.max.w};
+          const uint32_t dv[3] = {h.dims.x, h.dims.y, h.dims.z};
+          for (int k = 0; k < 3; ++k) {
+            *lo[k] = int32_t(std::floor(*lo[k] * s[k]));
+            *hi[k] = std::min(int32_t(dv[k]) - 1, int32_t(std::ceil((*hi[k] + 1) * s[k])) - 1);
+          }
+        }
+      }
       return h;
     };
     auto bytesAt = [&](uint64_t res) { return estimateFor(headerAt(res), uint64_t(1) << 18).bytes(); };
