@@ -11,6 +11,7 @@
 
 #include "libvox/mesh/lattice_triangles.h"
 #include "libvox/mesh/voxelize.h"
+#include "libvox/mesh/voxelize_memory.h"
 #include "libvox/scene/voxelize_scene.h"
 #include "test_util.h"
 #include "voxelize_test_meshes.h"
@@ -223,6 +224,20 @@ TEST(VoxelizeFar, FarTriangleOutsideTheGridIsIgnored) {
   const std::array<bool, 256> used = classesTouchingDomain(stray, cls, h);
   EXPECT_TRUE(used[1]);
   EXPECT_FALSE(used[2]);
+}
+
+TEST(VoxelizeFar, MemoryEstimateCountsThePartNearTheGrid) {
+  // A ground plane 2e7 voxels wide under a 64^3 grid: estimated as the plane
+  // cropped to the grid by hand (it was 2^48 pieces and petabytes of blocks).
+  const SceneHeader h = voxtest::twoClassHeader({64, 64, 64});
+  const Mesh far = voxtest::meshOf({{-1e7, -1e7, 20.5}, {1e7, -1e7, 20.5}, {1e7, 1e7, 20.5}, {-1e7, 1e7, 20.5}},
+                                   {{0, 1, 2}, {0, 2, 3}});
+  const Mesh cropped = voxtest::meshOf({{0, 0, 20.5}, {64, 0, 20.5}, {64, 64, 20.5}, {0, 64, 20.5}}, {{0, 1, 2}, {0, 2, 3}});
+  const std::vector<uint8_t> cls = {1, 1};
+  const SurfaceFootprint f = surfaceFootprint(far, cls, h), c = surfaceFootprint(cropped, cls, h);
+  EXPECT_EQ(f.blocks, c.blocks);
+  EXPECT_EQ(f.blocks, 64.0) << "one layer of 8 x 8 blocks";
+  EXPECT_LT(f.area, 200.0 * 200.0) << "the clipped plane's area, not the whole plane's";
 }
 
 TEST(VoxelizeFar, StripToAVertexBeyondDoubleGridRange) {

@@ -44,7 +44,9 @@ struct SurfaceFootprint {
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
-/// dims). `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
+/// dims): of the triangles a surface bake keeps (a triangle reaching more than
+/// 2^20 voxels from the grid counts by its part near the grid,
+/// lattice_triangles.h). `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
 /// `threads` workers (0: every core); the result does not depend on them.
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                                   uint64_t maxPieces = uint64_t(1) << 22, unsigned threads = 1);
