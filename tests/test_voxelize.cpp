@@ -292,11 +292,15 @@ TEST(Voxelize, DeterministicAcrossThreadsAndFarFromTheOrigin) {
   EXPECT_GT(a.occupiedCount(), 40000u) << "millimetre features a million units from the origin";
 }
 
-TEST(Voxelize, RefusesFarAndNonFiniteVertices) {
+TEST(Voxelize, ClipsOrRefusesFarVerticesAndRefusesNonFiniteOnes) {
+  // A segment from the grid to 3e6 voxels away: a surface fill clips it near
+  // the grid (voxels (0..3, 0, 0)); a solid fill refuses it (test_voxelize_far.cpp).
   const Mesh far = meshOf({{0, 0, 0}, {1, 0, 0}, {3e6, 0, 0}}, {{0, 1, 2}});
-  EXPECT_TRUE(voxtest::throwsVoxError([&] { run(far, gridHeader(4), FillMode::Surface); }, ErrorKind::BadInput,
-                                      {"vertex 3 (counted from 1)", "crop the scene"}));
-  EXPECT_EQ(voxtest::settingOfError([&] { run(far, gridHeader(4), FillMode::Surface); }), Setting::Bounds);
+  EXPECT_EQ(occupied(run(far, gridHeader(4), FillMode::Surface)),
+            (std::set<std::tuple<int, int, int>>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { run(far, gridHeader(4), FillMode::Solid); }, ErrorKind::BadInput,
+                                      {"vertex 3 (counted from 1)", "fill only the surface"}));
+  EXPECT_EQ(voxtest::settingOfError([&] { run(far, gridHeader(4), FillMode::Solid); }), Setting::FillMode);
   const Mesh nan = meshOf({{0, 0, 0}, {1, 0, NAN}, {0, 1, 0}}, {{0, 1, 2}});
   EXPECT_TRUE(voxtest::throwsVoxError([&] { run(nan, gridHeader(4), FillMode::Surface); }, ErrorKind::BadInput,
                                       {"vertex 2 (counted from 1)", "non-finite"}));

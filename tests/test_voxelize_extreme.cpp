@@ -122,8 +122,9 @@ TEST(VoxelizeExtreme, SolidFillOfAHugeBoxIsRefusedBeforeAnyWork) {
   setProcessMemoryLimit(before, "--max-memory");
 }
 
-// A vertex beyond the grid's reach is named as its file numbers it, with the
-// file: OBJ by its "v" number (a "v" used with two "vt" is two mesh vertices,
+// A vertex beyond a solid fill's reach (2^20 voxels from the grid; a surface
+// fill clips its triangles, test_voxelize_far.cpp) is named as its file
+// numbers it, with the file: OBJ by its "v" number (a "v" used with two "vt" is two mesh vertices,
 // made in the order faces use them), PLY from 0 as its faces count, and the
 // second of two inputs by its own file.
 TEST(VoxelizeExtreme, FarVertexIsNamedAsItsFileNumbersIt) {
@@ -137,12 +138,12 @@ TEST(VoxelizeExtreme, FarVertexIsNamedAsItsFileNumbersIt) {
                                            "vertex 0 1 0\nendloop\nendfacet\nendsolid a\n");
   std::vector<std::string> warnings;
   auto fails = [&](const Mesh& m, std::initializer_list<std::string> says) {
-    return voxtest::throwsVoxError([&] { run(m, header(4)); }, ErrorKind::BadInput, says);
+    return voxtest::throwsVoxError([&] { run(m, header(4), FillMode::Solid); }, ErrorKind::BadInput, says);
   };
   const Mesh obj = readMeshFile(dir.file("far.obj"), {}, warnings);
   ASSERT_EQ(obj.positions.size(), 6u) << "one mesh vertex per (v, vt) pair";
   EXPECT_TRUE(fails(obj, {"far.obj: vertex 1 (as its 'f' lines number them) lies 40000000 voxels from the grid along x",
-                          "limit 2^20"}));
+                          "beyond the 2^20 a solid fill reaches", "at least 39 times larger"}));
   EXPECT_TRUE(fails(readMeshFile(dir.file("far.ply"), {}, warnings), {"far.ply: vertex 3 (counted from 0", "along y"}));
   Mesh both = readMeshFile(dir.file("near.stl"), {}, warnings);
   both.append(readMeshFile(dir.file("far.ply"), {}, warnings));

@@ -7,7 +7,8 @@
 //            decision is made on (names say `lattice`);
 //   box      the solid fill's working box (VoxelBox): box-local voxel and ray
 //            numbers, so its bit sets and crossing lists stay small.
-// voxelizeMeshBlocks reads as its steps: snap, surface pass, then for a solid
+// voxelizeMeshBlocks reads as its steps: snap (lattice_triangles.h: a surface
+// fill clips the triangles reaching past the lattice's range), surface pass, then for a solid
 // fill the rays' crossings, the inside flags per axis, and the interior.
 #include "libvox/mesh/voxelize.h"
 
@@ -26,6 +27,7 @@
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/lattice_triangles.h"
 #include "libvox/mesh/texture_sampling.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/mesh/winding_number.h"
@@ -39,7 +41,6 @@ using i128 = __int128;
 using Vec3i = std::array<i64, 3>;
 
 constexpr i64 kS = i64(1) << kSubvoxelBits;  // lattice steps per voxel
-constexpr double kMaxGridDistance = double(1 << 20);  // refuse vertices farther than this (voxels)
 
 i128 abs128(i128 x) { return x < 0 ? -x : x; }
 
@@ -182,7 +183,7 @@ uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
 /// interval [latticeLo, latticeHi]: [first, last], empty when first > last.
 /// Inlined: called per triangle and axis by the surface pass, out of line it
 /// cost the bunny at 256 0.6% more instructions (callgrind).
-/// Lattice values are within 2^20 voxels of the grid (kMaxGridDistance), so
+/// Lattice values are within 2^20 voxels of the grid (kMaxLatticeDistance), so
 /// |lattice| < 2^37 and int64 holds every product below; S is a power of two,
 /// so floor division by it is an arithmetic shift (C++20), not the 128-bit
 /// division (a library call) it was.
@@ -334,29 +335,6 @@ struct PlainBits {
 
 // ---------------------------------------------------------------- snapping and the box
 
-/// Every vertex in grid space, snapped to the lattice. Refuses non-finite
-/// vertices and vertices farther than kMaxGridDistance voxels from the grid.
-std::vector<Vec3i> snapToGridLattice(const Mesh& mesh, const SceneHeader& header) {
-  std::vector<Vec3i> lattice(mesh.positions.size());
-  for (size_t i = 0; i < mesh.positions.size(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const double grid = (mesh.positions[i][k] - header.origin[k]) / header.voxelSize;
-      // The vertex named as its file numbers it (the mesh records where its vertices came from).
-      if (!std::isfinite(grid))
-        throwBadInput(mesh.describeVertex(i) + " has a non-finite coordinate; drop the triangles that touch it",
-                      Setting::DropInvalid);
-      if (std::abs(grid) > kMaxGridDistance) {
-        char distance[32];  // llround is undefined past int64's range
-        std::snprintf(distance, sizeof distance, std::abs(grid) < 1e15 ? "%.0f" : "%.3g", std::abs(grid));
-        throwBadInput(mesh.describeVertex(i) + " lies " + distance + " voxels from the grid along " + "xyz"[k] +
-                          " (limit 2^20); crop the scene to bounds near the mesh",
-                      Setting::Bounds);
-      }
-      lattice[i][k] = snapToLattice(grid);
-    }
-  return lattice;
-}
-
 /// The solid fill's box: the voxels the mesh's triangles touch, clamped to
 /// the domain; nullopt when that is empty.
 std::optional<VoxelBox> solidFillBox(const Mesh& mesh, const std::vector<Vec3i>& lattice, Dims dims) {
@@ -411,8 +389,8 @@ struct Progress {
 
 struct SurfaceWork {
   const Mesh& mesh;
-  const std::vector<uint8_t>& triClass;
-  const std::vector<Vec3i>& lattice;  // the vertices in lattice units
+  const std::vector<uint8_t>& triClass;  // per mesh triangle
+  const LatticeTriangles& triangles;     // the triangles on the lattice (clipped where they reach too far)
   Dims dims;
   bool color;
   const IndexBox* region;  // a region bake's box (inclusive), or null: the whole domain
@@ -608,9 +586,10 @@ uint32_t areaVotes(double units) {
 /// touches, into `out`. P and the pieces below are in grid space (doubles), q
 /// in lattice units.
 void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], const int32_t to[2], SurfaceOut& out) {
-  const auto& tri = W.mesh.triangles[t];
+  const auto& tri = W.triangles.corners(W.mesh, t);
+  const uint32_t source = W.triangles.sourceOf(t);  // the mesh triangle: class, material, vertex colours, UVs
   std::array<int64_t, 3> q[3];
-  for (int k = 0; k < 3; ++k) q[k] = W.lattice[tri[k]];
+  for (int k = 0; k < 3; ++k) q[k] = W.triangles.lattice[tri[k]];
   i64 latticeLo[3], latticeHi[3];
   for (int i = 0; i < 3; ++i) {
     latticeLo[i] = std::min({q[0][i], q[1][i], q[2][i]});
@@ -628,7 +607,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
     if (i < 2) first[i] = std::max(first[i], from[i]), last[i] = std::min(last[i], to[i]);
     if (first[i] > last[i]) return;
   }
-  const uint8_t cls = W.triClass[t];
+  const uint8_t cls = W.triClass[source];
 
   Poly P;
   P.n = 3;
@@ -652,9 +631,10 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       // Colour at the piece's centre (the triangle's centroid if clipping lost it).
       double l0 = 1.0 / 3, l1 = 1.0 / 3, l2 = 1.0 / 3;
       if (piece.n > 0) barycentric(piece, P.p[0], P.p[1], P.p[2], l0, l1, l2);
+      W.triangles.toSource(t, l0, l1, l2);  // a clipped triangle's point in its source triangle
       int texture;
       double s, tt;
-      const std::array<float, 4> rgba = baseColor(W.mesh, t, l0, l1, l2, texture, s, tt);
+      const std::array<float, 4> rgba = baseColor(W.mesh, source, l0, l1, l2, texture, s, tt);
       const uint32_t slot = out.colors.slotAt(u, v, w);
       ColorSum& sum = out.colors.sums()[slot];
       sum.w += votes;
@@ -773,11 +753,12 @@ struct CandidateBox {
 };
 
 CandidateBox candidateBox(const SurfaceWork& W, size_t t) {
-  const auto& tri = W.mesh.triangles[t];
+  const auto& tri = W.triangles.corners(W.mesh, t);
   const int32_t dimv[3] = {int32_t(W.dims.x), int32_t(W.dims.y), int32_t(W.dims.z)};
   CandidateBox c;
   for (int i = 0; i < 3; ++i) {
-    const i64 a = W.lattice[tri[0]][i], b = W.lattice[tri[1]][i], d = W.lattice[tri[2]][i];
+    const auto& L = W.triangles.lattice;
+    const i64 a = L[tri[0]][i], b = L[tri[1]][i], d = L[tri[2]][i];
     voxelsTouching(std::min({a, b, d}), std::max({a, b, d}), dimv[i], c.first[i], c.last[i]);
     if (W.region) {
       const int32_t rlo[3] = {W.region->min.u, W.region->min.v, W.region->min.w};
@@ -833,7 +814,7 @@ std::vector<std::array<int32_t, 2>> cutByWork(const std::vector<double>& work, i
 /// them), only the balance.
 std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces, unsigned threads) {
   const int32_t dimx = int32_t(W.dims.x), dimy = int32_t(W.dims.y);
-  const size_t nTri = W.mesh.triangles.size();
+  const size_t nTri = W.triangles.size(W.mesh);
   // The triangles in fixed parts (whatever the thread count), each measured
   // and listed on its own and merged in part order: the tiles, and so the
   // scene, do not depend on --threads (nor would they on the tiles anyway).
@@ -912,7 +893,7 @@ std::vector<Tile> surfaceTiles(const SurfaceWork& W, size_t pieces, unsigned thr
 /// whole blocks, each tile's blocks its own, so merging them only moves
 /// blocks; colours are the vote-weighted averages of the integer sums.
 VoxelBlocks voxelizeSurface(const SurfaceWork& work, unsigned threads, const Progress& progress, double share) {
-  const size_t nTri = work.mesh.triangles.size();
+  const size_t nTri = work.triangles.size(work.mesh);
   const size_t pieces = surfaceTileCount(threads, work.color);
   std::vector<Tile> tiles;
   if (pieces > 1) {
@@ -1541,14 +1522,15 @@ void addWindingInterior(VoxelBlocks& blocks, const Mesh& mesh, const std::vector
 std::array<bool, 256> classesTouchingDomain(const Mesh& mesh, const std::vector<uint8_t>& triangleClass,
                                             const SceneHeader& header) {
   std::array<bool, 256> used{};
-  const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
+  // As a surface bake sees the triangles: those reaching past the lattice's range clipped.
+  const LatticeTriangles triangles = latticeTriangles(mesh, header, FarTriangles::Clip);
   const i64 dimLattice[3] = {i64(header.dims.x) * kS, i64(header.dims.y) * kS, i64(header.dims.z) * kS};
   const int32_t dimv[3] = {int32_t(header.dims.x), int32_t(header.dims.y), int32_t(header.dims.z)};
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const uint8_t cls = triangleClass[t];
+  for (size_t t = 0; t < triangles.size(mesh); ++t) {
+    const uint8_t cls = triangleClass[triangles.sourceOf(t)];
     if (used[cls]) continue;
     std::array<int64_t, 3> q[3];
-    for (int k = 0; k < 3; ++k) q[k] = lattice[mesh.triangles[t][k]];
+    for (int k = 0; k < 3; ++k) q[k] = triangles.lattice[triangles.corners(mesh, t)[k]];
     bool within = true, apart = false;
     int32_t first[3], last[3];
     for (int i = 0; i < 3; ++i) {
@@ -1579,7 +1561,11 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
   const unsigned threads = std::max(1u, settings.threads);
   const Progress progress{settings.progress};
 
-  const std::vector<Vec3i> lattice = snapToGridLattice(mesh, header);
+  // A surface fill clips the triangles that reach past the lattice's range;
+  // a solid fill's inside depends on them whole, so it refuses them.
+  const LatticeTriangles triangles =
+      latticeTriangles(mesh, header, settings.fill == FillMode::Surface ? FarTriangles::Clip : FarTriangles::Refuse);
+  const std::vector<Vec3i>& lattice = triangles.lattice;  // the solid passes': the mesh's own triangles
   std::optional<VoxelBox> box;
   std::vector<CapTriangle> caps;
   // The winding rule works on the mesh with near vertices welded (a soup's
@@ -1616,7 +1602,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
   const double surfaceShare = box ? 0.5 : 1.0;
   const IndexBox* region = settings.region ? &*settings.region : nullptr;
   const RowSampling sampling(mesh, settings.textureRows);
-  const SurfaceWork work{mesh,   triangleClass,     lattice,   header.dims,          mesh.hasColor(),
+  const SurfaceWork work{mesh,   triangleClass,     triangles, header.dims,          mesh.hasColor(),
                          region, surfaceBits.get(), &sampling, settings.textureRows};
   VoxelBlocks blocks = voxelizeSurface(work, threads, progress, surfaceShare);
   if (box && settings.solidRule == SolidRule::Parity) {

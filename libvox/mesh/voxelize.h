@@ -9,9 +9,14 @@
 // snapped triangles (64-bit coordinates, 128-bit products). So results do not
 // depend on evaluation order or thread count, shared edges and vertices give
 // identical decisions on both sides (watertight), and vertices that lie exactly
-// on voxel faces, edges or corners are treated exactly. Vertices farther than
-// 2^20 voxels from the grid are refused (vox::Error BadInput, Setting::Bounds:
-// crop the scene to bounds near the mesh).
+// on voxel faces, edges or corners are treated exactly. Range: lattice points
+// lie within 2^20 voxels of the grid's origin. A surface fill drops the
+// triangles with a vertex beyond that which miss the grid (grown by 64
+// voxels), and clips those that cross it to that box, fanning the clipped
+// polygon: the grid's voxels are those of the whole triangle, within the
+// snapping's own bound (libvox/mesh/lattice_triangles.h states it). A solid
+// fill refuses such a vertex (vox::Error BadInput, Setting::FillMode): its
+// inside depends on every triangle whole.
 //
 // Surface fill: a voxel is occupied exactly when its closed box intersects a
 // (snapped) triangle: the separating-axis test with the 13 axes of a

@@ -9,6 +9,7 @@
 
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/lattice_triangles.h"
 #include "libvox/mesh/texture_sampling.h"
 #include "libvox/mesh/voxel_blocks.h"
 
@@ -184,7 +185,8 @@ class CellCounter {
 /// a cell of one block is one block whatever its area, and with at most four
 /// classes a cell's class count is exact in both (its sums are multiples of
 /// 1/2, exact in any order). nullopt where it does not apply.
-std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>& g, const Mesh& mesh,
+std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>& g,
+                                                          const std::vector<std::array<uint32_t, 3>>& triangles,
                                                           const std::vector<uint8_t>& triangleClass, const Dims& dims,
                                                           const Domain& domain,
                                                           const std::vector<int>& depth, size_t nPieces,
@@ -196,7 +198,7 @@ std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>&
   std::array<int, 256> slotOf;
   slotOf.fill(-1);
   int classes = 0;
-  const size_t nt = mesh.triangles.size();
+  const size_t nt = triangles.size();
   for (size_t i = 0; i < nt; ++i) {
     const uint8_t cls = i < triangleClass.size() ? triangleClass[i] : 0;
     if (slotOf[cls] >= 0) continue;
@@ -211,7 +213,7 @@ std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>&
   }
   parallelPieces(nt, threads, nPieces, [&](size_t b, size_t e, size_t) {
     for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
+      const auto& tri = triangles[i];
       const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
       std::atomic<uint64_t>* set = bits[size_t(slotOf[i < triangleClass.size() ? triangleClass[i] : 0])].get();
       forEachSplitPiece(t, depth[i], [&](const P3 piece[3]) {
@@ -250,17 +252,17 @@ std::optional<std::pair<double, double>> blocksByCellBits(const std::vector<P3>&
 /// the rays for its crossings (a region's rays keep every crossing of the
 /// columns in its box, wherever along the ray). Replaces f's area,
 /// crossings and surface voxels.
-void regionSums(const std::vector<P3>& g, const Mesh& mesh, const Dims& dims, const Domain& domain,
+void regionSums(const std::vector<P3>& g, const std::vector<std::array<uint32_t, 3>>& triangles, const Dims& dims, const Domain& domain,
                 const std::vector<int>& depth, size_t nPieces, unsigned threads, SurfaceFootprint& f) {
   const int64_t last[3] = {int64_t(dims.x) - 1, int64_t(dims.y) - 1, int64_t(dims.z) - 1};
   struct Sums {
     double area = 0, surface = 0, crossings[3] = {0, 0, 0};
   };
   std::vector<Sums> sums(nPieces);
-  parallelPieces(mesh.triangles.size(), threads, nPieces, [&](size_t b, size_t e, size_t piece) {
+  parallelPieces(triangles.size(), threads, nPieces, [&](size_t b, size_t e, size_t piece) {
     Sums& s = sums[piece];
     for (size_t i = b; i < e; ++i) {
-      const auto& tri = mesh.triangles[i];
+      const auto& tri = triangles[i];
       const P3 t[3] = {g[tri[0]], g[tri[1]], g[tri[2]]};
       const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
       const double share = 1.0 / double(uint64_t(1) << (2 * depth[i]));  // of the triangle, per piece
@@ -300,9 +302,10 @@ void regionSums(const std::vector<P3>& g, const Mesh& mesh, const Dims& dims, co
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,
                                   uint64_t maxPieces, unsigned threads) {
   SurfaceFootprint f;
-  const size_t nt = mesh.triangles.size();
   const Domain domain = domainOf(header);
-  if (nt == 0 || domain.lo[0] > domain.hi[0] || domain.lo[1] > domain.hi[1] || domain.lo[2] > domain.hi[2]) return f;
+  if (mesh.triangles.empty() || domain.lo[0] > domain.hi[0] || domain.lo[1] > domain.hi[1] ||
+      domain.lo[2] > domain.hi[2])
+    return f;
   // Grid space, g = (world - origin) / voxelSize, snapped to the voxelizer's
   // lattice (2^-kSubvoxelBits voxel): a face that the division puts a hair
   // beyond the grid's last voxel boundary still touches the last voxel.
@@ -313,6 +316,29 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
       for (int k = 0; k < 3; ++k)
         g[i][k] = roundHalfAway((mesh.positions[i][k] - header.origin[k]) / header.voxelSize * lattice) / lattice;
   });
+  // Triangles reaching past the lattice's range: the part of them the bake
+  // keeps (libvox/mesh/lattice_triangles.h), a fan clipped near the grid, or
+  // none (a ground plane 1e8 voxels wide would split into 2^48 pieces).
+  const std::vector<std::array<uint32_t, 3>>* triangles = &mesh.triangles;
+  const std::vector<uint8_t>* classes = &triangleClass;
+  LatticeTriangles clipped;
+  std::vector<uint8_t> clippedClasses;
+  if (std::any_of(g.begin(), g.end(), [](const P3& p) {
+        return !(std::abs(p[0]) <= kMaxLatticeDistance && std::abs(p[1]) <= kMaxLatticeDistance &&
+                 std::abs(p[2]) <= kMaxLatticeDistance);
+      })) {
+    clipped = latticeTriangles(mesh, header, FarTriangles::Clip);
+    g.resize(clipped.lattice.size());
+    for (size_t i = 0; i < g.size(); ++i)
+      for (int k = 0; k < 3; ++k) g[i][size_t(k)] = double(clipped.lattice[i][size_t(k)]) / lattice;
+    clippedClasses.resize(clipped.triangles.size());
+    for (size_t t = 0; t < clipped.triangles.size(); ++t)
+      clippedClasses[t] = clipped.source[t] < triangleClass.size() ? triangleClass[clipped.source[t]] : 0;
+    triangles = &clipped.triangles;
+    classes = &clippedClasses;
+  }
+  const size_t nt = triangles->size();
+  if (nt == 0) return f;
 
   // The triangles in up to 4 fixed pieces (whatever --threads; at least 8192
   // triangles each), each summed and counted on its own and merged in piece
@@ -321,7 +347,7 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   // the file's triangles are spatially coherent, at most 4).
   const size_t nPieces = std::min<size_t>(4, (nt + 8191) / 8192);
   auto tri = [&](size_t i, P3 t[3]) {
-    for (int k = 0; k < 3; ++k) t[k] = g[mesh.triangles[i][size_t(k)]];
+    for (int k = 0; k < 3; ++k) t[k] = g[(*triangles)[i][size_t(k)]];
   };
 
   // Sums, and every triangle's split depth at cells of one block (8 voxels).
@@ -384,9 +410,9 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
     pieces = 0;
     for (const Sums& s : sums) pieces = std::min(maxPieces + 1, pieces + s.splitPieces);
   }
-  if (header.region) regionSums(g, mesh, header.dims, domain, depth, nPieces, threads, f);
+  if (header.region) regionSums(g, *triangles, header.dims, domain, depth, nPieces, threads, f);
   if (side == kBlockDim)
-    if (const auto counted = blocksByCellBits(g, mesh, triangleClass, header.dims, domain, depth, nPieces, threads)) {
+    if (const auto counted = blocksByCellBits(g, *triangles, *classes, header.dims, domain, depth, nPieces, threads)) {
       std::tie(f.blocks, f.blockClasses) = *counted;
       return f;
     }
@@ -401,7 +427,7 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
       const P3 n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
       const double areaL1 = (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2])) / 2;
       counters[piece].split(t, depth[i], areaL1 / double(uint64_t(1) << (2 * depth[i])),
-                            i < triangleClass.size() ? triangleClass[i] : 0);
+                            i < classes->size() ? (*classes)[i] : 0);
     }
   });
   for (size_t p = 1; p < nPieces; ++p) counters[0].merge(std::move(counters[p]));

@@ -44,11 +44,13 @@ struct SurfaceFootprint {
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,
-/// dims). A region bake's header (header.region) gives its box's footprint:
-/// blocks counted in the box only, the surface sums by the share of each
-/// split piece inside it (the crossings by the share across the rays, which
-/// keep every crossing of their columns), the solid-fill box cut to it; a
-/// large triangle spanning the world counts only its part in the box.
+/// dims): of the triangles a surface bake keeps (a triangle reaching more than
+/// 2^20 voxels from the grid counts by its part near the grid,
+/// lattice_triangles.h). A region bake's header (header.region) gives its
+/// box's footprint: blocks counted in the box only, the surface sums by the
+/// share of each split piece inside it (the crossings by the share across the
+/// rays, which keep every crossing of their columns), the solid-fill box cut
+/// to it; a large triangle spanning the world counts only its part in the box.
 /// `maxPieces` bounds the work (coarser cells beyond it). Runs on up to
 /// `threads` workers (0: every core); the result does not depend on them.
 SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const SceneHeader& header,

@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "libvox/core/parallel.h"
+#include "libvox/mesh/lattice_triangles.h"
 #include "libvox/mesh/voxelize.h"
 #include "libvox/mesh/winding_number.h"
 
@@ -16,12 +17,6 @@ uint64_t key(int32_t u, int32_t v, int32_t w) {
   return (uint64_t(uint32_t(u)) << 42) | (uint64_t(uint32_t(v)) << 21) | uint64_t(uint32_t(w));
 }
 
-std::array<int64_t, 3> snapVertex(const Mesh& m, uint32_t i, const SceneHeader& h) {
-  std::array<int64_t, 3> q;
-  for (int k = 0; k < 3; ++k) q[k] = snapToLattice((m.positions[i][k] - h.origin[k]) / h.voxelSize);
-  return q;
-}
-
 int64_t floorDiv(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
 
 }  // namespace
@@ -30,7 +25,11 @@ SurfaceCheck checkSurface(const Mesh& mesh, const Scene& scene, uint64_t maxTria
   SurfaceCheck out;
   const SceneHeader& h = scene.header();
   const int64_t S = int64_t(1) << kSubvoxelBits;
-  const uint64_t n = mesh.triangles.size();
+  // The triangles as the surface bake decides on them: snapped, and those
+  // reaching past the lattice's range clipped to the box around the grid
+  // (its voxels see the clipped part exactly where they see the whole).
+  const LatticeTriangles triangles = latticeTriangles(mesh, h, FarTriangles::Clip);
+  const uint64_t n = triangles.size(mesh);
   const bool full = maxTriangles >= n;
   const uint64_t step = full ? 1 : std::max<uint64_t>(1, n / std::max<uint64_t>(1, maxTriangles));
   std::unordered_set<uint64_t> oracle;
@@ -38,7 +37,7 @@ SurfaceCheck checkSurface(const Mesh& mesh, const Scene& scene, uint64_t maxTria
   for (uint64_t t = 0; t < n; t += step) {
     ++out.trianglesChecked;
     std::array<int64_t, 3> q[3];
-    for (int k = 0; k < 3; ++k) q[k] = snapVertex(mesh, mesh.triangles[t][k], h);
+    for (int k = 0; k < 3; ++k) q[k] = triangles.lattice[triangles.corners(mesh, t)[size_t(k)]];
     int64_t lo[3], hi[3];
     const int64_t dim[3] = {h.dims.x, h.dims.y, h.dims.z};
     for (int i = 0; i < 3; ++i) {

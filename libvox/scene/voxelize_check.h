@@ -2,7 +2,9 @@
 // it under "error" when asked to check a mesh bake).
 //
 // Surface: the brute-force oracle tests every (snapped) triangle against every
-// voxel of its bounding box with the exact closed-box SAT, independently of the
+// voxel of its bounding box (a triangle reaching more than 2^20 voxels from the
+// grid: its part near the grid, clipped as the bake clips it,
+// libvox/mesh/lattice_triangles.h) with the exact closed-box SAT, independently of the
 // voxelizer's candidate search. With all triangles checked it reports both
 // voxels missed (oracle has, scene lacks) and extra (scene has, oracle lacks);
 // with a sample, only missed voxels can be attributed and extra is not reported.
