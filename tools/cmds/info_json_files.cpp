@@ -196,8 +196,10 @@ void describeObject(std::ostringstream& o, const nlohmann::json& obj, const std:
       describeObject(o, v, indent + "  ");
     } else {
       std::string k = indent + key;
-      if (k.size() < 24) k += std::string(24 - k.size(), ' ');
-      o << "  " << k << " " << fit(brief(v), kWidth - 27) << "\n";
+      const size_t keyColumns = columns(k);
+      if (keyColumns < 24) k += std::string(24 - keyColumns, ' ');
+      const size_t used = 3 + std::max<size_t>(keyColumns, 24);  // a key past 24 columns leaves less for the value
+      o << "  " << k << " " << fit(brief(v), used < kWidth ? kWidth - used : 1) << "\n";
     }
   }
 }
