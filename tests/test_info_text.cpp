@@ -118,7 +118,7 @@ TEST(InfoText, TablesAlignWideNames) {
 }
 
 TEST(InfoText, LongValuesWrapWithinEightyColumns) {
-  const std::string value = "'free' (float, 1,234 leaves of 8^3): vox fuse's free-space counts, read back by vox "
+  const std::string value = "'free' (Tree_int32_5_4_3, 1,234 leaves of 8^3): vox fuse's free-space counts, read back by vox "
                             "fuse -i (docs/fuse.md)";
   const std::vector<std::string> lines = linesOf(line("free grid", value));
   ASSERT_EQ(lines.size(), 2u);
