@@ -296,10 +296,17 @@ atlas_inputs)
   expect_stderr "rendered from a grid of 4 x 3 x 2"
   # --pixel is x,y in whole numbers: anything else is refused, not truncated
   # ("1.5,2" was read as 1,2) or passed over ("" was ignored).
-  for bad in 1.5,2 " 1,2" "1 ,2" "" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 1, ,2 4294967296,0; do
+  for bad in 1.5,2 " 1,2" "1 ,2" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 4294967296,0; do
     expect_exit 2 "$vox" info a/small.summary.png --pixel "$bad"
     expect_stderr "--pixel '$bad': expected x,y, two whole numbers"
   done
+  # An empty value or entry is named as every comma-list option names it.
+  expect_exit 2 "$vox" info a/small.summary.png --pixel ""
+  expect_stderr "--pixel '': an empty value; expected x,y, two whole numbers"
+  expect_exit 2 "$vox" info a/small.summary.png --pixel 1,
+  expect_stderr "--pixel 1,: entry 2 of 2 is empty (a trailing comma); expected x,y, two whole numbers"
+  expect_exit 2 "$vox" info a/small.summary.png --pixel ,2
+  expect_stderr "--pixel ,2: entry 1 of 2 is empty (a leading comma)"
   expect_exit 2 "$vox" info a/small.summary.png --pixel 4,0
   expect_stderr "--pixel 4,0: outside the 4 x 6 atlas (x 0..3, y 0..5)"
   expect_exit 0 "$vox" info a/small.summary.png --pixel 003,5
