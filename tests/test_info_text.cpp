@@ -75,3 +75,67 @@ TEST(InfoText, TablesAlignAndFitEightyColumns) {
   EXPECT_EQ(fit("abc", 4), "abc");
   EXPECT_EQ(line("dims", "4 x 3 x 2"), "  dims          4 x 3 x 2\n");
 }
+
+namespace {
+std::vector<std::string> linesOf(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+}  // namespace
+
+TEST(InfoText, WidthsAreDisplayColumns) {
+  EXPECT_EQ(columns("Stone"), 5u);
+  EXPECT_EQ(columns("石头"), 4u) << "CJK ideographs take two columns";
+  EXPECT_EQ(columns("ｓｔ"), 4u) << "fullwidth forms too";
+  EXPECT_EQ(columns("e\u0301"), 1u) << "a combining mark takes none";
+  EXPECT_EQ(columns("…"), 1u);
+  // fit cuts by columns, never inside a character, ellipsis included.
+  EXPECT_EQ(fit("石头石头", 5), "石头…");
+  EXPECT_EQ(fit("石头石头", 6), "石头…") << "a wide character that would pass the width stays out";
+  EXPECT_EQ(fit("ae\u0301bcd", 3), "ae\u0301…") << "a mark stays with its letter";
+}
+
+TEST(InfoText, TablesAlignWideNames) {
+  Table t({{"id", true}, {"name", false, true}, {"colour", false}, {"voxels", true}});
+  t.row({"1", "石头", "#9499a3", "12"});
+  t.row({"2", "Stone", "#9499a3", "3"});
+  t.row({"3", "草地草地草地", "#57ad5c", "1,234"});
+  t.row({"4", "Cafe\u0301", "#57ad5c", "5"});
+  const std::vector<std::string> lines = linesOf(t.str());
+  ASSERT_EQ(lines.size(), 5u);
+  // Every row puts the colour at the same display column, and ends at the same one.
+  const size_t at = columns(lines[1].substr(0, lines[1].find('#')));
+  for (size_t i = 1; i < lines.size(); ++i) {
+    EXPECT_EQ(columns(lines[i].substr(0, lines[i].find('#'))), at) << lines[i];
+    EXPECT_EQ(columns(lines[i]), columns(lines[0])) << lines[i];
+  }
+  // Shrunk to fit 80 columns: cut by display width.
+  Table narrow({{"id", true}, {"name", false, true}, {"note", false}});
+  narrow.row({"1", std::string(60 / 2, ' ') + "名前名前名前名前名前名前名前名前名前名前名前名前名前", std::string(20, 'x')});
+  for (const std::string& l : linesOf(narrow.str())) EXPECT_LE(columns(l), kWidth) << l;
+}
+
+TEST(InfoText, LongValuesWrapWithinEightyColumns) {
+  const std::string value = "'free' (Tree_int32_5_4_3, 1,234 leaves of 8^3): vox fuse's free-space counts, read back by vox "
+                            "fuse -i (docs/fuse.md)";
+  const std::vector<std::string> lines = linesOf(line("free grid", value));
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].substr(0, 16), "  free grid     ");
+  EXPECT_EQ(lines[1].substr(0, 16), std::string(16, ' ')) << "continued at the value's column";
+  for (const std::string& l : lines) EXPECT_LE(columns(l), kWidth) << l;
+  std::string joined = lines[0].substr(16) + " " + lines[1].substr(16);
+  EXPECT_EQ(joined, value) << "broken at a space, nothing lost";
+  // Wide characters count two; a word longer than a line is split, never inside a character.
+  const std::string wide = std::string("名前") + std::string(40, 'a') + " " + std::string(35, 'b') + "草" +
+                           std::string(100, 'c');
+  const std::vector<std::string> w = linesOf(line("name", wide));
+  std::string back;
+  for (const std::string& l : w) {
+    EXPECT_LE(columns(l), kWidth) << l;
+    back += l.substr(16);
+  }
+  EXPECT_EQ(back, std::string("名前") + std::string(40, 'a') + std::string(35, 'b') + "草" + std::string(100, 'c'));
+  EXPECT_EQ(line("dims", "4 x 3 x 2"), "  dims          4 x 3 x 2\n") << "short values are one line, as before";
+}

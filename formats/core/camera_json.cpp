@@ -5,6 +5,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 
@@ -82,7 +83,7 @@ std::vector<CameraView> parseCameraJson(const std::string& text, const std::stri
                                         std::optional<std::pair<uint32_t, uint32_t>> size) {
   json doc;
   try {
-    doc = json::parse(text);
+    doc = parseJsonInput(text, name);
   } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
     bad(name, std::string("not valid JSON: ") + e.what());
   }

@@ -387,7 +387,7 @@ std::string readFileBytes(const std::string& path) {
   requireRegularFile(path);
   // One allocation and one read: a stringstream copy costs more than parsing.
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  if (!f) throwBadInput(path + ": cannot open the file: " + std::strerror(errno));
   std::string bytes;
   char buf[1 << 16];
   if (std::fseek(f.get(), 0, SEEK_END) == 0) {
@@ -404,7 +404,7 @@ std::string readFileBytes(const std::string& path) {
 FileView::FileView(const std::string& path) {
   requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  if (fd < 0) throwBadInput(path + ": cannot open the file: " + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
     void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_input.h"
 #include "libvox/core/error.h"
 
 namespace vox {
@@ -143,7 +144,7 @@ JsonDiff diffJson(const nlohmann::json& a, const nlohmann::json& b, const JsonDi
 
 nlohmann::json parseJsonDocument(const std::string& text, const std::string& name) {
   try {
-    return nlohmann::json::parse(text);
+    return parseJsonInput(text, name);
   } catch (const nlohmann::json::exception& e) {
     // A parse_error's e.what() carries "line L, column C" of the fault; a number
     // past double's range is an out_of_range (406), not a parse_error.

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
@@ -68,7 +69,7 @@ AtlasImageInfo infoFromObject(const json& j, const std::string& context) {
 
 json parseJson(const std::string& text, const std::string& context) {
   try {
-    return json::parse(text);
+    return parseJsonInput(text, context);
   } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
     malformed(context, withoutTag(e.what()));
   }

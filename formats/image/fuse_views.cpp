@@ -9,6 +9,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_input.h"
 #include "formats/image/image.h"
 #include "formats/image/render_meta.h"
 #include "formats/scene/class_table_json.h"
@@ -170,7 +171,7 @@ FuseViewsFile readFuseViews(const std::string& path) {
   requireRegularFile(path);
   json doc;
   try {
-    doc = json::parse(readFileBytes(path));
+    doc = parseJsonInput(readFileBytes(path), path);
   } catch (const json::exception& e) {
     bad(path, std::string("not valid JSON: ") + e.what());
   }

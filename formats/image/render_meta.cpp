@@ -4,6 +4,7 @@
 
 #include "formats/core/camera_json.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 
@@ -52,7 +53,7 @@ RenderMeta parseRenderMeta(const std::string& text, const std::string& name) {
   const std::string where = context(name);
   json j;
   try {
-    j = json::parse(text);
+    j = parseJsonInput(text, where);
   } catch (const json::exception&) {  // parse_error, and out_of_range.406 for a number past double's range
     throwBadInput(where + " is not valid JSON");
   }

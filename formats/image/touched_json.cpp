@@ -4,6 +4,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/morton.h"
@@ -43,7 +44,7 @@ std::string touchedSetJson(const TouchedSet& set) {
 TouchedSet parseTouchedSet(const std::string& text, const std::string& name) {
   json doc;
   try {
-    doc = json::parse(text);
+    doc = parseJsonInput(text, name);
   } catch (const json::exception& e) {  // parse_error, and out_of_range.406 for a number past double's range
     bad(name, std::string("not valid JSON: ") + e.what());
   }

@@ -4,6 +4,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/json_fields.h"
+#include "formats/core/json_input.h"
 #include "formats/scene/class_table_json.h"
 #include "libvox/core/error.h"
 
@@ -16,7 +17,7 @@ using nlohmann::json;
 ClassMapping parseClassMapping(const std::string& text, const std::string& path) {
   json doc;
   try {
-    doc = json::parse(text);
+    doc = parseJsonInput(text, path);
   } catch (const json::parse_error& e) {
     throwBadInput(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
   } catch (const json::exception& e) {  // a number past double's range (out_of_range.406) is not a parse_error

@@ -13,6 +13,7 @@
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/core/json_input.h"
 #include "libvox/core/counted.h"
 #include "libvox/core/error.h"
 
@@ -340,7 +341,7 @@ void checkGltfJson(const std::string& path) {
 
 void checkGltfJsonBytes(std::string_view bytes, const std::string& path, bool isBinary) {
   const std::string_view text = gltfJsonText(bytes, isBinary);
-  const json doc = json::parse(text.data(), text.data() + text.size(), nullptr, /*allow_exceptions=*/false);
+  const json doc = parseJsonInputOrDiscarded(text, path);  // glTF forbids duplicate keys: refused here
   if (!doc.is_object()) return;  // tinygltf names the parse error
   Checker(doc, path).run();
 }

@@ -213,7 +213,7 @@ Reader Reader::open(const std::string& path) {
   r.name_ = path;
   requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throwBadInput(path + ": cannot open the page file (missing or unreadable)");
+  if (fd < 0) throwBadInput(path + ": cannot open the page file: " + std::strerror(errno));
   struct stat st {};
   if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);

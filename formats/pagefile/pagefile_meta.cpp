@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/scene/class_table_json.h"
@@ -107,7 +108,7 @@ PageMeta readPageMeta(const std::string& text, const std::string& fileName) {
   const MetaParser parse{fileName};
   json j;
   try {
-    j = json::parse(text);
+    j = parseJsonInput(text, fileName + ": metadata");
   } catch (const json::exception& e) {
     parse.fail(std::string("is not valid JSON: ") + e.what());
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "formats/scene/class_table_json.h"
 #include "libvox/core/error.h"
@@ -38,7 +39,7 @@ T requiredMeta(const MetaEntries& meta, const std::string& path, const std::stri
 
 json parseJsonMeta(const std::string& text, const std::string& path, const std::string& key) {
   try {
-    return json::parse(text);
+    return parseJsonInput(text, path + ": metadata '" + key + "'");
   } catch (const json::exception& e) {
     bad(path, "metadata '" + key + "' is not valid JSON: " + e.what());
   }

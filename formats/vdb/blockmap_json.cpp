@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_input.h"
 #include "libvox/core/error.h"
 #include "libvox/core/sha256.h"
 
@@ -29,7 +30,7 @@ Scene parseBlockMap(const std::string& text, const std::string& path, const Bloc
                  Setting::BlockWorldGrid);
   json doc;
   try {
-    doc = json::parse(text);
+    doc = parseJsonInput(text, path);
   } catch (const json::parse_error& e) {
     bad("not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
   } catch (const json::exception& e) {  // a number past double's range (out_of_range.406) is not a parse_error

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "formats/core/json_input.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_checked_file.h"
 #include "formats/vdb/vdb_scene_grids.h"
@@ -39,7 +40,7 @@ size_t levelOfGridName(const std::string& path, const std::string& name, size_t 
 size_t pyramidLevelCount(const std::string& path, const std::string& text, Dims baseDims) {
   json pyramid;
   try {
-    pyramid = json::parse(text);
+    pyramid = parseJsonInput(text, path + ": metadata '" + kPyramidKey + "'");
   } catch (const json::exception& e) {
     bad(path, std::string("metadata '") + kPyramidKey + "' is not valid JSON: " + e.what());
   }
@@ -97,7 +98,7 @@ std::optional<PyramidLevels> readPyramidLevels(const std::string& path) {
   const std::string key = std::string("metadata '") + kPyramidKey + "'";
   json pyramid;
   try {
-    pyramid = json::parse(text);
+    pyramid = parseJsonInput(text, path + ": metadata '" + kPyramidKey + "'");
   } catch (const json::exception& e) {
     bad(path, key + " is not valid JSON: " + e.what());
   }

@@ -874,13 +874,14 @@ bool looksLikeVdb(const std::string& path) {
 void checkVdbFileOpenable(const std::string& path) {
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  // A missing file is worded as every other input's ("no such file"), or the system's reason.
+  if (ec || !std::filesystem::exists(st)) requireRegularFile(path);
   if (std::filesystem::is_directory(st)) throwBadInput(path + ": is a directory, expected a .vdb file");
   if (!std::filesystem::is_regular_file(st))
     throwBadInput(path + ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
   {
     std::ifstream probe(path, std::ios::binary);
-    if (!probe) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+    if (!probe) throwBadInput(path + ": cannot open the file (it exists but is not readable: check its permissions)");
   }
   if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
 }

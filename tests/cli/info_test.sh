@@ -17,11 +17,23 @@ golden() {
   if [ "${VOX_UPDATE_GOLDEN:-0}" = 1 ]; then masked out.txt >"$golden/$1.txt"; return; fi
   masked out.txt | diff -u "$golden/$1.txt" - >golden.diff || fail "info text differs from $1.txt: $(head -c 1500 golden.diff)"
 }
+# width.py: display columns as a terminal shows them (East Asian Wide and
+# Fullwidth characters take two, combining marks and format characters none).
+cat >width.py <<'PY'
+import unicodedata as u
+def width(s):
+    def one(c):
+        cat = u.category(c)
+        if cat in ('Mn', 'Me') or (cat == 'Cf' and c != '\xad') or '\u1160' <= c <= '\u11ff':
+            return 0
+        return 2 if u.east_asian_width(c) in ('W', 'F') else 1
+    return sum(one(c) for c in s)
+PY
 # fits: every line of out.txt fits an 80-column terminal.
 fits() {
   local long
-  long=$(python3 -c "import sys; print(sum(1 for l in open('out.txt', encoding='utf-8').read().splitlines() if len(l) > 80))")
-  [ "$long" = 0 ] || fail "$long lines of '$*' pass 80 columns: $(awk 'length > 80' out.txt | head -3)"
+  long=$(python3 -c "from width import width; print('\n'.join(l for l in open('out.txt', encoding='utf-8').read().splitlines() if width(l) > 80))")
+  [ -z "$long" ] || fail "lines of '$*' pass 80 columns: $(echo "$long" | head -3)"
 }
 small_scene() {
   cp "$data/map_small.json" map_small.json
@@ -284,10 +296,17 @@ atlas_inputs)
   expect_stderr "rendered from a grid of 4 x 3 x 2"
   # --pixel is x,y in whole numbers: anything else is refused, not truncated
   # ("1.5,2" was read as 1,2) or passed over ("" was ignored).
-  for bad in 1.5,2 " 1,2" "1 ,2" "" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 1, ,2 4294967296,0; do
+  for bad in 1.5,2 " 1,2" "1 ,2" 1,2,3 -1,2 +1,2 1e0,2 0x1,2 4294967296,0; do
     expect_exit 2 "$vox" info a/small.summary.png --pixel "$bad"
     expect_stderr "--pixel '$bad': expected x,y, two whole numbers"
   done
+  # An empty value or entry is named as every comma-list option names it.
+  expect_exit 2 "$vox" info a/small.summary.png --pixel ""
+  expect_stderr "--pixel '': an empty value; expected x,y, two whole numbers"
+  expect_exit 2 "$vox" info a/small.summary.png --pixel 1,
+  expect_stderr "--pixel 1,: entry 2 of 2 is empty (a trailing comma); expected x,y, two whole numbers"
+  expect_exit 2 "$vox" info a/small.summary.png --pixel ,2
+  expect_stderr "--pixel ,2: entry 1 of 2 is empty (a leading comma)"
   expect_exit 2 "$vox" info a/small.summary.png --pixel 4,0
   expect_stderr "--pixel 4,0: outside the 4 x 6 atlas (x 0..3, y 0..5)"
   expect_exit 0 "$vox" info a/small.summary.png --pixel 003,5
@@ -359,6 +378,47 @@ mip)
   expect_exit 0 "$vox" info m2.json
   fits info m2.json
   expect_stdout "iou_reason no reference voxels"
+  ;;
+wide)
+  # Class names in CJK, fullwidth and with combining marks: aligned by the
+  # columns a terminal gives them, cut with an ellipsis to fit 80.
+  cube_obj
+  long=$(printf '非常に長い材料の名前はこの表の幅に収まらないので省略記号で切られます')
+  sed -i "s/usemtl Wall/usemtl 石头/; s/usemtl Roof/usemtl $long/" keep_cube.obj
+  printf 'f 1 2 3\nusemtl Ｃａｆｅ\xcc\x81\nf 1 3 4\n' >>keep_cube.obj
+  printf 'newmtl 石头\nKd 0.5 0.5 0.5\nnewmtl %s\nKd 1 0 0\nnewmtl Ｃａｆｅ\xcc\x81\nKd 0 1 0\n' "$long" >keep_cube.mtl
+  expect_exit 0 "$vox" voxelize keep_cube.obj --res 8 -o w.vdb
+  expect_exit 0 "$vox" info w.vdb
+  fits info w.vdb
+  expect_stdout "石头"
+  expect_stdout "…"
+  python3 - <<'PY' || fail "the class table of w.vdb is not aligned: $(grep -A4 ' id  name' out.txt)"
+from width import width
+lines = open('out.txt', encoding='utf-8').read().splitlines()
+start = next(i for i, l in enumerate(lines) if l.startswith('    id  name'))
+rows = [l for l in lines[start + 1:] if l.startswith('    ') and '#' in l]
+assert len(rows) == 3, rows
+names = ' '.join(rows)
+assert '石头' in names and 'Ｃａｆｅ\u0301' in names, names
+# the colour column starts at one display column in the header and every row; rows end together
+header = lines[start]
+col = width(header[:header.index('colour')])
+assert all(width(r[:r.index('#')]) == col for r in rows), [width(r[:r.index('#')]) for r in rows]
+assert len({width(r) for r in rows + [header]}) == 1, [width(r) for r in rows + [header]]
+PY
+  # A fused scene's free-grid line is wrapped within 80 columns at the value's column.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --quiet
+  expect_exit 0 "$vox" render-canonical h.vdb -o o.png --orbit 2 --size 40x30 --mode depth,class --quiet
+  python3 -c "import json; json.dump({'views': [{'depth': 'o_%03d.depth.exr' % i, 'label': 'o_%03d.class.png' % i} for i in range(2)]}, open('views.json', 'w'))"
+  expect_exit 0 "$vox" fuse views.json -o f.vdb --quiet
+  expect_exit 0 "$vox" info f.vdb
+  fits info f.vdb
+  grep -A1 "^  free grid     'free' (" out.txt >free.txt || fail "no free grid line: $(cat out.txt)"
+  python3 - <<'PY' || fail "the free grid line is not wrapped at the value's column: $(cat free.txt)"
+lines = open('free.txt', encoding='utf-8').read().splitlines()
+assert len(lines) == 2 and lines[1].startswith(' ' * 16) and lines[1][16] != ' ', lines
+assert 'read back by vox fuse -i (docs/fuse.md)' in ' '.join(l.strip() for l in lines), lines
+PY
   ;;
 *)
   echo "unknown group $group" >&2

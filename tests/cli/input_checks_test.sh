@@ -93,6 +93,116 @@ PY
   expect_exit 3 "$vox" verify-bijection --canonical mc.png --scene m2.vdb
   expect_stderr "mc.png: rendered from a grid at origin"
   expect_stderr "but m2.vdb is at origin"
+  # A missing input is worded the same by every command ("no such file", exit 3),
+  # verify-bijection's --scene included (it said "missing or unreadable").
+  expect_exit 0 "$vox" build-atlas h.vdb -o at --stem a
+  while IFS= read -r cmd; do
+    # shellcheck disable=SC2086
+    expect_exit 3 "$vox" $cmd
+    expect_stderr "missing.vdb: no such file"
+  done <<'CMDS'
+info missing.vdb
+verify-bijection --atlas at/a.summary.png --scene missing.vdb
+verify-bijection --canonical c.png --scene missing.vdb
+render-canonical missing.vdb -o r.png --view front
+build-atlas missing.vdb -o at2
+mip missing.vdb -o m.vdb
+pack-chunks missing.vdb -o m.vpk
+export missing.vdb -o m.ply
+diff missing.vdb h.vdb
+CMDS
+  no_output r.png; no_output at2; no_output m.vdb; no_output m.vpk; no_output m.ply
+  ;;
+lists)
+  # Comma lists refuse an empty entry (a leading or trailing comma, two in a
+  # row, an empty value) as a usage error naming the option and the entry:
+  # `--mode depth,class,` rendered two modes without a word.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --quiet
+  cam="--eye 20,20,20 --target 0,0,0 --size 16x12"
+  # shellcheck disable=SC2086
+  {
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode depth,class,
+    expect_stderr "vox render-canonical: error: --mode depth,class,: entry 3 of 3 is empty (a trailing comma); expected a comma list of canonical, class, "
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode depth,,class
+    expect_stderr "--mode depth,,class: entry 2 of 3 is empty (two commas in a row)"
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode ,depth
+    expect_stderr "--mode ,depth: entry 1 of 2 is empty (a leading comma)"
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode ""
+    expect_stderr "--mode '': an empty value"
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode depth --mode class,
+    expect_stderr "--mode class,: entry 2 of 2 is empty (a trailing comma)"
+    expect_exit 2 "$vox" render-canonical h.vdb -o r.png $cam --mode depth,sketch
+    expect_stderr "--mode depth,sketch: 'sketch' is not one of canonical, class"
+    for f in r.png r.depth.exr r.class.png r.canonical.png; do no_output "$f"; done
+    # Lists without empty entries, given once or repeated: each mode once, in the order given.
+    expect_exit 0 "$vox" render-canonical h.vdb -o ok.png $cam --mode depth,class --mode class,normal --quiet
+    for f in ok.depth.exr ok.class.png ok.normal.png; do [ -e "$f" ] || fail "--mode depth,class --mode class,normal wrote no $f"; done
+  }
+  # Every other comma-list option, split by the same code, says the same.
+  expect_exit 2 "$vox" verify-bijection --dims 4,,4
+  expect_stderr "--dims 4,,4: entry 2 of 3 is empty (two commas in a row)"
+  expect_exit 2 "$vox" verify-bijection --dims 4,4,4,
+  expect_stderr "--dims 4,4,4,: entry 4 of 4 is empty (a trailing comma)"
+  expect_exit 2 "$vox" render-canonical h.vdb -o r.png --eye 20,20,20, --target 0,0,0
+  expect_stderr "--eye 20,20,20,: entry 4 of 4 is empty (a trailing comma); expected X,Y,Z (three finite numbers)"
+  expect_exit 2 "$vox" render-canonical h.vdb -o r.png --eye 20,20,20 --target ,0,0,0
+  expect_stderr "--target ,0,0,0: entry 1 of 4 is empty (a leading comma)"
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > t.stl
+  expect_exit 2 "$vox" voxelize t.stl --bounds 0,0,0,1,1,1, -o x.vdb
+  expect_stderr "--bounds 0,0,0,1,1,1,: entry 7 of 7 is empty (a trailing comma)"
+  expect_exit 2 "$vox" voxelize "$data/map_small.json" --grid-size 64,,64 -o x.vdb
+  expect_stderr "--grid-size 64,,64: entry 2 of 3 is empty"
+  no_output x.vdb
+  expect_exit 2 "$vox" export h.vdb -o e.ply --region 0,0,0,,4,4
+  expect_stderr "--region 0,0,0,,4,4: entry 4 of 6 is empty (two commas in a row)"
+  no_output e.ply
+  expect_exit 2 "$vox" info h.vdb --pixel 1,
+  expect_stderr "--pixel 1,: entry 2 of 2 is empty (a trailing comma)"
+  ;;
+json_keys)
+  # JSON leaves a key named twice in one object to the reader, and the parser
+  # kept the last silently: every JSON input refuses it (exit 3), naming the
+  # file, the key and the object.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --quiet
+  printf '{"eye": [20, 20, 20], "target": [0, 0, 0], "fov": 30, "fov": 90}' > cam.json
+  expect_exit 3 "$vox" render-canonical h.vdb -o r.png --camera cam.json
+  expect_stderr 'cam.json: duplicate key "fov" in the top-level object: JSON keeps only one of the values; remove the other'
+  no_output r.png
+  printf '{"cameras": [{"eye": [20, 20, 20], "target": [0, 0, 0]}, {"eye": [1, 2, 3], "target": [0, 0, 0], "up": [0, 1, 0], "up": [1, 0, 0]}]}' > cams.json
+  expect_exit 3 "$vox" render-canonical h.vdb -o r.png --camera cams.json
+  expect_stderr 'cams.json: duplicate key "up" in cameras[1]'
+  m16='[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,-40,1]'
+  printf '{"imageSize": {"width": 16, "height": 12, "width": 32}, "views": [{"viewMatrix": %s, "projectionMatrix": [1,0,0,0, 0,1,0,0, 0,0,-1,-1, 0,0,-0.2,0]}]}' "$m16" > metadata.json
+  expect_exit 3 "$vox" render-canonical h.vdb -o r.png --camera metadata.json
+  expect_stderr 'metadata.json: duplicate key "width" in imageSize'
+  no_output r.png
+  expect_exit 0 "$vox" render-canonical h.vdb -o c.png --eye 20,20,20 --target 0,0,0 --size 16x12 --quiet
+  expect_exit 3 "$vox" verify-bijection --canonical c.png --scene h.vdb --camera cam.json
+  expect_stderr 'cam.json: duplicate key "fov" in the top-level object'
+  # Block maps, fuse views files, class mappings, glTF, and the JSON files info and diff read.
+  printf '{"worldScale": 1, "blocks": [{"position": [0, 0, 0], "blockType": "Stone", "blockType": "Dirt"}]}' > map.json
+  expect_exit 3 "$vox" voxelize map.json -o m.vdb
+  expect_stderr 'map.json: duplicate key "blockType" in blocks[0]'
+  no_output m.vdb
+  printf '{"views": [{"depth": "a.exr", "label": "a.png", "depth": "b.exr"}]}' > views.json
+  expect_exit 3 "$vox" fuse views.json -o f.vdb
+  expect_stderr 'views.json: duplicate key "depth" in views[0]'
+  no_output f.vdb
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > t.stl
+  printf '{"classes": [], "classes": []}' > classes.json
+  expect_exit 3 "$vox" voxelize t.stl --res 4 --classes classes.json -o t.vdb
+  expect_stderr 'classes.json: duplicate key "classes" in the top-level object'
+  no_output t.vdb
+  printf '{"asset": {"version": "2.0", "version": "2.0"}}' > dup.gltf
+  expect_exit 3 "$vox" voxelize dup.gltf --res 4 -o g.vdb
+  expect_stderr 'dup.gltf: duplicate key "version" in asset'
+  no_output g.vdb
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 8 -o r.vdb --report report.json --quiet
+  python3 -c "import sys; t=open('report.json').read(); open('dup_report.json','w').write(t.replace('{', '{\"tool\": \"vox\", ', 1))"
+  expect_exit 3 "$vox" info dup_report.json
+  expect_stderr 'dup_report.json: duplicate key "tool" in the top-level object'
+  expect_exit 3 "$vox" diff dup_report.json report.json
+  expect_stderr 'dup_report.json: duplicate key "tool" in the top-level object'
   ;;
 outputs)
   # An output that is not a regular file (a FIFO here; /dev/null or /dev/stdout

@@ -27,6 +27,7 @@
 #include "libvox/mesh/voxelize.h"
 #include "libvox/mesh/voxelize_memory.h"
 #include "tools/cli/alloc_tuning.h"
+#include "tools/cli/comma_list.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cli/number_checks.h"
 
@@ -40,23 +41,19 @@ const char* const kRootDescription =
 namespace {
 
 std::array<double, 6> parseBounds(const std::string& text) {
+  const std::vector<std::string> parts =
+      splitCommaList(text, "--bounds", "xmin,ymin,zmin,xmax,ymax,zmax (six finite numbers)");
+  if (parts.size() != 6)
+    throw vox::Error(vox::ErrorKind::Usage, "--bounds expects xmin,ymin,zmin,xmax,ymax,zmax, got '" + text + "'");
   std::array<double, 6> b{};
-  size_t pos = 0;
-  for (int i = 0; i < 6; ++i) {
-    const size_t end = text.find(',', pos);
-    if ((i < 5) != (end != std::string::npos))
-      throw vox::Error(vox::ErrorKind::Usage, "--bounds expects xmin,ymin,zmin,xmax,ymax,zmax, got '" + text + "'");
-    const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+  for (size_t i = 0; i < 6; ++i) {
     char* stop = nullptr;
-    b[size_t(i)] = std::strtod(part.c_str(), &stop);
-    if (part.empty() || *stop != '\0' || !std::isfinite(b[size_t(i)]))
+    b[i] = std::strtod(parts[i].c_str(), &stop);
+    if (*stop != '\0' || stop == parts[i].c_str() || !std::isfinite(b[i]))
       throw vox::Error(vox::ErrorKind::Usage, "--bounds expects six finite numbers, got '" + text + "'");
-    pos = end + 1;
   }
   return b;
 }
-
-
 
 }  // namespace
 
@@ -326,19 +323,17 @@ namespace {
 
 /// "umin,vmin,wmin,umax,vmax,wmax" -> an inclusive box.
 vox::IndexBox parseRegionBox(const std::string& text) {
+  const std::vector<std::string> parts =
+      splitCommaList(text, "--region-box", "umin,vmin,wmin,umax,vmax,wmax (six non-negative integers)");
+  if (parts.size() != 6)
+    throw vox::Error(vox::ErrorKind::Usage, "--region-box expects umin,vmin,wmin,umax,vmax,wmax, got '" + text + "'");
   int64_t v[6];
-  size_t pos = 0;
-  for (int i = 0; i < 6; ++i) {
-    const size_t end = text.find(',', pos);
-    if ((i < 5) != (end != std::string::npos))
-      throw vox::Error(vox::ErrorKind::Usage, "--region-box expects umin,vmin,wmin,umax,vmax,wmax, got '" + text + "'");
-    const std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+  for (size_t i = 0; i < 6; ++i) {
     char* stop = nullptr;
-    v[i] = std::strtoll(part.c_str(), &stop, 10);
-    if (part.empty() || *stop != '\0' || v[i] < 0 || v[i] > (int64_t(1) << 30))
+    v[i] = std::strtoll(parts[i].c_str(), &stop, 10);
+    if (*stop != '\0' || stop == parts[i].c_str() || v[i] < 0 || v[i] > (int64_t(1) << 30))
       throw vox::Error(vox::ErrorKind::Usage,
                        "--region-box expects six non-negative integers (voxel indices), got '" + text + "'");
-    pos = end + 1;
   }
   for (int i = 0; i < 3; ++i)
     if (v[i] > v[i + 3])

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "libvox/core/error.h"
+#include "tools/cli/comma_list.h"
 #include "tools/cli/number_checks.h"
 
 namespace voxcli {
@@ -13,19 +14,16 @@ namespace voxcli {
 namespace {
 
 vox::Vec3d parseVec(const std::string& text, const std::string& option) {
+  const std::string expected = "X,Y,Z (three finite numbers)";
+  const std::vector<std::string> parts = splitCommaList(text, option, expected);
+  if (parts.size() != 3) vox::throwUsage(option + " " + text + ": expected " + expected);
   vox::Vec3d v{};
-  const char* p = text.c_str();
-  for (int i = 0; i < 3; ++i) {
+  for (size_t i = 0; i < 3; ++i) {
+    const char* p = parts[i].c_str();
     char* end = nullptr;
-    v[size_t(i)] = std::strtod(p, &end);
-    if (end == p || !std::isfinite(v[size_t(i)])) vox::throwUsage(option + " " + text + ": expected X,Y,Z (three finite numbers)");
-    p = end;
-    if (i < 2) {
-      if (*p != ',') vox::throwUsage(option + " " + text + ": expected X,Y,Z (three finite numbers)");
-      ++p;
-    }
+    v[i] = std::strtod(p, &end);
+    if (end == p || *end != '\0' || !std::isfinite(v[i])) vox::throwUsage(option + " " + text + ": expected " + expected);
   }
-  if (*p != '\0') vox::throwUsage(option + " " + text + ": expected X,Y,Z (three finite numbers)");
   return v;
 }
 

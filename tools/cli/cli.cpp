@@ -18,6 +18,7 @@
 #include "formats/core/json_text.h"
 #include "libvox/core/error.h"
 #include "libvox/core/version.h"
+#include "tools/cli/comma_list.h"
 
 namespace voxcli {
 
@@ -389,21 +390,18 @@ std::string formatTriple(const std::array<uint32_t, 3>& v) {
 }
 
 std::array<uint32_t, 3> parseTriple(const std::string& text, const std::string& option) {
+  const std::string expected = "X,Y,Z (three positive integers)";
+  const std::vector<std::string> parts = splitCommaList(text, option, expected);
+  if (parts.size() != 3) throw vox::Error(vox::ErrorKind::Usage, option + " expects " + expected + ", got '" + text + "'");
   std::array<uint32_t, 3> out{};
-  size_t pos = 0;
-  for (int i = 0; i < 3; ++i) {
-    size_t end = text.find(',', pos);
-    if ((i < 2) != (end != std::string::npos))
-      throw vox::Error(vox::ErrorKind::Usage, option + " expects X,Y,Z (three positive integers), got '" + text + "'");
-    std::string part = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+  for (size_t i = 0; i < 3; ++i) {
+    const std::string& part = parts[i];
     char* stop = nullptr;
-    unsigned long v = part.empty() ? 0 : std::strtoul(part.c_str(), &stop, 10);
+    const unsigned long v = std::strtoul(part.c_str(), &stop, 10);
     // Digits only: strtoul alone would take "+8", " 8" and "-8" (wrapped).
-    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos || *stop != '\0' || v == 0 ||
-        v > 0xffffffffUL)
-      throw vox::Error(vox::ErrorKind::Usage, option + " expects X,Y,Z (three positive integers), got '" + text + "'");
+    if (part.find_first_not_of("0123456789") != std::string::npos || *stop != '\0' || v == 0 || v > 0xffffffffUL)
+      throw vox::Error(vox::ErrorKind::Usage, option + " expects " + expected + ", got '" + text + "'");
     out[i] = uint32_t(v);
-    pos = end + 1;
   }
   return out;
 }

@@ -9,6 +9,7 @@
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/atlas_preview.h"
@@ -196,7 +197,7 @@ std::string kindsRead() {
 int infoJsonFile(const InfoOptions& o) {
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(vox::readFileBytes(o.file));
+    doc = vox::parseJsonInput(vox::readFileBytes(o.file), o.file);
   } catch (const nlohmann::json::exception& e) {
     throw vox::Error(vox::ErrorKind::BadInput, o.file + ": not valid JSON (" + e.what() + "); vox info reads " + kindsRead());
   }
@@ -231,7 +232,7 @@ int runInfo(const InfoOptions& o) {
     if (const std::string preview = img.textValue(vox::kPreviewTextKey); !preview.empty()) {
       // A build-atlas --preview image: for looking at, not for sampling.
       refusePixelAndScene(o, "a preview (a picture of an atlas: give the atlas itself)");
-      nlohmann::json j = nlohmann::json::parse(preview, nullptr, false);
+      nlohmann::json j = vox::parseJsonInputOrDiscarded(preview, o.file + ": its 'vox:preview' entry");
       if (j.is_discarded() || !j.is_object())
         throw vox::Error(vox::ErrorKind::BadInput, o.file + ": its 'vox:preview' entry is not a JSON object");
       j["file"] = o.file;

@@ -16,6 +16,7 @@
 #include "libvox/core/memory_budget.h"
 #include "libvox/core/version.h"
 #include "libvox/core/voxel_colors.h"
+#include "tools/cli/comma_list.h"
 #include "tools/cli/enum_option.h"
 
 namespace voxcli {
@@ -90,17 +91,14 @@ void checkOptionsFit(const ExportOptions& o, ExportFormat f) {
 
 std::optional<vox::IndexBox> parseRegion(const std::string& text) {
   if (text.empty()) return std::nullopt;
+  const std::string expected = "six integers umin,vmin,wmin,umax,vmax,wmax";
   std::vector<int64_t> v;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = std::min(text.find(',', pos), text.size());
-    const std::string item = text.substr(pos, comma - pos);
+  for (const std::string& item : splitCommaList(text, "--region", expected)) {
     char* end = nullptr;
     const long long n = std::strtoll(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0' || n < INT32_MIN || n > INT32_MAX)
-      vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
+    if (*end != '\0' || end == item.c_str() || n < INT32_MIN || n > INT32_MAX)
+      vox::throwUsage("--region " + text + ": expected " + expected);
     v.push_back(n);
-    pos = comma + 1;
   }
   if (v.size() != 6) vox::throwUsage("--region " + text + ": expected six integers umin,vmin,wmin,umax,vmax,wmax");
   vox::IndexBox box{{int32_t(v[0]), int32_t(v[1]), int32_t(v[2])}, {int32_t(v[3]), int32_t(v[4]), int32_t(v[5])}};

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "formats/core/file_util.h"
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/touched_json.h"
@@ -28,7 +29,7 @@ int infoAtlasSidecar(const std::string& path, bool asJson) {
   const std::string text = vox::readFileBytes(path);
   const std::vector<vox::AtlasSidecarEntry> files = vox::atlasSidecarFromJson(text, path);
   if (asJson) {
-    nlohmann::json j = nlohmann::json::parse(text);
+    nlohmann::json j = vox::parseJsonInput(text, path);
     j["file"] = path;
     j["kind"] = "atlas_sidecar";
     std::cout << vox::jsonText(j, 2) << "\n";
@@ -63,7 +64,7 @@ int infoTouchedSet(const std::string& path, bool asJson) {
   uint64_t maxVoxels = 0;
   for (const auto& c : t.chunks) maxVoxels = std::max(maxVoxels, c.voxels);
   if (asJson) {
-    nlohmann::json j = nlohmann::json::parse(vox::readFileBytes(path));
+    nlohmann::json j = vox::parseJsonInput(vox::readFileBytes(path), path);
     j["file"] = path;
     j["kind"] = "touched";
     j["summary"] = {{"chunks_touched", t.chunks.size()}, {"chunks_in_grid", gridChunks}, {"max_voxels_in_a_chunk", maxVoxels}};
@@ -130,14 +131,11 @@ std::string brief(const nlohmann::json& v) {
 
 // True when every line of `text` fits kWidth display columns.
 bool fitsWidth(const std::string& text) {
-  size_t cols = 0;
-  for (unsigned char c : text) {
-    if (c == '\n') {
-      cols = 0;
-      continue;
-    }
-    cols += (c & 0xc0) != 0x80;
-    if (cols > kWidth) return false;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    if (columns(text.substr(start, end - start)) > kWidth) return false;
+    start = end + 1;
   }
   return true;
 }
@@ -145,14 +143,19 @@ bool fitsWidth(const std::string& text) {
 // `parts` joined by ", " after `indent` + `head`, wrapped at kWidth.
 std::string wrap(const std::string& head, const std::vector<std::string>& parts, const std::string& indent) {
   std::string out, cur = indent + head;
-  const std::string cont = indent + std::string(head.size(), ' ');
+  const size_t contColumns = columns(indent) + columns(head);
+  const std::string cont(contColumns, ' ');
+  size_t used = contColumns;
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string piece = parts[i] + (i + 1 < parts.size() ? "," : "");
-    if (cur.size() + 1 + piece.size() > kWidth && cur.size() > cont.size()) {
+    const size_t pieceColumns = columns(piece);
+    if (used + 1 + pieceColumns > kWidth && used > contColumns) {
       out += cur + "\n";
       cur = cont + piece;
+      used = contColumns + pieceColumns;
     } else {
-      cur += (cur.size() == indent.size() + head.size() ? "" : " ") + piece;
+      cur += (used == contColumns ? "" : " ") + piece;
+      used += (used == contColumns ? 0 : 1) + pieceColumns;
     }
   }
   return out + cur + "\n";
@@ -193,8 +196,10 @@ void describeObject(std::ostringstream& o, const nlohmann::json& obj, const std:
       describeObject(o, v, indent + "  ");
     } else {
       std::string k = indent + key;
-      if (k.size() < 24) k += std::string(24 - k.size(), ' ');
-      o << "  " << k << " " << fit(brief(v), kWidth - 27) << "\n";
+      const size_t keyColumns = columns(k);
+      if (keyColumns < 24) k += std::string(24 - keyColumns, ' ');
+      const size_t used = 3 + std::max<size_t>(keyColumns, 24);  // a key past 24 columns leaves less for the value
+      o << "  " << k << " " << fit(brief(v), used < kWidth ? kWidth - used : 1) << "\n";
     }
   }
 }

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "formats/core/json_input.h"
 #include "formats/core/json_text.h"
 #include "formats/pagefile/pagefile.h"
 #include "formats/pagefile/pagefile_meta.h"
@@ -129,7 +130,7 @@ nlohmann::json pyramidInfoJson(const std::string& path) {
   const std::string text = vox::readPyramidMetadata(path);
   if (text.empty()) return nullptr;
   try {
-    return nlohmann::json::parse(text);
+    return vox::parseJsonInput(text, path + ": metadata 'vox:pyramid'");
   } catch (const nlohmann::json::exception& e) {
     throw vox::Error(vox::ErrorKind::BadInput, path + ": metadata 'vox:pyramid': not valid JSON: " + e.what());
   }

@@ -5,8 +5,10 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "libvox/core/error.h"
+#include "tools/cli/comma_list.h"
 
 namespace voxcli {
 
@@ -19,24 +21,21 @@ struct PixelXY {
 /// exponent), each at most 2^32 - 1, and one comma between them. Throws
 /// vox::Error (Usage) naming --pixel and the text on anything else.
 inline PixelXY parsePixel(const std::string& text) {
-  auto refuse = [&]() -> PixelXY {
-    vox::throwUsage("--pixel '" + text + "': expected x,y, two whole numbers 0..4294967295 such as --pixel 12,40");
-  };
+  const std::string expected = "x,y, two whole numbers 0..4294967295 such as --pixel 12,40";
+  const std::vector<std::string> parts = splitCommaList(text, "--pixel", expected);  // empty entries named there
+  auto refuse = [&]() -> PixelXY { vox::throwUsage("--pixel '" + text + "': expected " + expected); };
+  if (parts.size() != 2) return refuse();
   PixelXY p;
   uint32_t* into[2] = {&p.x, &p.y};
-  size_t i = 0;
-  for (int k = 0; k < 2; ++k) {
-    if (k == 1 && (i >= text.size() || text[i++] != ',')) return refuse();
-    const size_t start = i;
+  for (size_t k = 0; k < 2; ++k) {
     uint64_t v = 0;
-    for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
-      v = v * 10 + uint64_t(text[i] - '0');
+    for (const char c : parts[k]) {
+      if (c < '0' || c > '9') return refuse();
+      v = v * 10 + uint64_t(c - '0');
       if (v > UINT32_MAX) return refuse();
     }
-    if (i == start) return refuse();
     *into[k] = uint32_t(v);
   }
-  if (i != text.size()) return refuse();
   return p;
 }
 

@@ -4,17 +4,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "libvox/core/display_width.h"
+
 namespace voxcli::infotext {
 
-namespace {
+size_t columns(const std::string& s) { return vox::displayWidth(s); }
 
-// Display columns of UTF-8 text (every code point one column: enough for
-// names and the "…" this file writes).
-size_t columns(const std::string& s) {
-  size_t n = 0;
-  for (unsigned char c : s) n += (c & 0xc0) != 0x80;
-  return n;
-}
+namespace {
 
 std::string pad(const std::string& s, size_t width, bool right) {
   const size_t w = columns(s);
@@ -111,21 +107,45 @@ std::string hexColor(int r, int g, int b) {
 std::string fit(const std::string& s, size_t width) {
   if (columns(s) <= width) return s;
   if (width == 0) return "";
-  std::string out;
-  size_t n = 0;
-  for (size_t i = 0; i < s.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    if ((c & 0xc0) != 0x80) {
-      if (n == width - 1) break;
-      ++n;
+  return s.substr(0, vox::prefixFitting(s, width - 1)) + "…";
+}
+
+std::vector<std::string> wrapWords(const std::string& text, size_t firstWidth, size_t width) {
+  std::vector<std::string> lines(1);
+  size_t used = 0;
+  auto room = [&] { return lines.size() == 1 ? firstWidth : width; };
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t space = std::min(text.find(' ', pos), text.size());
+    std::string word = text.substr(pos, space - pos);
+    pos = space + 1;
+    size_t w = columns(word);
+    if (used > 0 && used + 1 + w > room()) lines.emplace_back(), used = 0;
+    if (used > 0) lines.back() += ' ', ++used;
+    // A word wider than a whole line: what fits, the rest on the next lines.
+    while (used + w > room()) {
+      // (used is 0 or the first line's short lead: the word did not fit after other text.)
+      size_t cut = vox::prefixFitting(word, room() > used ? room() - used : 0);
+      if (cut == 0) cut = vox::prefixFitting(word, 2);  // a line narrower than one character: it goes whole
+      lines.back() += word.substr(0, cut);
+      word = word.substr(cut);
+      w = columns(word);
+      lines.emplace_back(), used = 0;
     }
-    out += s[i];
+    lines.back() += word;
+    used += w;
   }
-  return out + "…";
+  return lines;
 }
 
 std::string line(const std::string& key, const std::string& value) {
-  return "  " + pad(key, 14, false) + value + "\n";
+  const std::string lead = "  " + pad(key, kValueColumn - 2, false);
+  const size_t leadColumns = columns(lead);
+  const std::vector<std::string> lines =
+      wrapWords(value, leadColumns < kWidth ? kWidth - leadColumns : 1, kWidth - kValueColumn);
+  std::string out;
+  for (size_t i = 0; i < lines.size(); ++i) out += (i ? std::string(kValueColumn, ' ') : lead) + lines[i] + "\n";
+  return out;
 }
 
 std::string regionText(const nlohmann::json& r) {

@@ -11,8 +11,15 @@
 
 namespace voxcli::infotext {
 
-/// The terminal width the text output is laid out for.
+/// The terminal width the text output is laid out for. Widths are display
+/// columns (libvox/core/display_width.h): a CJK character takes two, a
+/// combining mark none.
 inline constexpr size_t kWidth = 80;
+/// The column where line()'s values start (two spaces, a 14-column key).
+inline constexpr size_t kValueColumn = 16;
+
+/// Display columns of UTF-8 text.
+size_t columns(const std::string& s);
 
 /// 1234567 -> "1,234,567".
 std::string count(uint64_t n);
@@ -38,7 +45,13 @@ std::string hexColor(int r, int g, int b);
 std::string fit(const std::string& s, size_t width);
 
 /// A key-value line: two spaces, the key padded to 14 columns, the value.
+/// A value wider than the rest of the line is wrapped at spaces onto further
+/// lines indented to the value's column (a word wider than a line is split),
+/// so every line fits kWidth.
 std::string line(const std::string& key, const std::string& value);
+/// `text` in lines of at most `firstWidth` columns (the first) and `width`
+/// (the others), broken at spaces; a word wider than its line is split.
+std::vector<std::string> wrapWords(const std::string& text, size_t firstWidth, size_t width);
 
 /// A part of a region bake, from its `region` JSON (formats/scene/scene_meta.h):
 /// "tile I of N, box (u, v, w) .. (u, v, w), world KEY12…" (or "empty tile").

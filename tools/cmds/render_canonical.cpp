@@ -31,6 +31,7 @@
 #include "tools/cli/cli.h"
 #include "tools/cli/number_checks.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/comma_list.h"
 #include "tools/cli/enum_option.h"
 #include "tools/cmds/render_canonical.h"
 #include "tools/cmds/render_input.h"
@@ -48,6 +49,12 @@ const EnumNames<CheckReference>& checkReferenceNames() {
 
 constexpr uint32_t kDefaultImageSide = 512;
 constexpr uint64_t kMaxPixelsPerView = uint64_t(1) << 28;  // each needs a 20-byte hit record in memory
+
+std::string renderModeList() {
+  std::string list;
+  for (vox::RenderMode m : vox::kRenderModes) list += (list.empty() ? "" : ", ") + std::string(vox::renderModeName(m));
+  return list;
+}
 
 // The modes in the order given, each once.
 std::vector<vox::RenderMode> distinctModes(const std::vector<vox::RenderMode>& given) {
@@ -431,9 +438,21 @@ void writeCameraFile(Run& run, const std::string& path, const std::vector<vox::C
 
 }  // namespace
 
+std::vector<vox::RenderMode> renderModes(const RenderCanonicalOptions& o) {
+  if (o.modeLists.empty()) return {vox::RenderMode::Canonical};
+  std::vector<vox::RenderMode> given;
+  for (const std::string& list : o.modeLists)
+    for (const std::string& name : splitCommaList(list, "--mode", "a comma list of " + renderModeList())) {
+      const std::optional<vox::RenderMode> mode = vox::renderModeNamed(name);
+      if (!mode) vox::throwUsage("--mode " + list + ": '" + name + "' is not one of " + renderModeList());
+      given.push_back(*mode);
+    }
+  return distinctModes(given);
+}
+
 int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load) {
+  const std::vector<vox::RenderMode> modes = renderModes(o);  // a usage error before the run starts
   Run run("render-canonical", o.common);
-  const std::vector<vox::RenderMode> modes = distinctModes(o.modes);
   checkOutputOptions(o);
   checkOptionsTakeEffect(o);
   o.camera.check();
@@ -537,28 +556,6 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   return run.finish(check.differing ? kExitCheckFailed : kExitOk);
 }
 
-namespace {
-
-std::string renderModeList() {
-  std::string list;
-  for (vox::RenderMode m : vox::kRenderModes) list += (list.empty() ? "" : ", ") + std::string(vox::renderModeName(m));
-  return list;
-}
-
-// CLI11 reads an enum as its underlying integer: this turns each name of the
-// comma list into that number (and refuses numbers, which are not names).
-CLI::Validator renderModeNames() {
-  auto toNumber = [](std::string& input) -> std::string {
-    const std::optional<vox::RenderMode> mode = vox::renderModeNamed(input);
-    if (!mode) return "'" + input + "' is not one of " + renderModeList();
-    input = std::to_string(static_cast<int>(*mode));
-    return {};
-  };
-  return CLI::Validator(toNumber, "", "");
-}
-
-}  // namespace
-
 CLI::App* addRenderCanonicalOptions(CLI::App& root, RenderCanonicalOptions& opts) {
   RenderCanonicalOptions* o = &opts;
   CLI::App* cmd = root.add_subcommand("render-canonical", "Exact canonical-coordinate renders (and class, color, shaded, depth, normal)");
@@ -569,11 +566,10 @@ CLI::App* addRenderCanonicalOptions(CLI::App& root, RenderCanonicalOptions& opts
       "box of occupied voxels (docs/render.md). Exit 1 when --check finds a pixel that differs from its reference.");
   cmd->add_option("input", o->input, "Scene (.vdb) or page file (.vpk)")->required();
   cmd->add_option("-o,--output", o->output, "Image to write (.png; .exr for depth and 32-bit canonical)");
-  cmd->add_option("--mode", o->modes, "Comma list of " + renderModeList())
-      ->delimiter(',')
-      ->transform(renderModeNames())
+  // Split by splitCommaList (renderModes), not CLI11's delimiter: it dropped empty entries unannounced.
+  cmd->add_option("--mode", o->modeLists, "Comma list of " + renderModeList() + "; repeatable")
       ->type_name("LIST")
-      ->default_str(vox::renderModeName(o->modes.front()));
+      ->default_str(vox::renderModeName(vox::RenderMode::Canonical));
   addCameraOptions(*cmd, o->camera);
   cmd->add_option("--touched", o->touched, "Write the chunks (and voxel counts) hit by any ray, as JSON");
   cmd->add_option("--chunk-size", o->chunk, "Chunk side for --touched")->capture_default_str();

@@ -25,7 +25,7 @@ enum class CheckReference { Walk, BruteForce };
 /// The command line of `vox render-canonical`.
 struct RenderCanonicalOptions {
   std::string input, output;
-  std::vector<vox::RenderMode> modes{vox::RenderMode::Canonical};
+  std::vector<std::string> modeLists;  // each --mode as given (comma lists); none: canonical. See renderModes().
   CameraOptions camera;
   std::string touched, touchedBitmap;
   uint32_t chunk = vox::PackSettings{}.chunkSide;  // the page files' default, so the chunks are theirs
@@ -40,6 +40,11 @@ struct RenderCanonicalOptions {
   CommonOptions common;
   const CLI::App* app = nullptr;  // to tell an option given from its default
 };
+
+/// The modes --mode names, in the order given, each once (canonical when
+/// --mode is not given). Throws vox::Error (Usage) on an empty entry
+/// (tools/cli/comma_list.h) or a name that is not a mode.
+std::vector<vox::RenderMode> renderModes(const RenderCanonicalOptions& o);
 
 /// Adds the render-canonical subcommand and its options, which fill `opts`.
 CLI::App* addRenderCanonicalOptions(CLI::App& root, RenderCanonicalOptions& opts);
