@@ -45,6 +45,23 @@ TEST(JsonInput, AcceptsWhatIsNotADuplicate) {
   EXPECT_EQ(vox::parseJsonInput("3", "x"), 3);
 }
 
+// Objects with many keys (past the short list the parser searches in order),
+// and the same object's key list reused at one depth: a duplicate is found
+// wherever it is, and the keys of one object never leak into the next.
+TEST(JsonInput, ManyKeysAndSiblingObjects) {
+  std::string many = "{";
+  for (int i = 0; i < 300; ++i) many += (i ? ",\"k" : "\"k") + std::to_string(i) + "\": " + std::to_string(i);
+  EXPECT_EQ(vox::parseJsonInput(many + "}", "m.json").size(), 300u);
+  for (int dup : {0, 5, 23, 24, 25, 299}) {
+    const std::string text = many + ", \"k" + std::to_string(dup) + "\": 1}";
+    EXPECT_EQ(duplicateMessage("{\"outer\": [0, " + text + "]}"),
+              "in.json: duplicate key \"k" + std::to_string(dup) +
+                  "\" in outer[1]: JSON keeps only one of the values; remove the other");
+  }
+  const std::string siblings = "[" + many + "}, " + many + "}, {\"k1\": {\"k1\": [" + many + "}]}}]";
+  EXPECT_EQ(vox::parseJsonInput(siblings, "s.json").size(), 3u);
+}
+
 TEST(JsonInput, SyntaxErrorsStayTheReadersToWord) {
   EXPECT_THROW(vox::parseJsonInput("{\"a\": ", "x"), nlohmann::json::exception);
   EXPECT_TRUE(vox::parseJsonInputOrDiscarded("{\"a\": ", "x").is_discarded());

@@ -1,5 +1,7 @@
 #include "formats/core/json_input.h"
 
+#include <algorithm>
+#include <string>
 #include <unordered_set>
 #include <vector>
 
@@ -9,69 +11,114 @@ namespace vox {
 
 namespace {
 
-/// Follows the parser through the document: the path of every open object or
-/// array, and the keys each open object has named so far.
-class DuplicateKeys {
- public:
-  explicit DuplicateKeys(const std::string& name) : name_(name) {}
+using json = nlohmann::json;
 
-  bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    using Event = nlohmann::json::parse_event_t;
-    switch (event) {
-      case Event::object_start:
-      case Event::array_start:
-        open_.push_back({event == Event::object_start, childPath(), {}, {}, 0});
-        break;
-      case Event::key: {
-        Open& o = open_.back();
-        std::string key = parsed.get<std::string>();
-        if (!o.keys.insert(key).second)
-          throw Error(ErrorKind::BadInput, name_ + ": duplicate key \"" + key + "\" in " +
-                                               (o.path.empty() ? std::string("the top-level object") : o.path) +
-                                               ": JSON keeps only one of the values; remove the other");
-        o.key = std::move(key);
-        break;
-      }
-      case Event::object_end:
-      case Event::array_end:
-        open_.pop_back();
-        if (!open_.empty() && !open_.back().object) ++open_.back().index;
-        break;
-      case Event::value:
-        if (!open_.empty() && !open_.back().object) ++open_.back().index;
-        break;
-    }
-    return true;
+/// nlohmann's DOM builder, with every object's keys checked as they are
+/// read. A SAX wrapper rather than json::parse's callback: the callback
+/// parser is super-linear in the document's size (a 22 MB document took 80x
+/// as long as a plain parse), this costs about what the keys' copies cost.
+/// The path of an object is put together only for the message.
+class CheckedDomParser {
+ public:
+  CheckedDomParser(json& result, bool exceptions, const std::string& name) : dom_(result, exceptions), name_(name) {}
+
+  bool null() { return value(), dom_.null(); }
+  bool boolean(bool v) { return value(), dom_.boolean(v); }
+  bool number_integer(json::number_integer_t v) { return value(), dom_.number_integer(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return value(), dom_.number_unsigned(v); }
+  bool number_float(json::number_float_t v, const json::string_t& s) { return value(), dom_.number_float(v, s); }
+  bool string(json::string_t& v) { return value(), dom_.string(v); }
+  bool binary(json::binary_t& v) { return value(), dom_.binary(v); }
+  bool start_object(std::size_t n) {
+    open(true);
+    return dom_.start_object(n);
   }
+  bool key(json::string_t& k) {
+    Frame& f = frames_[depth_ - 1];
+    if (f.named(k)) duplicate(k);
+    f.key = k;
+    return dom_.key(k);
+  }
+  bool end_object() {
+    --depth_;
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t n) {
+    open(false);
+    return dom_.start_array(n);
+  }
+  bool end_array() {
+    --depth_;
+    return dom_.end_array();
+  }
+  bool parse_error(std::size_t at, const std::string& token, const nlohmann::detail::exception& e) {
+    return dom_.parse_error(at, token, e);
+  }
+  bool is_errored() const { return dom_.is_errored(); }
 
  private:
-  struct Open {
-    bool object;
-    std::string path;
-    std::unordered_set<std::string> keys;
-    std::string key;  // the member being read (objects)
-    size_t index;     // the element being read (arrays)
+  // An open object or array. Frames are reused by depth, so the key lists
+  // keep their capacity from one object to the next.
+  struct Frame {
+    bool object = false;
+    size_t index = 0;                   // arrays: the element being read
+    std::string key;                    // objects: the member being read
+    std::vector<std::string> keys;      // objects: the keys named so far (few: searched in order) ...
+    std::unordered_set<std::string> many;  // ... or, past kFew, hashed
+
+    static constexpr size_t kFew = 24;
+    // Whether `k` was named before; records it.
+    bool named(const std::string& k) {
+      if (!many.empty()) return !many.insert(k).second;
+      if (std::find(keys.begin(), keys.end(), k) != keys.end()) return true;
+      if (keys.size() < kFew) {
+        keys.push_back(k);
+      } else {
+        many.insert(keys.begin(), keys.end());
+        many.insert(k);
+      }
+      return false;
+    }
   };
 
-  // The path of a value that starts now: "" for the document itself.
-  std::string childPath() const {
-    if (open_.empty()) return "";
-    const Open& o = open_.back();
-    if (!o.object) return o.path + "[" + std::to_string(o.index) + "]";
-    return o.path.empty() ? o.key : o.path + "." + o.key;
+  // A value (scalar or the start of a container) begins in the innermost frame.
+  void value() {
+    if (depth_ > 0 && !frames_[depth_ - 1].object) ++frames_[depth_ - 1].index;
+  }
+  void open(bool object) {
+    if (depth_ > 0 && !frames_[depth_ - 1].object) frames_[depth_ - 1].index++;
+    if (frames_.size() == depth_) frames_.emplace_back();
+    Frame& f = frames_[depth_++];
+    f.object = object, f.index = 0, f.key.clear(), f.keys.clear(), f.many.clear();
   }
 
+  [[noreturn]] void duplicate(const std::string& k) const {
+    // The innermost object's path: each enclosing frame adds its member or element.
+    std::string path;
+    for (size_t d = 0; d + 1 < depth_; ++d) {
+      const Frame& f = frames_[d];
+      if (f.object)
+        path += (path.empty() ? "" : ".") + f.key;
+      else
+        path += "[" + std::to_string(f.index - 1) + "]";
+    }
+    throw Error(ErrorKind::BadInput, name_ + ": duplicate key \"" + k + "\" in " +
+                                         (path.empty() ? std::string("the top-level object") : path) +
+                                         ": JSON keeps only one of the values; remove the other");
+  }
+
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
   const std::string& name_;
-  std::vector<Open> open_;
+  std::vector<Frame> frames_;
+  size_t depth_ = 0;
 };
 
-nlohmann::json parse(std::string_view text, const std::string& name, bool exceptions) {
-  DuplicateKeys check(name);
-  return nlohmann::json::parse(text.begin(), text.end(),
-                               [&check](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-                                 return check(depth, event, parsed);
-                               },
-                               exceptions);
+json parse(std::string_view text, const std::string& name, bool exceptions) {
+  json result;
+  CheckedDomParser sax(result, exceptions, name);
+  json::sax_parse(text.begin(), text.end(), &sax);
+  if (sax.is_errored()) return json(json::value_t::discarded);
+  return result;
 }
 
 }  // namespace
