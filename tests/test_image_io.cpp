@@ -6,7 +6,9 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <Imath/half.h>
 
 #include "formats/core/file_util.h"
@@ -83,6 +85,31 @@ TEST(ImageIo, ParallelPngRoundTripsAndDoesNotDependOnThreads) {
           ASSERT_TRUE(back.pixels == img.pixels) << "h " << h << " c " << c << " " << sampleTypeName(t) << " level " << level;
           EXPECT_EQ(back.textValue("vox:layout"), "{\"dims\":[3,5,7]}");
         }
+}
+
+TEST(ImageIo, PngWritersRefuseSidesPastLibpngsLimitBeforeWriting) {
+  // libpng reads (and writes) sides up to kMaxPngSide; the parallel writer,
+  // which does not use libpng, keeps the same limit itself, naming the output.
+  voxtest::TempDir dir;
+  Image edge(kMaxPngSide, 1, 1, SampleType::U8);
+  writePngParallel(edge, dir.file("edge.png"), kDefaultPngZlibLevel, 2);
+  EXPECT_EQ(readPng(dir.file("edge.png")).width, kMaxPngSide) << "the limit itself is written and read back";
+  const std::string past = std::to_string(kMaxPngSide + 1), limit = std::to_string(kMaxPngSide);
+  for (const bool wide : {true, false}) {
+    const Image big = wide ? Image(kMaxPngSide + 1, 1, 1, SampleType::U8) : Image(1, kMaxPngSide + 1, 1, SampleType::U8);
+    const std::string side = past + (wide ? " pixels wide" : " pixels high");
+    AtomicOutput out(dir.file("big.png"));  // messages name the output, not its temporary
+    const std::vector<std::function<void()>> writers = {
+        [&] { writePngParallel(big, out.tempPath(), kDefaultPngZlibLevel, 2); },
+        [&] { writeIndexedPngParallel(big, {{0, 0, 0}}, out.tempPath(), kDefaultPngZlibLevel, 2); },
+        [&] { writePng(big, out.tempPath()); },
+    };
+    for (size_t w = 0; w < writers.size(); ++w) {
+      EXPECT_TRUE(voxtest::throwsVoxError(writers[w], ErrorKind::Usage, {dir.file("big.png") + ": ", side, limit}))
+          << "writer " << w << ", " << side;
+      EXPECT_FALSE(std::filesystem::exists(out.tempPath())) << "writer " << w << " wrote before refusing " << side;
+    }
+  }
 }
 
 TEST(ImageIo, PngIsByteIdenticalForIdenticalInput) {
@@ -191,20 +218,23 @@ TEST(FileUtil, UncommittedTemporariesAreRemovedOnRequest) {
 }
 
 TEST(FileUtil, TemporariesOfDeadRunsAreRemovedByTheNextRun) {
-  voxtest::TempDir dir;
+  // A process reads a directory for stale temporaries at its first output
+  // there: the probe that gives this host's tag writes elsewhere.
+  voxtest::TempDir dir, probeDir;
   const pid_t child = fork();
   if (child == 0) _exit(0);
   ASSERT_GT(child, 0);
   waitpid(child, nullptr, 0);  // a pid that no longer runs
   std::string stale, alive, other;
   {
-    vox::AtomicOutput probe(dir.file("scene.vdb"));  // its name gives this host's tag
+    vox::AtomicOutput probe(probeDir.file("scene.vdb"));  // its name gives this host's tag
     const std::string t = probe.tempPath();
     const size_t pidAt = t.find('-', t.rfind(".tmp-") + 5) + 1;
     const std::string prefix = t.substr(0, pidAt);
-    stale = prefix + std::to_string(child) + "-0";
-    alive = prefix + "1-0";  // init: alive, never ours to remove
-    other = t.substr(0, t.rfind(".tmp-")) + ".tmp-00000000-" + std::to_string(child) + "-0";
+    const std::string inDir = dir.file(std::filesystem::path(prefix).filename().string());
+    stale = inDir + std::to_string(child) + "-0";
+    alive = inDir + "1-0";  // init: alive, never ours to remove
+    other = dir.file(".scene.vdb.tmp-00000000-" + std::to_string(child) + "-0");
   }
   if (stale.find(".tmp-00000000-") != std::string::npos)
     GTEST_SKIP() << "this host's name hashes to 00000000";
@@ -234,15 +264,19 @@ TEST(FileUtil, NamesNearTheLimitGetShortTemporaries) {
   const std::string a = std::filesystem::path(second.tempPath()).filename().string();
   const std::string b = std::filesystem::path(firstTemp).filename().string();
   EXPECT_NE(a.substr(0, a.rfind(".tmp-")), b.substr(0, b.rfind(".tmp-"))) << "the hash tells them apart";
-  // A dead run's temporary of the long name is found and removed like any other.
+  // A dead run's temporary of the long name is found and removed like any
+  // other (in a directory this process has not written to yet: it reads each
+  // once, at its first output there).
+  voxtest::TempDir next;
   const pid_t child = fork();
   if (child == 0) _exit(0);
   ASSERT_GT(child, 0);
   waitpid(child, nullptr, 0);
-  const size_t pidAt = firstTemp.find('-', firstTemp.rfind(".tmp-") + 5) + 1;
-  const std::string stale = firstTemp.substr(0, pidAt) + std::to_string(child) + "-0";
+  const std::string firstName = std::filesystem::path(firstTemp).filename().string();
+  const size_t pidAt = firstName.find('-', firstName.rfind(".tmp-") + 5) + 1;
+  const std::string stale = next.file(firstName.substr(0, pidAt) + std::to_string(child) + "-0");
   voxtest::writeText(stale, "x");
-  vox::AtomicOutput third(dir.file(name));
+  vox::AtomicOutput third(next.file(name));
   EXPECT_FALSE(std::filesystem::exists(stale)) << "a dead run's temporary of a long name was kept";
 }
 

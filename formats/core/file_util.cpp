@@ -13,10 +13,12 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -91,31 +93,32 @@ std::optional<TemporaryName> parseTemporaryName(const std::string& name) {
   return TemporaryName{name.substr(1, tmp - 1), uint32_t(std::stoul(host, nullptr, 16)), std::stol(pid)};
 }
 
-// ---- Live temporaries, for signal handlers ---------------------------------
-// A list a signal handler can walk without locks or allocation: nodes are
-// pushed at the head with a compare-and-swap and never freed (a handler may be
-// walking them), only reused; a node's path is written while it is Claimed and
-// read by the handler only once it is Live. The list grows to the most outputs
-// live at once (a run writing 700 render views tracks all 700), and costs
-// nothing before the first output (a static table was written page by page at
-// start-up: docs/bench-voxelize.md).
+// ---- Live paths, for signal handlers ---------------------------------------
+// Lists a signal handler can walk without locks or allocation: the temporaries
+// of the uncommitted outputs, and the directories runs created for them.
+// Nodes are pushed at the head with a compare-and-swap and never freed (a
+// handler may be walking them), only reused; a node's path is written while
+// it is Claimed and read by the handler only once it is Live. A list grows to
+// the most paths live at once (a run writing 700 render views tracks all
+// 700), and costs nothing before the first one (a static table was written
+// page by page at start-up: docs/bench-voxelize.md).
 enum SlotState : int { kFree = 0, kClaimed = 1, kLive = 2 };
 
 }  // namespace
 
-struct LiveTemporary {
+struct TrackedPath {
   std::atomic<int> state{kClaimed};
   char* path = nullptr;
   size_t capacity = 0;
-  LiveTemporary* next = nullptr;
+  TrackedPath* next = nullptr;
 };
 
 namespace {
 
-std::atomic<LiveTemporary*> gLiveHead{nullptr};
+std::atomic<TrackedPath*> gLiveTemporaries{nullptr}, gCreatedDirectories{nullptr};
 
-LiveTemporary* trackTemporary(const std::string& path) {
-  for (LiveTemporary* n = gLiveHead.load(); n; n = n->next) {
+TrackedPath* trackPath(std::atomic<TrackedPath*>& head, const std::string& path) {
+  for (TrackedPath* n = head.load(); n; n = n->next) {
     if (n->capacity <= path.size()) continue;
     int expected = kFree;
     if (!n->state.compare_exchange_strong(expected, kClaimed)) continue;
@@ -123,36 +126,80 @@ LiveTemporary* trackTemporary(const std::string& path) {
     n->state.store(kLive);
     return n;
   }
-  auto* n = new LiveTemporary;  // never freed: see above
+  auto* n = new TrackedPath;  // never freed: see above
   n->capacity = std::max<size_t>(path.size() + 1, 256);
   n->path = new char[n->capacity];
   std::memcpy(n->path, path.c_str(), path.size() + 1);
   n->state.store(kLive);
-  n->next = gLiveHead.load();
-  while (!gLiveHead.compare_exchange_weak(n->next, n)) {
+  n->next = head.load();
+  while (!head.compare_exchange_weak(n->next, n)) {
   }
   return n;
 }
 
-void untrackTemporary(LiveTemporary* live) {
-  if (live) live->state.store(kFree);
+void untrackPath(TrackedPath* node) {
+  if (node) node->state.store(kFree);
 }
 
+// ---- Temporaries of dead runs ----------------------------------------------
+// A temporary is stale when its name is one of ours (".NAME.tmp-HOST-PID-N")
+// with this host's tag, another process's PID, and that process no longer
+// exists (killed with SIGKILL, or by the OOM killer). Creating an output
+// removes the stale temporaries of that output's name. Each directory is read
+// once per process, at its first output: the candidates (this host, another
+// PID) are kept by name, so a run writing 700 outputs in one directory reads
+// it once, not 700 times (each read also meeting the run's own temporaries).
+// Directories are known by their canonical path (links and "./" seen
+// through). A temporary left in a directory after this process read it is the
+// next run's to remove. A forked child is another run: it reads them again.
+
+struct StaleCandidate {
+  std::string entry;  // the file's name in its directory
+  long pid = 0;
+};
+
+std::mutex gScannedMutex;
+pid_t gScannedBy = 0;  // the process the cache belongs to
+// Per directory read, the candidates by the output name (stem) they belong to.
+std::map<std::string, std::map<std::string, std::vector<StaleCandidate>>> gScanned;
+
 // Removes the temporaries of `finalPath` left by runs on this host that no
-// longer exist (killed with SIGKILL, or by the OOM killer).
+// longer exist.
 void removeStaleTemporaries(const fs::path& finalPath) {
   const std::string name = temporaryStem(finalPath.filename().string());
   const fs::path dir = finalPath.parent_path().empty() ? fs::path(".") : finalPath.parent_path();
-  std::error_code ec;
-  fs::directory_iterator it(dir, ec), end;
-  for (; !ec && it != end; it.increment(ec)) {
-    const std::string entry = it->path().filename().string();
-    if (entry.size() <= name.size() + 1 || entry.compare(1, name.size(), name) != 0) continue;
-    const std::optional<TemporaryName> t = parseTemporaryName(entry);
-    if (!t || t->finalName != name || t->host != hostHash() || t->pid == long(getpid())) continue;
-    if (::kill(pid_t(t->pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
-    std::remove(it->path().c_str());
+  const std::unique_ptr<char, void (*)(void*)> canonical(::realpath(dir.c_str(), nullptr), &std::free);
+  if (!canonical) return;  // no directory to remove from (the write will say why)
+  const std::string key = canonical.get();
+  std::lock_guard<std::mutex> lock(gScannedMutex);
+  if (gScannedBy != getpid()) {
+    gScanned.clear();
+    gScannedBy = getpid();
   }
+  auto [at, fresh] = gScanned.try_emplace(key);
+  if (fresh) {
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+      std::string entry = it->path().filename().string();
+      const std::optional<TemporaryName> t = parseTemporaryName(entry);
+      if (!t || t->host != hostHash() || t->pid == long(getpid())) continue;
+      at->second[t->finalName].push_back({std::move(entry), t->pid});
+    }
+  }
+  const auto found = at->second.find(name);
+  if (found == at->second.end()) return;
+  std::vector<StaleCandidate>& candidates = found->second;
+  for (size_t i = 0; i < candidates.size();) {
+    const StaleCandidate& c = candidates[i];
+    if (::kill(pid_t(c.pid), 0) == 0 || errno != ESRCH) {  // alive (or not ours to judge): asked again next time
+      ++i;
+      continue;
+    }
+    std::remove((dir / c.entry).c_str());
+    candidates.erase(candidates.begin() + std::ptrdiff_t(i));
+  }
+  if (candidates.empty()) at->second.erase(found);
 }
 
 }  // namespace
@@ -165,8 +212,22 @@ int committedOutputCount() noexcept { return gCommittedOutputs.load(); }
 
 int removeUncommittedOutputs() noexcept {
   int removed = 0;
-  for (LiveTemporary* n = gLiveHead.load(); n; n = n->next)
+  for (TrackedPath* n = gLiveTemporaries.load(); n; n = n->next)
     if (n->state.load() == kLive && ::unlink(n->path) == 0) ++removed;
+  return removed;
+}
+
+int removeCreatedDirectories() noexcept {
+  // rmdir removes empty directories only. The list is newest first, and a run
+  // creates a path's levels from the top down, so a first pass meets the
+  // deepest first; a parent refused while it still held a child (a node
+  // reused out of order) is tried again once the child is gone.
+  int removed = 0;
+  for (bool progress = true; progress;) {
+    progress = false;
+    for (TrackedPath* n = gCreatedDirectories.load(); n; n = n->next)
+      if (n->state.load() == kLive && ::rmdir(n->path) == 0) ++removed, progress = true;
+  }
   return removed;
 }
 
@@ -185,7 +246,7 @@ std::string temporaryPathFor(const std::string& finalPath) {
 AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
   removeStaleTemporaries(fs::path(final_));
   temp_ = temporaryPathFor(final_);
-  live_ = trackTemporary(temp_);
+  live_ = trackPath(gLiveTemporaries, temp_);
 }
 
 AtomicOutput::AtomicOutput(AtomicOutput&& o) noexcept
@@ -196,7 +257,48 @@ AtomicOutput::AtomicOutput(AtomicOutput&& o) noexcept
 
 AtomicOutput::~AtomicOutput() {
   if (!committed_) std::remove(temp_.c_str());
-  untrackTemporary(live_);
+  untrackPath(live_);
+}
+
+CreatedDirectories::~CreatedDirectories() {
+  // Deepest first; a level that is not empty (or gone) stays, and so do its parents.
+  for (size_t i = made_.size(); i-- > 0;) {
+    ::rmdir(paths_[i].c_str());
+    untrackPath(made_[i]);
+  }
+}
+
+void CreatedDirectories::keep() {
+  for (TrackedPath* n : made_) untrackPath(n);
+  made_.clear();
+  paths_.clear();
+}
+
+std::vector<std::string> CreatedDirectories::made() const { return {paths_.rbegin(), paths_.rend()}; }
+
+void CreatedDirectories::create(const std::string& path) {
+  // The levels from the top down, each made by mkdir: a level counts as made
+  // by this run only when its mkdir succeeded (not one another process made
+  // meanwhile, nor one that existed).
+  std::vector<std::string> levels;  // the deepest first
+  for (fs::path p = fs::path(path).lexically_normal(); !p.empty(); p = p.parent_path()) {
+    if (p.filename().empty() && p != p.parent_path()) continue;  // "dir/": its "dir" is next
+    levels.push_back(p.string());
+    if (p == p.parent_path()) break;
+  }
+  for (size_t i = levels.size(); i-- > 0;) {
+    const std::string& level = levels[i];
+    if (::mkdir(level.c_str(), 0777) == 0) {
+      made_.push_back(trackPath(gCreatedDirectories, level));
+      paths_.push_back(level);
+      continue;
+    }
+    const int err = errno;
+    struct stat st {};
+    if (::stat(level.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) continue;
+    throwIo(path + ": cannot create the output directory" + (i > 0 ? " " + level : std::string()) + ": " +
+            std::strerror(err == EEXIST ? ENOTDIR : err));
+  }
 }
 
 std::string outputName(const std::string& path) {
@@ -286,7 +388,7 @@ void AtomicOutput::renameIntoPlace() {
     throwIo(final_ + ": cannot move the finished output into place: " + std::strerror(errno));
   committed_ = true;
   gCommittedOutputs.fetch_add(1);
-  untrackTemporary(live_);  // after the rename: a signal before it still removes the temporary
+  untrackPath(live_);  // after the rename: a signal before it still removes the temporary
   live_ = nullptr;
 }
 

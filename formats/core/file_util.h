@@ -24,7 +24,10 @@ namespace vox {
 /// host name). Live temporaries are tracked so that removeUncommittedOutputs()
 /// can delete them from a signal handler; creating an AtomicOutput removes the
 /// temporaries of the same output left by dead runs on this host (SIGKILL, the
-/// OOM killer). Thread-safe: outputs may be created and destroyed on any thread.
+/// OOM killer). A process reads each directory for those once, at its first
+/// output there (a run writing 700 views in one directory reads it once): a
+/// temporary left by a run that died after that is the next process's to
+/// remove. Thread-safe: outputs may be created and destroyed on any thread.
 class AtomicOutput {
  public:
   explicit AtomicOutput(std::string finalPath);
@@ -48,7 +51,7 @@ class AtomicOutput {
  private:
   std::string final_, temp_;
   bool committed_ = false;
-  struct LiveTemporary* live_ = nullptr;  // its entry in the list of live temporaries
+  struct TrackedPath* live_ = nullptr;  // its entry in the list of live temporaries
 };
 
 /// Deletes the temporary file of every uncommitted AtomicOutput of this
@@ -56,6 +59,40 @@ class AtomicOutput {
 /// only): for the CLI's SIGINT/SIGTERM handlers, which then exit without
 /// running destructors.
 int removeUncommittedOutputs() noexcept;
+
+/// The output directories a run creates (and their missing parents), removed
+/// again when the run does not finish: on destruction unless keep() was called
+/// (a failed run), and by removeCreatedDirectories() (a signal). Only the
+/// levels this object made are removed, deepest first, and only while empty:
+/// the run's temporaries are removed first, so a directory holding anything
+/// else (an output already in place, a user's file) stays with its parents.
+/// Thread-safe like AtomicOutput. Not copyable.
+class CreatedDirectories {
+ public:
+  CreatedDirectories() = default;
+  ~CreatedDirectories();
+  CreatedDirectories(const CreatedDirectories&) = delete;
+  CreatedDirectories& operator=(const CreatedDirectories&) = delete;
+  /// Creates `path` and its missing parents (an existing directory is fine)
+  /// and remembers the levels this call made. Throws vox::Error (Io) naming
+  /// `path` and the system's reason when a level cannot be made or is not a
+  /// directory (the levels made before are remembered, so still removed).
+  void create(const std::string& path);
+  /// The run succeeded: its directories stay, and are forgotten.
+  void keep();
+  /// The levels made so far, deepest first.
+  std::vector<std::string> made() const;
+
+ private:
+  std::vector<struct TrackedPath*> made_;  // in the order made: parents first
+  std::vector<std::string> paths_;
+};
+
+/// Removes (rmdir) every directory of a live CreatedDirectories of this
+/// process that is empty, deepest first, and returns how many it removed.
+/// Async-signal-safe (rmdir only): for the CLI's SIGINT/SIGTERM handlers,
+/// after removeUncommittedOutputs.
+int removeCreatedDirectories() noexcept;
 
 /// For the CLI's SIGINT/SIGTERM handlers: true while commitAll is renaming
 /// outputs into place, in which case `signal` is recorded and raised again

@@ -56,9 +56,13 @@ inline constexpr int kDefaultPngZlibLevel = 6;
 /// which vox keeps. The format allows 2^31 - 1, but a wider file written by
 /// vox's own encoder could not be read back by vox (nor by most viewers).
 inline constexpr uint32_t kMaxPngSide = 1000000;
+/// Every PNG writer's first check, before anything is computed or written:
+/// throws vox::Error (Usage) naming the output (outputName(path)), the side
+/// (width or height) and kMaxPngSide when a side is past kMaxPngSide.
+void requirePngSides(uint32_t width, uint32_t height, const std::string& path);
 
-/// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA).
-/// `zlibLevel` 0..9. Throws vox::Error (Io).
+/// PNG: U8 or U16 samples, 1..4 channels (gray, gray+alpha, RGB, RGBA), sides
+/// at most kMaxPngSide (requirePngSides). `zlibLevel` 0..9. Throws vox::Error (Io).
 void writePng(const Image& image, const std::string& path, int zlibLevel = kDefaultPngZlibLevel);
 /// writePng's bytes for an image given row by row: `row(y)` returns row y
 /// (width * channels * sample bytes, valid until the next call), called for
@@ -69,7 +73,8 @@ void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType
 /// The same PNG content as writePng (SUB-filtered scanlines, zlib `zlibLevel`;
 /// runs of >= 4 KiB of zero bytes with zlib's Z_RLE strategy, which codes them
 /// the same way faster), deflated in up to 16 row slices on `threads` threads
-/// (formats/image/image_png_parallel.cpp).
+/// (formats/image/image_png_parallel.cpp). Sides past kMaxPngSide are refused
+/// before any work or output (requirePngSides), as libpng refuses them.
 /// The bytes depend on the image only, not on `threads`; they differ from
 /// writePng's (one deflate stream) but decode to the same pixels.
 void writePngParallel(const Image& image, const std::string& path, int zlibLevel, unsigned threads);

@@ -167,6 +167,14 @@ bool pngReadRows(png_structp png, png_infop info, png_bytep* rows) {
 
 }  // namespace
 
+void requirePngSides(uint32_t width, uint32_t height, const std::string& path) {
+  for (const auto& [side, pixels] : {std::pair<const char*, uint32_t>{"wide", width}, {"high", height}})
+    if (pixels > kMaxPngSide)
+      throwUsage(outputName(path) + ": cannot write a PNG " + std::to_string(pixels) + " pixels " + side + ": past " +
+                 std::to_string(kMaxPngSide) + ", the largest PNG side libpng (and so vox) reads back; write an image " +
+                 "at most " + std::to_string(kMaxPngSide) + " pixels " + side);
+}
+
 void writePng(const Image& image, const std::string& path, int zlibLevel) {
   writePngRows(image.width, image.height, image.channels, image.type, image.text, path, zlibLevel,
                [&image](uint32_t y) { return image.pixels.data() + y * image.rowBytes(); });
@@ -175,6 +183,7 @@ void writePng(const Image& image, const std::string& path, int zlibLevel) {
 void writePngRows(uint32_t width, uint32_t height, uint32_t channels, SampleType type,
                   const std::vector<std::pair<std::string, std::string>>& text, const std::string& path, int zlibLevel,
                   const std::function<const uint8_t*(uint32_t y)>& row) {
+  requirePngSides(width, height, path);
   if (type != SampleType::U8 && type != SampleType::U16)
     throw Error(ErrorKind::Internal, path + ": PNG holds 8- or 16-bit samples, not " + sampleTypeName(type));
   if (channels < 1 || channels > 4 || width == 0 || height == 0)

@@ -52,6 +52,7 @@ constexpr size_t kZeroRun = 4096;
 
 void writeParallel(const Image& image, const std::vector<std::array<uint8_t, 3>>& palette, const std::string& path,
                    int zlibLevel, unsigned threads) {
+  requirePngSides(image.width, image.height, path);
   if (image.type != SampleType::U8 && image.type != SampleType::U16)
     throw Error(ErrorKind::Internal, "writePngParallel: PNG holds 8 or 16-bit samples only");
   if (image.channels < 1 || image.channels > 4 || image.width == 0 || image.height == 0)

@@ -991,7 +991,7 @@ disk_full)
   # A report that cannot be written fails the run before any output is committed.
   expect_exit 4 "$vox" voxelize demo:hamlet --res 16 -o small.vdb --report no_such_dir/r.json
   [ -e small.vdb ] && fail "the scene was committed although its report failed"
-  if [ -d atl ]; then [ -z "$(ls -A atl)" ] || fail "build-atlas left files behind: $(ls -A atl)"; rmdir atl; fi
+  [ ! -e atl ] || fail "the failed build-atlas left the directory it made: $(ls -A atl)"
   no_outputs
   ;;
 no_effect)

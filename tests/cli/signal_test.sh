@@ -206,6 +206,48 @@ commit_window)
     [ -z "$left" ] || fail "step $step: temporaries left: $left"
   done
   ;;
+atlas_directories)
+  # build-atlas makes its output directory (and missing parents): an interrupt
+  # while it writes removes the temporaries and then the directories the run
+  # made, deepest first, never one it did not make or one holding other files.
+  "$vox" voxelize demo:hamlet --res 256 -o h.vdb --quiet || fail "setup bake"
+  for sig in INT TERM HUP; do
+    caught=0
+    for tries in 1 2 3 4 5 6; do
+      rm -rf made && mkdir made
+      if [ $sig = HUP ]; then mkdir made/new && printf 'mine\n' >made/new/keep.txt; fi  # not the run's to remove
+      "$vox" build-atlas h.vdb -o made/new/deeper/atlas --all >out.txt 2>err.txt &
+      pid=$!
+      while kill -0 $pid 2>/dev/null && ! handles_sigint $pid; do sleep 0.005; done
+      pending=()
+      while kill -0 $pid 2>/dev/null; do
+        pending=(made/new/deeper/atlas/.*.tmp-*)
+        [ ${#pending[@]} -gt 0 ] && break
+      done
+      kill -$sig $pid 2>/dev/null
+      wait $pid
+      got=$?
+      [ "$got" = 0 ] && continue  # finished first
+      caught=1
+      case $sig in INT) want=130 ;; TERM) want=143 ;; HUP) want=129 ;; esac
+      [ "$got" = $want ] || fail "SIG$sig: exit $got, expected $want ($(head -c 300 err.txt))"
+      grep -qF "interrupted by SIG$sig" err.txt || fail "SIG$sig: no message: $(head -c 300 err.txt)"
+      [ -d made ] || fail "SIG$sig: removed made/, which the run did not make"
+      if [ $sig = HUP ]; then
+        [ "$(cat made/new/keep.txt 2>/dev/null)" = mine ] || fail "SIG$sig: the user's made/new/keep.txt is gone"
+        [ ! -e made/new/deeper ] || fail "SIG$sig: left made/new/deeper: $(find made/new/deeper | head)"
+      else
+        [ ! -e made/new ] || fail "SIG$sig: left the directories it made: $(find made/new | head)"
+      fi
+      break
+    done
+    [ $caught = 1 ] || fail "SIG$sig: never caught build-atlas writing (it finished first 6 times)"
+  done
+  # A signal before the directory is made (reading the scene) leaves none.
+  rm -rf made && mkdir made
+  interrupt INT 0.05 made/previous "$vox" build-atlas h.vdb -o made/early/atlas --all && [ -e made/early ] &&
+    fail "SIGINT (early): left made/early: $(find made/early | head)"
+  ;;
 rollback)
   # A rename that fails after others succeeded (here the report, immutable)
   # puts the outputs already moved back: the old file, or no file.

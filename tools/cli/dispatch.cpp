@@ -104,7 +104,8 @@ const char* const kOutOfMemoryAdvice =
 
 // std::terminate: an exception escaped where none may (a noexcept function, a
 // destructor, a thread) or terminate was called directly. Whatever the cause,
-// the run ends like any other failed run: its unfinished outputs removed, one
+// the run ends like any other failed run: its unfinished outputs (and the
+// directories it made for them, left empty) removed, one
 // line on stderr, exit 4 (an allocation failure above all must never abort).
 // Writes with write(2) only: the heap may be exhausted. A second thread that
 // terminates meanwhile waits here until the first one has exited.
@@ -120,6 +121,7 @@ const char* const kOutOfMemoryAdvice =
     } catch (...) {
     }
   vox::removeUncommittedOutputs();
+  vox::removeCreatedDirectories();  // once emptied of the temporaries: build-atlas's -o DIR
   writeStderr(gTerminateCommand);
   if (outOfMemory) {
     writeStderr(": error: out of memory");

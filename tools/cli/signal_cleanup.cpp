@@ -35,7 +35,7 @@ void writeCount(int value) {
 
 std::atomic<bool> gHandling{false};
 
-// Async-signal-safe only: unlink, write, pause, _exit.
+// Async-signal-safe only: unlink, rmdir, write, pause, _exit.
 extern "C" void onTerminatingSignal(int sig) {
   // While outputs are renamed into place the signal waits (microseconds): the
   // commit raises it again when every rename is done.
@@ -46,6 +46,7 @@ extern "C" void onTerminatingSignal(int sig) {
     for (;;) ::pause();
   }
   const int removed = vox::removeUncommittedOutputs();
+  vox::removeCreatedDirectories();  // once emptied of the temporaries: build-atlas's -o DIR
   const int committed = vox::committedOutputCount();
   const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
   writeAll("\n");

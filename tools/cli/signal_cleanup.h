@@ -1,6 +1,7 @@
 // What `vox` does when it is interrupted: SIGINT, SIGTERM and SIGHUP delete
 // the temporary files of the outputs being written (existing outputs are never
-// touched: they are only replaced by the final rename), print one line on
+// touched: they are only replaced by the final rename), then the directories
+// the run created for them that are left empty (vox::CreatedDirectories), print one line on
 // stderr and exit with 130, 143 or 129 (128 + the signal, as shells report
 // it). A signal that arrives while the outputs are being renamed into place
 // waits for the renames (microseconds), so an interrupt never leaves some new

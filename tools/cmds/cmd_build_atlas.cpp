@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <mutex>
 
+#include "formats/core/file_util.h"
 #include "formats/image/atlas_meta.h"
 #include "formats/image/atlas_preview.h"
 #include "formats/image/image.h"
@@ -50,55 +51,30 @@ struct Output {
   bool exr = false;
 };
 
-/// Creates a directory (and missing parents) on create(); unless keep() is
-/// called, removes on destruction the levels it created, deepest first, while
-/// they are empty. Declared before the Run, so it is destroyed after the Run
-/// has removed its temporaries.
-class CreatedDirectory {
- public:
-  CreatedDirectory() = default;
-  /// Refuses, before the work, a directory that cannot be made because
-  /// something other than a directory stands where it or a parent would be
-  /// (create() said only "cannot create the output directory").
-  static void checkCanCreate(const std::string& path) {
-    const fs::path want = fs::path(path).lexically_normal();
-    for (fs::path p = want; !p.empty(); p = p.parent_path()) {
-      std::error_code ec;
-      const fs::file_status st = fs::status(p, ec);
-      if (fs::exists(st)) {
-        if (fs::is_directory(st)) return;
-        const std::string what = fs::is_regular_file(st) ? "a file" : "not a directory";
-        throw vox::Error(vox::ErrorKind::Io, path + ": cannot create the output directory: " +
-                                                 (p == want ? "it is " + what : p.string() + " is " + what) +
-                                                 "; give -o a directory (it is created if missing)");
-      }
-      if (p == p.parent_path()) break;
-    }
-  }
-  void create(const std::string& path) {
-    for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p); p = p.parent_path()) {
-      created_.push_back(p);
-      if (p == p.parent_path()) break;
-    }
+/// Refuses, before the work, an output directory that cannot be made because
+/// something other than a directory stands where it or a parent would be
+/// (mkdir would say only "Not a directory").
+void checkCanCreate(const std::string& path) {
+  const fs::path want = fs::path(path).lexically_normal();
+  for (fs::path p = want; !p.empty(); p = p.parent_path()) {
     std::error_code ec;
-    fs::create_directories(path, ec);
-    if (!fs::is_directory(path)) throw vox::Error(vox::ErrorKind::Io, path + ": cannot create the output directory");
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st)) {
+      if (fs::is_directory(st)) return;
+      const std::string what = fs::is_regular_file(st) ? "a file" : "not a directory";
+      throw vox::Error(vox::ErrorKind::Io, path + ": cannot create the output directory: " +
+                                               (p == want ? "it is " + what : p.string() + " is " + what) +
+                                               "; give -o a directory (it is created if missing)");
+    }
+    if (p == p.parent_path()) break;
   }
-  ~CreatedDirectory() {
-    std::error_code ec;
-    for (const fs::path& p : created_)
-      if (!fs::remove(p, ec)) break;  // not empty (or gone): leave it and its parents
-  }
-  CreatedDirectory(const CreatedDirectory&) = delete;
-  CreatedDirectory& operator=(const CreatedDirectory&) = delete;
-  void keep() { created_.clear(); }
-
- private:
-  std::vector<fs::path> created_;  // deepest first
-};
+}
 
 int runBuildAtlas(const BuildAtlasOptions& o) {
-  CreatedDirectory outDir;
+  // The levels of -o this run makes: removed again (while empty) when the run
+  // fails or is interrupted. Declared before the Run, so it is destroyed after
+  // the Run has removed its temporaries.
+  vox::CreatedDirectories outDir;
   Run run("build-atlas", o.common);
   if (!o.stem.empty() && (o.stem.find('/') != std::string::npos || o.stem == "." || o.stem == ".."))
     throw vox::Error(vox::ErrorKind::Usage, "--stem " + o.stem + ": a file name stem, without '/', is expected; "
@@ -109,7 +85,7 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   if (o.outDir == "-")
     throw vox::Error(vox::ErrorKind::Usage, "-o -: build-atlas writes a directory of files, never standard output; "
                                             "give the output directory (created if missing)");
-  CreatedDirectory::checkCanCreate(o.outDir);
+  checkCanCreate(o.outDir);
   // --format chooses the identity atlas's texel format; the other contents
   // have one format each, so it would be ignored (--summary --format rgba16
   // wrote rgba8).
@@ -159,7 +135,8 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
   const std::string stem = o.stem.empty() ? fs::path(o.scene).stem().string() : o.stem;
 
   // The directory is made only now that the input is known good, and removed
-  // again (the levels this run made, while empty) if the run fails after all.
+  // again (the levels this run made, while empty) if the run fails or is
+  // interrupted after all.
   outDir.create(o.outDir);
 
   std::vector<Output> outs;
@@ -478,8 +455,9 @@ int runBuildAtlas(const BuildAtlasOptions& o) {
                   {"atlas", {L.width, L.height}}, {"previews", o.preview ? outs.size() : 0}};
   run.noteWhenDone("wrote " + counted(files, "file", "files") + " to " + o.outDir + " (" + std::to_string(L.width) + " x " +
            std::to_string(L.height) + (L.layers > 1 ? " x " + std::to_string(L.layers) + " layers" : "") + ")");
+  const int code = run.finish();  // a failed commit leaves no file: the directory goes too
   outDir.keep();
-  return run.finish();
+  return code;
 }
 
 const EnumNames<vox::TexelFormat>& texelFormatNames() {
