@@ -44,35 +44,44 @@ extern "C" void recordSignal(int sig) {
 }
 
 TEST(FileUtil, ASignalDuringTheRenamesWaitsForAllOfThem) {
-  voxtest::TempDir dir;
-  constexpr int kOutputs = 600;
-  std::vector<std::unique_ptr<vox::AtomicOutput>> outputs;
-  std::vector<vox::AtomicOutput*> all;
-  for (int i = 0; i < kOutputs; ++i) {
-    outputs.push_back(std::make_unique<vox::AtomicOutput>(dir.file("out_" + std::to_string(i) + ".bin")));
-    vox::writeFileBytes(outputs.back()->tempPath(), "new");
-    all.push_back(outputs.back().get());
-  }
+  // A busy machine may leave the sending thread without a core for a whole
+  // commit: rounds of 600 outputs are committed until signals have landed
+  // during the renames (usually the first round), each round checked.
+  constexpr int kOutputs = 600, kMaxRounds = 30;
   struct sigaction sa {}, old {};
   sa.sa_handler = recordSignal;
   sa.sa_flags = SA_RESTART;
   sigemptyset(&sa.sa_mask);
   ASSERT_EQ(sigaction(SIGUSR1, &sa, &old), 0);
-  gBefore = vox::committedOutputCount();
-  gAfter = gBefore + kOutputs;
-  std::atomic<bool> done{false};
-  const pthread_t committer = pthread_self();
-  std::thread sender([&] {  // signals the committing thread without pause until it is done
-    while (!done.load()) pthread_kill(committer, SIGUSR1);
-  });
-  vox::commitAll(all);
-  done = true;
-  sender.join();
+  for (int round = 0; round < kMaxRounds && gDeferred.load() == 0; ++round) {
+    voxtest::TempDir dir;
+    std::vector<std::unique_ptr<vox::AtomicOutput>> outputs;
+    std::vector<vox::AtomicOutput*> all;
+    for (int i = 0; i < kOutputs; ++i) {
+      outputs.push_back(std::make_unique<vox::AtomicOutput>(dir.file("out_" + std::to_string(i) + ".bin")));
+      vox::writeFileBytes(outputs.back()->tempPath(), "new");
+      all.push_back(outputs.back().get());
+    }
+    gBefore = vox::committedOutputCount();
+    gAfter = gBefore + kOutputs;
+    std::atomic<bool> done{false};
+    const pthread_t committer = pthread_self();
+    const int seenBefore = gSignalsSeen.load();
+    std::thread sender([&] {  // signals the committing thread without pause until it is done
+      while (!done.load()) pthread_kill(committer, SIGUSR1);
+    });
+    while (gSignalsSeen.load() == seenBefore) std::this_thread::yield();  // the sender is running
+    vox::commitAll(all);
+    done = true;
+    sender.join();
+    EXPECT_EQ(gSeenMidCommit.load(), 0) << "a handler ran between two renames (round " << round << ")";
+    EXPECT_EQ(vox::committedOutputCount(), gAfter.load());
+    for (int i = 0; i < kOutputs; ++i)
+      EXPECT_EQ(vox::readFileBytes(dir.file("out_" + std::to_string(i) + ".bin")), "new");
+  }
   sigaction(SIGUSR1, &old, nullptr);
-  EXPECT_GT(gDeferred.load(), 0) << "no signal arrived during the renames: the test proves nothing";
-  EXPECT_EQ(gSeenMidCommit.load(), 0) << "a handler ran between two renames";
-  EXPECT_EQ(vox::committedOutputCount(), gAfter.load());
-  for (int i = 0; i < kOutputs; ++i) EXPECT_EQ(vox::readFileBytes(dir.file("out_" + std::to_string(i) + ".bin")), "new");
+  EXPECT_GT(gDeferred.load(), 0) << "no signal arrived during the renames in " << kMaxRounds
+                                 << " rounds: the test proves nothing";
 }
 
 // A pid that no longer runs.
