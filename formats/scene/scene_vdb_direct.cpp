@@ -329,6 +329,9 @@ struct GridStats {
   std::array<int32_t, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
 };
 
+/// Leaves a piece compresses before the batch is written (directWriteBytes).
+constexpr size_t kLeavesPerBatch = 1024;
+
 void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   const SceneHeader& h = *g.header;
   const size_t nLeaves = g.leaves.size();
@@ -465,7 +468,6 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   // a time, written as each batch is done: the writer holds one batch's bytes
   // (at most 6 KB a leaf, coloured), not the grid's (which grew by doubling
   // and left their outgrown copies resident: 2-4x the grid's bytes at the peak).
-  constexpr size_t kLeavesPerBatch = 4096;
   std::vector<std::string> parts(pieces);
   for (size_t from = 0; from < nLeaves; from += kLeavesPerBatch * pieces) {
     const size_t n = std::min(kLeavesPerBatch * pieces, nLeaves - from);
@@ -541,6 +543,18 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
 }
 
 }  // namespace
+
+double directWriteBytes(double leaves, double voteLeaves, double colorLeaves, double leafBytes, unsigned threads) {
+  // The leaf lists: the blocks sorted, the part's copy, the plan's sorted copy
+  // and the occupancy's list (8 bytes a leaf each); a vote grid's leaves and
+  // class blocks; the colour grid's leaves. A batch of leaf buffers per
+  // thread. Fixed: the file's 1 MiB buffer, the compression frames and the
+  // heap pages they first touch (2 MiB huge pages where the CLI advises
+  // them: tools/cli/alloc_tuning.h).
+  constexpr double kFixed = 4 << 20;
+  return kFixed + leaves * 4 * sizeof(void*) + voteLeaves * 2 * sizeof(void*) + colorLeaves * sizeof(void*) +
+         double(std::max(1u, threads)) * double(kLeavesPerBatch) * leafBytes;
+}
 
 std::vector<DirectWriteSummary> writeScenesVdbDirect(
     const std::vector<DirectScenePart>& parts,
