@@ -429,7 +429,7 @@ uint64_t distinctPositions(const Mesh& mesh) {
 }
 
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings,
-                                uint64_t weldedVertices) {
+                                uint64_t weldedVertices, double besideBlocks) {
   MemoryEstimate e;
   // Heap blocks carry ~16 bytes of malloc header; the block map's entry is a
   // key and a pointer in a flat table 1/4 to 1/2 full (flat_map64.h). Blocks on the
@@ -505,7 +505,7 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
       const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
       const double tables = kFixed + v * kPerVertex + p * kPerPosition + edges * kPerEdge + boundary * kPerBoundaryEdge;
-      const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t);
+      const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t) + besideBlocks;
       if (tables > bake) e.add("winding boundary tables (before the blocks)", tables - bake);
     }
   }
