@@ -329,21 +329,24 @@ struct GridStats {
   std::array<int32_t, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
 };
 
+/// Leaves a piece compresses before the batch is written (directWriteBytes).
+constexpr size_t kLeavesPerBatch = 1024;
+
 void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   const SceneHeader& h = *g.header;
   const size_t nLeaves = g.leaves.size();
-  // Leaf buffers (masks, compressed values) in parallel, each piece a contiguous
-  // range of leaves in tree order (at least 64), concatenated in order: the
-  // bytes do not depend on the thread count.
-  const unsigned pieces = std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, nLeaves / 64))));
-  std::vector<std::string> parts(pieces);
-  std::vector<std::array<uint64_t, kBlockWords>> masks(nLeaves);
+  // Pieces of contiguous leaves in tree order (at least 64 each), one per
+  // thread, their results combined in order: nothing depends on the thread count.
+  auto piecesOf = [threads](size_t n) {
+    return std::max(1u, std::min<unsigned>(threads, unsigned(std::max<size_t>(1, n / 64))));
+  };
+  const unsigned pieces = piecesOf(nLeaves);
+  // The active voxels and their box first: the grid's metadata comes before its leaves.
   std::vector<GridStats> partStats(pieces);
   parallelPieces(nLeaves, pieces, pieces, [&](size_t b, size_t e, size_t t) {
     GridStats& s = partStats[t];
     for (size_t i = b; i < e; ++i) {
       const auto mask = activeMask(g, i);
-      masks[i] = mask;
       for (int k = 0; k < kBlockWords; ++k) {
         if (!mask[size_t(k)]) continue;
         s.voxels += uint64_t(bitCount(mask[size_t(k)]));
@@ -357,7 +360,6 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
         const std::array<int32_t, 3> hi{blk.origin[0] + x, blk.origin[1] + yHi, blk.origin[2] + zHi};
         for (int a = 0; a < 3; ++a) s.lo[size_t(a)] = std::min(s.lo[size_t(a)], lo[size_t(a)]), s.hi[size_t(a)] = std::max(s.hi[size_t(a)], hi[size_t(a)]);
       }
-      leafBuffer(g, i, mask, parts[t]);
     }
   });
   GridStats stats;
@@ -455,11 +457,27 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
       out.bytes(childMask4.data(), childMask4.size() * 8);
       out.bytes(valueMask4.data(), valueMask4.size() * 8);
       out.bytes(emptyValues.data(), emptyValues.size());
-      for (; leaf < l; ++leaf) out.bytes(masks[leaf].data(), sizeof masks[leaf]);  // leaf topology
+      for (; leaf < l; ++leaf) {  // leaf topology
+        const auto mask = activeMask(g, leaf);
+        out.bytes(mask.data(), sizeof mask);
+      }
     }
   }
   const int64_t blockPos = int64_t(out.pos());
-  for (const std::string& p : parts) out.bytes(p.data(), p.size());
+  // Leaf buffers (masks, compressed values), kLeavesPerBatch leaves a piece at
+  // a time, written as each batch is done: the writer holds one batch's bytes
+  // (at most 6 KB a leaf, coloured), not the grid's (which grew by doubling
+  // and left their outgrown copies resident: 2-4x the grid's bytes at the peak).
+  std::vector<std::string> parts(pieces);
+  for (size_t from = 0; from < nLeaves; from += kLeavesPerBatch * pieces) {
+    const size_t n = std::min(kLeavesPerBatch * pieces, nLeaves - from);
+    const unsigned batchPieces = piecesOf(n);
+    parallelPieces(n, batchPieces, batchPieces, [&](size_t b, size_t e, size_t t) {
+      parts[t].clear();
+      for (size_t i = from + b; i < from + e; ++i) leafBuffer(g, i, activeMask(g, i), parts[t]);
+    });
+    for (unsigned t = 0; t < batchPieces; ++t) out.bytes(parts[t].data(), parts[t].size());
+  }
   const int64_t endPos = int64_t(out.pos());
   const int64_t positions[3] = {gridPos, blockPos, endPos};
   out.patch(positionsAt, positions, sizeof positions);
@@ -475,6 +493,31 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
   GridPlan occ{pre + kOccupancyGridName, GridKind::Bool, 0, {}, {}, part.header, &part.gridMetadata};
   std::map<uint8_t, GridPlan> votes;
   GridPlan color{pre + kColorGridName, GridKind::Vec3s, 0, {}, {}, part.header, &part.gridMetadata};
+  // The classes with votes in a block: its class blocks and its runs' class.
+  std::vector<uint8_t> ids;
+  auto voteClasses = [&ids](const VoxelBlock& b) -> const std::vector<uint8_t>& {
+    ids.clear();
+    for (const auto& cb : b.classes) ids.push_back(cb->classId);
+    if (b.hasRuns() && b.runVotes && std::find(ids.begin(), ids.end(), b.runClass) == ids.end()) ids.push_back(b.runClass);
+    return ids;
+  };
+  // Each grid's leaves counted first, so that its lists are allocated once
+  // (grown by doubling, they and their outgrown copies were up to 3x).
+  std::array<size_t, 256> classLeaves{};
+  size_t colorLeaves = 0;
+  for (const VoxelBlock* b : sorted) {
+    for (uint8_t id : voteClasses(*b)) ++classLeaves[id];
+    colorLeaves += !b->colors.empty();
+  }
+  occ.leaves.reserve(sorted.size());
+  color.leaves.reserve(colorLeaves);
+  for (size_t id = 0; id < classLeaves.size(); ++id)
+    if (classLeaves[id]) {
+      GridPlan& g = votes[uint8_t(id)];
+      g = {pre + voteGridName(uint8_t(id)), GridKind::Int32, uint8_t(id), {}, {}, part.header, &part.gridMetadata};
+      g.leaves.reserve(classLeaves[id]);
+      g.votes.reserve(classLeaves[id]);
+    }
   DirectWriteSummary summary;
   for (const VoxelBlock* b : sorted) {
     occ.leaves.push_back(b);
@@ -482,13 +525,8 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
       summary.occupied += uint64_t(bitCount(b->occupied[size_t(k)]));
       summary.surface += uint64_t(bitCount(b->occupied[size_t(k)] & b->surface[size_t(k)]));
     }
-    // The classes with votes in this block: its class blocks and its runs' class.
-    std::vector<uint8_t> ids;
-    for (const auto& cb : b->classes) ids.push_back(cb->classId);
-    if (b->hasRuns() && b->runVotes && std::find(ids.begin(), ids.end(), b->runClass) == ids.end()) ids.push_back(b->runClass);
-    for (uint8_t id : ids) {
+    for (uint8_t id : voteClasses(*b)) {
       GridPlan& g = votes[id];
-      if (g.name.empty()) g = {pre + voteGridName(id), GridKind::Int32, id, {}, {}, part.header, &part.gridMetadata};
       g.leaves.push_back(b);
       g.votes.push_back(findClassBlock(*b, id));
     }
@@ -505,6 +543,18 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
 }
 
 }  // namespace
+
+double directWriteBytes(double leaves, double voteLeaves, double colorLeaves, double leafBytes, unsigned threads) {
+  // The leaf lists: the blocks sorted, the part's copy, the plan's sorted copy
+  // and the occupancy's list (8 bytes a leaf each); a vote grid's leaves and
+  // class blocks; the colour grid's leaves. A batch of leaf buffers per
+  // thread. Fixed: the file's 1 MiB buffer, the compression frames and the
+  // heap pages they first touch (2 MiB huge pages where the CLI advises
+  // them: tools/cli/alloc_tuning.h).
+  constexpr double kFixed = 4 << 20;
+  return kFixed + leaves * 4 * sizeof(void*) + voteLeaves * 2 * sizeof(void*) + colorLeaves * sizeof(void*) +
+         double(std::max(1u, threads)) * double(kLeavesPerBatch) * leafBytes;
+}
 
 std::vector<DirectWriteSummary> writeScenesVdbDirect(
     const std::vector<DirectScenePart>& parts,

@@ -48,6 +48,14 @@ struct DirectWriteSummary {
 DirectWriteSummary writeSceneVdbDirect(const SceneHeader& header, VoxelBlocks& blocks, const std::string& path,
                                        unsigned threads = 1);
 
+/// What writeSceneVdbDirect needs in memory besides the blocks it writes:
+/// the lists of each grid's leaves (`leaves` blocks, `voteLeaves` summed over
+/// the vote grids, `colorLeaves` coloured), one batch of leaf buffers per
+/// thread at `leafBytes` a leaf (its mask and compressed values: 89 bytes plus
+/// 4 a vote or 12 a colour at most), its file buffer. The leaf buffers are
+/// written a batch at a time, so nothing grows with the grids' bytes.
+double directWriteBytes(double leaves, double voteLeaves, double colorLeaves, double leafBytes, unsigned threads);
+
 /// One scene among several in one file (a level of a pyramid,
 /// formats/vdb/pyramid_vdb.h): its grids are named `gridPrefix` + the scene's
 /// grid names and carry `gridMetadata` besides their own, as

@@ -454,6 +454,8 @@ class TreeWalk {
   void setTopologyBase(const uint8_t* base) { topoBytes_ = base; }
   uint64_t leafCount() const { return leaves_.size(); }
   uint64_t activeLeafVoxels() const { return activeVoxels_; }
+  uint64_t upperNodes() const { return upperNodes_; }
+  uint64_t lowerNodes() const { return lowerNodes_; }
   const uint8_t* background() const { return background_; }
   bool leavesOnly() const { return leavesOnly_; }
 
@@ -480,6 +482,7 @@ class TreeWalk {
     Where& w = r_.where();
     w.node = level == 1 ? "internal node (32^3 children)" : "internal node (16^3 children)";
     w.origin = origin;
+    ++(log2 == 5 ? upperNodes_ : lowerNodes_);
     const size_t count = log2 == 5 ? kInt5Values : kInt4Values;
     const size_t maskBytes = count / 8;
     const uint8_t* childMask = r_.take(maskBytes, "child mask");
@@ -631,6 +634,7 @@ class TreeWalk {
   bool leavesOnly_ = true;
   std::vector<Leaf> leaves_;
   uint64_t activeVoxels_ = 0;  // set bits of the leaves' value masks
+  uint64_t upperNodes_ = 0, lowerNodes_ = 0;  // internal nodes: 32^3 and 16^3 children
   std::vector<uint8_t> scratch_;
 };
 
@@ -704,6 +708,8 @@ GridWalk walkGridTopology(Reader& r, VdbGridFrame& g, const std::vector<VdbGridF
            std::to_string(g.blockPos));
   g.leafCount = out.tree->leafCount();
   g.activeLeafVoxels = out.tree->activeLeafVoxels();
+  g.upperNodes = out.tree->upperNodes();
+  g.lowerNodes = out.tree->lowerNodes();
   g.checked = true;
   out.layout.halfFloat = halfSuffix;
   out.layout.background = out.tree->background();

@@ -54,6 +54,7 @@ struct VdbGridFrame {
   std::string uncheckedWhy;   // why not, when !checked
   uint64_t leafCount = 0;     // leaves walked (Full)
   uint64_t activeLeafVoxels = 0;  // active voxels of those leaves (their value masks' set bits; tiles not counted)
+  uint64_t upperNodes = 0, lowerNodes = 0;  // internal nodes walked (Full): 32^3 and 16^3 children
 };
 
 struct VdbFrame {

@@ -455,13 +455,16 @@ uint64_t distinctPositions(const Mesh& mesh) {
 }
 
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings,
-                                uint64_t weldedVertices) {
+                                uint64_t weldedVertices, double besideBlocks) {
   MemoryEstimate e;
   // Heap blocks carry ~16 bytes of malloc header; the block map's entry is a
   // key and a pointer in a flat table 1/4 to 1/2 full (flat_map64.h). Blocks on the
-  // border of two threads' triangles exist twice until merged, and the
-  // writer's compression buffers come on top: +20% (measured, docs/reliability.md).
-  constexpr double kMalloc = 16, kShared = 1.20;
+  // border of two threads' triangles exist twice until merged: +10% (the
+  // blocks' resident bytes at 2 threads were 4-10% over 1 thread's: cube,
+  // bunny, fandisk at 1024). The scene writer's part is its own (the caller's:
+  // formats/scene/scene_vdb_direct.h); it was in a +20% here, which its
+  // grid-sized buffers outgrew (docs/reliability.md "Memory").
+  constexpr double kMalloc = 16, kShared = 1.10;
   constexpr double kMapEntry = double(FlatMap64<std::unique_ptr<VoxelBlock>, PackedCoordHome>::slotBytesPerKey());
   e.add("surface blocks", f.blocks * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * kShared);
   // A class block keeps a count per voted voxel (grown in doublings from 16:
@@ -503,8 +506,11 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
     // Crossings (16 bytes), collected per thread then concatenated and sorted.
     const double crossings = parity ? f.crossings[0] + f.crossings[1] + f.crossings[2] : f.crossings[2];
     e.add("ray crossings", crossings * 16 * 2);
-    // Interior blocks keep their votes as runs (64-byte masks), not 2 KB vote blocks.
-    e.add("interior blocks", f.enclosedVoxels / kBlockVoxels * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * 1.8);
+    // Interior blocks keep their votes as runs (64-byte masks), not 2 KB vote
+    // blocks; x1.3 for the map's growth and the threads' copies until merged
+    // (fitted: the cube, bunny and fandisk filled at 256..1024, 1.05-1.3x
+    // their peaks with the writer; the 1.8 before held the writer's buffers).
+    e.add("interior blocks", f.enclosedVoxels / kBlockVoxels * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * 1.3);
     if (!parity) {
       // The winding rule's weld and boundary tables (hash maps of positions,
       // cells and edges) live before the blocks exist and are freed before
@@ -525,7 +531,7 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
       const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
       const double tables = kFixed + v * kPerVertex + p * kPerPosition + edges * kPerEdge + boundary * kPerBoundaryEdge;
-      const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t);
+      const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t) + besideBlocks;
       if (tables > bake) e.add("winding boundary tables (before the blocks)", tables - bake);
     }
   }

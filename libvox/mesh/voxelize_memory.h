@@ -71,7 +71,10 @@ uint64_t distinctPositions(const Mesh& mesh);
 /// and with settings.textureRows the textured pieces kept until they are read.
 /// `weldedVertices`: distinctPositions(mesh) for a winding-rule solid fill
 /// (the tables' size; at most the vertex count is used), else unused.
+/// `besideBlocks`: what the caller adds beside the finished blocks (the scene
+/// writer's part), which the tables, gone by then, do not meet either: they
+/// count where they exceed the bake's parts and it together.
 MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, const VoxelizeSettings& settings,
-                                uint64_t weldedVertices);
+                                uint64_t weldedVertices, double besideBlocks = 0);
 
 }  // namespace vox

@@ -493,12 +493,34 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
       e.add("scene grids", f.blocks * 3000.0 + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 * 3000.0 : 0.0));
       return e;
     }
-    for (vox::MemoryPart& part : vox::estimateMeshBake(f, p.mesh, settings, welded).parts) e.parts.push_back(std::move(part));
+    const double interior = o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 : 0.0;
+    // The direct writer beside the blocks: its leaf lists and a batch of leaf
+    // buffers per thread (a mask and the compressed values of a leaf, at most
+    // 89 bytes and 4 a vote or 12 a colour).
+    const double perLeaf = f.blocks > 0 ? f.surfaceVoxels / f.blocks : 0.0;
+    const double writer =
+        openvdb ? 0.0
+                : vox::directWriteBytes(f.blocks + interior, f.blockClasses + interior, p.mesh.hasColor() ? f.blocks : 0.0,
+                                        89 + perLeaf * (p.mesh.hasColor() ? 12 : 4), run.threads());
+    for (vox::MemoryPart& part : vox::estimateMeshBake(f, p.mesh, settings, welded, writer).parts)
+      e.parts.push_back(std::move(part));
+    if (!openvdb) e.add("scene writer", writer);
     if (openvdb) {
       // The scene built from the blocks: bool leaves for occupancy and surface,
-      // an int32 vote leaf per class, a Vec3s colour leaf.
-      const double leaves = f.blocks + (o.fill == vox::FillMode::Solid ? f.enclosedVoxels / 512 : 0.0);
-      e.add("scene grids", leaves * 2 * 200 + f.blockClasses * 2200 + (p.mesh.hasColor() ? f.blocks * 6300 : 0.0));
+      // an int32 vote leaf per class (interior blocks too: their runs' class),
+      // a Vec3s colour leaf. The interior's vote leaves were missing: the
+      // cube's solid fill at 256 with --check, 72 MiB of grids for 27 estimated.
+      e.add("scene grids", (f.blocks + interior) * 2 * 200 + (f.blockClasses + interior) * 2200 +
+                               (p.mesh.hasColor() ? f.blocks * 6300 : 0.0));
+      // --check of a surface: every voxel a triangle touches in a hash set
+      // beside the scene: a 16-byte node and its malloc header, and while the
+      // set rehashes its old and new buckets (8 and 16 bytes a voxel). Not
+      // per-thread memory: the cube at 512 missed 53-64 MiB, the set's 55.
+      if (o.check && o.fill == vox::FillMode::Surface) e.add("surface check's voxel set", f.surfaceVoxels * 56.0);
+      // OpenVDB's writer and the check's own buffers: 4 MB, as the direct
+      // writer's fixed part (measured, not located: without it the cube and
+      // the bunny at 256 and fandisk filled at 256 came out 1.03-1.04).
+      e.add("scene writer and check", 4e6);
     }
     return e;
   };
