@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "libvox/core/error.h"
 #include "libvox/core/sha256.h"
 
 TEST(Sha256, KnownVectors) {
@@ -44,4 +45,15 @@ TEST(Sha256, HardwareMatchesPortable) {
   for (size_t n : {size_t(0), size_t(1), size_t(55), size_t(56), size_t(63), size_t(64), size_t(65), size_t(127),
                    size_t(128), size_t(129), size_t(1000), size_t(4096), size_t(65537), size_t(200000)})
     EXPECT_EQ(digest(n, false), digest(n, true)) << n << " bytes";
+}
+
+// A file that is not there is worded as every input check words it.
+TEST(Sha256, MissingFileSaysNoSuchFile) {
+  try {
+    vox::sha256File("/nonexistent-dir-of-vox/missing.obj");
+    FAIL() << "no error";
+  } catch (const vox::Error& e) {
+    EXPECT_EQ(e.kind, vox::ErrorKind::BadInput);
+    EXPECT_EQ(std::string(e.what()), "/nonexistent-dir-of-vox/missing.obj: no such file");
+  }
 }

@@ -3,6 +3,7 @@
 #include <cpuid.h>
 #include <immintrin.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -148,7 +149,11 @@ std::string Sha256::hexDigest() {
 
 std::string sha256File(const std::string& path, uint64_t* bytes) {
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throwBadInput(path + ": cannot open the file (missing or unreadable)");
+  if (!f) {  // worded as every input check words it (formats/core/file_util.h)
+    const int err = errno;
+    throwBadInput(path + (err == ENOENT || err == ENOTDIR ? std::string(": no such file")
+                                                          : ": cannot open the file: " + std::string(std::strerror(err))));
+  }
   Sha256 h;
   char buf[1 << 16];
   size_t n;
