@@ -139,3 +139,23 @@ TEST(InfoText, LongValuesWrapWithinEightyColumns) {
   EXPECT_EQ(back, std::string("名前") + std::string(40, 'a') + std::string(35, 'b') + "草" + std::string(100, 'c'));
   EXPECT_EQ(line("dims", "4 x 3 x 2"), "  dims          4 x 3 x 2\n") << "short values are one line, as before";
 }
+
+TEST(InfoText, HeadingsPutALongPathOnALineOfItsOwn) {
+  EXPECT_EQ(heading("out/h.vdb", "voxbake scene"), "out/h.vdb: voxbake scene\n");
+  const std::string path = "/very/long/path/to/a/scene/bake/directory/of/some/project/renders/front.canonical.png";
+  const std::string what = "canonical render, 1920 x 1080 x 4 uint16";
+  const std::vector<std::string> lines = linesOf(heading(path, what));
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0], path + ":") << "the path whole, never cut";
+  EXPECT_EQ(lines[1], "  " + what);
+  // A description wider than a line wraps at spaces, indented.
+  const std::vector<std::string> wrapped = linesOf(heading(path, what + " " + what + " " + what));
+  ASSERT_EQ(wrapped.size(), 3u);
+  for (size_t i = 1; i < wrapped.size(); ++i) {
+    EXPECT_EQ(wrapped[i].substr(0, 2), "  ");
+    EXPECT_LE(columns(wrapped[i]), kWidth) << wrapped[i];
+  }
+  // Exactly 80 columns still fits on one line.
+  const std::string eighty = std::string(80 - 2 - what.size(), 'p');
+  EXPECT_EQ(heading(eighty, what), eighty + ": " + what + "\n");
+}

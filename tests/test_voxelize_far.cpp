@@ -272,3 +272,59 @@ TEST(VoxelizeFar, SolidFillRefusesAFarVertexNamingTheFixes) {
   EXPECT_TRUE(voxtest::throwsVoxError([&] { bake(nan, h); }, ErrorKind::BadInput,
                                       {"vertex 3 (counted from 1) has a non-finite coordinate"}));
 }
+
+TEST(VoxelizeFar, ClassesTouchingTheDomainAsTheVoxelByVoxelTestFindsThem) {
+  // Triangles around a 5 x 4 x 3 grid, many straddling its boundary or
+  // touching it only at a face, an edge or a corner (vertices on quarter
+  // voxels), each its own class: a class is used exactly when the exact test
+  // admits one of the grid's voxels.
+  const int dims[3] = {5, 4, 3};
+  const SceneHeader h = voxtest::twoClassHeader({dims[0], dims[1], dims[2]});
+  uint64_t state = 12345;
+  auto quarter = [&](int lo, int hi) {  // a multiple of 1/4 in [lo, hi]
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + double((state >> 33) % uint64_t((hi - lo) * 4 + 1)) / 4;
+  };
+  std::vector<std::array<double, 3>> positions;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<uint8_t> cls;
+  for (int t = 0; t < 250; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      std::array<double, 3> p;
+      for (int i = 0; i < 3; ++i) p[size_t(i)] = quarter(-3, dims[i] + 3);
+      if (t % 5 == 0) p[0] = t % 2 ? double(dims[0]) : 0.0;  // in a face's plane
+      positions.push_back(p);
+    }
+    const uint32_t b = uint32_t(3 * t);
+    triangles.push_back({b, b + 1, b + 2});
+    cls.push_back(uint8_t(t + 1));
+  }
+  const Mesh m = voxtest::meshOf(positions, triangles);
+  const std::array<bool, 256> used = classesTouchingDomain(m, cls, h);
+  int touching = 0;
+  for (int t = 0; t < 250; ++t) {
+    std::array<int64_t, 3> q[3];
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) q[k][size_t(i)] = int64_t(positions[size_t(3 * t + k)][size_t(i)] * 65536.0);
+    bool any = false;
+    for (int u = 0; u < dims[0] && !any; ++u)
+      for (int v = 0; v < dims[1] && !any; ++v)
+        for (int w = 0; w < dims[2] && !any; ++w) any = triangleTouchesVoxel(q, u, v, w);
+    EXPECT_EQ(used[size_t(t + 1)], any) << "triangle " << t;
+    touching += any;
+  }
+  EXPECT_GT(touching, 50);
+  EXPECT_LT(touching, 225) << "the test needs triangles that miss the grid too";
+}
+
+TEST(VoxelizeFar, ALargeTiltedTriangleThatMissesTheGridIsDecidedAtOnce) {
+  // The plane x + y + z = -1/2 passes a half voxel from the corner of a
+  // 1024^3 grid: its triangle's box covers the grid, the triangle misses it.
+  // (Deciding this voxel by voxel took 10^9 exact tests.) Shifted by one
+  // voxel, the plane cuts the corner voxel.
+  const SceneHeader h = voxtest::twoClassHeader({1024, 1024, 1024});
+  const Mesh miss = voxtest::meshOf({{1e5, 1e5, -2e5 - 0.5}, {-2e5 - 0.5, 1e5, 1e5}, {1e5, -2e5 - 0.5, 1e5}}, {{0, 1, 2}});
+  const Mesh hit = voxtest::meshOf({{1e5, 1e5, -2e5 + 0.5}, {-2e5 + 0.5, 1e5, 1e5}, {1e5, -2e5 + 0.5, 1e5}}, {{0, 1, 2}});
+  EXPECT_FALSE(classesTouchingDomain(miss, {1}, h)[1]);
+  EXPECT_TRUE(classesTouchingDomain(hit, {1}, h)[1]);
+}

@@ -167,6 +167,41 @@ double polyArea(const Poly& P) {
   return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
 }
 
+// The same test against a box of any size: coordinates doubled and relative
+// to the box centre, the box [-h[0], h[0]] x [-h[1], h[1]] x [-h[2], h[2]].
+// Magnitudes (lattice within 2^37 of the origin, doubled 2^39): normals 2^81,
+// their products with points 2^122, within int128.
+bool satDoubledBox(const Vec3i p[3], const i64 h[3]) {
+  for (int i = 0; i < 3; ++i) {
+    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
+    if (mn > h[i] || mx < -h[i]) return false;
+  }
+  const i128 e[3][3] = {{i128(p[1][0]) - p[0][0], i128(p[1][1]) - p[0][1], i128(p[1][2]) - p[0][2]},
+                        {i128(p[2][0]) - p[1][0], i128(p[2][1]) - p[1][1], i128(p[2][2]) - p[1][2]},
+                        {i128(p[0][0]) - p[2][0], i128(p[0][1]) - p[2][1], i128(p[0][2]) - p[2][2]}};
+  const i128 n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
+                     e[0][0] * e[2][1] - e[0][1] * e[2][0]};
+  {
+    const i128 d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
+    const i128 r = h[0] * abs128(n[0]) + h[1] * abs128(n[1]) + h[2] * abs128(n[2]);
+    if (abs128(d) > r) return false;
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      const i128 a1 = e[j][i2], a2 = -e[j][i1];
+      i128 mn = 0, mx = 0;
+      for (int k = 0; k < 3; ++k) {
+        const i128 proj = a1 * p[k][i1] + a2 * p[k][i2];
+        if (k == 0 || proj < mn) mn = proj;
+        if (k == 0 || proj > mx) mx = proj;
+      }
+      const i128 r = h[i1] * abs128(a1) + h[i2] * abs128(a2);
+      if (mn > r || mx < -r) return false;
+    }
+  return true;
+}
+
 // ---------------------------------------------------------------- helpers
 
 i64 floorDiv(i128 a, i128 b) {  // b > 0
@@ -1525,31 +1560,29 @@ std::array<bool, 256> classesTouchingDomain(const Mesh& mesh, const std::vector<
   // As a surface bake sees the triangles: those reaching past the lattice's range clipped.
   const LatticeTriangles triangles = latticeTriangles(mesh, header, FarTriangles::Clip);
   const i64 dimLattice[3] = {i64(header.dims.x) * kS, i64(header.dims.y) * kS, i64(header.dims.z) * kS};
-  const int32_t dimv[3] = {int32_t(header.dims.x), int32_t(header.dims.y), int32_t(header.dims.z)};
   for (size_t t = 0; t < triangles.size(mesh); ++t) {
     const uint8_t cls = triangleClass[triangles.sourceOf(t)];
     if (used[cls]) continue;
     std::array<int64_t, 3> q[3];
     for (int k = 0; k < 3; ++k) q[k] = triangles.lattice[triangles.corners(mesh, t)[k]];
-    bool within = true, apart = false;
-    int32_t first[3], last[3];
+    bool within = true;
     for (int i = 0; i < 3; ++i) {
       const i64 mn = std::min({q[0][i], q[1][i], q[2][i]}), mx = std::max({q[0][i], q[1][i], q[2][i]});
       within = within && mn >= 0 && mx <= dimLattice[i];
-      apart = apart || mx < 0 || mn > dimLattice[i];
-      voxelsTouching(mn, mx, dimv[i], first[i], last[i]);
     }
-    if (apart) continue;
     if (within) {
       used[cls] = true;
       continue;
     }
-    // Straddles the domain's boundary (--bounds): the exact test on its voxels
-    // there until one touches (rare: only cropped scenes have such triangles).
-    for (int32_t u = first[0]; u <= last[0] && !used[cls]; ++u)
-      for (int32_t v = first[1]; v <= last[1] && !used[cls]; ++v)
-        for (int32_t w = first[2]; w <= last[2] && !used[cls]; ++w)
-          if (triangleTouchesVoxel(q, u, v, w)) used[cls] = true;
+    // Straddles the domain's boundary (--bounds, or a clipped far triangle):
+    // the closed domain is the union of the voxels' closed cubes, so the
+    // triangle touches a voxel iff it touches the domain, one exact test (a
+    // test per voxel of its box took minutes for a large tilted triangle that
+    // misses the grid's corner).
+    Vec3i p[3];
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) p[k][i] = 2 * q[k][i] - dimLattice[i];
+    if (satDoubledBox(p, dimLattice)) used[cls] = true;
   }
   return used;
 }

@@ -121,7 +121,7 @@ void printScene(const nlohmann::json& j) {
   std::ostringstream o;
   const uint64_t domain = j["dims"][0].get<uint64_t>() * j["dims"][1].get<uint64_t>() * j["dims"][2].get<uint64_t>();
   const uint64_t occupied = j["occupied"], surface = j["surface"], interior = j["interior"];
-  o << j["file"].get<std::string>() << ": voxbake scene\n";
+  o << heading(j["file"].get<std::string>(), "voxbake scene");
   o << line("dims", dimsText(j["dims"]) + " (" + countOf(domain, "voxel", "voxels") + ")");
   o << line("voxel size", measured(j["voxel_size"].get<double>(), 6, "world unit", "world units"));
   o << line("world bounds", v3(j["world_bounds"]["min"]) + " .. " + v3(j["world_bounds"]["max"]));
@@ -241,9 +241,10 @@ int runInfo(const InfoOptions& o) {
       if (o.json) {
         std::cout << vox::jsonText(j, 2) << "\n";
       } else {
-        std::cout << o.file << ": preview of " << j.value("atlas", std::string("?")) << " ("
-                  << j.value("content", std::string("?")) << "), " << img.width << " x " << img.height
-                  << (img.channels == 1 ? " gray" : " RGB") << "\n"
+        std::cout << infotext::heading(o.file, "preview of " + j.value("atlas", std::string("?")) + " (" +
+                                                     j.value("content", std::string("?")) + "), " +
+                                                     std::to_string(img.width) + " x " + std::to_string(img.height) +
+                                                     (img.channels == 1 ? " gray" : " RGB"))
                   << infotext::line("note", "a picture for people; vox info the atlas itself to decode texels");
         for (const auto& [k, v] : j.items()) {
           if (k == "atlas" || k == "content" || k == "file" || k == "kind" || k == "image") continue;
@@ -284,7 +285,8 @@ int runInfo(const InfoOptions& o) {
     if (o.json) {
       std::cout << vox::jsonText(j, 2) << "\n";
     } else {
-      std::cout << o.file << ": OpenVDB file (format " << frame.fileVersion << "), not a voxbake scene\n";
+      std::cout << infotext::heading(o.file, "OpenVDB file (format " + std::to_string(frame.fileVersion) +
+                                                  "), not a voxbake scene");
       infotext::Table t({{"grid", false, true}, {"type", false}});
       for (const vox::VdbGridFrame& g : frame.grids) t.row({g.uniqueName, g.type});
       std::cout << infotext::line("grids", std::to_string(frame.grids.size())) << t.str();

@@ -283,9 +283,9 @@ int infoAtlas(const std::string& path, const vox::Image& img, const std::optiona
   std::ostringstream o;
   const std::string className =
       info.content == vox::AtlasContent::Votes ? classLabel(info.classId) : std::string();
-  o << path << ": " << vox::atlasContentName(info.content) << " atlas (" << info.format << ")";
-  if (info.content == vox::AtlasContent::Votes) o << " of " << className;
-  o << ", layer " << info.layer << " of " << L.layers << "\n";
+  o << heading(path, std::string(vox::atlasContentName(info.content)) + " atlas (" + info.format + ")" +
+                          (info.content == vox::AtlasContent::Votes ? " of " + className : std::string()) + ", layer " +
+                          std::to_string(info.layer) + " of " + std::to_string(L.layers));
   o << line("built from", info.scene + (classes                   ? ""
                                         : foundOtherDims.empty() ? "  (not found: class ids only; --scene S names them)"
                                                                  : "  (not this atlas's scene: class ids only)"));

@@ -124,8 +124,8 @@ int infoCanonical(const std::string& path, const vox::Image& img, const std::opt
   }
   using namespace infotext;
   std::ostringstream o;
-  o << path << ": " << mode << " render, " << img.width << " x " << img.height << " x " << img.channels << " "
-    << vox::sampleTypeName(img.type) << "\n";
+  o << heading(path, mode + " render, " + std::to_string(img.width) + " x " + std::to_string(img.height) + " x " +
+                          std::to_string(img.channels) + " " + vox::sampleTypeName(img.type));
   o << line("rendered from", meta.scene + (meta.level ? " (level " + std::to_string(*meta.level) + ")" : ""));
   o << line("scene dims", std::to_string(meta.dims.x) + " x " + std::to_string(meta.dims.y) + " x " +
                               std::to_string(meta.dims.z) + " voxels of " +

@@ -36,7 +36,7 @@ int infoAtlasSidecar(const std::string& path, bool asJson) {
     return kExitOk;
   }
   std::ostringstream o;
-  o << path << ": atlas sidecar (the layout and files of one build-atlas run)\n";
+  o << heading(path, "atlas sidecar (the layout and files of one build-atlas run)");
   if (!files.empty()) {
     const vox::AtlasLayout& L = files[0].info.layout;
     o << line("built from", files[0].info.scene);
@@ -72,7 +72,7 @@ int infoTouchedSet(const std::string& path, bool asJson) {
     return kExitOk;
   }
   std::ostringstream o;
-  o << path << ": touched set (the chunks a camera path's rays hit)\n";
+  o << heading(path, "touched set (the chunks a camera path's rays hit)");
   o << line("scene", t.scene);
   o << line("dims", std::to_string(t.dims.x) + " x " + std::to_string(t.dims.y) + " x " + std::to_string(t.dims.z) +
                         " voxels, chunks of " + std::to_string(C) + "^3");
@@ -216,9 +216,9 @@ int infoReport(const std::string& path, const nlohmann::json& doc, bool asJson) 
   }
   std::ostringstream o;
   const double total = doc.value("total_seconds", 0.0);
-  o << path << ": report of `vox " << doc.value("command", std::string("?")) << "`, exit "
-    << doc.value("exit_code", -1) << ", " << real(total, 3) << " s on "
-    << countOf(doc.value("threads", uint64_t(0)), "thread", "threads") << "\n";
+  o << heading(path, "report of `vox " + doc.value("command", std::string("?")) + "`, exit " +
+                          std::to_string(doc.value("exit_code", -1)) + ", " + real(total, 3) + " s on " +
+                          countOf(doc.value("threads", uint64_t(0)), "thread", "threads"));
   if (doc.contains("argv") && doc["argv"].is_array()) {
     std::string cmd;
     for (const auto& a : doc["argv"]) cmd += (cmd.empty() ? "" : " ") + (a.is_string() ? a.get<std::string>() : a.dump());

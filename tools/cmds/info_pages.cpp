@@ -81,8 +81,8 @@ std::string pageFileText(const std::string& path, const vox::pagefile::Header& h
   using namespace infotext;
   const uint64_t voxels = j["voxels"].get<uint64_t>(), payload = j["payload_bytes"].get<uint64_t>();
   std::ostringstream o;
-  o << path << ": voxbake page file (version " << vox::pagefile::kVersion << ", " << j["layout"].get<std::string>()
-    << " layout)\n";
+  o << heading(path, "voxbake page file (version " + std::to_string(vox::pagefile::kVersion) + ", " +
+                          j["layout"].get<std::string>() + " layout)");
   o << line("dims", std::to_string(h.dims[0]) + " x " + std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) +
                         " voxels of " + measured(h.voxelSize, 6, "world unit", "world units"));
   o << line("chunks", count(h.chunkCount) + " of " + std::to_string(h.chunkSide()) + "^3 voxels, payloads aligned to " +

@@ -148,6 +148,15 @@ std::string line(const std::string& key, const std::string& value) {
   return out;
 }
 
+std::string heading(const std::string& path, const std::string& what) {
+  if (columns(path) + 2 + columns(what) <= kWidth) return path + ": " + what + "\n";
+  // The path whole on its own line (a path cut or broken is no use to copy),
+  // what the file is below it, wrapped at spaces.
+  std::string out = path + ":\n";
+  for (const std::string& l : wrapWords(what, kWidth - 2, kWidth - 2)) out += "  " + l + "\n";
+  return out;
+}
+
 std::string regionText(const nlohmann::json& r) {
   std::string s = "tile " + r["index"].dump() + " of " + r["count"].dump() + ", ";
   const nlohmann::json& b = r["box"];

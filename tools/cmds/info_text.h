@@ -53,6 +53,11 @@ std::string line(const std::string& key, const std::string& value);
 /// (the others), broken at spaces; a word wider than its line is split.
 std::vector<std::string> wrapWords(const std::string& text, size_t firstWidth, size_t width);
 
+/// The first line of a file's description, "PATH: WHAT". When that is wider
+/// than kWidth, the path stands alone ("PATH:") and WHAT follows on lines of
+/// its own, indented by two and wrapped at spaces.
+std::string heading(const std::string& path, const std::string& what);
+
 /// A part of a region bake, from its `region` JSON (formats/scene/scene_meta.h):
 /// "tile I of N, box (u, v, w) .. (u, v, w), world KEY12…" (or "empty tile").
 std::string regionText(const nlohmann::json& region);
