@@ -46,42 +46,46 @@ i128 abs128(i128 x) { return x < 0 ? -x : x; }
 
 // ---------------------------------------------------------------- exact SAT
 
-// Coordinates doubled and relative to the box centre, so the box is [-kS, kS]^3.
-bool satDoubled(const Vec3i p[3]) {
-  const i64 h = kS;
+// Exact separating-axis test of a triangle and a closed box, on integers:
+// coordinates doubled and relative to the box centre, the box
+// [-h[0], h[0]] x [-h[1], h[1]] x [-h[2], h[2]].
+// Magnitudes (lattice within 2^37 of the origin, doubled 2^39): normals 2^81,
+// their products with points 2^122, within int128.
+bool satDoubledBox(const Vec3i p[3], const i64 h[3]) {
   for (int i = 0; i < 3; ++i) {
     const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
-    if (mn > h || mx < -h) return false;
+    if (mn > h[i] || mx < -h[i]) return false;
   }
   const i128 e[3][3] = {{i128(p[1][0]) - p[0][0], i128(p[1][1]) - p[0][1], i128(p[1][2]) - p[0][2]},
                         {i128(p[2][0]) - p[1][0], i128(p[2][1]) - p[1][1], i128(p[2][2]) - p[1][2]},
                         {i128(p[0][0]) - p[2][0], i128(p[0][1]) - p[2][1], i128(p[0][2]) - p[2][2]}};
-  // Triangle normal.
   const i128 n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
                      e[0][0] * e[2][1] - e[0][1] * e[2][0]};
   {
     const i128 d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
-    const i128 r = i128(h) * (abs128(n[0]) + abs128(n[1]) + abs128(n[2]));
+    const i128 r = h[0] * abs128(n[0]) + h[1] * abs128(n[1]) + h[2] * abs128(n[2]);
     if (abs128(d) > r) return false;
   }
-  // Edge x box-axis: axis = e_j x unit_i.
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) {
-      i128 a[3] = {0, 0, 0};
       const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      // e x unit_i has components: [i] = 0, [i1] = e[i2], [i2] = -e[i1].
-      a[i1] = e[j][i2];
-      a[i2] = -e[j][i1];
+      const i128 a1 = e[j][i2], a2 = -e[j][i1];
       i128 mn = 0, mx = 0;
       for (int k = 0; k < 3; ++k) {
-        const i128 proj = a[i1] * p[k][i1] + a[i2] * p[k][i2];
+        const i128 proj = a1 * p[k][i1] + a2 * p[k][i2];
         if (k == 0 || proj < mn) mn = proj;
         if (k == 0 || proj > mx) mx = proj;
       }
-      const i128 r = i128(h) * (abs128(a[i1]) + abs128(a[i2]));
+      const i128 r = h[i1] * abs128(a1) + h[i2] * abs128(a2);
       if (mn > r || mx < -r) return false;
     }
   return true;
+}
+
+// A voxel: the box is [-kS, kS]^3 (the exact test behind satFiltered).
+bool satDoubled(const Vec3i p[3]) {
+  const i64 h[3] = {kS, kS, kS};
+  return satDoubledBox(p, h);
 }
 
 // ---------------------------------------------------------------- clipping (double)
@@ -165,41 +169,6 @@ double polyArea(const Poly& P) {
     s[2] += u[0] * v[1] - u[1] * v[0];
   }
   return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-}
-
-// The same test against a box of any size: coordinates doubled and relative
-// to the box centre, the box [-h[0], h[0]] x [-h[1], h[1]] x [-h[2], h[2]].
-// Magnitudes (lattice within 2^37 of the origin, doubled 2^39): normals 2^81,
-// their products with points 2^122, within int128.
-bool satDoubledBox(const Vec3i p[3], const i64 h[3]) {
-  for (int i = 0; i < 3; ++i) {
-    const i64 mn = std::min({p[0][i], p[1][i], p[2][i]}), mx = std::max({p[0][i], p[1][i], p[2][i]});
-    if (mn > h[i] || mx < -h[i]) return false;
-  }
-  const i128 e[3][3] = {{i128(p[1][0]) - p[0][0], i128(p[1][1]) - p[0][1], i128(p[1][2]) - p[0][2]},
-                        {i128(p[2][0]) - p[1][0], i128(p[2][1]) - p[1][1], i128(p[2][2]) - p[1][2]},
-                        {i128(p[0][0]) - p[2][0], i128(p[0][1]) - p[2][1], i128(p[0][2]) - p[2][2]}};
-  const i128 n[3] = {e[0][1] * e[2][2] - e[0][2] * e[2][1], e[0][2] * e[2][0] - e[0][0] * e[2][2],
-                     e[0][0] * e[2][1] - e[0][1] * e[2][0]};
-  {
-    const i128 d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
-    const i128 r = h[0] * abs128(n[0]) + h[1] * abs128(n[1]) + h[2] * abs128(n[2]);
-    if (abs128(d) > r) return false;
-  }
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      const i128 a1 = e[j][i2], a2 = -e[j][i1];
-      i128 mn = 0, mx = 0;
-      for (int k = 0; k < 3; ++k) {
-        const i128 proj = a1 * p[k][i1] + a2 * p[k][i2];
-        if (k == 0 || proj < mn) mn = proj;
-        if (k == 0 || proj > mx) mx = proj;
-      }
-      const i128 r = h[i1] * abs128(a1) + h[i2] * abs128(a2);
-      if (mn > r || mx < -r) return false;
-    }
-  return true;
 }
 
 // ---------------------------------------------------------------- helpers
