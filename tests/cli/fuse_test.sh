@@ -53,6 +53,7 @@ roundtrip)
   jcheck r.json "t=d['counts']['totals']; tv=json.load(open('touched.json'))['voxels_touched']; \
 assert t['occupied_after'] == tv, (t['occupied_after'], tv); assert t['ambiguous'] == 0; \
 assert t['occupied_before'] == 0 and t['removed'] == 0 and t['created'] == tv; \
+assert t['used'] == json.load(open('touched.json'))['hits'] and t['skipped']['outside_grid'] == 0, t; \
 assert len(d['counts']['views']) == 6 and sum(v['used'] for v in d['counts']['views']) == t['used']; \
 assert t['used'] + t['skipped']['no_depth'] + t['skipped']['no_class'] + t['skipped']['outside_grid'] == t['pixels']"
   same_renders h.vdb f.vdb cams.json 6
