@@ -118,7 +118,11 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
 }
 
 Image readImage(const std::string& path, const std::string& where, const std::string& role) {
-  if (!std::filesystem::is_regular_file(path)) bad(where, role + " image " + path + " does not exist");
+  try {
+    requireRegularFile(path);  // "no such file", or what else it is (a directory...)
+  } catch (const Error& e) {
+    bad(where, role + " image " + e.what());
+  }
   try {
     if (isExrFile(path)) return readExr(path);
     if (isPngFile(path)) return readPng(path);
@@ -328,6 +332,10 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   } else if (spec.labels.is_null()) {
     identity = true;
   } else {
+    // Keys that spell one label twice ("#57ad5c" and "#57AD5C", "7" and
+    // "07"): one mapping would be dropped without a word, as with a key given
+    // twice.
+    std::unordered_map<uint32_t, std::string> spelt;
     for (const auto& [k, value] : spec.labels.items()) {
       const std::string element = "labels[\"" + k + "\"]";
       uint32_t key = 0;
@@ -342,6 +350,9 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
           bad(where, element + ": a gray label is an integer 0..65535");
         key = uint32_t(std::stoul(k));
       }
+      const auto [first, isNew] = spelt.emplace(key, k);
+      if (!isNew)
+        bad(where, element + " and labels[\"" + first->second + "\"] are the same label; keep one of them");
       map[key] = classOf(value, element);
     }
   }

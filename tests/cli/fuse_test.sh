@@ -166,6 +166,9 @@ bad_input)
   # A label not in the map.
   refused label.json '{"labels": {"#000000": null}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     "not in the label map" "o_000.class.png"
+  # Two keys that spell one label: refused naming both (one would be dropped).
+  refused case.json '{"labels": {"#57ad5c": "Grass", "#57AD5C": "Dirt"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
+    'views[0]: labels["#57ad5c"] and labels["#57AD5C"] are the same label; keep one of them'
   # A class the map names that the table lacks.
   refused lava.json '{"labels": {"#000000": "Lava"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     "no class named 'Lava'"
@@ -196,7 +199,13 @@ bad_input)
   # A missing image; a grid that differs from -i's; classes with -i.
   echo '{"views": [{"depth": "nope.exr", "label": "o_000.class.png"}]}' >missing.json
   expect_exit 3 "$vox" fuse missing.json -o f.vdb
-  expect_stderr "nope.exr does not exist"
+  expect_stderr "views[0]: depth image nope.exr: no such file"
+  # A directory where an image should be is named as one, not as missing.
+  mkdir -p adir
+  echo '{"views": [{"depth": "o_000.depth.exr", "label": "adir"}]}' >dirlabel.json
+  expect_exit 3 "$vox" fuse dirlabel.json -o f.vdb
+  expect_stderr "views[0]: label image adir: is a directory, expected a regular file"
+  [ ! -e f.vdb ] || fail "f.vdb written by a failed run"
   echo '{"grid": {"dims": [8, 8, 8], "voxel_size": 1, "origin": [0, 0, 0]}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >grid.json
   expect_exit 3 "$vox" fuse grid.json -i h.vdb -o f.vdb
   expect_stderr "differs from -i"
