@@ -200,6 +200,19 @@ bad_input)
   echo '{"views": [{"depth": "nope.exr", "label": "o_000.class.png"}]}' >missing.json
   expect_exit 3 "$vox" fuse missing.json -o f.vdb
   expect_stderr "views[0]: depth image nope.exr: no such file"
+  # An unreadable image is named with the reason, not as "neither PNG nor
+  # EXR". Root reads anything: as root this runs as nobody (setpriv) when
+  # nobody can run the binary.
+  cp o_000.depth.exr unread.exr && chmod 000 unread.exr
+  echo '{"views": [{"depth": "unread.exr", "label": "o_000.class.png"}]}' >unread.json
+  as=()
+  [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null && as=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+  mkdir -p out && chmod 777 out
+  if [ "$(id -u)" != 0 ] || { [ ${#as[@]} -gt 0 ] && chmod 755 . && "${as[@]}" test -x "$vox"; }; then
+    expect_exit 3 "${as[@]}" "$vox" fuse unread.json -o out/f.vdb
+    expect_stderr "views[0]: depth image unread.exr: cannot open the file: Permission denied"
+    [ -z "$(ls -A out)" ] || fail "a failed fuse left $(ls -A out) behind"
+  fi
   # A directory where an image should be is named as one, not as missing.
   mkdir -p adir
   echo '{"views": [{"depth": "o_000.depth.exr", "label": "adir"}]}' >dirlabel.json
