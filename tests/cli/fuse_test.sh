@@ -166,6 +166,13 @@ bad_input)
   # A label not in the map.
   refused label.json '{"labels": {"#000000": null}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     "not in the label map" "o_000.class.png"
+  # A render cropped after rendering (an EXR crop keeps its data window, with
+  # the vox:canonical entry of the whole image): its camera no longer gives
+  # the pixels' rays, so it is refused rather than fused into wrong voxels.
+  oiiotool o_000.depth.exr --crop 20x10+5+5 -o crop.depth.exr || fail "oiiotool could not write crop.depth.exr"
+  oiiotool o_000.class.png --cut 20x10+5+5 -o crop.class.png || fail "oiiotool could not write crop.class.png"
+  refused crop.json '{"views": [{"depth": "crop.depth.exr", "label": "crop.class.png"}]}' \
+    'views[0]: depth crop.depth.exr is 20x10 but its vox:canonical camera was made for 40x30'
   # Two keys that spell one label: refused naming both (one would be dropped).
   refused case.json '{"labels": {"#57ad5c": "Grass", "#57AD5C": "Dirt"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     'views[0]: labels["#57ad5c"] and labels["#57AD5C"] are the same label; keep one of them'
