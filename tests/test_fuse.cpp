@@ -127,6 +127,42 @@ TEST(FuseRay, DepthOnAFaceGoesToTheVoxelBehind) {
   EXPECT_EQ(h.voxel, (Coord3{4, 0, 0}));
 }
 
+// A ray clipping the corner of a voxel on the grid's boundary: it enters
+// through x = 4 and leaves the grid through y = 0 about 1e-8 later, so both
+// crossings round to one float32 depth. render-canonical hits the voxel and
+// stores its entry's depth; the voxel behind the exit lies outside the grid,
+// so the vote goes to the voxel inside (exact with the face axis, ambiguous
+// without). A depth exactly on the exit face from a cell entered below it
+// still lies beyond the grid.
+TEST(FuseRay, TieGroupLeavingTheGridKeepsTheVoxelInside) {
+  vox::Ray r;
+  r.origin = {10, 6 + 1e-8, 0.5};
+  r.dir = {-1, -1, 0};
+  const Dims d{4, 4, 4};
+  vox::DepthMeasure m;  // distance, float32
+  const double length = std::sqrt(2.0);
+  const double entry = double(float(6.0 * length)), exit = double(float((6 + 1e-8) * length));
+  ASSERT_EQ(entry, exit);
+  FuseCounts free;
+  for (FuseCounts* sink : {static_cast<FuseCounts*>(nullptr), &free}) {
+    vox::FuseRayResult h = vox::fuseRay(r, 1.0, m, entry, d, sink, 0);
+    ASSERT_TRUE(h.hit);
+    EXPECT_EQ(h.voxel, (Coord3{3, 0, 0}));
+    EXPECT_FALSE(h.ambiguous);
+    h = vox::fuseRay(r, 1.0, m, entry, d, sink);
+    ASSERT_TRUE(h.hit);
+    EXPECT_EQ(h.voxel, (Coord3{3, 0, 0}));
+    EXPECT_TRUE(h.ambiguous);
+  }
+  EXPECT_EQ(free.freeBricks(), 0u);  // the ray enters the grid at its hit
+  // Along x inside the grid, the depth exactly on the exit face x = 0.
+  r.origin = {3.5, 0.5, 0.5};
+  r.dir = {-1, 0, 0};
+  EXPECT_FALSE(vox::fuseRay(r, 1.0, m, 3.5, d, nullptr).hit);
+  FuseCounts free2;
+  EXPECT_FALSE(vox::fuseRay(r, 1.0, m, 3.5, d, &free2).hit);
+}
+
 // Without free counts the walk starts just before the depth: the same hit,
 // for any depth (on faces, inside voxels, before and beyond the grid).
 TEST(FuseRay, StartingNearTheDepthGivesTheSameHit) {

@@ -1,6 +1,7 @@
 #include "formats/image/fuse_views.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -118,7 +119,15 @@ Camera cameraOf(const json& c, uint32_t W, uint32_t H, const std::string& where)
 }
 
 Image readImage(const std::string& path, const std::string& where, const std::string& role) {
-  if (!std::filesystem::is_regular_file(path)) bad(where, role + " image " + path + " does not exist");
+  try {
+    requireRegularFile(path);  // "no such file", or what else it is (a directory...)
+  } catch (const Error& e) {
+    bad(where, role + " image " + e.what());
+  }
+  // The format is told by the first bytes: an unreadable file would be
+  // called "neither PNG nor EXR" below.
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
+  else bad(where, role + " image " + path + ": cannot open the file: " + std::strerror(errno));
   try {
     if (isExrFile(path)) return readExr(path);
     if (isPngFile(path)) return readPng(path);
@@ -277,6 +286,14 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
     if (!meta)
       bad(where, "no \"camera\", and " + depthName + " carries no vox:canonical entry to take it from; give the view a "
                  "\"camera\"");
+    // render-canonical writes the image's own size; another one means the
+    // image was cropped or resized since (an EXR crop keeps only its data
+    // window), and the matrices no longer give its pixels' rays.
+    if (meta->width != depth.width || meta->height != depth.height)
+      bad(where, depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                     " but its vox:canonical camera was made for " + std::to_string(meta->width) + "x" +
+                     std::to_string(meta->height) + " (cropped or resized after rendering?); fuse the image as "
+                     "rendered, or give the view a \"camera\" for this image");
     view.camera = renderCamera(*meta, depth, where + ": " + depthName);
   }
 
@@ -328,6 +345,10 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
   } else if (spec.labels.is_null()) {
     identity = true;
   } else {
+    // Keys that spell one label twice ("#57ad5c" and "#57AD5C", "7" and
+    // "07"): one mapping would be dropped without a word, as with a key given
+    // twice.
+    std::unordered_map<uint32_t, std::string> spelt;
     for (const auto& [k, value] : spec.labels.items()) {
       const std::string element = "labels[\"" + k + "\"]";
       uint32_t key = 0;
@@ -342,6 +363,9 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
           bad(where, element + ": a gray label is an integer 0..65535");
         key = uint32_t(std::stoul(k));
       }
+      const auto [first, isNew] = spelt.emplace(key, k);
+      if (!isNew)
+        bad(where, element + " and labels[\"" + first->second + "\"] are the same label; keep one of them");
       map[key] = classOf(value, element);
     }
   }

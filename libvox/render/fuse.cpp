@@ -450,6 +450,7 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
     ++out.steps;
     bool left = false, faceCrossed = false;
     int axes = 0;
+    const Coord3 before{int32_t(c[0]), int32_t(c[1]), int32_t(c[2])};
     for (int a = 0; a < 3; ++a) {
       if (next[a] != tn) continue;
       ++axes;
@@ -458,7 +459,20 @@ FuseRayResult fuseRay(const Ray& original, double voxelSize, const DepthMeasure&
       if (c[a] < 0 || c[a] >= D[a]) left = true;
       next[a] = time(a, step[a] > 0 ? c[a] + 1 : c[a]);
     }
-    if (left) return out;  // the depth lies beyond the grid
+    if (left) {
+      // A crossing that leaves the grid with the depth's key, from a cell
+      // entered with the same key: the two crossings are closer than the
+      // float's step (a ray clipping a boundary voxel's corner). The voxel
+      // behind lies outside the grid, so the tie group's cell inside it is
+      // the hit (render-canonical hit it there); ambiguous unless the face
+      // axis chose it. From a cell entered below the depth, the depth lies
+      // exactly on the grid's exit face: beyond the grid.
+      if (early || tnKey != depth || enteredBelow) return out;
+      out.hit = true;
+      out.voxel = chosen ? chosenCell : before;
+      out.ambiguous = inPlane || (chosen ? chosenMulti : true);
+      return out;
+    }
     enteredBelow = early || tnKey < depth;
     if (!early && tnKey == depth) {
       ++tied;

@@ -53,6 +53,7 @@ roundtrip)
   jcheck r.json "t=d['counts']['totals']; tv=json.load(open('touched.json'))['voxels_touched']; \
 assert t['occupied_after'] == tv, (t['occupied_after'], tv); assert t['ambiguous'] == 0; \
 assert t['occupied_before'] == 0 and t['removed'] == 0 and t['created'] == tv; \
+assert t['used'] == json.load(open('touched.json'))['hits'] and t['skipped']['outside_grid'] == 0, t; \
 assert len(d['counts']['views']) == 6 and sum(v['used'] for v in d['counts']['views']) == t['used']; \
 assert t['used'] + t['skipped']['no_depth'] + t['skipped']['no_class'] + t['skipped']['outside_grid'] == t['pixels']"
   same_renders h.vdb f.vdb cams.json 6
@@ -165,6 +166,16 @@ bad_input)
   # A label not in the map.
   refused label.json '{"labels": {"#000000": null}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     "not in the label map" "o_000.class.png"
+  # A render cropped after rendering (an EXR crop keeps its data window, with
+  # the vox:canonical entry of the whole image): its camera no longer gives
+  # the pixels' rays, so it is refused rather than fused into wrong voxels.
+  oiiotool o_000.depth.exr --crop 20x10+5+5 -o crop.depth.exr || fail "oiiotool could not write crop.depth.exr"
+  oiiotool o_000.class.png --cut 20x10+5+5 -o crop.class.png || fail "oiiotool could not write crop.class.png"
+  refused crop.json '{"views": [{"depth": "crop.depth.exr", "label": "crop.class.png"}]}' \
+    'views[0]: depth crop.depth.exr is 20x10 but its vox:canonical camera was made for 40x30'
+  # Two keys that spell one label: refused naming both (one would be dropped).
+  refused case.json '{"labels": {"#57ad5c": "Grass", "#57AD5C": "Dirt"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
+    'views[0]: labels["#57ad5c"] and labels["#57AD5C"] are the same label; keep one of them'
   # A class the map names that the table lacks.
   refused lava.json '{"labels": {"#000000": "Lava"}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' \
     "no class named 'Lava'"
@@ -195,7 +206,26 @@ bad_input)
   # A missing image; a grid that differs from -i's; classes with -i.
   echo '{"views": [{"depth": "nope.exr", "label": "o_000.class.png"}]}' >missing.json
   expect_exit 3 "$vox" fuse missing.json -o f.vdb
-  expect_stderr "nope.exr does not exist"
+  expect_stderr "views[0]: depth image nope.exr: no such file"
+  # An unreadable image is named with the reason, not as "neither PNG nor
+  # EXR". Root reads anything: as root this runs as nobody (setpriv) when
+  # nobody can run the binary.
+  cp o_000.depth.exr unread.exr && chmod 000 unread.exr
+  echo '{"views": [{"depth": "unread.exr", "label": "o_000.class.png"}]}' >unread.json
+  as=()
+  [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null && as=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+  mkdir -p out && chmod 777 out
+  if [ "$(id -u)" != 0 ] || { [ ${#as[@]} -gt 0 ] && chmod 755 . && "${as[@]}" test -x "$vox"; }; then
+    expect_exit 3 "${as[@]}" "$vox" fuse unread.json -o out/f.vdb
+    expect_stderr "views[0]: depth image unread.exr: cannot open the file: Permission denied"
+    [ -z "$(ls -A out)" ] || fail "a failed fuse left $(ls -A out) behind"
+  fi
+  # A directory where an image should be is named as one, not as missing.
+  mkdir -p adir
+  echo '{"views": [{"depth": "o_000.depth.exr", "label": "adir"}]}' >dirlabel.json
+  expect_exit 3 "$vox" fuse dirlabel.json -o f.vdb
+  expect_stderr "views[0]: label image adir: is a directory, expected a regular file"
+  [ ! -e f.vdb ] || fail "f.vdb written by a failed run"
   echo '{"grid": {"dims": [8, 8, 8], "voxel_size": 1, "origin": [0, 0, 0]}, "views": [{"depth": "o_000.depth.exr", "label": "o_000.class.png"}]}' >grid.json
   expect_exit 3 "$vox" fuse grid.json -i h.vdb -o f.vdb
   expect_stderr "differs from -i"
