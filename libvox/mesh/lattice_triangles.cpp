@@ -121,14 +121,17 @@ LatticeTriangles latticeTriangles(const Mesh& mesh, const SceneHeader& header, F
 
   out.clipped = true;
   const size_t nt = mesh.triangles.size();
-  out.triangles.reserve(nt);
-  out.source.reserve(nt);
+  size_t kept = 0;
+  for (const auto& tri : mesh.triangles) kept += !beyond[tri[0]] && !beyond[tri[1]] && !beyond[tri[2]];
+  out.triangles.reserve(kept);
+  out.source.reserve(kept);
   struct Fan {
     std::array<uint32_t, 3> corners;
     uint32_t source;
     std::array<std::array<double, 3>, 3> weights;
   };
   std::vector<Fan> fans;
+  std::vector<std::array<int64_t, 3>> made;  // the clip's vertices, appended to `lattice` at their count
   for (size_t t = 0; t < nt; ++t) {
     const auto& tri = mesh.triangles[t];
     if (!beyond[tri[0]] && !beyond[tri[1]] && !beyond[tri[2]]) {
@@ -172,12 +175,12 @@ LatticeTriangles latticeTriangles(const Mesh& mesh, const SceneHeader& header, F
         index[i] = uint32_t(v.vertex);
         continue;
       }
-      if (out.lattice.size() >= size_t(UINT32_MAX))
+      if (nv + made.size() >= size_t(UINT32_MAX))
         throwUsage("clipping the far triangles made more than 2^32 vertices; crop the mesh before the bake");
-      index[i] = uint32_t(out.lattice.size());
+      index[i] = uint32_t(nv + made.size());
       std::array<int64_t, 3> q;
       for (int k = 0; k < 3; ++k) q[size_t(k)] = snapToLattice(double(v.p[k]));
-      out.lattice.push_back(q);
+      made.push_back(q);
     }
     auto weights = [&](int i) {
       return std::array<double, 3>{double(a.v[i].w[0]), double(a.v[i].w[1]), double(a.v[i].w[2])};
@@ -185,7 +188,14 @@ LatticeTriangles latticeTriangles(const Mesh& mesh, const SceneHeader& header, F
     for (int i = 1; i + 1 < a.n; ++i)
       fans.push_back({{index[0], index[i], index[i + 1]}, uint32_t(t), {weights(0), weights(i), weights(i + 1)}});
   }
+  // Exact sizes (a growth by doubling would keep up to twice the bytes for
+  // the whole bake: voxelize_memory.h counts these copies as they are).
+  out.lattice.reserve(nv + made.size());
+  out.lattice.insert(out.lattice.end(), made.begin(), made.end());
+  made = {};
   out.firstFan = out.triangles.size();
+  out.triangles.reserve(out.firstFan + fans.size());
+  out.source.reserve(out.firstFan + fans.size());
   out.fanWeights.reserve(fans.size());
   for (const Fan& f : fans) {
     out.triangles.push_back(f.corners);

@@ -336,6 +336,9 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
       clippedClasses[t] = clipped.source[t] < triangleClass.size() ? triangleClass[clipped.source[t]] : 0;
     triangles = &clipped.triangles;
     classes = &clippedClasses;
+    f.clippedTriangles = double(clipped.triangles.size());
+    f.fanTriangles = double(clipped.triangles.size() - clipped.firstFan);
+    f.clipVertices = double(clipped.lattice.size() - mesh.positions.size());
   }
   const size_t nt = triangles->size();
   if (nt == 0) return f;
@@ -488,6 +491,22 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
           (slotTables + sums + f.blocks * kMalloc + f.surfaceVoxels * 3 * sizeof(float)) * kShared);
   }
   e.add("grid-space vertices", double(mesh.positions.size()) * 3 * sizeof(int64_t));
+  // The surface pass's tiles list their triangles' indices: 4 bytes a
+  // triangle in its slab's list, gathered from per-part lists grown by
+  // doubling (their heap stays), and up to 8 more in the tiles' lists of a
+  // slab cut along y, grown by doubling beside it. Uncounted, a square of
+  // 500,000 or 1,000,000 triangles (3,500 voxels) came out 0.90 and 0.84x
+  // its peak (docs/reliability.md "Memory").
+  const double triangles = f.clippedTriangles > 0 && settings.fill == FillMode::Surface ? f.clippedTriangles
+                                                                                        : double(mesh.triangles.size());
+  e.add("tiles' triangle lists", triangles * 4 * sizeof(uint32_t));
+  // A surface bake of triangles reaching past the lattice's range keeps its
+  // clipped copy of the triangles for the whole bake (lattice_triangles.h):
+  // corners and source (16 bytes) of every kept and fan triangle, a fan's
+  // barycentric weights (72 bytes), the clip's vertices (24 bytes).
+  if (settings.fill == FillMode::Surface && f.clippedTriangles > 0)
+    e.add("clipped triangles", f.clippedTriangles * (3 * sizeof(uint32_t) + sizeof(uint32_t)) +
+                                   f.fanTriangles * 9 * sizeof(double) + f.clipVertices * 3 * sizeof(int64_t));
   if (texturesRead) {
     // Textures read by rows after the geometry: every tile keeps its textured
     // pieces (32 bytes and an 8-byte reference to sort them by row; 1.7 per

@@ -41,6 +41,13 @@ struct SurfaceFootprint {
   double crossings[3] = {0, 0, 0};  // ray crossings along x, y, z (projected areas)
   double enclosedVoxels = 0;    // |signed volume| in voxels
   double boxVoxels = 0;         // voxels of the mesh's bounding box (clamped to the grid)
+  // With triangles reaching past the lattice's range (a surface bake clips
+  // them, lattice_triangles.h): the clipped copy's triangles (the mesh's
+  // kept ones and the clip's fans), of them the fans, and the vertices the
+  // clip made. 0 when nothing is clipped.
+  double clippedTriangles = 0;
+  double fanTriangles = 0;
+  double clipVertices = 0;
 };
 
 /// Measures the footprint of `mesh` placed by `header` (origin, voxel size,

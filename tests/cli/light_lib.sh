@@ -9,7 +9,9 @@
 #   norm.py    REPORT: the report without what differs run to run (timings,
 #              rates and resident memory) or by the reader (the grids read
 #              and the working copies scaled by them: the light modules keep
-#              packed leaves, vox-cmds.so OpenVDB trees; the mapped file);
+#              packed leaves, vox-cmds.so OpenVDB trees; the mapped file; a
+#              pyramid's levels and writer, blocks and the direct writer in
+#              the light module, trees and OpenVDB's writer in vox-cmds.so);
 #              the memory checks' other parts must agree; argv[0] dropped.
 # Uses $vox (the launcher under test), $work (test_lib.sh), and $command and
 # $light_module (e.g. mip, vox-pack.so), set before sourcing.
@@ -44,7 +46,7 @@ def clean(x):
 d = json.load(open(sys.argv[1]))
 out = clean(d)
 out['argv'] = d['argv'][1:]
-by_reader = ('grids', 'working copies', 'the file, mapped')
+by_reader = ('grids', 'working copies', 'the file, mapped', 'pyramid levels', 'scene writer')
 out['memory_parts'] = [{k: v for k, v in c['parts'].items() if not k.startswith('resident') and k not in by_reader}
                        for c in d['memory']['checks']]
 print(json.dumps(out, sort_keys=True))

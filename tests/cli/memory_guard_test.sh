@@ -253,6 +253,19 @@ EOF2
   else
     echo "SKIP: $data/common-3d-test-models absent (fandisk, bunny accuracy)"
   fi
+  # mip and merge write through the direct writer, a batch of leaves at a
+  # time; their estimates counted its old grid-sized buffers (merge 2.0-2.4x,
+  # mip up to 1.47x). Now the levels' blocks (from the base's origins) and
+  # the writer's lists and batches; the merge from the parts' topology.
+  measured "$vox" mip c1024.vdb -o cm.vdb --report cm.json
+  ratio "mip cube 1024" cm.json 1.0 1.5
+  measured "$vox" mip c1024.vdb --split -o cms --report cms.json
+  ratio "mip --split cube 1024" cms.json 1.0 1.5
+  for i in 0 1 2 3; do expect_exit 0 "$vox" voxelize cube.obj --res 1024 --region $i/4 -o part$i.vdb -q; done
+  measured "$vox" merge part0.vdb part1.vdb part2.vdb part3.vdb -o cmerge.vdb --report cmerge.json
+  [ "$code" = 0 ] || fail "merge of 4 parts: exit $code ($(head -c 300 err.txt))"
+  ratio "merge cube 1024, 4 parts" cmerge.json 1.0 1.5
+  rm -f cm.vdb cms.mip*.vdb part?.vdb cmerge.vdb
   rm -f c1024.vdb r8.vdb r2.vdb cs.vdb ck.vdb cks.vdb f.vdb b.vdb
   # A closed UV sphere as binary STL: 80,000 triangles, 240,000 vertices, 40,002 positions.
   python3 - <<'EOF2'
@@ -276,6 +289,48 @@ EOF2
   ratio "STL sphere solid 16" ss.json 1.0 1.6
   measured "$vox" voxelize cube.obj --res 256 --method sdf -o sdf.vdb --report sdf.json
   ratio "cube sdf 256" sdf.json 1.0 1.5
+  # A surface bake clips the triangles reaching past 2^20 voxels and keeps
+  # the clipped copy (16 bytes a triangle): a finely tiled square (few
+  # voxels, many triangles) beside a ground plane 8e7 voxels wide, at two
+  # sizes; the estimate's part follows the triangles, and the bake of
+  # 500,000 triangles (0.82x before the copy and the tiles' lists counted)
+  # lies at or over its peak.
+  tiled() {  # N FILE: an N x N vertex square of 2 (N-1)^2 triangles, and the far plane
+    python3 - "$1" "$2" <<'EOF2'
+import sys
+n, out = int(sys.argv[1]), sys.argv[2]
+with open(out, "w") as f:
+    w = f.write
+    for j in range(n):
+        for i in range(n):
+            w(f"v {1 + 2 * i / (n - 1):.6f} {1 + 2 * j / (n - 1):.6f} 1\n")
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i + 1
+            w(f"f {a} {a + 1} {a + n + 1}\nf {a} {a + n + 1} {a + n}\n")
+    v = n * n
+    w("v -2000000 -2000000 0\nv 2000000 -2000000 0\nv 2000000 2000000 0\nv -2000000 2000000 0\n")
+    w(f"f {v + 1} {v + 2} {v + 3}\nf {v + 1} {v + 3} {v + 4}\n")
+EOF2
+  }
+  tiled 355 far1.obj
+  tiled 501 far2.obj
+  expect_exit 0 "$vox" voxelize far1.obj --bounds -8,-8,-1,8,8,12 --voxel-size 0.05 -o far1.vdb --report far1.json -q
+  measured "$vox" voxelize far2.obj --bounds -8,-8,-1,8,8,12 --voxel-size 0.05 -o far2.vdb --report far2.json
+  [ "$code" = 0 ] || fail "far plane bake: exit $code ($(head -c 300 err.txt))"
+  ratio "500,000 triangles beside a far plane" far2.json 1.0 1.5
+  python3 - far1.json far2.json <<'EOF2' || fail "the clipped triangles' part is missing or does not follow them"
+import json, sys
+for r, n in zip(sys.argv[1:], (355, 501)):
+    c = max(json.load(open(r))["memory"]["checks"], key=lambda c: c["estimate_bytes"])
+    p = c["parts"].get("clipped triangles", 0)
+    t = 2 * (n - 1) ** 2 + 2  # the square's and the plane's (clipped to a fan each)
+    print(f"clipped triangles: {p} bytes for {t} triangles")
+    # 16 bytes each, and the plane's fans' weights and new vertices
+    if not 16 * t <= p <= 16 * t + 4096:
+        sys.exit(1)
+EOF2
+  rm -f far1.obj far2.obj far1.vdb far2.vdb
   measured "$vox" voxelize demo:hamlet --res 256 -o h1.vdb --report hb.json
   ratio "hamlet 256" hb.json 1.0 1.5
   expect_exit 0 "$vox" voxelize demo:hamlet --res 256 --threads 1 -o h2.vdb -q
@@ -283,7 +338,8 @@ EOF2
   [ "$code" = 0 ] || fail "diff of two hamlets: exit $code ($(head -c 300 err.txt))"
   ratio "diff hamlet 256" d.json 1.0 1.5
   # Pyramids: many sparse grids, whose internal nodes outweigh their leaves (0.79 before).
-  expect_exit 0 "$vox" mip h1.vdb -o p1.vdb -q
+  measured "$vox" mip h1.vdb -o p1.vdb --report mh.json
+  ratio "mip hamlet 256" mh.json 1.0 1.5
   expect_exit 0 "$vox" mip h2.vdb -o p2.vdb -q
   measured "$vox" diff p1.vdb p2.vdb --report dp.json
   [ "$code" = 0 ] || fail "diff of two hamlet pyramids: exit $code ($(head -c 300 err.txt))"

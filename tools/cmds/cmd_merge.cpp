@@ -10,6 +10,9 @@
 #include "formats/scene/scene_vdb_direct.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
+#include "formats/vdb/vdb_memory.h"
+#include "libvox/core/flat_map64.h"
+#include "libvox/mesh/voxel_blocks.h"
 #include "libvox/core/error.h"
 #include "libvox/core/regions.h"
 #include "libvox/scene/scene_parts.h"
@@ -26,6 +29,9 @@ struct MergeOptions {
   CommonOptions common;
 };
 
+/// A heap block's malloc header, about.
+constexpr double kMalloc = 16;
+
 int runMerge(const MergeOptions& o) {
   if (!vox::hasExtension(o.output, ".vdb"))
     vox::throwUsage("-o " + o.output + ": the merged scene is written as OpenVDB; name it *.vdb");
@@ -33,21 +39,51 @@ int runMerge(const MergeOptions& o) {
   const std::string outTemp = run.output(o.output);  // checks the destination before the work
 
   // Each part is read, checked and added to the world's blocks, then
-  // released: the peak is the world's blocks plus one part. The guard: the
-  // blocks hold about kBlockBytesPerFileByte bytes per byte of the parts'
-  // (compressed) files, measured on the hamlet and the city (docs/scale.md).
+  // released: the peak is the world's blocks plus one part as OpenVDB trees,
+  // or the world's blocks and the direct writer's leaf lists and batches.
+  // Counted from each part's topology (leaf counts and active voxels per
+  // grid, no leaf decompressed). It was 7 bytes per byte of all the parts'
+  // files plus 7 per byte of the largest, which held the writer's buffers
+  // grown by doubling: 2.0-2.4x the peak once the writer wrote a batch at a
+  // time (docs/reliability.md "Memory").
   {
-    constexpr double kBlockBytesPerFileByte = 7.0;
-    uint64_t fileBytes = 0, largest = 0;
+    double blocks = 0, voteLeaves = 0, colorLeaves = 0, blockBytes = 0, largestTrees = 0, maxPerLeaf = 0;
     for (const std::string& path : o.parts) {
-      const int64_t size = std::max<int64_t>(0, vox::fileSizeOrMinusOne(path));
-      fileBytes += uint64_t(size);
-      largest = std::max<uint64_t>(largest, uint64_t(size));
+      vox::requireRegularFile(path);
+      if (!vox::looksLikeVdb(path)) continue;  // refused with its message when read
+      const vox::VdbFrame frame = vox::vdbTopologyFrame(path);
+      largestTrees = std::max(largestTrees, vox::sceneGridBytes(frame, false, vox::SceneReadForm::Trees));
+      for (const vox::VdbGridFrame& g : frame.grids) {
+        if (!g.checked || !g.instanceParent.empty() || g.leafCount == 0) continue;
+        const double leaves = double(g.leafCount), active = double(g.activeLeafVoxels);
+        const double perLeaf = active / leaves;
+        if (g.uniqueName == vox::kOccupancyGridName) {
+          blocks += leaves;
+        } else if (g.type.find("_int32_") != std::string::npos) {
+          // A class block, its counts grown by doubling from 16 (1.4x the
+          // counts on average), dense (2 KB) past 128: 5.6 bytes a voted
+          // voxel bounds both, capped at the dense block.
+          voteLeaves += leaves;
+          blockBytes += leaves * (sizeof(vox::ClassBlock) + 2 * kMalloc + sizeof(void*)) +
+                        std::min(leaves * vox::kBlockVoxels * 4.0, std::max(leaves * 64.0, active * 4 * 1.4));
+          maxPerLeaf = std::max(maxPerLeaf, 4 * perLeaf);
+        } else {
+          // Colours, appended in voxel order to a vector grown by doubling.
+          colorLeaves += leaves;
+          blockBytes += leaves * kMalloc + active * 12 * 1.4;
+          maxPerLeaf = std::max(maxPerLeaf, 12 * perLeaf);
+        }
+      }
     }
+    // A block, its malloc header and its entry in the block map (the old
+    // array too while the map grows).
+    constexpr double kMapEntry = double(vox::FlatMap64<std::unique_ptr<vox::VoxelBlock>, vox::PackedCoordHome>::slotBytesPerKey());
+    blockBytes += blocks * (sizeof(vox::VoxelBlock) + kMalloc + kMapEntry);
+    const double writer = vox::directWriteBytes(blocks, voteLeaves, colorLeaves, 89 + maxPerLeaf, run.threads());
     vox::MemoryEstimate e;
     e.add("resident before the merge", vox::residentBytesNow());
-    e.add("world blocks", double(fileBytes) * kBlockBytesPerFileByte);
-    e.add("one part read", double(largest) * kBlockBytesPerFileByte);
+    e.add("world blocks", blockBytes);
+    e.add("one part read, or the scene writer", std::max(largestTrees, writer));
     run.checkMemory(e, "merging " + std::to_string(o.parts.size()) + " parts");
   }
   run.phase("read");

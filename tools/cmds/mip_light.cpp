@@ -1,11 +1,13 @@
 #include "tools/cmds/mip_light.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <chrono>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
 #include "formats/scene/scene_meta.h"
+#include "formats/scene/scene_vdb_direct.h"
 #include "formats/vdb/pyramid_direct.h"
 #include "libvox/core/error.h"
 #include "tools/cli/alloc_tuning.h"
@@ -56,12 +58,19 @@ std::string startMipRun(const MipOptions& o, Run& run) {
   return outTemp;
 }
 
-void checkMipInput(const MipOptions& o, int mipLevel, Run& run) {
+void checkMipInput(const MipOptions& o, int mipLevel, Run& run, const vox::MemoryEstimate* work) {
   if (mipLevel != 0)
     run.note("note: " + o.input + " is already mip level " + std::to_string(mipLevel) +
              "; the pyramid continues from there");
+  if (work) {
+    vox::MemoryEstimate e;
+    e.add("resident after reading", vox::residentBytesNow());
+    for (const vox::MemoryPart& p : work->parts) e.parts.push_back(p);
+    run.checkMemory(e, "the pyramid of " + o.input);
+    return;
+  }
   // Levels above 0 hold about a third of level 0 again (surfaces shrink 4x
-  // per level), built through blocks and written with the scene (measured).
+  // per level), built as trees and written by OpenVDB (measured).
   run.checkWorkMemory("the pyramid of " + o.input, 1.0);
 }
 
@@ -131,6 +140,50 @@ nlohmann::json levelJson(const vox::MipBlocksLevel& level, double secs) {
           {"seconds", secs}};
 }
 
+/// What building the levels of `base` and writing them with the direct
+/// writer add to the resident memory (base's blocks are in it): the coarse
+/// levels' blocks, counted exactly from base's block origins (a coarse block
+/// per distinct origin / 2^n), each at base's average bytes a block; and the
+/// writer's leaf lists (every level's at once for a pyramid, the largest
+/// level's with --split) with a batch per thread. It was once the bytes of
+/// the grids read, which held the writer's buffers grown by doubling before
+/// it wrote a batch at a time: 1.3-1.5x the peak after (docs/reliability.md
+/// "Memory"). The freed leaves the read left on the heap are not counted
+/// against it, so the estimate errs high by about the levels.
+vox::MemoryEstimate mipWorkEstimate(const vox::MipBlocksLevel& base, int levels, bool split, unsigned threads) {
+  constexpr double kMalloc = 16;
+  double bytes = 0, classBlocks = 0, colorBlocks = 0, voxels = 0;
+  std::vector<uint64_t> keys;
+  keys.reserve(base.blocks.size());
+  for (const auto& b : base.blocks) {
+    bytes += double(sizeof(vox::VoxelBlock) + kMalloc + sizeof(void*));
+    for (const auto& cb : b->classes) bytes += double(vox::classBlockHeapBytes(*cb));
+    if (b->colors.capacity()) bytes += double(b->colors.capacity() * sizeof(b->colors[0]) + kMalloc);
+    classBlocks += double(b->classes.size() + (b->hasRuns() && b->runVotes ? 1 : 0));
+    colorBlocks += b->colors.empty() ? 0 : 1;
+    for (uint64_t w : b->occupied) voxels += vox::bitCount(w);
+    const auto& o = b->origin;
+    keys.push_back(uint64_t(uint32_t(o[0]) >> 3) << 42 | uint64_t(uint32_t(o[1]) >> 3) << 21 | uint64_t(uint32_t(o[2]) >> 3));
+  }
+  const double n0 = std::max<double>(1, double(base.blocks.size()));
+  // Coarse block counts: origins / 2 each level (21 bits per axis in the key).
+  double coarseBlocks = 0, largestLevel = split ? 0 : n0, allLevels = n0;
+  for (int n = 1; n <= levels && keys.size() > 1; ++n) {
+    for (uint64_t& k : keys) k = (k >> 43) << 42 | ((k >> 22) & 0xfffff) << 21 | ((k & 0x1fffff) >> 1);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    coarseBlocks += double(keys.size());
+    largestLevel = std::max(largestLevel, double(keys.size()));
+    allLevels += double(keys.size());
+  }
+  const double written = split ? largestLevel : allLevels;
+  vox::MemoryEstimate e;
+  e.add("pyramid levels", coarseBlocks * bytes / n0);
+  e.add("scene writer", vox::directWriteBytes(written, written * classBlocks / n0, written * colorBlocks / n0,
+                                              89 + voxels / n0 * (colorBlocks > 0 ? 12 : 4), threads));
+  return e;
+}
+
 }  // namespace
 
 std::optional<int> runMipFromLeaves(const MipOptions& o) {
@@ -152,7 +205,11 @@ std::optional<int> runMipFromLeaves(const MipOptions& o) {
     return std::nullopt;
   std::optional<vox::MipBlocksLevel> base = vox::mipBlocksFromLeaves(std::move(*leaves), run.threads());
   if (!base) return std::nullopt;
-  checkMipInput(o, base->header.mipLevel, run);
+  {
+    const int want = o.levels ? o.levels : vox::maxMipLevels(base->header.dims);
+    const vox::MemoryEstimate work = mipWorkEstimate(*base, want, o.split, run.threads());
+    checkMipInput(o, base->header.mipLevel, run, &work);
+  }
 
   // Levels as vox::buildMipPyramid builds them (the same automatic stop).
   run.phase("reduce");

@@ -40,8 +40,10 @@ std::string splitName(const std::string& stem, int level);
 /// Returns the temporary path.
 std::string startMipRun(const MipOptions& o, Run& run);
 /// The note when the input already is mip level `mipLevel` (> 0), then the
-/// memory check before the levels are built.
-void checkMipInput(const MipOptions& o, int mipLevel, Run& run);
+/// memory check before the levels are built: resident memory plus `work`
+/// (the levels and the writer), or without it, of a scene read as OpenVDB
+/// trees and written by OpenVDB, once the bytes of the grids read.
+void checkMipInput(const MipOptions& o, int mipLevel, Run& run, const vox::MemoryEstimate* work = nullptr);
 /// The report's counts and the summary line, once the levels are written.
 void reportMip(const MipOptions& o, const nlohmann::json& perLevel, size_t levelCount, uint64_t baseOccupied, Run& run);
 
