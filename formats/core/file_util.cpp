@@ -476,7 +476,14 @@ void requireRegularFile(const std::string& path) {
     if (err == ENOENT || err == ENOTDIR) throwBadInput(path + ": no such file");
     throwBadInput(path + ": cannot open the file: " + std::strerror(err));
   }
-  if (S_ISREG(st.st_mode)) return;
+  if (S_ISREG(st.st_mode)) {
+    // stat needs no read permission: open it, or a reader sniffing the first
+    // bytes would call an unreadable file "not a PNG" or "not a scene".
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throwBadInput(path + ": cannot open the file: " + std::strerror(errno));
+    ::close(fd);
+    return;
+  }
   const char* what = S_ISDIR(st.st_mode)    ? "a directory"
                      : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
                      : S_ISSOCK(st.st_mode) ? "a socket"

@@ -120,10 +120,12 @@ std::string withOutputNames(const std::string& message);
 /// be put back.
 void commitAll(std::vector<AtomicOutput*> outputs);
 
-/// The one check every input file passes before it is opened: it must exist
-/// and be a regular file (or a symbolic link to one). Directories, FIFOs,
-/// sockets and devices are refused up front (reading /dev/zero or a FIFO
-/// would never end). Throws vox::Error (BadInput) naming `path` and what it is.
+/// The one check every input file passes before it is read: it must exist,
+/// be a regular file (or a symbolic link to one) and open for reading.
+/// Directories, FIFOs, sockets and devices are refused up front (reading
+/// /dev/zero or a FIFO would never end). Throws vox::Error (BadInput) naming
+/// `path` and what it is, or "cannot open the file: " and the system's reason
+/// (Permission denied).
 void requireRegularFile(const std::string& path);
 
 /// Reads a whole file (requireRegularFile first). Throws vox::Error (BadInput)

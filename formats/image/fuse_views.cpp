@@ -1,7 +1,6 @@
 #include "formats/image/fuse_views.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -124,10 +123,6 @@ Image readImage(const std::string& path, const std::string& where, const std::st
   } catch (const Error& e) {
     bad(where, role + " image " + e.what());
   }
-  // The format is told by the first bytes: an unreadable file would be
-  // called "neither PNG nor EXR" below.
-  if (std::FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
-  else bad(where, role + " image " + path + ": cannot open the file: " + std::strerror(errno));
   try {
     if (isExrFile(path)) return readExr(path);
     if (isPngFile(path)) return readPng(path);

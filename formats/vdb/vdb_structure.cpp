@@ -885,10 +885,7 @@ void checkVdbFileOpenable(const std::string& path) {
   if (std::filesystem::is_directory(st)) throwBadInput(path + ": is a directory, expected a .vdb file");
   if (!std::filesystem::is_regular_file(st))
     throwBadInput(path + ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throwBadInput(path + ": cannot open the file (it exists but is not readable: check its permissions)");
-  }
+  requireRegularFile(path);  // opens it: "cannot open the file: Permission denied"
   if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
 }
 

@@ -113,6 +113,63 @@ diff missing.vdb h.vdb
 CMDS
   no_output r.png; no_output at2; no_output m.vdb; no_output m.vpk; no_output m.ply
   ;;
+unreadable)
+  # A file that exists but cannot be read is named with the system's reason by
+  # every command and option that reads one (the shared check opens it): the
+  # readers that tell the kind from the first bytes called it "not a file vox
+  # info reads", "not a scene" or "not a PNG or EXR image". Root reads
+  # anything: as root this runs as nobody (setpriv) when nobody can run vox.
+  as=()
+  if [ "$(id -u)" = 0 ]; then
+    command -v setpriv >/dev/null || { echo "SKIP: unreadable: running as root without setpriv"; exit 0; }
+    as=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+    chmod 755 .
+    "${as[@]}" test -x "$vox" || { echo "SKIP: unreadable: user nobody cannot run $vox"; exit 0; }
+  fi
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o h.vdb --quiet
+  expect_exit 0 "$vox" mip h.vdb -o hm.vdb --quiet
+  expect_exit 0 "$vox" pack-chunks h.vdb -o h.vpk --quiet
+  expect_exit 0 "$vox" build-atlas h.vdb -o at --stem a --quiet
+  expect_exit 0 "$vox" render-canonical h.vdb -o c.png --view front --size 16x12 --quiet
+  printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > t.stl
+  printf '{"worldScale":1,"blocks":[{"position":[0,0,0],"blockType":"Stone"}]}' > m.json
+  for f in h.vdb hm.vdb h.vpk c.png at/a.summary.png t.stl m.json; do
+    cp "$f" "u_${f##*/}" && chmod 000 "u_${f##*/}"
+  done
+  chmod 755 at
+  mkdir out && chmod 777 out
+  while IFS='|' read -r file cmd; do
+    # shellcheck disable=SC2086
+    expect_exit 3 "${as[@]}" "$vox" $cmd
+    expect_stderr "$file: cannot open the file: Permission denied"
+  done <<'CMDS'
+u_h.vdb|info u_h.vdb
+u_c.png|info u_c.png
+u_h.vpk|info u_h.vpk
+u_a.summary.png|info u_a.summary.png
+u_m.json|info u_m.json
+u_h.vdb|info at/a.summary.png --pixel 0,0 --scene u_h.vdb
+u_h.vdb|diff u_h.vdb h.vdb
+u_c.png|diff c.png u_c.png
+u_h.vpk|diff u_h.vpk h.vpk
+u_h.vdb|build-atlas u_h.vdb -o out/at
+u_h.vdb|mip u_h.vdb -o out/m.vdb
+u_h.vdb|pack-chunks u_h.vdb -o out/p.vpk
+u_hm.vdb|pack-chunks u_hm.vdb -o out/p.vpk
+u_h.vdb|render-canonical u_h.vdb -o out/r.png --view front
+u_h.vpk|render-canonical u_h.vpk -o out/r.png --view front
+u_h.vdb|export u_h.vdb -o out/e.ply
+u_h.vpk|export u_h.vpk -o out/e.ply
+u_t.stl|voxelize u_t.stl --res 4 -o out/x.vdb
+u_m.json|voxelize u_m.json -o out/x.vdb
+u_h.vdb|voxelize u_h.vdb --res 4 -o out/x.vdb
+u_c.png|verify-bijection --canonical u_c.png --scene h.vdb
+u_h.vdb|verify-bijection --canonical c.png --scene u_h.vdb
+u_a.summary.png|verify-bijection --atlas u_a.summary.png --scene h.vdb
+u_h.vdb|merge u_h.vdb -o out/x.vdb
+CMDS
+  [ -z "$(ls -A out)" ] || fail "failed runs left $(ls -A out) behind"
+  ;;
 lists)
   # Comma lists refuse an empty entry (a leading or trailing comma, two in a
   # row, an empty value) as a usage error naming the option and the entry:

@@ -6,7 +6,6 @@
 // page files (.vpk), images (.png, .exr), JSON (reports, touched sets), and a
 // render against a block-map metadata.json's reference image (--view N).
 #include <CLI/CLI.hpp>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -103,12 +102,7 @@ bool looksLikeJson(const std::string& path) {
 }
 
 DiffKind kindOf(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw vox::Error(vox::ErrorKind::BadInput, path + ": no such file");
-  if (std::filesystem::is_directory(path, ec))
-    throw vox::Error(vox::ErrorKind::BadInput, path + ": is a directory, not a file");
-  if (!std::ifstream(path, std::ios::binary))
-    throw vox::Error(vox::ErrorKind::BadInput, path + ": cannot open the file (permissions?)");
+  vox::requireRegularFile(path);  // missing, a directory or FIFO, unreadable: named before the sniffing
   if (vox::looksLikeVdb(path)) return DiffKind::Scene;
   if (vox::pagefile::looksLikePageFile(path)) return DiffKind::Pages;
   if (vox::isPngFile(path) || vox::isExrFile(path)) return DiffKind::Image;
