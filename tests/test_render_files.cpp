@@ -164,8 +164,13 @@ TEST(RenderMeta, ImagesCarryItAndCanonicalSamplesDecode) {
   EXPECT_EQ(vox::readRenderMeta(img, "r.png"), sampleMeta());
   EXPECT_EQ(vox::canonicalFullScale(img), 65535u);
   EXPECT_EQ(vox::canonicalSamples(img, 1), (std::array<uint64_t, 4>{700, 0, 0, 65535}));
-  const vox::Camera cam = vox::renderCamera(sampleMeta(), img, "r.png");
-  EXPECT_EQ(cam.width, 2u);
+  // The entry's camera is for the 96x64 image it was written with: a crop
+  // (this 2x1 image) is refused rather than cast through the wrong rays.
+  EXPECT_TRUE(throwsVoxError([&] { vox::renderCamera(sampleMeta(), img, "r.png", "give a camera"); },
+                             vox::ErrorKind::BadInput,
+                             {"r.png is 2x1 but its vox:canonical camera was made for 96x64", "; give a camera"}));
+  const vox::Camera cam = vox::renderCamera(sampleMeta(), vox::Image(96, 64, 4, vox::SampleType::U16), "r.png", "");
+  EXPECT_EQ(cam.width, 96u);
   EXPECT_EQ(cam.view, sampleMeta().viewMatrix);
   vox::requireCanonicalImage(img, "r.png");
   EXPECT_TRUE(throwsVoxError([] { vox::requireCanonicalImage(vox::Image(1, 1, 1, vox::SampleType::F32), "d.exr"); },

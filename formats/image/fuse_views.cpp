@@ -281,15 +281,8 @@ LoadedFuseView loadFuseView(const FuseViewSpec& spec, const ClassTable& classes,
     if (!meta)
       bad(where, "no \"camera\", and " + depthName + " carries no vox:canonical entry to take it from; give the view a "
                  "\"camera\"");
-    // render-canonical writes the image's own size; another one means the
-    // image was cropped or resized since (an EXR crop keeps only its data
-    // window), and the matrices no longer give its pixels' rays.
-    if (meta->width != depth.width || meta->height != depth.height)
-      bad(where, depthName + " is " + std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                     " but its vox:canonical camera was made for " + std::to_string(meta->width) + "x" +
-                     std::to_string(meta->height) + " (cropped or resized after rendering?); fuse the image as "
-                     "rendered, or give the view a \"camera\" for this image");
-    view.camera = renderCamera(*meta, depth, where + ": " + depthName);
+    view.camera = renderCamera(*meta, depth, where + ": " + depthName,
+                               "fuse the image as rendered, or give the view a \"camera\" for this image");
   }
 
   // A view's other images: read, recorded as inputs, and of the depth image's size.

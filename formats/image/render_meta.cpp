@@ -95,7 +95,14 @@ std::optional<RenderMeta> readRenderMeta(const Image& image, const std::string& 
   return parseRenderMeta(text, name);
 }
 
-Camera renderCamera(const RenderMeta& meta, const Image& image, const std::string& name) {
+Camera renderCamera(const RenderMeta& meta, const Image& image, const std::string& name, const std::string& fix) {
+  // render-canonical writes the image's own size; another one means the image
+  // was cropped or resized since (an EXR crop keeps only its data window, and
+  // both keep the whole render's entry).
+  if (meta.width != image.width || meta.height != image.height)
+    throwBadInput(name + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                  " but its " + kRenderMetaKey + " camera was made for " + std::to_string(meta.width) + "x" +
+                  std::to_string(meta.height) + " (cropped or resized after rendering?); " + fix);
   return Camera::make(meta.viewMatrix, meta.projectionMatrix, image.width, image.height,
                       name + ": \"" + kRenderMetaKey + "\" camera");
 }

@@ -50,9 +50,12 @@ RenderMeta parseRenderMeta(const std::string& text, const std::string& name);
 /// The image's entry, if it has one (same errors as parseRenderMeta).
 std::optional<RenderMeta> readRenderMeta(const Image& image, const std::string& name);
 
-/// The camera the render was made with, for `image`'s own size; throws
-/// vox::Error (BadInput) naming `name` when the matrices make no camera.
-Camera renderCamera(const RenderMeta& meta, const Image& image, const std::string& name);
+/// The camera the render was made with; throws vox::Error (BadInput) naming
+/// `name` when the matrices make no camera, or when `image` is not the size
+/// the entry was made for (cropped or resized after rendering: the matrices no
+/// longer give its pixels' rays), a message that ends with `fix` (what to do
+/// instead: give a camera for the image as it is).
+Camera renderCamera(const RenderMeta& meta, const Image& image, const std::string& name, const std::string& fix);
 
 /// Canonical renders are RGBA of 8, 16 or 32-bit unsigned samples; throws
 /// vox::Error (BadInput) naming `name` when `image` is not.

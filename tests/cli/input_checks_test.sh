@@ -93,6 +93,35 @@ PY
   expect_exit 3 "$vox" verify-bijection --canonical mc.png --scene m2.vdb
   expect_stderr "mc.png: rendered from a grid at origin"
   expect_stderr "but m2.vdb is at origin"
+  # A render cut or resized after rendering keeps the whole render's entry,
+  # whose camera no longer gives its pixels' rays (every ray "differed", exit
+  # 1): refused naming both sizes. A camera given for the image is used: the
+  # entry's, its projection scaled and shifted to the cut, checks every pixel.
+  oiiotool c.png --cut 16x10+8+6 -o cut.png || fail "oiiotool could not write cut.png"
+  oiiotool c.png --resize 64x48 -o big.png || fail "oiiotool could not write big.png"
+  expect_exit 3 "$vox" verify-bijection --canonical cut.png --scene h.vdb
+  expect_stderr "cut.png is 16x10 but its vox:canonical camera was made for 32x24 (cropped or resized after rendering?)"
+  expect_stderr "give the camera for this image with --camera FILE or --eye/--target"
+  expect_exit 3 "$vox" verify-bijection --canonical big.png --scene h.vdb
+  expect_stderr "big.png is 64x48 but its vox:canonical camera was made for 32x24"
+  python3 - c.png 16 10 8 6 cut.json <<'PY' || fail "could not write the cut's camera"
+import json, struct, sys
+src, w, h, ox, oy, out = sys.argv[1], *map(int, sys.argv[2:6]), sys.argv[6]
+data, pos = open(src, "rb").read(), 8
+while pos < len(data):
+    n, = struct.unpack(">I", data[pos:pos + 4])
+    if data[pos + 4:pos + 8] == b"tEXt" and data[pos + 8:pos + 8 + n].startswith(b"vox:canonical\0"):
+        cam = json.loads(data[pos + 22:pos + 8 + n])["camera"]
+    pos += 12 + n
+W, H, p = cam["imageSize"]["width"], cam["imageSize"]["height"], cam["projectionMatrix"]
+# Column-major, row 3 is clip w: the cut's x_ndc = x_ndc W / w + (W - 2 ox) / w - 1 (y likewise, rows downward).
+for c in range(4):
+    p[4 * c] = p[4 * c] * W / w + ((W - 2 * ox) / w - 1) * p[4 * c + 3]
+    p[4 * c + 1] = p[4 * c + 1] * H / h + (1 - (H - 2 * oy) / h) * p[4 * c + 3]
+json.dump({"imageSize": {"width": w, "height": h}, "views": [{"viewMatrix": cam["viewMatrix"], "projectionMatrix": p}]}, open(out, "w"))
+PY
+  expect_exit 0 "$vox" verify-bijection --canonical cut.png --scene h.vdb --camera cut.json --json
+  jcheck out.txt "assert d['ok'] and d['camera'] == 'command line' and d['hit_pixels'] > 0 and d['pixels_differing_from_ray'] == 0"
   # A missing input is worded the same by every command ("no such file", exit 3),
   # verify-bijection's --scene included (it said "missing or unreadable").
   expect_exit 0 "$vox" build-atlas h.vdb -o at --stem a

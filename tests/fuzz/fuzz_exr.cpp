@@ -41,7 +41,7 @@ VOX_FUZZ_TARGET(exr) {
       } catch (const vox::Error&) {
       }
     }
-    if (const auto meta = vox::readRenderMeta(image, "fuzz.exr")) vox::renderCamera(*meta, image, "fuzz.exr");
+    if (const auto meta = vox::readRenderMeta(image, "fuzz.exr")) vox::renderCamera(*meta, image, "fuzz.exr", "");
   } catch (const vox::Error&) {
   }
   std::remove(path.c_str());

@@ -22,7 +22,7 @@ VOX_FUZZ_TARGET(png) {
       } catch (const vox::Error&) {
       }
     }
-    if (const auto meta = vox::readRenderMeta(image, "fuzz.png")) vox::renderCamera(*meta, image, "fuzz.png");
+    if (const auto meta = vox::readRenderMeta(image, "fuzz.png")) vox::renderCamera(*meta, image, "fuzz.png", "");
   } catch (const vox::Error&) {
   }
   return 0;

@@ -11,10 +11,11 @@ VOX_FUZZ_TARGET(rendermeta) {
   try {
     const vox::RenderMeta meta = vox::parseRenderMeta(std::string(reinterpret_cast<const char*>(data), size), "fuzz.png");
     vox::Image image;
-    image.width = 64;
-    image.height = 48;
+    // The entry's own size (another is refused before the matrices are read).
+    image.width = meta.width;
+    image.height = meta.height;
     image.channels = 4;
-    vox::renderCamera(meta, image, "fuzz.png");
+    vox::renderCamera(meta, image, "fuzz.png", "");
   } catch (const vox::Error&) {
   }
   return 0;

@@ -76,7 +76,9 @@ int runCanonicalCheck(const VerifyBijectionOptions& o) {
     camera = views[0].camera;
     cameraFrom = "command line";
   } else if (meta) {
-    camera = vox::renderCamera(*meta, img, o.canonical);
+    camera = vox::renderCamera(*meta, img, o.canonical,
+                               "check the image as rendered, or give the camera for this image with --camera FILE "
+                               "or --eye/--target");
     cameraFrom = "image metadata";
   } else {
     // Without a camera only the decoding could be checked, not a single ray.
