@@ -139,6 +139,22 @@ EOF
   expect_exit 2 "$vox" render-canonical h.vdb -o x.png --camera meta.json --camera-out m.json
   expect_stderr "look-at cameras only"
   [ ! -e x.png ] && [ ! -e m.json ] || fail "a refused run left files"
+  # A refused run prints its error alone: the camera a named view or an orbit
+  # frames is printed once every check has passed (it came before the output
+  # name's check and the memory check, after the scene was read).
+  only_error() { [ ! -s out.txt ] && [ "$(wc -l <err.txt)" = 1 ] || fail "$1: more than the error: $(cat out.txt err.txt)"; }
+  expect_exit 2 "$vox" render-canonical h.vdb --view iso --mode depth,depth -o x.png
+  expect_stderr "error: -o x.png: a depth render is written as .exr; name the file *.exr"
+  only_error "--mode depth -o x.png"
+  expect_exit 2 "$vox" render-canonical h.vdb --view iso -o x.exr
+  expect_stderr "error: -o x.exr: a canonical render is written as .png"
+  only_error "-o x.exr"
+  expect_exit 4 "$vox" render-canonical h.vdb --orbit 2 --size 8000x8000 -o o.png --max-memory 100M
+  expect_stderr "error: rendering h.vdb needs about"
+  only_error "--max-memory 100M"
+  # The names that do not depend on the scene are checked before it is read.
+  expect_exit 2 "$vox" render-canonical nonexistent.vdb --view iso --mode class -o x.jpg
+  expect_stderr "error: -o x.jpg: a class render is written as .png"
   # A camera given by hand: no look_at (the metadata is as before), its camera file re-renders the same bytes.
   expect_exit 0 "$vox" render-canonical h.vdb -o hand.png --eye 20,15,20 --target 0,2,0 --size 40x30 --camera-out hand.json
   ! meta hand.png | grep -q look_at || fail "a hand-given camera got a look_at entry"

@@ -424,15 +424,20 @@ void reportCounts(Run& run, const RenderInput& in, size_t views, const CastViews
   run.note(line);
 }
 
-// --camera-out: the cameras in the camera-file form --camera reads.
-void writeCameraFile(Run& run, const std::string& path, const std::vector<vox::CameraView>& views) {
-  std::vector<vox::LookAtCamera> cameras;
-  for (const vox::CameraView& v : views) {
+// --camera-out writes look-at cameras: refused before anything is read or cast.
+void checkCameraOut(const std::string& path, const std::vector<vox::CameraView>& views) {
+  if (path.empty()) return;
+  for (const vox::CameraView& v : views)
     if (!v.lookAt)
       vox::throwUsage("--camera-out " + path + ": " + v.label +
                       " is given by matrices (a metadata.json view); --camera-out writes look-at cameras only");
-    cameras.push_back(*v.lookAt);
-  }
+}
+
+// --camera-out: the cameras in the camera-file form --camera reads.
+void writeCameraFile(Run& run, const std::string& path, const std::vector<vox::CameraView>& views) {
+  checkCameraOut(path, views);
+  std::vector<vox::LookAtCamera> cameras;
+  for (const vox::CameraView& v : views) cameras.push_back(*v.lookAt);
   vox::writeFileBytes(run.output(path), vox::lookAtCameraFileJson(cameras));
 }
 
@@ -459,6 +464,14 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   // Cameras vox frames wait for the scene's occupied box; the others are checked before anything is read.
   std::vector<vox::CameraView> views;
   if (!o.camera.needsFraming()) views = makeCameras(o.camera);
+  else if (!o.camera.size.empty()) parseImageSize(o.camera.size);
+  checkCameraOut(o.cameraOut, views);
+  // The output names too, unless they wait for the scene: a lone canonical
+  // image is PNG or EXR by the grid's size.
+  const size_t viewCount = o.camera.needsFraming() ? std::max<size_t>(o.camera.orbit, 1) : views.size();
+  const bool orbit = o.camera.orbit > 0;
+  if (!(viewCount == 1 && modes.size() == 1 && modes[0] == vox::RenderMode::Canonical && !orbit))
+    planImages(o.output, viewCount, modes, /*canonicalBits, unused here=*/8, orbit);
   const bool needClasses = anyModeNeedsClasses(modes);
   const bool needColors = std::any_of(modes.begin(), modes.end(),
                                       [&](vox::RenderMode m) { return vox::modeNeedsColors(m, o.shadeColor); });
@@ -472,15 +485,10 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
   std::optional<RenderInput> loaded = load(o.input, o.level, needClasses);
   if (!loaded) return kDeferToFullModule;  // nothing written yet
   const RenderInput& in = *loaded;
-  if (o.camera.needsFraming()) {
-    if (in.grid->occupiedCount() == 0)
-      run.note("warning: " + o.input + " has no occupied voxel: the views frame its whole grid, and every ray misses");
-    views = makeCameras(o.camera, in.occupiedWorldBox());
-    for (const vox::CameraView& v : views) run.note(v.label + ": " + lookAtFlags(*v.lookAt));
-  }
+  if (o.camera.needsFraming()) views = makeCameras(o.camera, in.occupiedWorldBox());
   const int canonicalBits = vox::canonicalBits(in.dims);
   checkEyesNearGrid(views, in.frame);
-  const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits, o.camera.orbit > 0);
+  const std::vector<PlannedImage> planned = planImages(o.output, views.size(), modes, canonicalBits, orbit);
 
   {
     // Every view's hit records live until the last image is written; the
@@ -524,6 +532,12 @@ int runRenderCanonical(const RenderCanonicalOptions& o, const RenderLoader& load
       }
     }
     run.checkWorkMemory("rendering " + o.input, 1.0, images, suggestion);
+  }
+  // Said only once every check has passed: a refused run prints its error alone.
+  if (o.camera.needsFraming()) {
+    if (in.grid->occupiedCount() == 0)
+      run.note("warning: " + o.input + " has no occupied voxel: the views frame its whole grid, and every ray misses");
+    for (const vox::CameraView& v : views) run.note(v.label + ": " + lookAtFlags(*v.lookAt));
   }
   run.phase("cast");
   const CastViews cast = castViews(run, in, views);
