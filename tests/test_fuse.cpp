@@ -291,7 +291,9 @@ TEST(Fuse, GrazingRaysAreReportedAmbiguous) {
     }
     const vox::FuseRayResult r = vox::fuseRay(ray, 1.0, view.measure, view.depth[i], dims, nullptr, hits[i].faceAxis);
     ambiguous += r.ambiguous ? 1 : 0;
-    if (y == 15) EXPECT_TRUE(r.ambiguous);
+    if (y == 15) {
+      EXPECT_TRUE(r.ambiguous);
+    }
     if (!r.hit || !(r.voxel == Coord3{hits[i].u, hits[i].v, hits[i].w})) {
       ++mismatched;
       EXPECT_TRUE(r.ambiguous) << "pixel " << x << ", " << y;
