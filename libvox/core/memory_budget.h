@@ -26,6 +26,10 @@ namespace vox {
 /// the machine (page cache, other processes) needs room too.
 inline constexpr double kDefaultMemoryFraction = 0.8;
 
+/// What glibc's malloc adds to each heap block (its header and rounding),
+/// about: the estimates count it once per block they allocate.
+inline constexpr double kMallocBlockBytes = 16;
+
 /// One part of an estimate ("vote blocks", "mesh"...), in bytes.
 struct MemoryPart {
   std::string name;

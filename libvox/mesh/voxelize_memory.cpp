@@ -467,7 +467,7 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
   // bunny, fandisk at 1024). The scene writer's part is its own (the caller's:
   // formats/scene/scene_vdb_direct.h); it was in a +20% here, which its
   // grid-sized buffers outgrew (docs/reliability.md "Memory").
-  constexpr double kMalloc = 16, kShared = 1.10;
+  constexpr double kMalloc = kMallocBlockBytes, kShared = 1.10;
   constexpr double kMapEntry = double(FlatMap64<std::unique_ptr<VoxelBlock>, PackedCoordHome>::slotBytesPerKey());
   e.add("surface blocks", f.blocks * (sizeof(VoxelBlock) + kMalloc + kMapEntry) * kShared);
   // A class block keeps a count per voted voxel (grown in doublings from 16:

@@ -29,9 +29,6 @@ struct MergeOptions {
   CommonOptions common;
 };
 
-/// A heap block's malloc header, about.
-constexpr double kMalloc = 16;
-
 int runMerge(const MergeOptions& o) {
   if (!vox::hasExtension(o.output, ".vdb"))
     vox::throwUsage("-o " + o.output + ": the merged scene is written as OpenVDB; name it *.vdb");
@@ -64,13 +61,13 @@ int runMerge(const MergeOptions& o) {
           // counts on average), dense (2 KB) past 128: 5.6 bytes a voted
           // voxel bounds both, capped at the dense block.
           voteLeaves += leaves;
-          blockBytes += leaves * (sizeof(vox::ClassBlock) + 2 * kMalloc + sizeof(void*)) +
+          blockBytes += leaves * (sizeof(vox::ClassBlock) + 2 * vox::kMallocBlockBytes + sizeof(void*)) +
                         std::min(leaves * vox::kBlockVoxels * 4.0, std::max(leaves * 64.0, active * 4 * 1.4));
           maxPerLeaf = std::max(maxPerLeaf, 4 * perLeaf);
         } else {
           // Colours, appended in voxel order to a vector grown by doubling.
           colorLeaves += leaves;
-          blockBytes += leaves * kMalloc + active * 12 * 1.4;
+          blockBytes += leaves * vox::kMallocBlockBytes + active * 12 * 1.4;
           maxPerLeaf = std::max(maxPerLeaf, 12 * perLeaf);
         }
       }
@@ -78,7 +75,7 @@ int runMerge(const MergeOptions& o) {
     // A block, its malloc header and its entry in the block map (the old
     // array too while the map grows).
     constexpr double kMapEntry = double(vox::FlatMap64<std::unique_ptr<vox::VoxelBlock>, vox::PackedCoordHome>::slotBytesPerKey());
-    blockBytes += blocks * (sizeof(vox::VoxelBlock) + kMalloc + kMapEntry);
+    blockBytes += blocks * (sizeof(vox::VoxelBlock) + vox::kMallocBlockBytes + kMapEntry);
     const double writer = vox::directWriteBytes(blocks, voteLeaves, colorLeaves, 89 + maxPerLeaf, run.threads());
     vox::MemoryEstimate e;
     e.add("resident before the merge", vox::residentBytesNow());

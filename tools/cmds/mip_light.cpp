@@ -151,7 +151,7 @@ nlohmann::json levelJson(const vox::MipBlocksLevel& level, double secs) {
 /// "Memory"). The freed leaves the read left on the heap are not counted
 /// against it, so the estimate errs high by about the levels.
 vox::MemoryEstimate mipWorkEstimate(const vox::MipBlocksLevel& base, int levels, bool split, unsigned threads) {
-  constexpr double kMalloc = 16;
+  constexpr double kMalloc = vox::kMallocBlockBytes;
   double bytes = 0, classBlocks = 0, colorBlocks = 0, voxels = 0;
   std::vector<uint64_t> keys;
   keys.reserve(base.blocks.size());
