@@ -25,7 +25,9 @@ void expectSame(const VoxelBlock& b, const Plain& want, const std::array<uint64_
   for (int i = 0; i < kBlockVoxels; ++i) {
     const bool colored = (b.colored[size_t(i >> 6)] >> (i & 63)) & 1;
     ASSERT_EQ(colored, want[size_t(i)].has_value()) << "voxel " << i;
-    if (colored) EXPECT_EQ(colorAt(b, i), *want[size_t(i)]) << "voxel " << i;
+    if (colored) {
+      EXPECT_EQ(colorAt(b, i), *want[size_t(i)]) << "voxel " << i;
+    }
   }
   int last = -1;
   size_t visits = 0;

@@ -41,7 +41,9 @@ void checkAgainstOracle(const std::vector<uint64_t>& keys) {
   std::mt19937_64 rng(7);
   for (int i = 0; i < 1000; ++i) {
     const uint64_t k = rng() >> 1;
-    if (!oracle.count(k)) EXPECT_EQ(map.find(k), nullptr);
+    if (!oracle.count(k)) {
+      EXPECT_EQ(map.find(k), nullptr);
+    }
   }
 }
 

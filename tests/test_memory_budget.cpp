@@ -352,7 +352,9 @@ TEST(MeshFootprint, RegionsCountTheirBoxOnly) {
         EXPECT_NEAR(blocks, whole.blocks, 1e-9 * whole.blocks) << res << " N " << n;  // 32-voxel tiles: whole blocks
         EXPECT_NEAR(surface, whole.surfaceVoxels, 1e-6 * whole.surfaceVoxels) << res << " N " << n;
         EXPECT_LT(largest, previousLargest) << res << " N " << n;
-        if (m.triangles.size() == 2) EXPECT_LT(largest, 1.3 * whole.blocks / n) << res << " N " << n;  // uniform
+        if (m.triangles.size() == 2) {  // uniform
+          EXPECT_LT(largest, 1.3 * whole.blocks / n) << res << " N " << n;
+        }
         previousLargest = largest;
       }
     }

@@ -279,7 +279,7 @@ TEST(VoxelizeFar, ClassesTouchingTheDomainAsTheVoxelByVoxelTestFindsThem) {
   // voxels), each its own class: a class is used exactly when the exact test
   // admits one of the grid's voxels.
   const int dims[3] = {5, 4, 3};
-  const SceneHeader h = voxtest::twoClassHeader({dims[0], dims[1], dims[2]});
+  const SceneHeader h = voxtest::twoClassHeader({uint32_t(dims[0]), uint32_t(dims[1]), uint32_t(dims[2])});
   uint64_t state = 12345;
   auto quarter = [&](int lo, int hi) {  // a multiple of 1/4 in [lo, hi]
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;

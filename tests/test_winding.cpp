@@ -498,7 +498,9 @@ void compareAllCentres(const Mesh& m, uint32_t n, CapStats& st, const char* what
           EXPECT_NEAR(total, std::round(total), 1e-9) << what << " at " << p[0] << " " << p[1] << " " << p[2];
           const bool evaluated = field.ballField(p, 0, ball);
           EXPECT_TRUE(evaluated) << what;
-          if (evaluated) EXPECT_LE(std::abs(ball.value - field.winding(p)), ball.valueError + ball.slack + 1e-12) << what;
+          if (evaluated) {
+            EXPECT_LE(std::abs(ball.value - field.winding(p)), ball.valueError + ball.slack + 1e-12) << what;
+          }
         }
         if (std::abs(std::abs(wm) - 0.5) < 1e-9) {
           ++st.ties;

@@ -239,7 +239,10 @@ std::string temporaryPathFor(const std::string& finalPath) {
   const fs::path p(finalPath);
   char tag[64];
   std::snprintf(tag, sizeof tag, ".tmp-%08x-%ld-%u", hostHash(), long(getpid()), counter++);
-  return (p.parent_path() / ("." + temporaryStem(p.filename().string()) + tag)).string();
+  std::string name = ".";  // appended, not "." + ...: GCC 12 warns falsely (-Wrestrict) on that temporary
+  name += temporaryStem(p.filename().string());
+  name += tag;
+  return (p.parent_path() / name).string();
 }
 }  // namespace
 

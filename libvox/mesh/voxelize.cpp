@@ -419,7 +419,7 @@ class ColorSums {
       uint32_t& at = index_[key];  // grid voxels: u, v, w >= 0, so key < 2^63, never the empty key
       if (at == 0) {
         blocks_.push_back({{u & ~(kBlockDim - 1), v & ~(kBlockDim - 1), w & ~(kBlockDim - 1)},
-                           std::make_unique<std::array<uint32_t, kBlockVoxels>>()});
+                           std::make_unique<std::array<uint32_t, kBlockVoxels>>(), {}, {}});
         at = uint32_t(blocks_.size());
       }
       lastKey_ = key, last_ = &blocks_[at - 1];
