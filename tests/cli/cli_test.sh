@@ -27,9 +27,21 @@ version)
   ;;
 usage)
   expect_exit 2 "$vox"
+  expect_stderr "vox: error: give a command first: voxelize, info, diff,"
   expect_exit 2 "$vox" no-such-command
+  expect_stderr "vox: error: unknown command 'no-such-command'; the commands are voxelize, info,"
+  expect_exit 2 "$vox" voxelise demo:hamlet -o x.vdb
+  expect_stderr "unknown command 'voxelise' (did you mean 'voxelize'?)"
+  expect_exit 2 "$vox" rendr x.vdb
+  expect_stderr "(did you mean 'render-canonical'?)"
   expect_exit 2 "$vox" voxelize demo:hamlet            # no -o
-  expect_stderr "vox voxelize: error: --output is required; see 'vox voxelize --help'"
+  expect_stderr "vox voxelize: error: --output is required: scene file to write (*.vdb); see 'vox voxelize --help'"
+  [ "$(wc -l < err.txt)" = 1 ] || fail "a usage error is one line, like every other error: $(cat err.txt)"
+  # A missing positional is named, with the usage line (CLI11 alone says "a is required").
+  expect_exit 2 "$vox" diff only-one.vdb
+  expect_stderr "vox diff: error: missing the argument 'b': second file (the golden / reference one); usage: vox diff [OPTIONS] a b; see 'vox diff --help'"
+  expect_exit 2 "$vox" voxelize -o x.vdb
+  expect_stderr "missing the argument 'inputs': meshes (.obj"
   [ "$(wc -l < err.txt)" = 1 ] || fail "a usage error is one line, like every other error: $(cat err.txt)"
   expect_exit 2 "$vox" voxelize demo:hamlet -o x.vdb --res 0
   expect_stderr "vox voxelize: error: --res"

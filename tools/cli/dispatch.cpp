@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -136,6 +137,73 @@ const char* const kOutOfMemoryAdvice =
 
 const std::vector<std::string>& invocation() { return gInvocation; }
 
+namespace {
+const CLI::App* parsedCommand(const CLI::App& app, const std::vector<Command>& commands) {
+  for (const Command& c : commands)
+    if (c.app->parsed()) return c.app;
+  return &app;
+}
+
+// CLI11 words a missing required argument "NAME is required", which for a
+// positional reads as a sentence fragment ("a is required", "inputs is
+// required"). Say what is missing and show the usage line instead.
+std::string explainMissing(const CLI::App* cmd, const std::string& commandName, const std::string& what) {
+  const std::string tail = " is required";
+  if (what.size() <= tail.size() || what.compare(what.size() - tail.size(), tail.size(), tail) != 0) return what;
+  const std::string name = what.substr(0, what.size() - tail.size());
+  const CLI::Option* opt = cmd->get_option_no_throw(name);
+  if (!opt) return what;
+  std::string description = opt->get_description();
+  if (!description.empty()) description[0] = char(std::tolower(static_cast<unsigned char>(description[0])));
+  if (!opt->get_positional()) return description.empty() ? what : what + ": " + description;
+  std::string usage = CLI::Formatter().make_usage(cmd, commandName);
+  while (!usage.empty() && (usage.back() == '\n' || usage.back() == ' ')) usage.pop_back();
+  const std::string prefix = "Usage: ";
+  if (usage.compare(0, prefix.size(), prefix) == 0) usage = "usage: " + usage.substr(prefix.size());
+  std::string out = "missing the argument '" + name + "'";
+  if (!description.empty()) out += ": " + description;
+  if (!usage.empty()) out += "; " + usage;
+  return out;
+}
+
+// Levenshtein distance, for "did you mean": command names are short.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// No command was parsed: CLI11 says "A subcommand is required" whether the
+// command is missing or misspelt. Name the word it did not know and list the
+// commands, with the nearest one when it is close.
+std::string explainNoCommand(const CLI::App& app, int argc, char** argv, const std::string& what) {
+  std::string names, nearest;
+  size_t best = std::string::npos;
+  const std::string word = argc > 1 ? argv[1] : "";
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+    // Also against the name's first part: "rendr" is near render-canonical.
+    const std::string head = sub->get_name().substr(0, sub->get_name().find('-'));
+    const size_t d = std::min(editDistance(word, sub->get_name()), editDistance(word, head));
+    if (d < best) best = d, nearest = sub->get_name();
+  }
+  if (names.empty()) return what;
+  if (word.empty() || word[0] == '-') return "give a command first: " + names;
+  std::string out = "unknown command '" + word + "'";
+  if (best <= std::max<size_t>(2, word.size() / 3)) out += " (did you mean '" + nearest + "'?)";
+  return out + "; the commands are " + names;
+}
+}  // namespace
+
 int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** argv) {
   gInvocation.assign(argv, argv + argc);
   try {
@@ -157,6 +225,8 @@ int parseAndRun(CLI::App& app, std::vector<Command>& commands, int argc, char** 
       }
     std::string what = e.what();
     std::replace(what.begin(), what.end(), '\n', ' ');
+    if (name == "vox") what = explainNoCommand(app, argc, argv, what);
+    else what = explainMissing(parsedCommand(app, commands), name, what);
     std::cerr << name << ": error: " << what << "; see '" << name << " --help'\n";
     return kExitUsage;
   }
