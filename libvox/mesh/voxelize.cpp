@@ -202,8 +202,6 @@ uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
 
 }  // namespace
 
-int64_t snapToLattice(double g) { return i64(std::llround(g * double(kS))); }
-
 namespace {
 
 // The same separating-axis test in double precision, used as a filter: it

@@ -71,6 +71,7 @@
 
 #include "libvox/mesh/mesh.h"
 #include "libvox/core/progress.h"
+#include "libvox/core/round_half_away.h"
 #include "libvox/core/scene_header.h"
 #include "libvox/mesh/class_compaction.h"
 #include "libvox/mesh/texture_rows.h"
@@ -156,7 +157,9 @@ std::array<bool, 256> classesTouchingDomain(const Mesh& mesh, const std::vector<
 /// oracle. The box is voxel (u, v, w).
 bool triangleTouchesVoxel(const std::array<int64_t, 3> tri[3], int32_t u, int32_t v, int32_t w);
 
-/// Snaps a grid-space coordinate to the lattice (round to nearest, ties away from 0).
-int64_t snapToLattice(double g);
+/// Snaps a grid-space coordinate to the lattice (round to nearest, ties away
+/// from 0). Inline and without libm: it runs for every vertex coordinate
+/// before the surface pass, on one thread.
+inline int64_t snapToLattice(double g) { return llroundHalfAway(g * double(int64_t(1) << kSubvoxelBits)); }
 
 }  // namespace vox

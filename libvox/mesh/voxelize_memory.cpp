@@ -9,6 +9,7 @@
 
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/parallel.h"
+#include "libvox/core/round_half_away.h"
 #include "libvox/mesh/lattice_triangles.h"
 #include "libvox/mesh/texture_sampling.h"
 #include "libvox/mesh/voxel_blocks.h"
@@ -35,15 +36,6 @@ int splitDepth(const P3 t[3], double side) {
   int d = 0;
   for (double e2 = l2; e2 > side * side && d < 30; e2 /= 4) ++d;
   return d;
-}
-
-/// std::round (halves away from zero) without a libm call per coordinate:
-/// the same value for every double.
-double roundHalfAway(double x) {
-  if (!(std::abs(x) < 0x1p52)) return x;  // already an integer (or NaN)
-  const double whole = double(int64_t(x));  // toward zero, exact
-  const double frac = x - whole;            // exact
-  return frac >= 0.5 ? whole + 1 : frac <= -0.5 ? whole - 1 : whole;
 }
 
 /// The voxels a bake works on, inclusive: the grid, or a region bake's box
