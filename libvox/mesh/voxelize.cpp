@@ -200,10 +200,6 @@ uint64_t voxelKey(int32_t u, int32_t v, int32_t w) {
   last = int32_t(std::min<i64>(dim - 1, latticeHi >> kSubvoxelBits));
 }
 
-}  // namespace
-
-namespace {
-
 // The same separating-axis test in double precision, used as a filter: it
 // answers only when every axis is decided by a margin far above the rounding
 // error (1e-9 of the magnitudes involved, against ~1e-15 actual), and returns
