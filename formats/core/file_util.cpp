@@ -469,7 +469,9 @@ void commitAll(std::vector<AtomicOutput*> outputs) {
   for (const std::string& dir : directories) syncDirectory(dir);
 }
 
-void requireRegularFile(const std::string& path) {
+void requireRegularFile(const std::string& path) { requireRegularFile(path, "", ""); }
+
+void requireRegularFile(const std::string& path, const std::string& ifDirectory, const std::string& ifNotRegular) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int err = errno;
@@ -484,6 +486,8 @@ void requireRegularFile(const std::string& path) {
     ::close(fd);
     return;
   }
+  if (S_ISDIR(st.st_mode) && !ifDirectory.empty()) throwBadInput(path + ": " + ifDirectory);
+  if (!S_ISDIR(st.st_mode) && !ifNotRegular.empty()) throwBadInput(path + ": " + ifNotRegular);
   const char* what = S_ISDIR(st.st_mode)    ? "a directory"
                      : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
                      : S_ISSOCK(st.st_mode) ? "a socket"

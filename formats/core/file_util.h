@@ -128,6 +128,11 @@ void commitAll(std::vector<AtomicOutput*> outputs);
 /// (Permission denied).
 void requireRegularFile(const std::string& path);
 
+/// requireRegularFile (one stat, one open) with the caller's words for a
+/// directory and for any other file that is not regular, each following
+/// "PATH: " (a reader of one format names what it expected).
+void requireRegularFile(const std::string& path, const std::string& ifDirectory, const std::string& ifNotRegular);
+
 /// Reads a whole file (requireRegularFile first). Throws vox::Error (BadInput)
 /// naming the file if it is missing or unreadable.
 std::string readFileBytes(const std::string& path);
