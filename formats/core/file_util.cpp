@@ -514,13 +514,13 @@ std::string readFileBytes(const std::string& path) {
   return bytes;
 }
 
-FileView::FileView(const std::string& path) {
+FileView::FileView(const std::string& path, bool populate) {
   requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwBadInput(path + ": cannot open the file: " + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-    void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+    void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | (populate ? MAP_POPULATE : 0), fd, 0);
     if (p != MAP_FAILED) {
       mapped_ = p;
       data_ = static_cast<const char*>(p);

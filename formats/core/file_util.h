@@ -143,7 +143,9 @@ std::string readFileBytes(const std::string& path);
 /// readFileBytes. Not copyable.
 class FileView {
  public:
-  explicit FileView(const std::string& path);
+  /// `populate`: the whole file is read into the mapping at once (the
+  /// reader will touch every page); without, pages come in as touched.
+  explicit FileView(const std::string& path, bool populate = true);
   ~FileView();
   FileView(const FileView&) = delete;
   FileView& operator=(const FileView&) = delete;

@@ -846,7 +846,7 @@ VdbFrame walkVdbInto(const uint8_t* data, size_t size, const std::string& name, 
 
 VdbTopologyWalk::VdbTopologyWalk(const std::string& path) : path_(path) {
   checkVdbFileOpenable(path);
-  file_ = std::make_unique<FileView>(path);
+  file_ = std::make_unique<FileView>(path, /*populate=*/false);
   state_ = std::make_unique<VdbWalkState>(reinterpret_cast<const uint8_t*>(file_->data()), file_->size(), path);
   walkFirstPass(*state_, VdbCheck::Full, /*keep=*/true);
   frame_ = state_->f;
