@@ -41,6 +41,7 @@
 #include "formats/vdb/vdb_scene_direct_read.h"
 #include "formats/vdb/vdb_scene_grids.h"
 #include "formats/vdb/vdb_scene_leaves.h"
+#include "formats/vdb/vdb_structure.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/scene/demo_city.h"
 #include "libvox/scene/demo_hamlet.h"
@@ -191,6 +192,24 @@ void expectSameBothWays(const std::string& path, bool direct = true) {
   want.grids() = levelGridsFromVdb(b.grids, "", b.header, path, true);
   const SceneDifference diff = compareScenes(readSceneVdb(path), want);
   EXPECT_TRUE(diff.same()) << diff.headerNote << " " << diff.firstNote;
+  // Read through a walk kept from its topology (vox merge's parts): the
+  // frame a full walk gives, then the same scene; the walk is finished once.
+  {
+    VdbTopologyWalk walked(path);
+    const VdbFrame full = checkVdbStructure(path);
+    ASSERT_EQ(walked.frame().grids.size(), full.grids.size());
+    for (size_t i = 0; i < full.grids.size(); ++i) {
+      const VdbGridFrame &a = walked.frame().grids[i], &b = full.grids[i];
+      EXPECT_TRUE(a.uniqueName == b.uniqueName && a.type == b.type && a.checked == b.checked &&
+                  a.leafCount == b.leafCount && a.activeLeafVoxels == b.activeLeafVoxels &&
+                  a.upperNodes == b.upperNodes && a.lowerNodes == b.lowerNodes)
+          << "grid " << b.uniqueName;
+    }
+    EXPECT_TRUE(walked.frame().metadataNames == full.metadataNames);
+    const SceneDifference viaWalk = compareScenes(readSceneVdb(walked), want);
+    EXPECT_TRUE(viaWalk.same()) << viaWalk.headerNote << " " << viaWalk.firstNote;
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(walked); }, ErrorKind::Internal, {"already finished"}));
+  }
   expectSamePack(path, direct);
   if (direct) expectSameRenderSource(path);
   else EXPECT_FALSE(readSceneLeaves(path, SceneLeafParts::OccupancyOnly).has_value());
@@ -383,6 +402,18 @@ TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
   });
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(stray); }, ErrorKind::BadInput,
                                       {stray, "grid '" + voteGridName(scene.grids().votes[0].classId) + "' has a vote at an unoccupied voxel (15, 15, 15)"}));
+  // Read through a walk kept from its topology: the same messages.
+  for (const std::string& refused : {path, unvoted, stray}) {
+    std::string message;
+    try {
+      readSceneVdb(refused);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    ASSERT_FALSE(message.empty());
+    VdbTopologyWalk walked(refused);
+    EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneVdb(walked); }, ErrorKind::BadInput, {message})) << refused;
+  }
   // The leaves reader leaves each to the usual reader, which names the fault.
   for (const std::string& refused : {path, unvoted, stray}) EXPECT_FALSE(readSceneLeaves(refused).has_value()) << refused;
   // Occupancy only, the vote grids are not read (nor checked), as readSceneVdb's SceneParts::OccupancyOnly.
@@ -404,6 +435,7 @@ TEST(DirectRead, CheckMessagesNameTheFirstVoxel) {
   }
   ASSERT_FALSE(message.empty());
   EXPECT_TRUE(voxtest::throwsVoxError([&] { readSceneLeaves(cut); }, ErrorKind::BadInput, {message}));
+  EXPECT_TRUE(voxtest::throwsVoxError([&] { VdbTopologyWalk walked(cut); readSceneVdb(walked); }, ErrorKind::BadInput, {message}));
 }
 
 TEST(DirectRead, ScenesMadeByTheCommandLine) {

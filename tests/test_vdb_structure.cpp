@@ -13,6 +13,7 @@
 // replayed under ASan by the fuzz binary (docs/reliability.md).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
@@ -25,6 +26,7 @@
 #include <map>
 #include <random>
 
+#include "formats/core/file_util.h"
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_checked_file.h"
@@ -339,6 +341,57 @@ TEST(VdbStructure, RefusesWhatItCannotCheckAndNonRegularFiles) {
   EXPECT_TRUE(throwsVoxError([&] { CheckedVdbFile f(fifo); }, ErrorKind::BadInput, {fifo, "not a regular file"}));
   EXPECT_TRUE(throwsVoxError([&] { readSceneVdb(fifo); }, ErrorKind::BadInput, {fifo, "not a regular file"}));
   EXPECT_TRUE(throwsVoxError([&] { CheckedVdbFile f(dir.path().string()); }, ErrorKind::BadInput, {"directory"}));
+}
+
+/// The message checkVdbFileOpenable throws for `path`, or "" when it accepts it.
+std::string openableMessage(const std::string& path) {
+  try {
+    checkVdbFileOpenable(path);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind, ErrorKind::BadInput) << e.what();
+    return e.what();
+  }
+  return "";
+}
+
+TEST(VdbStructure, NonVdbInputsAreRefusedWithTheirOwnWords) {
+  TempDir dir;
+  const std::string vdb = dir.file("s.vdb");
+  HamletOptions o;
+  o.resolution = 8;
+  writeSceneVdb(buildHamlet(o), vdb);
+  EXPECT_EQ(openableMessage(vdb), "");
+  EXPECT_EQ(openableMessage(dir.file("none.vdb")), dir.file("none.vdb") + ": no such file");
+  EXPECT_EQ(openableMessage(dir.file("none/x.vdb")), dir.file("none/x.vdb") + ": no such file");
+  EXPECT_EQ(openableMessage(dir.path().string()), dir.path().string() + ": is a directory, expected a .vdb file");
+  const std::string fifo = dir.file("pipe.vdb");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(openableMessage(fifo), fifo +
+                                       ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only "
+                                       "from regular files");
+  EXPECT_EQ(openableMessage("/dev/null"),
+            "/dev/null: is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
+  const std::string text = dir.file("t.vdb");
+  writeBytes(text, "not a vdb at all");
+  EXPECT_EQ(openableMessage(text), text + ": not an OpenVDB file (wrong magic number)");
+  // A symbolic link is followed: to the scene it is accepted, to the directory refused as one.
+  const std::string toScene = dir.file("l.vdb"), toDir = dir.file("ld.vdb");
+  std::filesystem::create_symlink(vdb, toScene);
+  std::filesystem::create_directory(dir.file("sub"));
+  std::filesystem::create_symlink(dir.file("sub"), toDir);
+  EXPECT_EQ(openableMessage(toScene), "");
+  EXPECT_EQ(openableMessage(toDir), toDir + ": is a directory, expected a .vdb file");
+  // Unreadable (not for root, who reads it anyway): the system's reason.
+  const std::string locked = dir.file("locked.vdb");
+  std::filesystem::copy_file(vdb, locked);
+  ASSERT_EQ(chmod(locked.c_str(), 0), 0);
+  if (::geteuid() != 0) EXPECT_EQ(openableMessage(locked), locked + ": cannot open the file: Permission denied");
+  chmod(locked.c_str(), 0600);
+  // Every other input keeps requireRegularFile's own words.
+  EXPECT_TRUE(throwsVoxError([&] { requireRegularFile(fifo); }, ErrorKind::BadInput,
+                             {fifo + ": is a FIFO (named pipe), expected a regular file"}));
+  EXPECT_TRUE(throwsVoxError([&] { requireRegularFile(dir.path().string()); }, ErrorKind::BadInput,
+                             {dir.path().string() + ": is a directory, expected a regular file"}));
 }
 
 TEST(VdbStructure, CorruptScenesAreRefusedOrReadNeverCrash) {

@@ -472,7 +472,9 @@ void commitAll(std::vector<AtomicOutput*> outputs) {
   for (const std::string& dir : directories) syncDirectory(dir);
 }
 
-void requireRegularFile(const std::string& path) {
+void requireRegularFile(const std::string& path) { requireRegularFile(path, "", ""); }
+
+void requireRegularFile(const std::string& path, const std::string& ifDirectory, const std::string& ifNotRegular) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int err = errno;
@@ -487,6 +489,8 @@ void requireRegularFile(const std::string& path) {
     ::close(fd);
     return;
   }
+  if (S_ISDIR(st.st_mode) && !ifDirectory.empty()) throwBadInput(path + ": " + ifDirectory);
+  if (!S_ISDIR(st.st_mode) && !ifNotRegular.empty()) throwBadInput(path + ": " + ifNotRegular);
   const char* what = S_ISDIR(st.st_mode)    ? "a directory"
                      : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
                      : S_ISSOCK(st.st_mode) ? "a socket"
@@ -513,13 +517,13 @@ std::string readFileBytes(const std::string& path) {
   return bytes;
 }
 
-FileView::FileView(const std::string& path) {
+FileView::FileView(const std::string& path, bool populate) {
   requireRegularFile(path);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwBadInput(path + ": cannot open the file: " + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-    void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+    void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | (populate ? MAP_POPULATE : 0), fd, 0);
     if (p != MAP_FAILED) {
       mapped_ = p;
       data_ = static_cast<const char*>(p);

@@ -128,6 +128,11 @@ void commitAll(std::vector<AtomicOutput*> outputs);
 /// (Permission denied).
 void requireRegularFile(const std::string& path);
 
+/// requireRegularFile (one stat, one open) with the caller's words for a
+/// directory and for any other file that is not regular, each following
+/// "PATH: " (a reader of one format names what it expected).
+void requireRegularFile(const std::string& path, const std::string& ifDirectory, const std::string& ifNotRegular);
+
 /// Reads a whole file (requireRegularFile first). Throws vox::Error (BadInput)
 /// naming the file if it is missing or unreadable.
 std::string readFileBytes(const std::string& path);
@@ -138,7 +143,9 @@ std::string readFileBytes(const std::string& path);
 /// readFileBytes. Not copyable.
 class FileView {
  public:
-  explicit FileView(const std::string& path);
+  /// `populate`: the whole file is read into the mapping at once (the
+  /// reader will touch every page); without, pages come in as touched.
+  explicit FileView(const std::string& path, bool populate = true);
   ~FileView();
   FileView(const FileView&) = delete;
   FileView& operator=(const FileView&) = delete;

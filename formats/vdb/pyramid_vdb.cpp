@@ -79,7 +79,10 @@ void writePyramidVdb(const std::vector<const Scene*>& levels, MipOccupancy occup
 
 bool isPyramidVdb(const std::string& path) {
   if (!looksLikeVdb(path)) return false;
-  const VdbFrame frame = checkVdbStructure(path, VdbCheck::Framing);
+  return isPyramidFrame(checkVdbStructure(path, VdbCheck::Framing));
+}
+
+bool isPyramidFrame(const VdbFrame& frame) {
   return std::find(frame.metadataNames.begin(), frame.metadataNames.end(), kPyramidKey) != frame.metadataNames.end();
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/vdb/vdb_structure.h"
 #include "libvox/scene/mip.h"
 #include "libvox/scene/scene.h"
 
@@ -24,6 +25,9 @@ void writePyramidVdb(const std::vector<const Scene*>& levels, MipOccupancy occup
 /// True when `path` is an OpenVDB file with a `vox:pyramid` key (cheap: reads
 /// the framing only). False for a plain scene or a non-VDB file.
 bool isPyramidVdb(const std::string& path);
+
+/// The same for a file's walked frame (its file metadata's names).
+bool isPyramidFrame(const VdbFrame& frame);
 
 /// The `vox:pyramid` JSON text of a pyramid file (reads the metadata only), or
 /// an empty string for a plain scene.

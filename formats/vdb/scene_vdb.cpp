@@ -27,4 +27,13 @@ Scene readSceneVdb(const std::string& path, SceneParts parts) {
   return scene;
 }
 
+Scene readSceneVdb(VdbTopologyWalk& walked) {
+  const std::string path = walked.path();
+  VdbSceneFile file = readVdbSceneFile(walked, /*occupancyOnly=*/false);
+  Scene scene;
+  scene.header() = std::move(file.header);
+  scene.grids() = levelGridsFromVdb(file.grids, "", scene.header(), path, /*checkTopology=*/true);
+  return scene;
+}
+
 }  // namespace vox

@@ -29,5 +29,10 @@ Scene readSceneVdb(const std::string& path);
 enum class SceneParts { All, OccupancyOnly };
 Scene readSceneVdb(const std::string& path, SceneParts parts);
 
+/// readSceneVdb (All) of a file whose topology is already walked, finishing
+/// that walk: the same scene and errors, the file read once (vox merge
+/// estimates every part's memory from its topology before reading any).
+Scene readSceneVdb(VdbTopologyWalk& walked);
+
 
 }  // namespace vox

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "formats/core/file_util.h"
 #include "formats/scene/scene_meta.h"
 #include "libvox/core/memory_budget.h"
 
@@ -80,34 +79,7 @@ double sceneGridBytes(const VdbFrame& frame, bool occupancyOnly, SceneReadForm f
   return grids;
 }
 
-namespace {
-/// Keeps the frame the walk hands over once the topology is walked, then
-/// ends the walk before any leaf buffer.
-class TopologySink final : public VdbWalkSink {
- public:
-  struct Walked {};
-  void fileMetadata(const uint8_t*, size_t) override {}
-  std::vector<VdbLeafUse> topologyWalked(const VdbFrame& frame, const std::vector<VdbGridLayout>&) override {
-    frame_ = frame;
-    throw Walked{};
-  }
-  void leaf(size_t, size_t, const VdbLeafValues&) override {}
-  void gridDone(size_t) override {}
-  VdbFrame frame_;
-};
-}  // namespace
-
-VdbFrame vdbTopologyFrame(const std::string& path) {
-  checkVdbFileOpenable(path);
-  const FileView file(path);  // mapped: only the topology's pages are touched
-  TopologySink sink;
-  try {
-    walkVdbInto(reinterpret_cast<const uint8_t*>(file.data()), file.size(), path, sink);
-  } catch (const TopologySink::Walked&) {
-    return sink.frame_;
-  }
-  return sink.frame_;
-}
+VdbFrame vdbTopologyFrame(const std::string& path) { return VdbTopologyWalk(path).frame(); }
 
 void checkSceneReadMemory(const VdbFrame& frame, bool occupancyOnly, const std::string& path, SceneReadForm form,
                           uint64_t fileBytes) {

@@ -242,4 +242,15 @@ std::optional<VdbSceneFile> readVdbSceneFileDirect(const std::string& path, bool
   return sink.take();
 }
 
+std::optional<VdbSceneFile> readVdbSceneFileDirect(VdbTopologyWalk& walked, bool occupancyOnly) {
+  ensureOpenVdbInitialized();
+  SceneSink sink(walked.path(), occupancyOnly);
+  try {
+    walked.finish(sink);
+  } catch (const NotOfTheForm&) {
+    return std::nullopt;
+  }
+  return sink.take();
+}
+
 }  // namespace vox

@@ -35,4 +35,8 @@ namespace vox {
 /// --threads); the grids do not depend on their number.
 std::optional<VdbSceneFile> readVdbSceneFileDirect(const std::string& path, bool occupancyOnly);
 
+/// The same for a file whose topology is already walked (its first pass),
+/// finishing that walk.
+std::optional<VdbSceneFile> readVdbSceneFileDirect(VdbTopologyWalk& walked, bool occupancyOnly);
+
 }  // namespace vox

@@ -148,6 +148,15 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
 VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly, VdbSceneReader reader) {
   if (reader == VdbSceneReader::Auto)
     if (std::optional<VdbSceneFile> direct = readVdbSceneFileDirect(path, occupancyOnly)) return std::move(*direct);
+  return readVdbSceneFileChecked(path, occupancyOnly);
+}
+
+VdbSceneFile readVdbSceneFile(VdbTopologyWalk& walked, bool occupancyOnly) {
+  if (std::optional<VdbSceneFile> direct = readVdbSceneFileDirect(walked, occupancyOnly)) return std::move(*direct);
+  return readVdbSceneFileChecked(walked.path(), occupancyOnly);
+}
+
+VdbSceneFile readVdbSceneFileChecked(const std::string& path, bool occupancyOnly) {
   CheckedVdbFile file(path);  // refuses corrupt files before OpenVDB trusts their sizes
   VdbSceneFile f;
   const openvdb::MetaMap::Ptr meta = file.metadata();

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "formats/scene/scene_meta.h"
+#include "formats/vdb/vdb_structure.h"
 #include "libvox/scene/scene.h"
 #include "libvox/scene/scene_grids.h"
 
@@ -55,6 +56,14 @@ enum class VdbSceneReader { Auto, OpenVdb };
 /// the memory guard refuses the grids.
 VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly,
                               VdbSceneReader reader = VdbSceneReader::Auto);
+
+/// readVdbSceneFile (Auto) of a file whose topology is already walked,
+/// finishing that walk; a file not of the form voxbake writes is read again
+/// by OpenVDB (readVdbSceneFileChecked).
+VdbSceneFile readVdbSceneFile(VdbTopologyWalk& walked, bool occupancyOnly);
+
+/// readVdbSceneFile with VdbSceneReader::OpenVdb: the walk, then OpenVDB's reader.
+VdbSceneFile readVdbSceneFileChecked(const std::string& path, bool occupancyOnly);
 
 /// The checked grids of one level with header `h`: the grids of `fileGrids`
 /// named `namePrefix` + a scene grid name ("" for a scene, "mip2." for level 2

@@ -13,7 +13,6 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -727,13 +726,37 @@ void walkGridBuffers(Reader& r, const VdbGridFrame& g, TreeWalk& tree, bool deco
                    std::to_string(g.endPos));
 }
 
-/// checkVdbStructure, or with a sink walkVdbInto.
-VdbFrame walk(const uint8_t* data, size_t size, const std::string& name, VdbCheck depth, VdbWalkSink* sink) {
+}  // namespace
+
+/// A walk's state between its two passes. Not movable: the reader refers to
+/// `where`, which refers to `name`, and the tree walks refer to the reader.
+struct VdbWalkState {
+  VdbWalkState(const uint8_t* data, size_t size, const std::string& nameForMessages)
+      : name(nameForMessages), r(data, size, where) {
+    where.file = &name;
+  }
+  VdbWalkState(const VdbWalkState&) = delete;
+  VdbWalkState& operator=(const VdbWalkState&) = delete;
+  std::string name;
   Where where;
-  where.file = &name;
-  Reader r(data, size, where);
+  Reader r;
   VdbFrame f;
-  if (size < 8 || r.get<int64_t>("the magic number") != kMagic) throwBadInput(name + ": not an OpenVDB file (wrong magic number)");
+  const uint8_t* meta = nullptr;  // the file metadata as stored
+  size_t metaBytes = 0;
+  std::vector<GridWalk> walks;  // kept for the second pass: every grid's
+};
+
+namespace {
+
+/// The header, file metadata and grid descriptors, and with Full every
+/// grid's topology; the leaf buffers too unless `keep` (they are then walked
+/// by finishWalk, the grids' walks kept in `s.walks`).
+void walkFirstPass(VdbWalkState& s, VdbCheck depth, bool keep) {
+  Where& where = s.where;
+  Reader& r = s.r;
+  VdbFrame& f = s.f;
+  const std::string& name = s.name;
+  if (r.size() < 8 || r.get<int64_t>("the magic number") != kMagic) throwBadInput(name + ": not an OpenVDB file (wrong magic number)");
   f.fileVersion = r.get<uint32_t>("the file version");
   if (f.fileVersion < kOldestVersion)
     throwBadInput(name + ": OpenVDB file format " + std::to_string(f.fileVersion) +
@@ -749,16 +772,15 @@ VdbFrame walk(const uint8_t* data, size_t size, const std::string& name, VdbChec
   r.take(36, "the file UUID");
   const size_t metaAt = r.pos();
   f.metadataNames = readMeta(r, "file").names;
-  const size_t metaEnd = r.pos();
+  s.meta = r.here() - (r.pos() - metaAt);
+  s.metaBytes = r.pos() - metaAt;
   if (!hasGridOffsets)
     throwBadInput(name + ": the OpenVDB file has no grid offsets (written as a stream); vox reads files written by "
                          "openvdb::io::File");
-  if (sink) sink->fileMetadata(data + metaAt, metaEnd - metaAt);
 
   const int32_t gridCount = r.get<int32_t>("the grid count");
   if (gridCount < 0) throwBadInput(name + ": the grid count is negative; the file is corrupt");
   std::set<std::string> names;
-  std::vector<GridWalk> walks;  // with a sink: every grid's, for the second pass
   for (int32_t i = 0; i < gridCount; ++i) {
     const std::string what = "grid descriptor " + std::to_string(i);
     where.grid.clear();
@@ -781,25 +803,29 @@ VdbFrame walk(const uint8_t* data, size_t size, const std::string& name, VdbChec
                  std::to_string(r.size()) + " bytes");
     if (depth == VdbCheck::Full) {
       GridWalk gw = walkGridTopology(r, g, f.grids);
-      if (sink) walks.push_back(std::move(gw));
+      if (keep) s.walks.push_back(std::move(gw));
       else if (gw.tree) walkGridBuffers(r, g, *gw.tree, /*decode=*/true, nullptr, 0);
     }
     r.seek(size_t(g.endPos));
     f.grids.push_back(std::move(g));
   }
-  if (!sink) return f;
-
   where.grid.clear();
+}
+
+/// walkVdbInto's second pass over a first pass that kept its grids' walks.
+VdbFrame finishWalk(VdbWalkState& s, VdbWalkSink& sink) {
+  sink.fileMetadata(s.meta, s.metaBytes);
+  const VdbFrame& f = s.f;
   std::vector<VdbGridLayout> layouts;
-  for (const GridWalk& gw : walks) layouts.push_back(gw.layout);
-  const std::vector<VdbLeafUse> use = sink->topologyWalked(f, layouts);
+  for (const GridWalk& gw : s.walks) layouts.push_back(gw.layout);
+  const std::vector<VdbLeafUse> use = sink.topologyWalked(f, layouts);
   if (use.size() != f.grids.size()) throw Error(ErrorKind::Internal, "walkVdbInto: the sink answered for another number of grids");
   for (size_t i = 0; i < f.grids.size(); ++i) {
-    if (!walks[i].tree) continue;
-    where.grid = "grid '" + printable(f.grids[i].uniqueName) + "'";
+    if (!s.walks[i].tree) continue;
+    s.where.grid = "grid '" + printable(f.grids[i].uniqueName) + "'";
     const bool deliver = use[i] == VdbLeafUse::Deliver;
-    walkGridBuffers(r, f.grids[i], *walks[i].tree, deliver, deliver ? sink : nullptr, i);
-    if (deliver) sink->gridDone(i);
+    walkGridBuffers(s.r, f.grids[i], *s.walks[i].tree, deliver, deliver ? &sink : nullptr, i);
+    if (deliver) sink.gridDone(i);
   }
   return f;
 }
@@ -807,11 +833,33 @@ VdbFrame walk(const uint8_t* data, size_t size, const std::string& name, VdbChec
 }  // namespace
 
 VdbFrame checkVdbStructure(const uint8_t* data, size_t size, const std::string& name, VdbCheck depth) {
-  return walk(data, size, name, depth, nullptr);
+  VdbWalkState s(data, size, name);
+  walkFirstPass(s, depth, /*keep=*/false);
+  return std::move(s.f);
 }
 
 VdbFrame walkVdbInto(const uint8_t* data, size_t size, const std::string& name, VdbWalkSink& sink) {
-  return walk(data, size, name, VdbCheck::Full, &sink);
+  VdbWalkState s(data, size, name);
+  walkFirstPass(s, VdbCheck::Full, /*keep=*/true);
+  return finishWalk(s, sink);
+}
+
+VdbTopologyWalk::VdbTopologyWalk(const std::string& path) : path_(path) {
+  checkVdbFileOpenable(path);
+  file_ = std::make_unique<FileView>(path, /*populate=*/false);
+  state_ = std::make_unique<VdbWalkState>(reinterpret_cast<const uint8_t*>(file_->data()), file_->size(), path);
+  walkFirstPass(*state_, VdbCheck::Full, /*keep=*/true);
+  frame_ = state_->f;
+}
+
+VdbTopologyWalk::~VdbTopologyWalk() = default;
+
+VdbFrame VdbTopologyWalk::finish(VdbWalkSink& sink) {
+  if (!state_) throw Error(ErrorKind::Internal, "VdbTopologyWalk::finish: the walk was already finished");
+  // Released when the read ends, however it ends: the pages, the leaf lists.
+  const std::unique_ptr<FileView> file = std::move(file_);
+  const std::unique_ptr<VdbWalkState> state = std::move(state_);
+  return finishWalk(*state, sink);
 }
 
 namespace {
@@ -878,14 +926,11 @@ bool looksLikeVdb(const std::string& path) {
 }
 
 void checkVdbFileOpenable(const std::string& path) {
-  std::error_code ec;
-  const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  // A missing file is worded as every other input's ("no such file"), or the system's reason.
-  if (ec || !std::filesystem::exists(st)) requireRegularFile(path);
-  if (std::filesystem::is_directory(st)) throwBadInput(path + ": is a directory, expected a .vdb file");
-  if (!std::filesystem::is_regular_file(st))
-    throwBadInput(path + ": is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
-  requireRegularFile(path);  // opens it: "cannot open the file: Permission denied"
+  // A missing or unopenable file is worded as every other input's ("no such
+  // file", "cannot open the file: Permission denied"); what is not a regular
+  // file is told it should be a .vdb file.
+  requireRegularFile(path, "is a directory, expected a .vdb file",
+                     "is not a regular file (a FIFO, socket or device); vox reads .vdb files only from regular files");
   if (!looksLikeVdb(path)) throwBadInput(path + ": not an OpenVDB file (wrong magic number)");
 }
 

@@ -41,6 +41,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -163,5 +164,36 @@ class VdbWalkSink {
 /// Leaf blocks are decompressed in parallel (libvox/core/parallel.h); what
 /// is delivered and which fault is named do not depend on the thread count.
 VdbFrame walkVdbInto(const uint8_t* data, size_t size, const std::string& nameForMessages, VdbWalkSink& sink);
+
+class FileView;
+struct VdbWalkState;
+
+/// walkVdbInto over a file, in two steps: the constructor maps the file and
+/// walks its framing and every grid's topology (the frame then has its leaf
+/// counts), finish() hands the grids to a sink and walks the leaf buffers.
+/// For a command that estimates several files' memory from their topology
+/// before it reads any (vox merge): each file is read once. Between the two,
+/// the file stays mapped (the pages the topology walk touched are resident)
+/// and the leaves' origins are kept (24 bytes a leaf).
+class VdbTopologyWalk {
+ public:
+  /// checkVdbFileOpenable, then the walk's first pass. Throws its vox::Error
+  /// (BadInput) naming the file.
+  explicit VdbTopologyWalk(const std::string& path);
+  ~VdbTopologyWalk();
+  VdbTopologyWalk(const VdbTopologyWalk&) = delete;
+  VdbTopologyWalk& operator=(const VdbTopologyWalk&) = delete;
+  const std::string& path() const { return path_; }
+  const VdbFrame& frame() const { return frame_; }
+  /// The rest of walkVdbInto (the sink gets every call it would), once;
+  /// then releases the mapping and the leaves' origins.
+  VdbFrame finish(VdbWalkSink& sink);
+
+ private:
+  std::string path_;
+  VdbFrame frame_;
+  std::unique_ptr<FileView> file_;
+  std::unique_ptr<VdbWalkState> state_;
+};
 
 }  // namespace vox

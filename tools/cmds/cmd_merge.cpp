@@ -4,6 +4,7 @@
 // docs/scale.md "Merging scenes").
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <memory>
 
 #include "formats/core/file_kinds.h"
 #include "formats/core/file_util.h"
@@ -11,6 +12,7 @@
 #include "formats/vdb/pyramid_vdb.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_memory.h"
+#include "formats/vdb/vdb_structure.h"
 #include "libvox/core/flat_map64.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "libvox/core/error.h"
@@ -43,12 +45,19 @@ int runMerge(const MergeOptions& o) {
   // files plus 7 per byte of the largest, which held the writer's buffers
   // grown by doubling: 2.0-2.4x the peak once the writer wrote a batch at a
   // time (docs/reliability.md "Memory").
+  // The topology walks are kept and finished by the reads below, so each
+  // part is mapped and walked once (docs/scale.md "Merge cost"); a part
+  // keeps its topology's pages and its leaves' origins until it is read.
+  std::vector<std::unique_ptr<vox::VdbTopologyWalk>> walked(o.parts.size());
   {
+    const double residentBefore = double(vox::residentBytesNow());
     double blocks = 0, voteLeaves = 0, colorLeaves = 0, blockBytes = 0, largestTrees = 0, maxPerLeaf = 0;
-    for (const std::string& path : o.parts) {
+    for (size_t i = 0; i < o.parts.size(); ++i) {
+      const std::string& path = o.parts[i];
       vox::requireRegularFile(path);
       if (!vox::looksLikeVdb(path)) continue;  // refused with its message when read
-      const vox::VdbFrame frame = vox::vdbTopologyFrame(path);
+      walked[i] = std::make_unique<vox::VdbTopologyWalk>(path);
+      const vox::VdbFrame& frame = walked[i]->frame();
       largestTrees = std::max(largestTrees, vox::sceneGridBytes(frame, false, vox::SceneReadForm::Trees));
       for (const vox::VdbGridFrame& g : frame.grids) {
         if (!g.checked || !g.instanceParent.empty() || g.leafCount == 0) continue;
@@ -78,7 +87,9 @@ int runMerge(const MergeOptions& o) {
     blockBytes += blocks * (sizeof(vox::VoxelBlock) + vox::kMallocBlockBytes + kMapEntry);
     const double writer = vox::directWriteBytes(blocks, voteLeaves, colorLeaves, 89 + maxPerLeaf, run.threads());
     vox::MemoryEstimate e;
-    e.add("resident before the merge", vox::residentBytesNow());
+    // Measured before the walks: what they hold is released part by part as
+    // the world's blocks grow, so it is not part of the peak counted here.
+    e.add("resident before the merge", residentBefore);
     e.add("world blocks", blockBytes);
     e.add("one part read, or the scene writer", std::max(largestTrees, writer));
     run.checkMemory(e, "merging " + std::to_string(o.parts.size()) + " parts");
@@ -87,15 +98,17 @@ int runMerge(const MergeOptions& o) {
   std::vector<vox::SceneHeader> headers;
   vox::VoxelBlocks blocks;
   uint64_t partVoxels = 0;
-  for (const std::string& path : o.parts) {
+  for (size_t i = 0; i < o.parts.size(); ++i) {
+    const std::string& path = o.parts[i];
     run.input(path);
-    vox::requireRegularFile(path);
-    if (!vox::looksLikeVdb(path))
+    // The estimate checked every part as a file and walked each OpenVDB one.
+    if (!walked[i])
       vox::throwBadInput(path + ": not an OpenVDB file; vox merge joins the parts vox voxelize --region wrote");
-    if (vox::isPyramidVdb(path))
+    if (vox::isPyramidFrame(walked[i]->frame()))
       vox::throwBadInput(path + ": a pyramid (vox mip output); vox merge joins level-0 parts: merge them, then run "
                                 "vox mip on the world");
-    const vox::Scene part = vox::readSceneVdb(path);
+    const vox::Scene part = vox::readSceneVdb(*walked[i]);
+    walked[i].reset();
     if (!part.header().region)
       vox::throwBadInput(path + ": not a part of a region bake (no region record); merge the files that vox "
                                 "voxelize --region wrote");
