@@ -385,7 +385,9 @@ TEST(VdbStructure, NonVdbInputsAreRefusedWithTheirOwnWords) {
   const std::string locked = dir.file("locked.vdb");
   std::filesystem::copy_file(vdb, locked);
   ASSERT_EQ(chmod(locked.c_str(), 0), 0);
-  if (::geteuid() != 0) EXPECT_EQ(openableMessage(locked), locked + ": cannot open the file: Permission denied");
+  if (::geteuid() != 0) {
+    EXPECT_EQ(openableMessage(locked), locked + ": cannot open the file: Permission denied");
+  }
   chmod(locked.c_str(), 0600);
   // Every other input keeps requireRegularFile's own words.
   EXPECT_TRUE(throwsVoxError([&] { requireRegularFile(fifo); }, ErrorKind::BadInput,
