@@ -541,11 +541,12 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       // moved copy per vertex, and for every boundary edge its walk and cap
       // (2 E - 3 T of them, about 2 P - T; a soup of separate triangles has
       // 3 T). Fitted on /usr/bin/time peaks above the resident start at
-      // --res 16 (a closed 80,000-triangle STL sphere, pig.stl, the bunny,
-      // fandisk, a soup of 30,000 separate triangles: 1.02-1.44x the peak,
-      // docs/reliability.md "Memory"); the unwelded count (520 bytes a
-      // vertex) was 3.8x high on the STL.
-      constexpr double kFixed = 2.5e6, kPerVertex = 48, kPerPosition = 250, kPerEdge = 80, kPerBoundaryEdge = 1400;
+      // --res 16 and 128 (31 meshes: ../shared/data's, UV spheres, boxes, a
+      // hemisphere, a tube, a height field, as OBJ and as STL soup, and a
+      // soup of 30,000 separate triangles: every case at or over 1.05x its
+      // peak, docs/reliability.md "Memory"); fitted on five meshes they were
+      // 1.3-1.5x the peak of spheres, boxes and open meshes.
+      constexpr double kFixed = 1.5e6, kPerVertex = 50, kPerPosition = 60, kPerEdge = 100, kPerBoundaryEdge = 2200;
       const double v = double(mesh.positions.size()), t = double(mesh.triangles.size());
       const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
       const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
