@@ -290,7 +290,7 @@ EOF2
   measured "$vox" voxelize sphere.stl --res 16 --fill solid -o ss.vdb --report ss.json
   ratio "STL sphere solid 16" ss.json 1.0 1.6
   # The same sphere indexed: its winding tables were fitted on five meshes
-  # (1.41x); refitted on 31 (docs/reliability.md, 2026-12-02 night): 1.19.
+  # (1.41x); refitted on 31 (docs/reliability.md, 2026-12-02 afternoon): 1.19.
   measured "$vox" voxelize sphere.obj --res 16 --fill solid -o so.vdb --report so.json
   ratio "OBJ sphere solid 16" so.json 1.0 1.3
   measured "$vox" voxelize cube.obj --res 256 --method sdf -o sdf.vdb --report sdf.json
