@@ -320,6 +320,50 @@ Mesh worldPlane() {
   return m;
 }
 
+TEST(MeshFootprint, WindingCountsTheCappedCopyAndTheCapsCrossings) {
+  // The interior pass works on a capped copy of the mesh (13 bytes a
+  // triangle, 24 a vertex, 85 a cap, at most one a boundary edge); the caps'
+  // +z crossings (32 bytes each) cover at most l^2 / 4pi columns for a
+  // boundary of length l, and at most the box's columns twice.
+  const std::string copy = "capped copy of the mesh", caps = "caps' ray crossings";
+  VoxelizeSettings s;
+  s.fill = FillMode::Solid;
+  s.solidRule = SolidRule::Winding;
+  const SceneHeader h = placed(0, 1, 64);
+  // A square across the grid: one loop of 4 edges (6 by Euler's count, B =
+  // 2 P - T), its cap the square: the box's 64 x 64 columns, twice.
+  const Mesh square = worldPlane();
+  const std::vector<uint8_t> two(2, 0);
+  const SurfaceFootprint fs = surfaceFootprint(square, two, h);
+  EXPECT_EQ(fs.boxColumns, 64.0 * 64.0);
+  const MemoryEstimate es = estimateMeshBake(fs, square, s, distinctPositions(square));
+  EXPECT_EQ(partOf(es, copy), 2 * 13.0 + 4 * 24.0 + 6 * 85.0);
+  EXPECT_EQ(partOf(es, caps), 2 * 64.0 * 64.0 * 32);
+  // A small triangle facing z (area A = 81.92 voxel faces): its perimeter's
+  // bound, 9 (4 A / sqrt 3) / 4pi = 1.65 A, over its cap's A columns.
+  Mesh tri;
+  tri.positions = {{0.2, 0.2, 0.5}, {0.4, 0.2, 0.5}, {0.2, 0.4, 0.5}};
+  tri.triangles = {{0, 1, 2}};
+  tri.triangleMaterial.assign(1, 0);
+  tri.trianglePart.assign(1, 0);
+  tri.materials.push_back({});
+  tri.parts.push_back({});
+  const std::vector<uint8_t> one(1, 0);
+  const SurfaceFootprint ft = surfaceFootprint(tri, one, h);
+  const double area = 0.5 * 12.8 * 12.8;
+  EXPECT_NEAR(ft.area, area, 1e-5 * area);  // of the corners on the lattice
+  const MemoryEstimate et = estimateMeshBake(ft, tri, s, 3);
+  EXPECT_EQ(partOf(et, copy), 13.0 + 3 * 24.0 + 3 * 85.0);
+  EXPECT_NEAR(partOf(et, caps), 32 * 9 * (4 / std::sqrt(3.0)) * ft.area / (4 * M_PI), 1.0);
+  EXPECT_GT(partOf(et, caps), 32 * area);
+  // Neither part without the winding rule.
+  s.solidRule = SolidRule::Parity;
+  EXPECT_EQ(partOf(estimateMeshBake(fs, square, s, 4), copy), 0.0);
+  EXPECT_EQ(partOf(estimateMeshBake(fs, square, s, 4), caps), 0.0);
+  s.fill = FillMode::Surface;
+  EXPECT_EQ(partOf(estimateMeshBake(fs, square, s, 4), copy), 0.0);
+}
+
 TEST(MeshFootprint, RegionsCountTheirBoxOnly) {
   // Large triangles spanning the world meet every region: the footprint of a
   // region counts the blocks and surface in its box, as the voxelizer

@@ -213,17 +213,26 @@ uint64_t largestFitting(uint64_t lo, uint64_t hi, uint64_t limit, const std::fun
   return lo;
 }
 
-uint64_t residentBytesNow() {
+namespace {
+
+/// A "Name:   123 kB" line of /proc/self/status, in bytes; 0 when absent.
+uint64_t statusBytes(const std::string& name) {
   std::ifstream in("/proc/self/status");
   std::string line;
   while (std::getline(in, line))
-    if (line.rfind("VmRSS:", 0) == 0) {
-      std::istringstream s(line.substr(6));
+    if (line.rfind(name, 0) == 0) {
+      std::istringstream s(line.substr(name.size()));
       uint64_t kb = 0;
       s >> kb;
       return kb * 1024;
     }
   return 0;
 }
+
+}  // namespace
+
+uint64_t residentBytesNow() { return statusBytes("VmRSS:"); }
+
+uint64_t peakResidentBytesSoFar() { return statusBytes("VmHWM:"); }
 
 }  // namespace vox

@@ -115,4 +115,10 @@ inline uint64_t suggestionBudget(uint64_t limit) { return limit - limit / 32; }
 /// Resident memory of this process now (VmRSS of /proc/self/status), 0 when unknown.
 uint64_t residentBytesNow();
 
+/// The largest resident memory this process has had so far (VmHWM of
+/// /proc/self/status: what /usr/bin/time and getrusage report as its peak),
+/// 0 when unknown. An estimate made after a step that peaked and freed (a
+/// mesh file's parse) is never below it.
+uint64_t peakResidentBytesSoFar();
+
 }  // namespace vox

@@ -1197,7 +1197,15 @@ struct CappedMesh {
 
 CappedMesh capMesh(const Mesh& mesh, const std::vector<uint8_t>& triangleClass, const std::vector<Vec3i>& lattice,
                    const std::vector<CapTriangle>& caps) {
-  CappedMesh out{mesh.triangles, lattice, triangleClass};
+  CappedMesh out;
+  // At their final size: grown from the mesh's own by push_back, an open
+  // mesh's copy doubled (48 bytes a vertex held through the interior pass).
+  out.triangles.reserve(mesh.triangles.size() + caps.size());
+  out.lattice.reserve(lattice.size() + 3 * caps.size());
+  out.classes.reserve(triangleClass.size() + caps.size());
+  out.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+  out.lattice.assign(lattice.begin(), lattice.end());
+  out.classes.assign(triangleClass.begin(), triangleClass.end());
   for (const CapTriangle& c : caps) {
     const uint32_t first = uint32_t(out.lattice.size());
     for (int k = 0; k < 3; ++k) out.lattice.push_back(c.v[k]);

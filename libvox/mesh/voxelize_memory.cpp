@@ -392,9 +392,13 @@ SurfaceFootprint surfaceFootprint(const Mesh& mesh, const std::vector<uint8_t>& 
   // The solid fill's box: the mesh's voxels, cut to the domain (a region
   // bake fills its part of the box only).
   f.boxVoxels = 1;
-  for (int k = 0; k < 3; ++k)
-    f.boxVoxels *= std::max(0.0, std::min(double(domain.hi[k]), std::floor(hi[k])) -
-                                     std::max(double(domain.lo[k]), std::ceil(lo[k]) - 1) + 1);
+  f.boxColumns = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double extent = std::max(0.0, std::min(double(domain.hi[k]), std::floor(hi[k])) -
+                                            std::max(double(domain.lo[k]), std::ceil(lo[k]) - 1) + 1);
+    f.boxVoxels *= extent;
+    if (k < 2) f.boxColumns *= extent;
+  }
   f.enclosedVoxels = std::min(f.enclosedVoxels, f.boxVoxels);
   f.surfaceVoxels = f.crossings[0] + f.crossings[1] + f.crossings[2];
 
@@ -533,14 +537,34 @@ MemoryEstimate estimateMeshBake(const SurfaceFootprint& f, const Mesh& mesh, con
       // moved copy per vertex, and for every boundary edge its walk and cap
       // (2 E - 3 T of them, about 2 P - T; a soup of separate triangles has
       // 3 T). Fitted on /usr/bin/time peaks above the resident start at
-      // --res 16 (a closed 80,000-triangle STL sphere, pig.stl, the bunny,
-      // fandisk, a soup of 30,000 separate triangles: 1.02-1.44x the peak,
-      // docs/reliability.md "Memory"); the unwelded count (520 bytes a
-      // vertex) was 3.8x high on the STL.
-      constexpr double kFixed = 2.5e6, kPerVertex = 48, kPerPosition = 250, kPerEdge = 80, kPerBoundaryEdge = 1400;
+      // --res 16 and 128 (31 meshes: ../shared/data's, UV spheres, boxes, a
+      // hemisphere, a tube, a height field, as OBJ and as STL soup, and a
+      // soup of 30,000 separate triangles: every case at or over 1.05x its
+      // peak, docs/reliability.md "Memory"); fitted on five meshes they were
+      // 1.3-1.5x the peak of spheres, boxes and open meshes.
+      constexpr double kFixed = 1.5e6, kPerVertex = 50, kPerPosition = 60, kPerEdge = 100, kPerBoundaryEdge = 2200;
       const double v = double(mesh.positions.size()), t = double(mesh.triangles.size());
       const double p = double(std::min<uint64_t>(weldedVertices, mesh.positions.size()));
       const double edges = std::min(3 * t, p + t), boundary = std::min(3 * t, std::max(0.0, 2 * p - t));
+      // The capped copy of the mesh the interior pass reads (capMesh in
+      // voxelize.cpp): every triangle (12 bytes) and class (1), every vertex's
+      // lattice point (24), and a cap's three points, triangle and class (85;
+      // at most one cap a boundary edge). It is made after the surface pass
+      // and freed once the interior is merged, so it meets the blocks and the
+      // crossings, not the tables. Uncounted, an 80,000-triangle STL sphere
+      // and a 120,000-triangle STL box filled at 256 came out 1.02 and 1.03x
+      // their peaks (docs/reliability.md "Memory").
+      e.add("capped copy of the mesh", t * (3 * sizeof(uint32_t) + 1) + v * 3 * sizeof(int64_t) +
+                                           boundary * (9 * sizeof(int64_t) + 3 * sizeof(uint32_t) + 1));
+      // The caps' own +z crossings beside the mesh's (16 bytes, twice while
+      // sorted), one per column a cap covers: a loop of length l spans at
+      // most l^2 / 4pi (the boundary's B edges of the mean edge's length, in
+      // voxels, from the area), and the caps cross a column of the box at
+      // most twice (a tube's two ends). Uncounted, a 40,000-triangle STL
+      // tube filled at 256 came out 1.02x its peak.
+      const double edge = t > 0 ? std::sqrt(4 / std::sqrt(3.0) * f.area / t) : 0.0;
+      const double capColumns = std::min(2 * f.boxColumns, boundary * edge * boundary * edge / (4 * M_PI));
+      if (capColumns >= 1) e.add("caps' ray crossings", capColumns * 16 * 2);
       const double tables = kFixed + v * kPerVertex + p * kPerPosition + edges * kPerEdge + boundary * kPerBoundaryEdge;
       const double bake = double(e.bytes()) - v * 3 * sizeof(int64_t) + besideBlocks;
       if (tables > bake) e.add("winding boundary tables (before the blocks)", tables - bake);

@@ -41,6 +41,7 @@ struct SurfaceFootprint {
   double crossings[3] = {0, 0, 0};  // ray crossings along x, y, z (projected areas)
   double enclosedVoxels = 0;    // |signed volume| in voxels
   double boxVoxels = 0;         // voxels of the mesh's bounding box (clamped to the grid)
+  double boxColumns = 0;        // its columns along z (x extent times y extent)
   // With triangles reaching past the lattice's range (a surface bake clips
   // them, lattice_triangles.h): the clipped copy's triangles (the mesh's
   // kept ones and the clip's fans), of them the fans, and the vertices the

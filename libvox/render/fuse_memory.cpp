@@ -8,7 +8,9 @@ MemoryEstimate estimateFuseMemory(const FuseMemoryInputs& in) {
   MemoryEstimate e;
   const double pixels = double(in.pixelsPerView);
   const double threads = double(std::max(1u, in.threads));
-  e.add("decoded views", std::min(threads, double(in.views)) * pixels * 24.0);
+  // The first view is read before the estimate (the caller's resident
+  // memory holds it); the views after it are decoded `threads` at a time.
+  if (in.views > 1) e.add("decoded views", std::min(threads, double(in.views - 1)) * pixels * 24.0);
   if (in.countFree && in.freeScope == FreeScope::Voted)
     e.add("kept views", std::min(double(in.keptBudget), double(in.views) * pixels * double(kFuseKeptBytesPerPixel)));
   const double X = double(in.dims.x), Y = double(in.dims.y), Z = double(in.dims.z);

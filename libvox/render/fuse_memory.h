@@ -7,9 +7,11 @@
 // of its surface; the estimate takes min(pixels, XY + YZ + XZ) (three grid
 // cross-sections). Parts, in bytes (calibrated with /usr/bin/time peaks,
 // docs/bench-fuse.md "Memory"):
-//   * decoding: the views decoded ahead, one per thread (the one being fused among them):
-//     24 bytes per pixel (its arrays: depth 8, class 1, face 1, colour 4,
-//     weight 2, plus the decoded images: float depth 4, label and normal).
+//   * decoding: the views decoded ahead, one per thread, after the first
+//     (read before the estimate: in the caller's resident memory, counted
+//     once): 24 bytes per pixel (its arrays: depth 8, class 1, face 1,
+//     colour 4, weight 2, plus the decoded images: float depth 4, label and
+//     normal).
 //   * kept views: the decoded views the second pass reuses (FreeScope::Voted),
 //     10 bytes per pixel, up to `keptBudget`.
 //   * votes: per worker piece and once more for the merge and the scene,
@@ -37,7 +39,8 @@ struct FuseMemoryInputs {
   uint64_t keptBudget = 0;  // what the second pass may keep decoded (0 = nothing kept)
 };
 
-/// The parts above, without the process's resident memory (the caller adds it).
+/// The parts above, without the process's resident memory (the caller adds it,
+/// measured with the first view read).
 MemoryEstimate estimateFuseMemory(const FuseMemoryInputs& in);
 
 /// Bytes per pixel of a decoded view the second pass keeps.

@@ -461,6 +461,11 @@ std::string voxelSizeText(double size) {
 void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshes& p, bool openvdb,
                          const vox::DeferredTextures* deferred) {
   const uint64_t resident = vox::residentBytesNow();
+  // The peak of reading the mesh, past by now: the file mapped while parsed and
+  // the arrays grown by doubling, about 33 bytes a triangle above what stays
+  // for a 1,000,000-triangle OBJ. Where it exceeds the bake's own peak it is
+  // the run's (docs/reliability.md "Memory").
+  const uint64_t readingPeak = vox::peakResidentBytesSoFar();
   // Textures read by rows after the geometry, `threads` images at a time.
   const uint64_t decoding = deferred && deferred->images() > 0 ? deferred->readingBytes(run.threads()) : 0;
   vox::VoxelizeSettings settings;
@@ -475,7 +480,7 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
   const uint64_t welded = o.fill == vox::FillMode::Solid && o.solidRule == vox::SolidRule::Winding && !sdf
                               ? vox::distinctPositions(p.mesh)
                               : p.mesh.positions.size();
-  auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
+  auto bakeEstimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
     // A region bake's footprint is its box's (surfaceFootprint clips to header.region).
     const vox::SurfaceFootprint f = vox::surfaceFootprint(p.mesh, p.triangleClass, header, maxPieces, run.threads());
     vox::MemoryEstimate e;
@@ -522,6 +527,11 @@ void checkMeshBakeMemory(const VoxelizeOptions& o, Run& run, const PreparedMeshe
       // the bunny at 256 and fandisk filled at 256 came out 1.03-1.04).
       e.add("scene writer and check", 4e6);
     }
+    return e;
+  };
+  auto estimateFor = [&](const vox::SceneHeader& header, uint64_t maxPieces) {
+    vox::MemoryEstimate e = bakeEstimateFor(header, maxPieces);
+    if (readingPeak > e.bytes()) e.add("reading the mesh (its peak, before the bake)", readingPeak - e.bytes());
     return e;
   };
   const vox::MemoryEstimate estimate = estimateFor(p.header, uint64_t(1) << 22);
