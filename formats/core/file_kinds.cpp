@@ -44,14 +44,8 @@ std::string describe(FileKind kind) {
   for (const KindEntry& e : table()) {
     if (e.kind != kind) continue;
     std::string s = std::string(e.description) + " (";
-    // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on
-    // const char* + std::string temporaries here.
-    for (size_t i = 0; i < e.extensions.size(); ++i) {
-      if (i) s += ' ';
-      s += e.extensions[i];
-    }
-    s += ')';
-    return s;
+    for (size_t i = 0; i < e.extensions.size(); ++i) s += (i ? " " : "") + std::string(e.extensions[i]);
+    return s + ")";
   }
   return "?";
 }

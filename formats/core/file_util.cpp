@@ -239,10 +239,7 @@ std::string temporaryPathFor(const std::string& finalPath) {
   const fs::path p(finalPath);
   char tag[64];
   std::snprintf(tag, sizeof tag, ".tmp-%08x-%ld-%u", hostHash(), long(getpid()), counter++);
-  std::string name = ".";  // appended, not "." + ...: GCC 12 warns falsely (-Wrestrict) on that temporary
-  name += temporaryStem(p.filename().string());
-  name += tag;
-  return (p.parent_path() / name).string();
+  return (p.parent_path() / ("." + temporaryStem(p.filename().string()) + tag)).string();
 }
 }  // namespace
 

@@ -196,7 +196,7 @@ std::string explainNoCommand(const CLI::App& app, int argc, char** argv, const s
     const size_t d = std::min(editDistance(word, sub->get_name()), editDistance(word, head));
     if (d < best) best = d, nearest = sub->get_name();
   }
-  if (names.empty()) return what;
+  if (names.empty() || what != "A subcommand is required") return what;
   if (word.empty() || word[0] == '-') return "give a command first: " + names;
   std::string out = "unknown command '" + word + "'";
   if (best <= std::max<size_t>(2, word.size() / 3)) out += " (did you mean '" + nearest + "'?)";
