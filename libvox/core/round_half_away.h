@@ -20,9 +20,7 @@ inline double roundHalfAway(double x) {
 /// std::llround(x) where |x| < 2^52 (every lattice coordinate); libm's beyond.
 inline int64_t llroundHalfAway(double x) {
   if (!(std::abs(x) < 0x1p52)) return std::llround(x);
-  const int64_t whole = int64_t(x);  // toward zero, exact
-  const double frac = x - double(whole);
-  return frac >= 0.5 ? whole + 1 : frac <= -0.5 ? whole - 1 : whole;
+  return int64_t(roundHalfAway(x));  // an integer below 2^52 + 1: converts exactly
 }
 
 }  // namespace vox

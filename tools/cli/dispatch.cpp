@@ -186,6 +186,7 @@ size_t editDistance(const std::string& a, const std::string& b) {
 // command is missing or misspelt. Name the word it did not know and list the
 // commands, with the nearest one when it is close.
 std::string explainNoCommand(const CLI::App& app, int argc, char** argv, const std::string& what) {
+  if (what != "A subcommand is required") return what;  // CLI11's words for this case only
   std::string names, nearest;
   size_t best = std::string::npos;
   const std::string word = argc > 1 ? argv[1] : "";
@@ -196,7 +197,7 @@ std::string explainNoCommand(const CLI::App& app, int argc, char** argv, const s
     const size_t d = std::min(editDistance(word, sub->get_name()), editDistance(word, head));
     if (d < best) best = d, nearest = sub->get_name();
   }
-  if (names.empty() || what != "A subcommand is required") return what;
+  if (names.empty()) return what;
   if (word.empty() || word[0] == '-') return "give a command first: " + names;
   std::string out = "unknown command '" + word + "'";
   if (best <= std::max<size_t>(2, word.size() / 3)) out += " (did you mean '" + nearest + "'?)";
