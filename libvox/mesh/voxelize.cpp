@@ -1610,7 +1610,7 @@ VoxelBlocks voxelizeMeshBlocks(const Mesh& mesh, const std::vector<uint8_t>& tri
       caps = capBoundaryLoops(mesh.triangles, windingLattice);
       // Open meshes: |w| can exceed 0.5 just outside the mesh's box (near the
       // caps); grow the box by the caps' reach (CapField::reach), within the domain.
-      const int64_t grow = int64_t(std::ceil(CapField(caps).reach())) + 1;
+      const int64_t grow = int64_t(std::ceil(CapField::reachOf(caps))) + 1;
       if (!caps.empty()) {
         const int64_t dimv[3] = {int64_t(header.dims.x), int64_t(header.dims.y), int64_t(header.dims.z)};
         int32_t lo[3], hi[3];

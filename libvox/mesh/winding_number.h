@@ -103,6 +103,9 @@ class CapField {
   /// Outside the capped mesh's bounding box the integer part is 0, so |w| > 0.5
   /// needs a point within this distance of the box.
   double reach() const;
+  /// The same reach from the caps alone, without building the field's trees
+  /// (the fill's box is grown by it before the field is needed).
+  static double reachOf(const std::vector<CapTriangle>& caps);
 
   /// w_caps(p) = sum of solid angles / 4pi over every cap triangle (exact up
   /// to double rounding, ~1e-15 per triangle). At a lattice point (voxel
