@@ -540,6 +540,18 @@ double solidAngleAsCounted(const LatticePoint v[3], const LatticePoint& p) {
   return total;
 }
 
+/// A cap triangle's corners in voxels and its normal (v1 - v0) x (v2 - v0);
+/// returns the normal's length (twice the area). The field and reachOf both
+/// take the area from here, so the box's growth matches the field's bit for bit.
+double capInVoxels(const CapTriangle& c, double v[3][3], double n[3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
+  double e1[3], e2[3];
+  sub3(v[1], v[0], e1), sub3(v[2], v[0], e2);
+  cross3(e1, e2, n);
+  return std::sqrt(dot3(n, n));
+}
+
 }  // namespace
 
 CapField::CapField(const std::vector<CapTriangle>& caps) {
@@ -588,14 +600,9 @@ CapField::CapField(const std::vector<CapTriangle>& caps) {
   tris_.reserve(caps.size());
   for (const CapTriangle& c : caps) {
     double v[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
     Tri t;
+    const double nLen = capInVoxels(c, v, t.n);
     std::memcpy(t.v, v, sizeof v);
-    double e1[3], e2[3];
-    sub3(v[1], v[0], e1), sub3(v[2], v[0], e2);
-    cross3(e1, e2, t.n);
-    const double nLen = std::sqrt(dot3(t.n, t.n));
     if (nLen == 0) continue;  // no solid angle anywhere
     area_ += 0.5 * nLen;
     t.invN = 1 / nLen;
@@ -692,13 +699,8 @@ double CapField::reach() const { return std::sqrt(area_ / (2.0 * M_PI)); }
 double CapField::reachOf(const std::vector<CapTriangle>& caps) {
   double area = 0;  // as the constructor sums area_, in the same order
   for (const CapTriangle& c : caps) {
-    double v[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) v[i][k] = double(c.v[i][k]) / kLatticeStepsPerVoxel;
-    double e1[3], e2[3], n[3];
-    sub3(v[1], v[0], e1), sub3(v[2], v[0], e2);
-    cross3(e1, e2, n);
-    area += 0.5 * std::sqrt(dot3(n, n));
+    double v[3][3], n[3];
+    area += 0.5 * capInVoxels(c, v, n);
   }
   return std::sqrt(area / (2.0 * M_PI));
 }
