@@ -18,7 +18,7 @@ profile=${1:-all}
 
 # Building vox and running scripts/demo.mk.
 BUILD="build-essential cmake pkg-config ccache ninja-build make
-libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1g-dev
+libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev libblosc-dev liblz4-dev zlib1g-dev
 libopenexr-dev libimath-dev libpng-dev libdeflate-dev
 libcli11-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev libmeshoptimizer-dev libwebp-dev libjpeg62-turbo-dev"
 # The test suite (scripts/test.sh) and the benchmark scripts.

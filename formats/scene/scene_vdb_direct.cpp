@@ -2,8 +2,7 @@
 
 #include "formats/core/file_util.h"
 #include "formats/core/writeback.h"
-
-#include <blosc.h>
+#include "formats/scene/blosc_lz4_frame.h"
 
 #include <algorithm>
 #include <array>
@@ -120,18 +119,19 @@ void appendPod(std::string& out, const T& v) {
 void appendBlosc(std::string& out, const void* data, size_t bytes) {
   // One frame buffer per thread, grown and never zeroed: a fresh zeroed
   // vector per leaf was a malloc, a memset and a free for every leaf written.
+  // The frame itself comes from bloscLz4Frame, Blosc's bytes without Blosc's
+  // allocation per call (its header says why).
   thread_local std::vector<char> frameBuffer;
-  if (frameBuffer.size() < bytes + BLOSC_MAX_OVERHEAD) frameBuffer.resize(bytes + BLOSC_MAX_OVERHEAD);
+  const size_t frameSize = bytes + kBloscFrameOverhead;
+  if (frameBuffer.size() < frameSize) frameBuffer.resize(frameSize);
   char* frame = frameBuffer.data();
-  const size_t frameSize = bytes + BLOSC_MAX_OVERHEAD;
-  const int n = blosc_compress_ctx(9, 1, sizeof(float), bytes, data, frame, frameSize, BLOSC_LZ4_COMPNAME,
-                                   bytes, 1);
-  if (n <= 0) {
+  const size_t n = bloscLz4Frame(data, bytes, sizeof(float), frame, frameSize);
+  if (n == 0) {
     appendPod(out, -int64_t(bytes));
     append(out, data, bytes);
   } else {
     appendPod(out, int64_t(n));
-    append(out, frame, size_t(n));
+    append(out, frame, n);
   }
 }
 
