@@ -10,11 +10,6 @@ namespace {
 
 constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
 
-uint64_t blockKey(int32_t x, int32_t y, int32_t z) {
-  auto part = [](int32_t c) { return uint64_t(uint32_t((c >> kBlockLog2) + (kCoordLimit >> kBlockLog2)) & 0x1fffff); };
-  return (part(x) << 42) | (part(y) << 21) | part(z);
-}
-
 bool representable(Coord3 c) {
   auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
   return ok(c.u) && ok(c.v) && ok(c.w);
@@ -26,13 +21,8 @@ ClassBlock& classOf(VoxelBlock& b, uint8_t classId) {
 
 }  // namespace
 
-void ClassBlock::add(int i, uint32_t votes) {
+void ClassBlock::addFirst(int i, uint32_t votes) {
   if (votes == 0) return;
-  if (has(i)) {
-    uint32_t& c = counts[slot(i)];
-    c = saturatingVotes(c, votes);
-    return;
-  }
   if (!dense && counts.size() >= kCompactCounts) makeDense();
   voted[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
   if (dense) {
@@ -119,7 +109,7 @@ VoxelBlocks& VoxelBlocks::operator=(VoxelBlocks&&) noexcept = default;
 VoxelBlocks::~VoxelBlocks() = default;
 
 VoxelBlock& VoxelBlocks::block(int32_t x, int32_t y, int32_t z) {
-  const uint64_t key = blockKey(x, y, z);
+  const uint64_t key = blockKeyOf({x, y, z});  // callers checked representable()
   if (key == lastKey_) return *last_;
   auto& slot = blocks_[key];
   if (!slot) {
@@ -139,8 +129,7 @@ VoxelBlock* VoxelBlocks::blockAt(Coord3 c) {
   return &block(c.u, c.v, c.w);
 }
 
-void VoxelBlocks::addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
-  if (votes == 0) return;
+void VoxelBlocks::addVotesSlow(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
   if (!representable(c)) {
     outOfRange_ = true;
     return;

@@ -63,7 +63,16 @@ struct ClassBlock {
   /// The votes of voxel i (0 when it has none).
   uint32_t at(int i) const { return has(i) ? counts[slot(i)] : 0; }
   /// Adds `votes` to voxel i, saturating at kMaxVotesPerClass; 0 adds nothing.
-  void add(int i, uint32_t votes);
+  /// Inline for a voxel that has votes already (most of a surface pass's
+  /// pieces: about three per voxel); the first vote goes out of line.
+  void add(int i, uint32_t votes) {
+    if (has(i)) {
+      uint32_t& c = counts[slot(i)];
+      c = saturatingVotes(c, votes);
+      return;
+    }
+    addFirst(i, votes);
+  }
   /// Calls fn(i, count) for every voted voxel, in voxel order.
   template <typename Fn>
   void forEach(Fn&& fn) const {
@@ -78,6 +87,9 @@ struct ClassBlock {
   void addAll(const ClassBlock& other);
   /// Switches to one count per voxel.
   void makeDense();
+
+ private:
+  void addFirst(int i, uint32_t votes);  // voxel i has no votes yet
 };
 
 /// The memory a class block holds, for memory estimates that measure a sample:
@@ -154,7 +166,21 @@ class VoxelBlocks {
 
   /// Same contracts as SceneBuilder's methods of the same names (scene.h):
   /// votes saturate, the surface flag ORs, the last colour set wins.
-  void addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface);
+  /// Inline while the voxel is in the same block as the last one given (a
+  /// triangle's voxels mostly are), out of line otherwise.
+  void addVotes(Coord3 c, uint8_t classId, uint32_t votes, bool surface) {
+    if (votes == 0) return;
+    const uint64_t key = blockKeyOf(c);
+    if (key != lastKey_ || key == kNoKey) return addVotesSlow(c, classId, votes, surface);
+    const int i = blockOffset(c.u, c.v, c.w);
+    VoxelBlock& b = *last_;
+    const uint64_t bit = uint64_t(1) << (i & 63);
+    b.occupied[size_t(i >> 6)] |= bit;
+    if (surface) b.surface[size_t(i >> 6)] |= bit;
+    ClassBlock* cb = b.classes.empty() ? nullptr : b.classes.back().get();
+    if (cb && cb->classId == classId) return cb->add(i, votes);
+    addVotesSlow(c, classId, votes, surface);
+  }
   void addRun(Coord3 start, uint32_t length, uint8_t classId, uint32_t votes, bool surface);
   void setColor(Coord3 c, RgbLinear color);
   /// The block holding voxel `c`, created empty when absent (for copying
@@ -186,9 +212,19 @@ class VoxelBlocks {
   static void release(VoxelBlock& block);
 
  private:
+  static constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
+  static constexpr uint64_t kNoKey = ~uint64_t(0);
+  /// The block key of voxel c (21 bits per axis), or kNoKey beyond +-2^23.
+  static uint64_t blockKeyOf(Coord3 c) {
+    auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
+    if (!ok(c.u) || !ok(c.v) || !ok(c.w)) return kNoKey;
+    auto part = [](int32_t v) { return uint64_t(uint32_t((v >> kBlockLog2) + (kCoordLimit >> kBlockLog2)) & 0x1fffff); };
+    return (part(c.u) << 42) | (part(c.v) << 21) | part(c.w);
+  }
+  void addVotesSlow(Coord3 c, uint8_t classId, uint32_t votes, bool surface);
   VoxelBlock& block(int32_t x, int32_t y, int32_t z);
   FlatMap64<std::unique_ptr<VoxelBlock>, PackedCoordHome> blocks_;  // block key -> block (which never moves)
-  uint64_t lastKey_ = ~uint64_t(0);
+  uint64_t lastKey_ = kNoKey;
   VoxelBlock* last_ = nullptr;
   bool outOfRange_ = false;
 };
