@@ -19,6 +19,7 @@
 #include "libvox/core/bits.h"
 #include "libvox/core/crc32c.h"
 #include "libvox/core/error.h"
+#include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
 
 namespace vox {
@@ -329,8 +330,9 @@ struct GridStats {
   std::array<int32_t, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
 };
 
-/// Leaves a piece compresses before the batch is written (directWriteBytes).
-constexpr size_t kLeavesPerBatch = 1024;
+/// Leaves of a batch of leaf buffers, and batches in flight per thread
+/// (directWriteBytes counts kLeavesPerBatch * kBatchesPerThread a thread).
+constexpr size_t kLeavesPerBatch = 512, kBatchesPerThread = 2;
 
 void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   const SceneHeader& h = *g.header;
@@ -464,20 +466,28 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
     }
   }
   const int64_t blockPos = int64_t(out.pos());
-  // Leaf buffers (masks, compressed values), kLeavesPerBatch leaves a piece at
-  // a time, written as each batch is done: the writer holds one batch's bytes
-  // (at most 6 KB a leaf, coloured), not the grid's (which grew by doubling
-  // and left their outgrown copies resident: 2-4x the grid's bytes at the peak).
-  std::vector<std::string> parts(pieces);
-  for (size_t from = 0; from < nLeaves; from += kLeavesPerBatch * pieces) {
-    const size_t n = std::min(kLeavesPerBatch * pieces, nLeaves - from);
-    const unsigned batchPieces = piecesOf(n);
-    parallelPieces(n, batchPieces, batchPieces, [&](size_t b, size_t e, size_t t) {
-      parts[t].clear();
-      for (size_t i = from + b; i < from + e; ++i) leafBuffer(g, i, activeMask(g, i), parts[t]);
-    });
-    for (unsigned t = 0; t < batchPieces; ++t) out.bytes(parts[t].data(), parts[t].size());
-  }
+  // Leaf buffers (masks, compressed values), kLeavesPerBatch leaves a batch:
+  // batches made on the workers, written in order by one consumer while later
+  // batches are made (the file's bytes, the content CRC and the writeback are
+  // one thread's work; waited for between batches, they were a third of the
+  // write on 2 threads). The writer holds at most kBatchesPerThread batches a
+  // thread (at most 6 KB a leaf, coloured), not the grid's bytes (which grew by
+  // doubling and left their outgrown copies resident: 2-4x the grid's bytes at
+  // the peak). The bytes do not depend on the batches or the threads.
+  const size_t batches = (nLeaves + kLeavesPerBatch - 1) / kLeavesPerBatch;
+  std::vector<std::string> parts(std::max<size_t>(1, std::min(batches, kBatchesPerThread * size_t(workerCount(threads)))));
+  orderedPipeline(
+      batches, threads, parts.size(),
+      [&](size_t k) {
+        std::string& part = parts[k % parts.size()];  // batch k - parts.size() is written by now
+        part.clear();
+        for (size_t i = k * kLeavesPerBatch, e = std::min(nLeaves, (k + 1) * kLeavesPerBatch); i < e; ++i)
+          leafBuffer(g, i, activeMask(g, i), part);
+      },
+      [&](size_t k) {
+        const std::string& part = parts[k % parts.size()];
+        out.bytes(part.data(), part.size());
+      });
   const int64_t endPos = int64_t(out.pos());
   const int64_t positions[3] = {gridPos, blockPos, endPos};
   out.patch(positionsAt, positions, sizeof positions);
@@ -547,13 +557,13 @@ DirectWriteSummary planPart(const DirectScenePart& part, std::vector<const Voxel
 double directWriteBytes(double leaves, double voteLeaves, double colorLeaves, double leafBytes, unsigned threads) {
   // The leaf lists: the blocks sorted, the part's copy, the plan's sorted copy
   // and the occupancy's list (8 bytes a leaf each); a vote grid's leaves and
-  // class blocks; the colour grid's leaves. A batch of leaf buffers per
-  // thread. Fixed: the file's 1 MiB buffer, the compression frames and the
+  // class blocks; the colour grid's leaves. Two batches of leaf buffers per
+  // thread (written in order while later ones are made). Fixed: the file's 1 MiB buffer, the compression frames and the
   // heap pages they first touch (2 MiB huge pages where the CLI advises
   // them: tools/cli/alloc_tuning.h).
   constexpr double kFixed = 4 << 20;
   return kFixed + leaves * 4 * sizeof(void*) + voteLeaves * 2 * sizeof(void*) + colorLeaves * sizeof(void*) +
-         double(std::max(1u, threads)) * double(kLeavesPerBatch) * leafBytes;
+         double(std::max(1u, threads)) * double(kLeavesPerBatch * kBatchesPerThread) * leafBytes;
 }
 
 std::vector<DirectWriteSummary> writeScenesVdbDirect(
