@@ -1181,6 +1181,14 @@ TEST(ObjIo, VertexColoursAreSrgbDecodedAndOptionalPerVertex) {
   EXPECT_EQ(m.colors[1], (std::array<float, 4>{1, 0, 0, 0.25f}));
   EXPECT_EQ(m.colors[2], (std::array<float, 4>{1, 1, 1, 1}));
   EXPECT_TRUE(m.hasColor());
+  // The first colour on a later line: the plain vertices before it and after it are white.
+  voxtest::writeText(dir.file("late.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0 0 0 1\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  const Mesh late = read(dir.file("late.obj"));
+  ASSERT_EQ(late.colors.size(), 4u);  // mesh vertices in corner order: v1, v2, v3, v4
+  EXPECT_EQ(late.colors[0], (std::array<float, 4>{1, 1, 1, 1}));
+  EXPECT_EQ(late.colors[1], (std::array<float, 4>{1, 1, 1, 1}));
+  EXPECT_EQ(late.colors[2], (std::array<float, 4>{0, 0, 1, 1}));
+  EXPECT_EQ(late.colors[3], (std::array<float, 4>{1, 1, 1, 1}));
   // Without colours nothing changes.
   voxtest::writeText(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0 # comment\nf 1 2 3\n");
   EXPECT_TRUE(read(dir.file("n.obj")).colors.empty());

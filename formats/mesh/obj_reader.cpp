@@ -283,7 +283,6 @@ class ObjParser {
       q = nl ? static_cast<const char*>(nl) + 1 : data + size;
     }
     objPositions_.reserve(vLines);
-    objColors_.reserve(vLines);
     vertexOfObj_.reserve(vLines);
     objOfVertex_.reserve(vLines);
     mesh_.positions.reserve(vLines);
@@ -319,9 +318,10 @@ class ObjParser {
                                  " them (a file with 0-255 colours needs them divided by 255)");
       for (int k = 0; k < 3; ++k) color[size_t(k)] = srgbToLinear(extra[k]);
       if (n == 4) color[3] = float(extra[3]);
+      if (!anyVertexColor_) objColors_.assign(objPositions_.size() - 1, {1, 1, 1, 1});  // the white ones before
       anyVertexColor_ = true;
     }
-    objColors_.push_back(color);
+    if (anyVertexColor_) objColors_.push_back(color);
   }
 
   /// A "v x y z" line the pre-pass read (no w, no colour): what vertex() does with it.
@@ -331,7 +331,7 @@ class ObjParser {
     }
     objPositions_.push_back(p);
     vertexOfObj_.push_back(UINT32_MAX);
-    objColors_.push_back({1, 1, 1, 1});
+    if (anyVertexColor_) objColors_.push_back({1, 1, 1, 1});
   }
 
   /// An "f" line of `n` plain vertex indices (as written) that the pre-pass
@@ -561,7 +561,10 @@ class ObjParser {
   const std::string& baseDir_;
   Mesh mesh_;
   std::vector<std::array<double, 3>> objPositions_;
-  std::vector<std::array<float, 4>> objColors_;  // white for "v" lines without a colour
+  // Per obj position once any "v" line has a colour (empty until then: 16
+  // bytes a vertex that a file without colours never needs), white for the
+  // lines without one.
+  std::vector<std::array<float, 4>> objColors_;
   std::vector<std::array<float, 2>> texcoords_;
   std::vector<uint32_t> vertexOfObj_;  // obj position -> mesh vertex (no texcoord), UINT32_MAX: none yet
   std::vector<uint32_t> objOfVertex_;  // mesh vertex -> obj position (for vertex colours)
