@@ -62,7 +62,7 @@ void expectSameFrame(const std::vector<uint8_t>& in, size_t typeSize, size_t des
   // And the frame reads back.
   std::vector<uint8_t> back(in.size() + 1);
   ASSERT_EQ(blosc_decompress_ctx(ours.data(), back.data(), back.size(), 1), int(in.size())) << what;
-  ASSERT_EQ(0, std::memcmp(back.data(), in.data(), in.size())) << what;
+  if (!in.empty()) ASSERT_EQ(0, std::memcmp(back.data(), in.data(), in.size())) << what;
 }
 
 }  // namespace
