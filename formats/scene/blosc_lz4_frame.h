@@ -6,8 +6,8 @@
 // writer compresses every leaf of every grid on all its workers, and vox runs
 // with one malloc arena (tools/cli/alloc_tuning.h), so with two workers those
 // calls queued on the arena's lock: writing the bunny's scene at 256 took 14 ms
-// on 2 threads against 8 ms on one (docs/bench-voxelize.md, "Blosc frames
-// without Blosc"). This writes the same bytes with a per-thread buffer and the
+// on 2 threads against 8 ms on one (docs/bench-voxelize.md, "The write on
+// two threads, and votes inline"). This writes the same bytes with a per-thread buffer and the
 // same LZ4 call Blosc makes; the unit test BloscLz4Frame.* compares the two
 // byte for byte.
 //
