@@ -469,8 +469,7 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   // Leaf buffers (masks, compressed values), kLeavesPerBatch leaves a batch:
   // batches made on the workers, written in order by one consumer while later
   // batches are made (the file's bytes, the content CRC and the writeback are
-  // one thread's work; waited for between batches, they were a third of the
-  // write on 2 threads). The writer holds at most kBatchesPerThread batches a
+  // one thread's work, which the others no longer wait for). The writer holds at most kBatchesPerThread batches a
   // thread (at most 6 KB a leaf, coloured), not the grid's bytes (which grew by
   // doubling and left their outgrown copies resident: 2-4x the grid's bytes at
   // the peak). The bytes do not depend on the batches or the threads.
@@ -558,9 +557,9 @@ double directWriteBytes(double leaves, double voteLeaves, double colorLeaves, do
   // The leaf lists: the blocks sorted, the part's copy, the plan's sorted copy
   // and the occupancy's list (8 bytes a leaf each); a vote grid's leaves and
   // class blocks; the colour grid's leaves. Two batches of leaf buffers per
-  // thread (written in order while later ones are made). Fixed: the file's 1 MiB buffer, the compression frames and the
-  // heap pages they first touch (2 MiB huge pages where the CLI advises
-  // them: tools/cli/alloc_tuning.h).
+  // thread (written in order while later ones are made). Fixed: the file's 1
+  // MiB buffer, the compression frames and the heap pages they first touch
+  // (2 MiB huge pages where the CLI advises them: tools/cli/alloc_tuning.h).
   constexpr double kFixed = 4 << 20;
   return kFixed + leaves * 4 * sizeof(void*) + voteLeaves * 2 * sizeof(void*) + colorLeaves * sizeof(void*) +
          double(std::max(1u, threads)) * double(kLeavesPerBatch * kBatchesPerThread) * leafBytes;
