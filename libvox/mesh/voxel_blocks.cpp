@@ -8,13 +8,6 @@ namespace vox {
 
 namespace {
 
-constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
-
-bool representable(Coord3 c) {
-  auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
-  return ok(c.u) && ok(c.v) && ok(c.w);
-}
-
 ClassBlock& classOf(VoxelBlock& b, uint8_t classId) {
   return (!b.classes.empty() && b.classes.back()->classId == classId) ? *b.classes.back() : classBlock(b, classId);
 }

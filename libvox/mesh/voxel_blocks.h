@@ -213,11 +213,14 @@ class VoxelBlocks {
 
  private:
   static constexpr int32_t kCoordLimit = 1 << 23;  // coordinates beyond cannot be in any domain
-  static constexpr uint64_t kNoKey = ~uint64_t(0);
+  static constexpr uint64_t kNoKey = ~uint64_t(0);   // keys take 63 bits: never a block's
+  static bool representable(Coord3 c) {
+    auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
+    return ok(c.u) && ok(c.v) && ok(c.w);
+  }
   /// The block key of voxel c (21 bits per axis), or kNoKey beyond +-2^23.
   static uint64_t blockKeyOf(Coord3 c) {
-    auto ok = [](int32_t v) { return v > -kCoordLimit && v < kCoordLimit; };
-    if (!ok(c.u) || !ok(c.v) || !ok(c.w)) return kNoKey;
+    if (!representable(c)) return kNoKey;
     auto part = [](int32_t v) { return uint64_t(uint32_t((v >> kBlockLog2) + (kCoordLimit >> kBlockLog2)) & 0x1fffff); };
     return (part(c.u) << 42) | (part(c.v) << 21) | part(c.w);
   }
