@@ -9,6 +9,10 @@
 
 namespace voxcli {
 
+namespace {
+void* volatile heapSpacer = nullptr;  // see tuneAllocatorForShortRun (volatile: the store is kept)
+}  // namespace
+
 void tuneAllocatorForShortRun() {
   if (std::getenv("VOX_DEFAULT_MALLOC")) return;  // to measure the difference
   mallopt(M_ARENA_MAX, 1);
@@ -16,13 +20,26 @@ void tuneAllocatorForShortRun() {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   mallopt(M_TOP_PAD, 256 << 20);
   // Grow the heap now (a block larger than any free space), then advise it.
-  void* probe = std::malloc(size_t(1) << 20);
+  constexpr size_t kProbe = size_t(1) << 20;
+  void* probe = std::malloc(kProbe);
   if (!probe) return;
+  const uintptr_t start = reinterpret_cast<uintptr_t>(probe);
+  // Advise from the first 2 MB boundary past the probe and the header glibc
+  // wrote after it: a 2 MB range with any 4 KB page in it (that header,
+  // written before the advice) never gets a huge page.
   const uintptr_t huge = uintptr_t(2) << 20;
-  const uintptr_t from = (reinterpret_cast<uintptr_t>(probe) + huge - 1) & ~(huge - 1);
+  const uintptr_t from = (start + kProbe + 4096 + huge - 1) & ~(huge - 1);
   const uintptr_t to = reinterpret_cast<uintptr_t>(sbrk(0)) & ~(huge - 1);
   std::free(probe);
-  if (to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
+  if (to <= from) return;
+  madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE);
+  // The freed probe rejoined the top of the heap, below `from`, where pages
+  // are 4 KB: the bake's first MBs (the mesh) would fault in there page by
+  // page, each fault costing several microseconds on a VM. A spacer up to
+  // `from` (address space only: untouched past its header, never freed)
+  // starts the top at the advised range. It is kept in a volatile global: a
+  // malloc whose result goes unused may be removed by the compiler.
+  heapSpacer = std::malloc(from - start - 64);
 }
 
 }  // namespace voxcli
