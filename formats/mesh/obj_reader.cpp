@@ -7,12 +7,16 @@
 // mesh and every message are those of a single pass.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <unordered_map>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "formats/core/file_util.h"
 #include "formats/core/text_numbers.h"
@@ -73,6 +77,33 @@ bool loneCrAsLf(const char* data, size_t size, std::string& lf) {
   for (size_t i = size_t(p - data); i < size; ++i)
     if (lf[i] == '\r' && (i + 1 == size || lf[i + 1] != '\n')) lf[i] = '\n';
   return true;
+}
+
+/// The lines that start "v " and "f ", which the reader's arrays are reserved
+/// for. 16 bytes a step (a '\n', the letter after it, a space after that):
+/// a memchr per line took 1.7 ms of the Stanford bunny's 10 ms read.
+void countVertexAndFaceLines(const char* data, size_t size, size_t& vLines, size_t& fLines) {
+  vLines = fLines = 0;
+  auto lineAt = [&](size_t p) {  // p starts a line
+    if (p + 1 < size && data[p + 1] == ' ') vLines += data[p] == 'v', fLines += data[p] == 'f';
+  };
+  if (size > 0) lineAt(0);
+  size_t i = 0;  // the next byte that may be the '\n' before a line
+#ifdef __SSE2__
+  const __m128i newline = _mm_set1_epi8('\n'), space = _mm_set1_epi8(' '), v = _mm_set1_epi8('v'),
+                f = _mm_set1_epi8('f');
+  for (; i + 18 <= size; i += 16) {
+    const auto at = [&](size_t k) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(data + i + k)); };
+    const unsigned starts = unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(at(0), newline))) &
+                            unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(at(2), space)));
+    if (!starts) continue;
+    const __m128i letter = at(1);
+    vLines += size_t(std::popcount(starts & unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(letter, v)))));
+    fLines += size_t(std::popcount(starts & unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(letter, f)))));
+  }
+#endif
+  for (; i < size; ++i)
+    if (data[i] == '\n') lineAt(i + 1);
 }
 
 [[noreturn]] void bad(const std::string& name, size_t line, const std::string& what, Setting fix = Setting::None) {
@@ -277,11 +308,7 @@ class ObjParser {
   /// size, which cost more than parsing the numbers.
   void reserveFor(const char* data, size_t size) {
     size_t vLines = 0, fLines = 0;
-    for (const char* q = data; q < data + size;) {
-      if (q + 1 < data + size && q[1] == ' ') vLines += q[0] == 'v', fLines += q[0] == 'f';
-      const void* nl = std::memchr(q, '\n', size_t(data + size - q));
-      q = nl ? static_cast<const char*>(nl) + 1 : data + size;
-    }
+    countVertexAndFaceLines(data, size, vLines, fLines);
     objPositions_.reserve(vLines);
     vertexOfObj_.reserve(vLines);
     objOfVertex_.reserve(vLines);

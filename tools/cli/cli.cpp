@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -226,6 +227,10 @@ Run::Run(std::string command, const CommonOptions& options)
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   threads_ = options.threads == 0 ? cores : options.threads;
   limit_ = std::make_unique<ThreadLimit>(threads_);
+  // TBB starts its worker threads at the first parallel loop, and on a VM a
+  // new thread takes milliseconds to run: started here, they are running
+  // by the time the first phase (a mesh's parallel read) has work for them.
+  if (threads_ > 1) tbb::parallel_for(0, int(threads_), [](int) {});
   memoryLimit_ = vox::memoryLimitFrom(options.maxMemory, "--max-memory");
   vox::setProcessMemoryLimit(memoryLimit_, "--max-memory");
   start_ = phaseStart_ = std::chrono::steady_clock::now();
