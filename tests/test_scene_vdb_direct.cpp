@@ -11,6 +11,7 @@
 
 #include "formats/vdb/scene_vdb.h"
 #include "formats/scene/scene_vdb_direct.h"
+#include "formats/scene/vdb_content_uuid.h"
 #include "libvox/mesh/voxel_blocks.h"
 #include "test_util.h"
 
@@ -171,6 +172,42 @@ void expectSameAsOpenVdb(const SceneHeader& h, const std::function<VoxelBlocks()
   const Scene back = readSceneVdb(direct);
   const SceneDifference diff = compareScenes(back, scene);
   EXPECT_TRUE(diff.same()) << diff.headerNote << " " << diff.firstNote;
+
+  // OpenVDB's writer drew a UUID at random; writeSceneVdb replaced it with the
+  // content's (formats/scene/vdb_content_uuid.h): stamping it again changes
+  // nothing, and the file still reads back.
+  const std::string before = readAll(viaVdb);
+  stampVdbContentUuid(viaVdb, "vdb.vdb");
+  const std::string after = readAll(viaVdb);
+  EXPECT_EQ(after.substr(kUuidAt, 36), before.substr(kUuidAt, 36)) << "the UUID is not the content's";
+  EXPECT_TRUE(after == before) << "stamping changed more than the UUID";
+  EXPECT_TRUE(compareScenes(readSceneVdb(viaVdb), scene).same());
+}
+
+TEST(SceneVdbDirect, ContentUuidFollowsTheContent) {
+  voxtest::TempDir dir;
+  const SceneHeader h = header({64, 64, 64});
+  const std::string path = dir.file("s.vdb"), again = dir.file("again.vdb");
+  writeSceneVdb(SceneBuilder(makeBlocks(h.dims, 99, false), h).build(), path);
+  writeSceneVdb(SceneBuilder(makeBlocks(h.dims, 99, false), h).build(), again);
+  std::string bytes = readAll(path);
+  EXPECT_TRUE(readAll(again) == bytes) << "OpenVDB's writer gave different bytes for the same scene";
+  const std::string uuid = bytes.substr(kUuidAt, 36);
+  EXPECT_EQ(uuid[14], '4') << uuid;  // version 4
+  EXPECT_NE(std::string("89ab").find(uuid[19]), std::string::npos) << uuid;  // variant 1
+  // One byte of content changed: another UUID.
+  bytes[bytes.size() - 1] = char(bytes.back() ^ 1);
+  std::ofstream(path, std::ios::binary) << bytes;
+  stampVdbContentUuid(path, "s.vdb");
+  EXPECT_NE(readAll(path).substr(kUuidAt, 36), uuid);
+  // Too short for a header: refused, naming the file.
+  std::ofstream(dir.file("short.vdb"), std::ios::binary) << "VDB";
+  try {
+    stampVdbContentUuid(dir.file("short.vdb"), "short.vdb");
+    ADD_FAILURE() << "a 3-byte file was stamped";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.vdb: cannot set the file's UUID"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneVdbDirect, SameBytesAsOpenVdbWithClassesAndColour) {

@@ -12,6 +12,7 @@
 #include "formats/core/file_util.h"
 #include "formats/vdb/vdb_memory.h"
 #include "formats/vdb/vdb_structure.h"
+#include "formats/scene/vdb_content_uuid.h"
 #include "libvox/core/error.h"
 #include "libvox/scene/scene_grids.h"
 
@@ -125,6 +126,7 @@ VdbVolumeResult writeVdbVolume(const ClassVolume& volume, const GridFrame& frame
     throwIo(outputName(path) + ": the volume was not written completely (the file on disk ends early: " +
             (known ? std::string(std::strerror(writeErrno)) : std::string("is the disk full?")) + ")");
   }
+  stampVdbContentUuid(path, outputName(path));  // OpenVDB's is random: the same volume, the same bytes
   r.bytes = uint64_t(fileSizeOrMinusOne(path));
   return r;
 }

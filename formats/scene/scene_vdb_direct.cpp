@@ -18,6 +18,7 @@
 #include "formats/scene/scene_meta.h"
 #include "libvox/core/bits.h"
 #include "libvox/core/crc32c.h"
+#include "formats/scene/vdb_content_uuid.h"
 #include "libvox/core/error.h"
 #include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
@@ -106,7 +107,7 @@ class Sink {
   std::FILE* f_;
   uint64_t pos_ = 0, queued_ = 0;
   bool hashing_ = false;
-  std::array<uint32_t, 4> crc_{0x01234567u, 0x89abcdefu, 0xfedcba98u, 0x76543210u};
+  std::array<uint32_t, 4> crc_ = kVdbUuidSeeds;
 };
 
 void append(std::string& out, const void* p, size_t n) { out.append(static_cast<const char*>(p), n); }
@@ -583,26 +584,15 @@ std::vector<DirectWriteSummary> writeScenesVdbDirect(
   out.pod(kLibraryMinor);
   out.pod(char(1));
   const uint64_t uuidAt = out.pos();
-  out.bytes(std::string(36, '0').data(), 36);
+  static_assert(kVdbUuidOffset == sizeof kMagic + 3 * sizeof kFileVersion + 1);
+  out.bytes(std::string(kVdbUuidChars, '0').data(), kVdbUuidChars);
   out.startHashing();
 
   writeMeta(out, metaBytes(fileMetadata(summaries)));
   out.pod(int32_t(grids.size()));
   for (const GridPlan& g : grids) writeGrid(out, g, threads);
 
-  // UUID text (8-4-4-4-12 hex digits) from the four content CRCs, version 4 / variant 1 bits set.
-  std::array<uint8_t, 16> id;
-  const auto crc = out.digest();
-  std::memcpy(id.data(), crc.data(), 16);
-  id[6] = uint8_t((id[6] & 0x0f) | 0x40);
-  id[8] = uint8_t((id[8] & 0x3f) | 0x80);
-  std::string text;
-  static const char* hex = "0123456789abcdef";
-  for (int i = 0; i < 16; ++i) {
-    if (i == 4 || i == 6 || i == 8 || i == 10) text.push_back('-');
-    text.push_back(hex[id[size_t(i)] >> 4]);
-    text.push_back(hex[id[size_t(i)] & 15]);
-  }
+  const std::string text = vdbUuidText(out.digest());  // formats/scene/vdb_content_uuid.h
   out.patch(uuidAt, text.data(), text.size());
   for (DirectWriteSummary& s : summaries) s.fileBytes = out.pos();
   out.close();

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "formats/core/file_util.h"
+#include "formats/scene/vdb_content_uuid.h"
 #include "formats/vdb/scene_vdb.h"
 #include "formats/vdb/vdb_checked_file.h"
 #include "formats/vdb/vdb_memory.h"
@@ -143,6 +144,7 @@ void writeVdbFile(const std::string& path, const openvdb::GridPtrVec& grids, con
     throwIo(outputName(path) + ": the " + what + " was not written completely (the file on disk ends early: " +
             (known ? std::string(std::strerror(writeErrno)) : std::string("is the disk full?")) + ")");
   }
+  stampVdbContentUuid(path, outputName(path));  // OpenVDB's is random: the same scene, the same bytes
 }
 
 VdbSceneFile readVdbSceneFile(const std::string& path, bool occupancyOnly, VdbSceneReader reader) {

@@ -1047,10 +1047,15 @@ no_effect)
   expect_exit 0 "$vox" voxelize demo:hamlet --res 16 -o keep_h.vdb -q
   expect_exit 0 "$vox" export keep_h.vdb -o keep_ls.vdb --level-set -q
   expect_exit 0 "$vox" export keep_h.vdb -o keep_fog.vdb --fog -q
+  # Written by OpenVDB's writer, the same bytes every time (a UUID from the content).
+  expect_exit 0 "$vox" export keep_h.vdb -o keep_fog2.vdb --fog -q
+  cmp keep_fog.vdb keep_fog2.vdb || fail "two exports of one scene differ"
   refused "keep_ls.vdb: grid 'surface' is a level set, inside where its value <= 0, so a density threshold does not apply to it; drop the threshold (--threshold)" \
     x.vdb "$vox" voxelize keep_ls.vdb --res 16 --threshold 0.5 -o x.vdb
   expect_exit 0 "$vox" voxelize keep_ls.vdb --res 16 -o keep_ls_scene.vdb -q
   expect_exit 0 "$vox" voxelize keep_fog.vdb --res 16 --threshold 0.5 -o keep_fog_scene.vdb -q
+  expect_exit 0 "$vox" voxelize keep_fog.vdb --res 16 --threshold 0.5 -o keep_fog_scene2.vdb -q --threads 1
+  cmp keep_fog_scene.vdb keep_fog_scene2.vdb || fail "two bakes of one grid differ"
 
   # render-canonical: a camera file gives every view's fov and up.
   echo '{"eye": [20, 15, 20], "target": [0, 2, 0], "size": [40, 30]}' > cam.json
