@@ -101,25 +101,30 @@ struct Poly {
 /// arithmetic changes scenes; the templates only fix the axis and side.
 template <int Axis, bool KeepAbove>
 void clipSide(const Poly& src, Poly& dst, double bound) {
-  double d[12];
-  const int n = src.n;
-  for (int i = 0; i < n; ++i) d[i] = KeepAbove ? src.p[i][Axis] - bound : bound - src.p[i][Axis];
-  int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const int j = i + 1 == n ? 0 : i + 1;
-    const double* a = src.p[i];
-    const double* b = src.p[j];
-    const double da = d[i], db = d[j];
-    if (da >= 0) {
-      double* q = dst.p[m++];
-      q[0] = a[0], q[1] = a[1], q[2] = a[2];
-    }
+  // Each vertex's signed distance once, carried from edge to edge; the last
+  // edge (back to vertex 0) peeled off the loop. The same arithmetic as ever,
+  // in fewer instructions: this is a third of the surface pass (callgrind).
+  auto distance = [bound](const double* v) { return KeepAbove ? v[Axis] - bound : bound - v[Axis]; };
+  auto edge = [&](const double* a, const double* b, double da, double db, int& m) {
+    if (da >= 0) std::memcpy(dst.p[m++], a, sizeof(double[3]));
     if ((da >= 0) != (db >= 0)) {
       const double t = da / (da - db);
       double* q = dst.p[m++];
       for (int k = 0; k < 3; ++k) q[k] = a[k] + (b[k] - a[k]) * t;
       q[Axis] = bound;
     }
+  };
+  const int n = src.n;
+  int m = 0;
+  if (n > 0) {
+    const double d0 = distance(src.p[0]);
+    double da = d0;
+    for (int i = 0; i + 1 < n; ++i) {
+      const double db = distance(src.p[i + 1]);
+      edge(src.p[i], src.p[i + 1], da, db, m);
+      da = db;
+    }
+    edge(src.p[n - 1], src.p[0], da, d0, m);
   }
   dst.n = m;
 }
