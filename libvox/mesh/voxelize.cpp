@@ -24,6 +24,7 @@
 
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
+#include "libvox/core/floor_int.h"
 #include "libvox/core/flat_map64.h"
 #include "libvox/core/memory_budget.h"
 #include "libvox/core/parallel.h"
@@ -619,7 +620,7 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
 
   // Puv's extent along z, [zMin, zMax], measured once per column.
-  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin, double zMax) {
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin, double zMax) __attribute__((always_inline)) {
     Poly pieceStorage;
     const Poly& piece = clipRange<2>(Puv, pieceStorage, w, w + 1.0, zMin, zMax);  // the part inside the voxel
     const double area = polyArea(piece);
@@ -689,8 +690,8 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
     polyRange(Pue, 1, ylo, yhi);
     // Voxel k touches [lo, hi] iff k + 1 >= lo and k <= hi: from ceil(lo) - 1
     // (a piece starting inside a voxel does not touch the one below).
-    const int32_t v0 = std::max(first[1], int32_t(std::ceil(ylo - eps)) - 1);
-    const int32_t v1 = std::min(last[1], int32_t(std::floor(yhi + eps)));
+    const int32_t v0 = std::max(first[1], int32_t(ceilToInt(ylo - eps)) - 1);
+    const int32_t v1 = std::min(last[1], int32_t(floorToInt(yhi + eps)));
     for (int32_t v = v0; v <= v1; ++v) {
       Poly PuveStorage, PuvStorage;
       const Poly& Puve = clipRange<1>(Pue, PuveStorage, v - eps, v + 1 + eps, ylo, yhi);
@@ -699,8 +700,8 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       double zlo, zhi, puvZMin = 0, puvZMax = 0;
       polyRange(Puve, 2, zlo, zhi);
       if (Puv.n > 0) polyRange(Puv, 2, puvZMin, puvZMax);
-      const int32_t w0 = std::max(first[2], int32_t(std::ceil(zlo - eps)) - 1);
-      const int32_t w1 = std::min(last[2], int32_t(std::floor(zhi + eps)));
+      const int32_t w0 = std::max(first[2], int32_t(ceilToInt(zlo - eps)) - 1);
+      const int32_t w1 = std::min(last[2], int32_t(floorToInt(zhi + eps)));
       for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
     }
   };
@@ -723,16 +724,16 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
       rowsWithMargin(u, Pu, puYMin, puYMax);
       continue;
     }
-    const int32_t v0 = std::max(first[1], int32_t(std::ceil(puYMin)) - 1);
-    const int32_t v1 = std::min(last[1], int32_t(std::floor(puYMax)));
+    const int32_t v0 = std::max(first[1], int32_t(ceilToInt(puYMin)) - 1);
+    const int32_t v1 = std::min(last[1], int32_t(floorToInt(puYMax)));
     for (int32_t v = v0; v <= v1; ++v) {
       Poly PuvStorage;
       const Poly& Puv = clipRange<1>(Pu, PuvStorage, v, v + 1.0, puYMin, puYMax);
       if (Puv.n == 0) continue;  // certain: the triangle misses the row
       double puvZMin, puvZMax;
       polyRange(Puv, 2, puvZMin, puvZMax);
-      const int32_t w0 = std::max(first[2], int32_t(std::ceil(puvZMin - zMargin)) - 1);
-      const int32_t w1 = std::min(last[2], int32_t(std::floor(puvZMax + zMargin)));
+      const int32_t w0 = std::max(first[2], int32_t(ceilToInt(puvZMin - zMargin)) - 1);
+      const int32_t w1 = std::min(last[2], int32_t(floorToInt(puvZMax + zMargin)));
       for (int32_t w = w0; w <= w1; ++w) emit(u, v, w, Puv, puvZMin, puvZMax);
     }
   }

@@ -8,6 +8,7 @@
 
 #include "libvox/core/color.h"
 #include "libvox/core/error.h"
+#include "libvox/core/floor_int.h"
 #include "libvox/core/parallel.h"
 #include "libvox/render/ray_bundle.h"
 
@@ -148,13 +149,6 @@ std::vector<FuseCounts::Vote> FuseCounts::votes() const {
 }
 
 namespace {
-
-// floor() of a finite value of a few voxels' magnitude, as an integer:
-// the x86-64 baseline has no rounding instruction, so std::floor is a call.
-inline int64_t floorToInt(double p) {
-  const int64_t i = int64_t(p);
-  return i - (double(i) > p ? 1 : 0);
-}
 
 // The stored-depth value of the crossing at ray parameter t (header comment):
 // render-canonical's PixelRays::worldDistance, t * |dir| * voxelSize in that
