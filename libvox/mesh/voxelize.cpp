@@ -163,16 +163,18 @@ const Poly& clipRange(const Poly& in, Poly& out, double lo, double hi, double mn
 
 double polyArea(const Poly& P) {
   if (P.n < 3) return 0;
+  // The fan from vertex 0: each triangle's second edge is the next one's
+  // first, so it is computed once (the same values, fewer instructions).
+  const double* a = P.p[0];
   double s[3] = {0, 0, 0};
+  double u[3] = {P.p[1][0] - a[0], P.p[1][1] - a[1], P.p[1][2] - a[2]};
   for (int i = 1; i + 1 < P.n; ++i) {
-    const double* a = P.p[0];
-    const double* b = P.p[i];
     const double* c = P.p[i + 1];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     s[0] += u[1] * v[2] - u[2] * v[1];
     s[1] += u[2] * v[0] - u[0] * v[2];
     s[2] += u[0] * v[1] - u[1] * v[0];
+    u[0] = v[0], u[1] = v[1], u[2] = v[2];
   }
   return 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
 }
