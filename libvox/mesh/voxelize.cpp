@@ -621,8 +621,10 @@ void surfaceTriangle(const SurfaceWork& W, size_t t, const int32_t from[2], cons
     for (int i = 0; i < 3; ++i) P.p[k][i] = double(q[k][i]) / double(kS);
   const double eps = 1e-6;  // candidate search margin; exact SAT decides
 
-  // Puv's extent along z, [zMin, zMax], measured once per column.
-  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin, double zMax) __attribute__((always_inline)) {
+  // Puv's extent along z, [zMin, zMax], measured once per column. Inlined
+  // into both row loops: as a call it cost 3% of the pass's instructions.
+  auto emit = [&](int32_t u, int32_t v, int32_t w, const Poly& Puv, double zMin,
+                  double zMax) __attribute__((always_inline)) {
     Poly pieceStorage;
     const Poly& piece = clipRange<2>(Puv, pieceStorage, w, w + 1.0, zMin, zMax);  // the part inside the voxel
     const double area = polyArea(piece);
