@@ -24,8 +24,8 @@ std::string readAll(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-constexpr size_t kHeaderBytes = 57;  // magic 8, versions 12, offsets flag 1, UUID 36
-constexpr size_t kUuidAt = 21;
+constexpr size_t kUuidAt = kVdbUuidOffset;  // magic 8, versions 12, offsets flag 1 (vdb_content_uuid.h)
+constexpr size_t kHeaderBytes = kUuidAt + kVdbUuidChars;
 
 // An OpenVDB-written file without its `file_delayed_load` metadata entries, the
 // three stream positions of every grid moved back by the bytes removed.
@@ -179,7 +179,7 @@ void expectSameAsOpenVdb(const SceneHeader& h, const std::function<VoxelBlocks()
   const std::string before = readAll(viaVdb);
   stampVdbContentUuid(viaVdb, "vdb.vdb");
   const std::string after = readAll(viaVdb);
-  EXPECT_EQ(after.substr(kUuidAt, 36), before.substr(kUuidAt, 36)) << "the UUID is not the content's";
+  EXPECT_EQ(after.substr(kUuidAt, kVdbUuidChars), before.substr(kUuidAt, kVdbUuidChars)) << "the UUID is not the content's";
   EXPECT_TRUE(after == before) << "stamping changed more than the UUID";
   EXPECT_TRUE(compareScenes(readSceneVdb(viaVdb), scene).same());
 }
@@ -192,14 +192,14 @@ TEST(SceneVdbDirect, ContentUuidFollowsTheContent) {
   writeSceneVdb(SceneBuilder(makeBlocks(h.dims, 99, false), h).build(), again);
   std::string bytes = readAll(path);
   EXPECT_TRUE(readAll(again) == bytes) << "OpenVDB's writer gave different bytes for the same scene";
-  const std::string uuid = bytes.substr(kUuidAt, 36);
+  const std::string uuid = bytes.substr(kUuidAt, kVdbUuidChars);
   EXPECT_EQ(uuid[14], '4') << uuid;  // version 4
   EXPECT_NE(std::string("89ab").find(uuid[19]), std::string::npos) << uuid;  // variant 1
   // One byte of content changed: another UUID.
   bytes[bytes.size() - 1] = char(bytes.back() ^ 1);
   std::ofstream(path, std::ios::binary) << bytes;
   stampVdbContentUuid(path, "s.vdb");
-  EXPECT_NE(readAll(path).substr(kUuidAt, 36), uuid);
+  EXPECT_NE(readAll(path).substr(kUuidAt, kVdbUuidChars), uuid);
   // Too short for a header: refused, naming the file.
   std::ofstream(dir.file("short.vdb"), std::ios::binary) << "VDB";
   try {

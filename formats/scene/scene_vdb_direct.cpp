@@ -16,9 +16,9 @@
 #include <unordered_map>
 
 #include "formats/scene/scene_meta.h"
+#include "formats/scene/vdb_content_uuid.h"
 #include "libvox/core/bits.h"
 #include "libvox/core/crc32c.h"
-#include "formats/scene/vdb_content_uuid.h"
 #include "libvox/core/error.h"
 #include "libvox/core/ordered_pipeline.h"
 #include "libvox/core/parallel.h"
@@ -470,8 +470,9 @@ void writeGrid(Sink& out, const GridPlan& g, unsigned threads) {
   // Leaf buffers (masks, compressed values), kLeavesPerBatch leaves a batch:
   // batches made on the workers, written in order by one consumer while later
   // batches are made (the file's bytes, the content CRC and the writeback are
-  // one thread's work, which the others no longer wait for). The writer holds at most kBatchesPerThread batches a
-  // thread (at most 6 KB a leaf, coloured), not the grid's bytes (which grew by
+  // one thread's work, which the others no longer wait for). The writer holds
+  // at most kBatchesPerThread batches a thread (at most 6 KB a leaf,
+  // coloured), not the grid's bytes (which grew by
   // doubling and left their outgrown copies resident: 2-4x the grid's bytes at
   // the peak). The bytes do not depend on the batches or the threads.
   const size_t batches = (nLeaves + kLeavesPerBatch - 1) / kLeavesPerBatch;
