@@ -4,6 +4,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 
@@ -40,6 +41,28 @@ void tuneAllocatorForShortRun() {
   // starts the top at the advised range. It is kept in a volatile global: a
   // malloc whose result goes unused may be removed by the compiler.
   heapSpacer = std::malloc(from - start - 64);
+}
+
+void growAdvisedHeap(uint64_t expectedPeakBytes) {
+  if (std::getenv("VOX_DEFAULT_MALLOC")) return;
+  // mallopt takes ints; past this the rest of the heap grows in 4 KB pages as before.
+  constexpr uint64_t kMaxAdvised = uint64_t(1536) << 20;
+  constexpr uint64_t kShortRunPad = uint64_t(256) << 20;  // what tuneAllocatorForShortRun advised
+  const uint64_t target = std::min(expectedPeakBytes, kMaxAdvised);
+  if (target <= kShortRunPad) return;
+  // Keep what is grown (no trimming back to the pad when a large block is
+  // freed), then grow the heap once by `target`: a block just larger than the
+  // free space at its top makes glibc extend it by the block and the pad.
+  mallopt(M_TRIM_THRESHOLD, int(target + kShortRunPad));
+  mallopt(M_TOP_PAD, int(target));
+  const uintptr_t before = reinterpret_cast<uintptr_t>(sbrk(0));
+  void* probe = std::malloc(mallinfo2().keepcost + (size_t(1) << 20));
+  const uintptr_t after = reinterpret_cast<uintptr_t>(sbrk(0));
+  std::free(probe);  // back into the top of the heap, which now reaches `after`
+  mallopt(M_TOP_PAD, int(kShortRunPad));
+  if (!probe || after <= before) return;  // grown elsewhere (mmap), or not at all: nothing to advise
+  const uintptr_t from = (before + 4095) & ~uintptr_t(4095);  // madvise takes whole pages
+  if (after > from) madvise(reinterpret_cast<void*>(from), after - from, MADV_HUGEPAGE);
 }
 
 }  // namespace voxcli
