@@ -11,6 +11,7 @@
 namespace voxcli {
 
 namespace {
+constexpr int kHeapPad = 256 << 20;  // address space the heap grows by, advised for huge pages
 void* volatile heapSpacer = nullptr;  // see tuneAllocatorForShortRun (volatile: the store is kept)
 }  // namespace
 
@@ -19,7 +20,7 @@ void tuneAllocatorForShortRun() {
   mallopt(M_ARENA_MAX, 1);
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  mallopt(M_TOP_PAD, 256 << 20);
+  mallopt(M_TOP_PAD, kHeapPad);
   // Grow the heap now (a block larger than any free space), then advise it.
   constexpr size_t kProbe = size_t(1) << 20;
   void* probe = std::malloc(kProbe);
@@ -47,7 +48,7 @@ void growAdvisedHeap(uint64_t expectedPeakBytes) {
   if (std::getenv("VOX_DEFAULT_MALLOC")) return;
   // mallopt takes ints; past this the rest of the heap grows in 4 KB pages as before.
   constexpr uint64_t kMaxAdvised = uint64_t(1536) << 20;
-  constexpr uint64_t kShortRunPad = uint64_t(256) << 20;  // what tuneAllocatorForShortRun advised
+  constexpr uint64_t kShortRunPad = uint64_t(kHeapPad);  // what tuneAllocatorForShortRun advised
   const uint64_t target = std::min(expectedPeakBytes, kMaxAdvised);
   if (target <= kShortRunPad) return;
   // Keep what is grown (no trimming back to the pad when a large block is
@@ -59,7 +60,7 @@ void growAdvisedHeap(uint64_t expectedPeakBytes) {
   void* probe = std::malloc(mallinfo2().keepcost + (size_t(1) << 20));
   const uintptr_t after = reinterpret_cast<uintptr_t>(sbrk(0));
   std::free(probe);  // back into the top of the heap, which now reaches `after`
-  mallopt(M_TOP_PAD, int(kShortRunPad));
+  mallopt(M_TOP_PAD, kHeapPad);
   if (!probe || after <= before) return;  // grown elsewhere (mmap), or not at all: nothing to advise
   const uintptr_t from = (before + 4095) & ~uintptr_t(4095);  // madvise takes whole pages
   if (after > from) madvise(reinterpret_cast<void*>(from), after - from, MADV_HUGEPAGE);
