@@ -12,7 +12,10 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
+#include <vector>
 
+#include "libvox/core/error.h"
 #include "libvox/render/camera.h"
 #include "libvox/render/fuse.h"
 #include "libvox/render/ray_bundle.h"
@@ -202,9 +205,21 @@ TEST(FuseTracked, VotedScopeEqualsAllScopeWhereItCounts) {
     voted.threads = threads;
     voted.freeScope = vox::FreeScope::Voted;
     vox::Fuser fuser(dims, frame, voted);
-    for (const vox::FuseView& v : views) fuser.add(v);
+    // Half the views kept as their walked pixels between the passes, as
+    // `vox fuse` keeps them (made before track(), as there).
+    std::vector<vox::FuseWalks> kept;
+    for (const vox::FuseView& v : views) {
+      fuser.add(v);
+      kept.push_back(fuser.walksOf(v));
+    }
     fuser.track(extra);
-    for (size_t i = views.size(); i-- > 0;) fuser.addFree(views[i]);  // any order
+    for (size_t i = views.size(); i-- > 0;) {  // any order
+      if (i % 2) {
+        fuser.addFree(views[i]);
+      } else {
+        fuser.addFree(kept[i]);
+      }
+    }
     FuseCounts counts = std::move(fuser).finish();
     EXPECT_EQ(freeMap(counts), want) << threads;
     vox::SceneHeader h;
@@ -225,6 +240,89 @@ TEST(FuseTracked, VotedScopeEqualsAllScopeWhereItCounts) {
     refScene.scene.forEachVoxel([&](const vox::VoxelView& v) { refOcc[FuseCounts::voxelKey(v.at)] = votesOf(v); });
     EXPECT_EQ(occ, refOcc) << threads;
   }
+}
+
+// The walked pixels the second pass keeps between the passes: exactly the
+// pixels with a depth, a class and a non-zero weight, each once, in the walk's
+// order (16 x 16 tiles row by row, their four 8 x 8 bundles row by row, pixels
+// row by row), with their depth and face axis; images whose sides are not
+// multiples of the tile leave the bundles past their edge empty.
+TEST(FuseWalks, HoldTheWalkedPixelsInBundleOrder) {
+  std::mt19937_64 rng(41);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::array<std::array<uint32_t, 2>, 5> sizes{{{1, 1}, {16, 16}, {37, 21}, {8, 40}, {65, 17}}};
+  for (const auto& [w, h] : sizes)
+    for (int variant = 0; variant < 4; ++variant) {
+      vox::FuseView v;
+      v.camera = vox::Camera::lookAt({10, 10, -30}, {10, 10, 10}, {0, 1, 0}, 50, w, h);
+      v.far = variant == 3 ? 5.0 : 0.0;
+      const size_t n = size_t(w) * h;
+      for (size_t i = 0; i < n; ++i) {
+        const int k = pick(rng);
+        v.depth.push_back(k == 0 ? 0.0 : k == 1 ? nan : k == 2 ? inf : k == 3 ? -1.0 : 0.25 + 0.5 * double(i % 13));
+        v.classes.push_back(uint8_t(pick(rng) == 0 ? 0 : 1 + pick(rng) % 3));
+        if (variant != 1) v.faceAxis.push_back(int8_t(pick(rng) % 4 - 1));
+        if (variant >= 2) v.weight.push_back(uint16_t(pick(rng) < 2 ? 0 : 1 + pick(rng)));
+      }
+      vox::FuseSettings settings;
+      settings.threads = variant == 0 ? 1 : 3;
+      settings.freeScope = vox::FreeScope::Voted;
+      const vox::Fuser fuser({16, 16, 16}, vox::GridFrame{}, settings);
+      struct Want {
+        uint32_t x, y;
+        double depth;
+        int face;
+      };
+      std::vector<Want> want;
+      std::vector<size_t> perBundle;
+      for (uint32_t ty = 0; ty < h; ty += 16)
+        for (uint32_t tx = 0; tx < w; tx += 16)
+          for (uint32_t b = 0; b < 4; ++b) {
+            size_t count = 0;
+            const uint32_t by = ty + (b >> 1) * 8, bx = tx + (b & 1) * 8;
+            for (uint32_t y = by; y < std::min(h, by + 8); ++y)
+              for (uint32_t x = bx; x < std::min(w, bx + 8); ++x) {
+                const size_t i = size_t(y) * w + x;
+                const bool walked = v.hasDepth(i) && v.classes[i] != 0 && (v.weight.empty() || v.weight[i] != 0);
+                if (!walked) continue;
+                want.push_back({x, y, v.depth[i], v.faceAxis.empty() ? -1 : v.faceAxis[i]});
+                ++count;
+              }
+            perBundle.push_back(count);
+          }
+      const vox::FuseWalks walks = fuser.walksOf(v);
+      const std::string what = std::to_string(w) + "x" + std::to_string(h) + " variant " + std::to_string(variant);
+      ASSERT_EQ(walks.rays(), want.size()) << what;
+      EXPECT_EQ(fuser.walkedPixels(v), want.size()) << what;
+      EXPECT_EQ(walks.pixels, uint64_t(n));
+      EXPECT_EQ(walks.faceAxis.empty(), v.faceAxis.empty() || want.empty());
+      ASSERT_EQ(walks.bundleStart.size(), perBundle.size() + 1) << what;
+      EXPECT_EQ(walks.bytes(), (perBundle.size() + 1) * 8 + want.size() * (v.faceAxis.empty() ? 9 : 10)) << what;
+      size_t r = 0;
+      for (size_t bundle = 0; bundle < perBundle.size(); ++bundle) {
+        ASSERT_EQ(walks.bundleStart[bundle], r) << what;
+        ASSERT_EQ(walks.bundleStart[bundle + 1] - walks.bundleStart[bundle], perBundle[bundle]) << what << " bundle " << bundle;
+        const size_t tile = bundle / 4, b = bundle % 4, tilesX = (w + 15) / 16;
+        const uint32_t bx = uint32_t(tile % tilesX * 16 + (b & 1) * 8), by = uint32_t(tile / tilesX * 16 + (b >> 1) * 8);
+        for (; r < walks.bundleStart[bundle + 1]; ++r) {
+          EXPECT_EQ(bx + walks.at[r] % 8, want[r].x) << what << " ray " << r;
+          EXPECT_EQ(by + walks.at[r] / 8, want[r].y) << what << " ray " << r;
+          EXPECT_EQ(walks.depth[r], want[r].depth) << what << " ray " << r;
+          if (!walks.faceAxis.empty()) {
+            EXPECT_EQ(int(walks.faceAxis[r]), want[r].face) << what << " ray " << r;
+          }
+        }
+      }
+      EXPECT_EQ(r, want.size());
+    }
+  // Arrays of the wrong length are the caller's error, named.
+  vox::FuseView bad;
+  bad.camera = vox::Camera::lookAt({0, 0, -5}, {0, 0, 0}, {0, 1, 0}, 50, 4, 4);
+  bad.depth.assign(16, 1.0);
+  bad.classes.assign(15, 1);
+  const vox::Fuser fuser({4, 4, 4}, vox::GridFrame{}, vox::FuseSettings{});
+  EXPECT_THROW(fuser.walksOf(bad), vox::Error);
 }
 
 }  // namespace

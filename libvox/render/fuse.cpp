@@ -612,70 +612,124 @@ void Fuser::buildTracked() {
   tracked_->finish();
 }
 
-FuseViewStats Fuser::addFree(const FuseView& view) {
+uint64_t FuseWalks::bytesFor(uint64_t rays, uint32_t width, uint32_t height, bool faceAxes) {
+  const uint64_t tiles = (uint64_t(width) + kTile - 1) / kTile * ((uint64_t(height) + kTile - 1) / kTile);
+  return (tiles * kBundlesPerTile + 1) * sizeof(uint64_t) + rays * (sizeof(uint8_t) + sizeof(double) + (faceAxes ? 1 : 0));
+}
+
+void Fuser::checkSizes(const FuseView& view, const char* who) const {
+  const size_t N = size_t(view.camera.width) * view.camera.height;
+  if (view.depth.size() != N || view.classes.size() != N || (!view.faceAxis.empty() && view.faceAxis.size() != N) ||
+      (!view.weight.empty() && view.weight.size() != N))
+    throw Error(ErrorKind::Internal, std::string(who) + ": per-pixel arrays must hold width x height entries");
+}
+
+uint64_t Fuser::walkedPixels(const FuseView& view) const {
+  checkSizes(view, "Fuser::walkedPixels");
+  const size_t N = view.depth.size();
+  std::atomic<uint64_t> total{0};
+  constexpr size_t kChunk = 1 << 16;
+  parallelForEach((N + kChunk - 1) / kChunk, settings_.threads, 1, [&](size_t c) {
+    uint64_t n = 0;
+    for (size_t i = c * kChunk, end = std::min(N, i + kChunk); i < end; ++i) n += walks(view, i);
+    total += n;
+  });
+  return total;
+}
+
+FuseWalks Fuser::walksOf(const FuseView& view) const {
+  checkSizes(view, "Fuser::walksOf");
+  constexpr size_t T = FuseWalks::kTile, B = FuseWalks::kBundle, PerTile = FuseWalks::kBundlesPerTile;
+  static_assert(T == 2 * B && PerTile == 4);
+  const size_t W = view.camera.width, H = view.camera.height;
+  const size_t tilesX = (W + T - 1) / T, tiles = tilesX * ((H + T - 1) / T);
+  FuseWalks out;
+  out.camera = view.camera;
+  out.measure = view.measure;
+  out.pixels = uint64_t(W) * H;
+  // Bundle b of a tile: rows by + 8 (b >> 1), columns bx + 8 (b & 1). Two
+  // passes over the tiles (count, then fill at the counted places), so the
+  // rays' order does not depend on the threads.
+  auto forBundle = [&](size_t task, size_t b, auto&& fn) {
+    const size_t by = task / tilesX * T + (b >> 1) * B, bx = task % tilesX * T + (b & 1) * B;
+    for (size_t y = by; y < std::min(H, by + B); ++y)
+      for (size_t x = bx; x < std::min(W, bx + B); ++x)
+        if (walks(view, y * W + x)) fn(y * W + x, uint8_t((y - by) * B + (x - bx)));
+  };
+  out.bundleStart.assign(tiles * PerTile + 1, 0);
+  parallelForEach(tiles, settings_.threads, 64, [&](size_t task) {
+    for (size_t b = 0; b < PerTile; ++b) forBundle(task, b, [&](size_t, uint8_t) { ++out.bundleStart[task * PerTile + b + 1]; });
+  });
+  for (size_t k = 1; k < out.bundleStart.size(); ++k) out.bundleStart[k] += out.bundleStart[k - 1];
+  const size_t rays = size_t(out.bundleStart.back());
+  out.at.resize(rays);
+  out.depth.resize(rays);
+  if (!view.faceAxis.empty()) out.faceAxis.resize(rays);
+  parallelForEach(tiles, settings_.threads, 64, [&](size_t task) {
+    for (size_t b = 0; b < PerTile; ++b) {
+      size_t r = size_t(out.bundleStart[task * PerTile + b]);
+      forBundle(task, b, [&](size_t i, uint8_t at) {
+        out.at[r] = at;
+        out.depth[r] = view.depth[i];
+        if (!out.faceAxis.empty()) out.faceAxis[r] = view.faceAxis[i];
+        ++r;
+      });
+    }
+  });
+  return out;
+}
+
+FuseViewStats Fuser::addFree(const FuseWalks& walks) {
   if (settings_.freeScope != FreeScope::Voted || !settings_.countFree)
     throw Error(ErrorKind::Internal, "Fuser::addFree: only with countFree and FreeScope::Voted");
   if (!tracked_) buildTracked();
-  const Camera& cam = view.camera;
-  const size_t W = cam.width, H = cam.height, N = W * H;
-  if (view.depth.size() != N || view.classes.size() != N || (!view.faceAxis.empty() && view.faceAxis.size() != N) ||
-      (!view.weight.empty() && view.weight.size() != N))
-    throw Error(ErrorKind::Internal, "Fuser::addFree: per-pixel arrays must hold width x height entries");
+  constexpr size_t T = FuseWalks::kTile, B = FuseWalks::kBundle, PerTile = FuseWalks::kBundlesPerTile;
+  const Camera& cam = walks.camera;
+  const size_t W = cam.width, H = cam.height;
+  const size_t tilesX = (W + T - 1) / T, tiles = tilesX * ((H + T - 1) / T);
+  if (walks.bundleStart.size() != tiles * PerTile + 1 || walks.at.size() != walks.rays() ||
+      (!walks.faceAxis.empty() && walks.faceAxis.size() != walks.rays()))
+    throw Error(ErrorKind::Internal, "Fuser::addFree: the walks do not match their camera (Fuser::walksOf makes them)");
   FuseViewStats stats;
-  stats.pixels = N;
+  stats.pixels = walks.pixels;
   const PixelRays rays(cam, frame_);
   std::atomic<uint64_t> steps{0}, freeCounts{0};
   CountsPool pool(pieces_);
-  constexpr size_t kTile = 16;
-  const size_t tilesX = (W + kTile - 1) / kTile, tiles = tilesX * ((H + kTile - 1) / kTile);
+  // Tiles of 16 x 16 pixels, as add() walks them.
   parallelForEach(tiles, settings_.threads, 1, [&](size_t task) {
     const size_t slot = pool.take();
     FuseCounts& counts = pool[slot];
     RayGrid::Cursor cursor(*tracked_);
     uint64_t st = 0, fc = 0;
-    const size_t y0 = task / tilesX * kTile, y1 = std::min(H, y0 + kTile);
-    const size_t x0 = task % tilesX * kTile, x1 = std::min(W, x0 + kTile);
-    // The pixels add() walks (same filter): they carve whether or not they voted.
-    auto walks = [&](size_t i) {
-      if (!view.hasDepth(i) || view.classes[i] == 0) return false;
-      return (view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) != 0;
-    };
-    // Sub-tiles of kBundle^2 pixels share one march through the tracked set's
+    // Bundles of 8 x 8 pixels share one march through the tracked set's
     // empty space (ray_bundle.h, as render-canonical's caster): each ray then
     // starts where the march stopped instead of jumping the same empty boxes.
-    constexpr size_t kBundle = 8;
-    for (size_t by = y0; by < y1; by += kBundle)
-      for (size_t bx = x0; bx < x1; bx += kBundle) {
-        const size_t by1 = std::min(y1, by + kBundle), bx1 = std::min(x1, bx + kBundle);
-        // The bounding box of the pixels that walk: the directions are affine
-        // in (x, y), so its four corner rays span every ray of it.
-        size_t lx = bx1, hx = bx, ly = by1, hy = by;
-        for (size_t y = by; y < by1; ++y)
-          for (size_t x = bx; x < bx1; ++x)
-            if (walks(y * W + x)) {
-              lx = std::min(lx, x);
-              hx = std::max(hx, x);
-              ly = std::min(ly, y);
-              hy = std::max(hy, y);
-            }
-        if (lx > hx) continue;  // no pixel walks
-        const std::array<std::array<double, 3>, 4> corners{
-            rays.ray(uint32_t(lx), uint32_t(ly)).dir, rays.ray(uint32_t(hx), uint32_t(ly)).dir,
-            rays.ray(uint32_t(lx), uint32_t(hy)).dir, rays.ray(uint32_t(hx), uint32_t(hy)).dir};
-        const double tEmpty = bundleEmptyUntil(*tracked_, rays.ray(uint32_t(lx), uint32_t(ly)).origin, corners);
-        // No ray of the box touches a tracked voxel: no free count to add.
-        if (tEmpty == std::numeric_limits<double>::infinity()) continue;
-        for (size_t y = ly; y <= hy; ++y)
-          for (size_t x = lx; x <= hx; ++x) {
-            const size_t i = y * W + x;
-            if (!walks(i)) continue;
-            const int face = view.faceAxis.empty() ? -1 : view.faceAxis[i];
-            const FuseRayResult r = fuseRay(rays.ray(uint32_t(x), uint32_t(y)), frame_.voxelSize, view.measure,
-                                            view.depth[i], dims_, &counts, face, tracked_.get(), &cursor, tEmpty);
-            st += r.steps;
-            fc += r.freeCells;
-          }
+    for (size_t b = 0; b < PerTile; ++b) {
+      const size_t r0 = size_t(walks.bundleStart[task * PerTile + b]), r1 = size_t(walks.bundleStart[task * PerTile + b + 1]);
+      if (r0 == r1) continue;  // no pixel walks
+      const uint32_t by = uint32_t(task / tilesX * T + (b >> 1) * B), bx = uint32_t(task % tilesX * T + (b & 1) * B);
+      // The bounding box of the pixels that walk: the directions are affine
+      // in (x, y), so its four corner rays span every ray of it.
+      uint32_t lx = B, hx = 0, ly = B, hy = 0;
+      for (size_t r = r0; r < r1; ++r) {
+        const uint32_t x = walks.at[r] % B, y = walks.at[r] / B;
+        lx = std::min(lx, x), hx = std::max(hx, x), ly = std::min(ly, y), hy = std::max(hy, y);
       }
+      const std::array<std::array<double, 3>, 4> corners{
+          rays.ray(bx + lx, by + ly).dir, rays.ray(bx + hx, by + ly).dir, rays.ray(bx + lx, by + hy).dir,
+          rays.ray(bx + hx, by + hy).dir};
+      const double tEmpty = bundleEmptyUntil(*tracked_, rays.ray(bx + lx, by + ly).origin, corners);
+      // No ray of the box touches a tracked voxel: no free count to add.
+      if (tEmpty == std::numeric_limits<double>::infinity()) continue;
+      for (size_t r = r0; r < r1; ++r) {
+        const int face = walks.faceAxis.empty() ? -1 : walks.faceAxis[r];
+        const FuseRayResult res = fuseRay(rays.ray(bx + walks.at[r] % B, by + walks.at[r] / B), frame_.voxelSize,
+                                          walks.measure, walks.depth[r], dims_, &counts, face, tracked_.get(), &cursor,
+                                          tEmpty);
+        st += res.steps;
+        fc += res.freeCells;
+      }
+    }
     steps += st;
     freeCounts += fc;
     pool.giveBack(slot);

@@ -230,6 +230,32 @@ struct FuseView {
   }
 };
 
+/// The pixels of one view that the second pass walks (Fuser::addFree: those
+/// with a depth, a class and a non-zero weight), kept between the passes in
+/// place of the decoded view: 10 bytes per walked pixel (its depth, face axis
+/// and place in its bundle) and 8 per 64 pixels, where the decoded view takes
+/// 10 or more bytes per pixel, walked or not. The fresh memory of whole kept
+/// views was a fifth of a 100-view fusion's CPU (docs/bench-fuse.md).
+///
+/// Layout: the rays of each 8 x 8 pixel bundle together, bundles in the
+/// walk's order (16 x 16 pixel tiles row by row, each tile's four bundles row
+/// by row; a bundle past the image's edge is empty), each bundle's rays in
+/// pixel order.
+struct FuseWalks {
+  static constexpr uint32_t kTile = 16, kBundle = 8, kBundlesPerTile = 4;
+  Camera camera;
+  DepthMeasure measure;
+  uint64_t pixels = 0;                // the view's width x height
+  std::vector<uint64_t> bundleStart;  // per bundle its first ray; one entry more at the end
+  std::vector<uint8_t> at;            // per ray: its pixel in the bundle, 8 * row + column
+  std::vector<double> depth;          // per ray: the pixel's depth
+  std::vector<int8_t> faceAxis;       // per ray (-1 unknown), or empty: the view has none
+  size_t rays() const { return depth.size(); }
+  /// The bytes of the arrays above for `rays` rays of a width x height view.
+  static uint64_t bytesFor(uint64_t rays, uint32_t width, uint32_t height, bool faceAxes);
+  uint64_t bytes() const { return bytesFor(rays(), camera.width, camera.height, !faceAxis.empty()); }
+};
+
 struct FuseViewStats {
   uint64_t pixels = 0;
   uint64_t used = 0;          // pixels whose hit voted
@@ -273,11 +299,26 @@ class Fuser {
   /// adding free counts at the tracked voxels: those that got votes in add()
   /// plus track()'s. Returns the view's steps and free counts (the other
   /// fields are add()'s business and stay 0).
-  FuseViewStats addFree(const FuseView& view);
+  FuseViewStats addFree(const FuseView& view) { return addFree(walksOf(view)); }
+  /// The same from the view's walked pixels (walksOf), which a caller may
+  /// keep between the passes instead of the view.
+  FuseViewStats addFree(const FuseWalks& walks);
+  /// The pixels of `view` the second pass walks. Throws vox::Error
+  /// (Internal) when its per-pixel arrays are not width x height long.
+  FuseWalks walksOf(const FuseView& view) const;
+  /// How many pixels of `view` the second pass walks (walksOf's rays(),
+  /// without making them).
+  uint64_t walkedPixels(const FuseView& view) const;
   FuseCounts finish() &&;
 
  private:
   void buildTracked();
+  /// Whether the passes walk pixel i of `view` (a depth, a class, a non-zero weight).
+  bool walks(const FuseView& view, size_t i) const {
+    if (!view.hasDepth(i) || view.classes[i] == 0) return false;
+    return (view.weight.empty() ? settings_.weight : settings_.weight * view.weight[i]) != 0;
+  }
+  void checkSizes(const FuseView& view, const char* who) const;
   std::vector<Coord3> extraTracked_;
   std::unique_ptr<RayGrid> tracked_;
   Dims dims_;

@@ -12,7 +12,7 @@ MemoryEstimate estimateFuseMemory(const FuseMemoryInputs& in) {
   // memory holds it); the views after it are decoded `threads` at a time.
   if (in.views > 1) e.add("decoded views", std::min(threads, double(in.views - 1)) * pixels * 24.0);
   if (in.countFree && in.freeScope == FreeScope::Voted)
-    e.add("kept views", std::min(double(in.keptBudget), double(in.views) * pixels * double(kFuseKeptBytesPerPixel)));
+    e.add("kept views", std::min(double(in.keptBudget), double(in.views) * double(in.keptBytesPerView)));
   const double X = double(in.dims.x), Y = double(in.dims.y), Z = double(in.dims.z);
   const double voted = std::min({double(in.views) * pixels, X * Y + Y * Z + X * Z, X * Y * Z});
   e.add("votes", (threads + 1) * voted * 64.0);

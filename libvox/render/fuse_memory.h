@@ -12,8 +12,9 @@
 //     once): 24 bytes per pixel (its arrays: depth 8, class 1, face 1,
 //     colour 4, weight 2, plus the decoded images: float depth 4, label and
 //     normal).
-//   * kept views: the decoded views the second pass reuses (FreeScope::Voted),
-//     10 bytes per pixel, up to `keptBudget`.
+//   * kept views: the views' walked pixels the second pass reuses
+//     (FreeScope::Voted, FuseWalks: 10 bytes per walked pixel), up to
+//     `keptBudget`; the first view's stand for every view's.
 //   * votes: per worker piece and once more for the merge and the scene,
 //     64 bytes per voted voxel (the vote table at load <= 1/2 with its growth
 //     copy, and the free bricks of the tracked voxels).
@@ -36,14 +37,12 @@ struct FuseMemoryInputs {
   unsigned threads = 1;
   bool countFree = true;
   FreeScope freeScope = FreeScope::Voted;
-  uint64_t keptBudget = 0;  // what the second pass may keep decoded (0 = nothing kept)
+  uint64_t keptBudget = 0;  // what the second pass may keep of the views (0 = nothing kept)
+  uint64_t keptBytesPerView = 0;  // FuseWalks::bytes() of one view (the first's)
 };
 
 /// The parts above, without the process's resident memory (the caller adds it,
 /// measured with the first view read).
 MemoryEstimate estimateFuseMemory(const FuseMemoryInputs& in);
-
-/// Bytes per pixel of a decoded view the second pass keeps.
-inline constexpr uint64_t kFuseKeptBytesPerPixel = 10;
 
 }  // namespace vox

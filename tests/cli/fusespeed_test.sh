@@ -58,16 +58,28 @@ memory)
   rm -f f.vdb
   ;;
 reuse)
-  # 4 views of 1024x1024 keep 40 MiB decoded (10 bytes a pixel); a 150M limit keeps at most 37.5 MiB
-  # (a quarter): the fourth view does not fit and the second pass reads the images again.
-  render_views 4 1024x1024
+  # 4 close-ups of 1024x1024 where every pixel walks keep 40.5 MiB (10 bytes a walked pixel and
+  # 8 per 64 pixels); a 150M limit keeps at most 37.5 MiB (a quarter): the fourth view does not
+  # fit and the second pass reads the images again.
+  expect_exit 0 "$vox" voxelize demo:hamlet --res 64 -o h.vdb --quiet
+  for t in 0 1 2 3; do
+    expect_exit 0 "$vox" render-canonical h.vdb -o c$t.png --eye 0.1,12,0.3 --target "$((t % 2)),0,$((t / 2))" \
+      --size 1024x1024 --mode depth,class,normal --quiet
+  done
+  python3 - <<'PY'
+import json
+json.dump({'views': [{'depth': 'c%d.depth.exr' % t, 'label': 'c%d.class.png' % t, 'normal': 'c%d.normal.png' % t}
+                     for t in range(4)]}, open('views.json', 'w'))
+PY
   expect_exit 0 "$vox" fuse views.json -o kept.vdb --threads 2 --quiet --report kept.json
+  jcheck kept.json "assert all(v['used'] + v['skipped']['outside_grid'] == v['pixels'] for v in d['counts']['views']), 'a pixel does not walk'"
   jcheck kept.json "assert d['counts']['totals']['second_pass_views'] == 'kept'"
   expect_exit 0 "$vox" fuse views.json -o read.vdb --threads 1 --max-memory 150M --quiet --report read.json
   jcheck read.json "assert d['counts']['totals']['second_pass_views'] == 'read again'"
   expect_exit 0 "$vox" diff kept.vdb read.vdb
   # Byte for byte (the file's UUID is made from its content).
   cmp kept.vdb read.vdb >/dev/null || fail "kept and re-read views gave different bytes"
+  render_views 4 512x512
   # Views of three sizes (a close-up where every pixel walks, an orbit view, the top view),
   # their distances read as z so that rays cross voted voxels before their hits: the kept
   # views carve as counting at every crossed voxel (--free all) does.

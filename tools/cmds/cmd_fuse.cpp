@@ -74,14 +74,9 @@ bool samePlacement(const vox::FuseGridSpec& a, const vox::FuseGridSpec& b) {
   return a.dims == b.dims && a.voxelSize == b.voxelSize && a.origin == b.origin;
 }
 
-/// Bytes of one decoded view kept for the second pass (its per-pixel arrays but colour).
-uint64_t keptViewBytes(const vox::FuseView& v) {
-  return v.depth.size() * sizeof(double) + v.classes.size() + v.faceAxis.size() + v.weight.size() * sizeof(uint16_t);
-}
-
-/// What the second pass may keep decoded: a quarter of the run's memory
-/// limit, at most 2 GiB (above that, reading the images again costs less than
-/// the memory).
+/// What the second pass may keep of the views (their walked pixels,
+/// vox::FuseWalks): a quarter of the run's memory limit, at most 2 GiB (above
+/// that, reading the images again costs less than the memory).
 uint64_t keptViewBudget(const vox::MemoryLimit& limit) {
   const uint64_t cap = uint64_t(2) << 30;
   return limit.unlimited() ? cap : std::min(cap, limit.bytes / 4);
@@ -224,8 +219,9 @@ int runFuse(const FuseOptions& o) {
   auto bar = run.progress("fuse");
   ViewLoader loader(views, header.classes, kindOverride, run.threads());
   if (!first) first = vox::loadFuseView(views.views[0], header.classes, kindOverride);
-  // The second pass reads every view again unless the first pass's decoded
-  // views fit the memory kept for them (keptViewBudget): then it reuses them.
+  // The second pass reads every view again unless the first pass's views,
+  // as their walked pixels (vox::FuseWalks), fit the memory kept for them
+  // (keptViewBudget): then it reuses those.
   const uint64_t keepBudget = secondPass ? keptViewBudget(run.memoryLimit()) : 0;
   // One arena and a heap in huge pages (tools/cli/alloc_tuning.h), before
   // the views are decoded ahead on the workers and once the first view is
@@ -244,6 +240,10 @@ int runFuse(const FuseOptions& o) {
     mi.countFree = settings.countFree;
     mi.freeScope = settings.freeScope;
     mi.keptBudget = keepBudget;
+    // The first view's walked pixels stand for every view's, as its size does.
+    if (secondPass)
+      mi.keptBytesPerView = vox::FuseWalks::bytesFor(fuser.walkedPixels(first->view), first->view.camera.width,
+                                                     first->view.camera.height, !first->view.faceAxis.empty());
     auto estimateWith = [&](const vox::FuseMemoryInputs& in) {
       vox::MemoryEstimate e;
       e.add("resident after reading", vox::residentBytesNow());
@@ -297,7 +297,7 @@ int runFuse(const FuseOptions& o) {
   first.reset();
   uint64_t keptBytes = 0;
   bool keepViews = secondPass;
-  std::vector<vox::FuseView> kept;
+  std::vector<vox::FuseWalks> kept;
   for (size_t i = 0; i < views.views.size(); ++i) {
     const vox::FuseViewSpec& spec = views.views[i];
     vox::LoadedFuseView loaded = loader.take(i);
@@ -337,14 +337,17 @@ int runFuse(const FuseOptions& o) {
     total.steps += s.steps;
     total.freeCounts += s.freeCounts;
     if (keepViews) {
-      keptBytes += keptViewBytes(loaded.view);
+      // The pixels the second pass walks, kept instead of the decoded view,
+      // whose memory the next view's decoding then reuses.
+      const auto k0 = std::chrono::steady_clock::now();
+      vox::FuseWalks walks = fuser.walksOf(loaded.view);
+      const double keepSecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
+      fuseSeconds += keepSecs;
+      perView.back()["seconds"] = perView.back()["seconds"].get<double>() + keepSecs;
+      keptBytes += walks.bytes();
       keepViews = keptBytes <= keepBudget;
-      if (keepViews) {
-        loaded.view.color = {};  // the second pass needs no colour
-        kept.push_back(std::move(loaded.view));
-      } else {
-        kept = {};
-      }
+      if (keepViews) kept.push_back(std::move(walks));
+      else kept = {};
     }
     if (bar) bar->update(double(i + 1) / double(views.views.size()) * (secondPass ? 0.5 : 1.0));
   }
@@ -358,10 +361,12 @@ int runFuse(const FuseOptions& o) {
     extra = {};
     loader.reset();
     for (size_t i = 0; i < views.views.size(); ++i) {
-      vox::FuseView view = keepViews ? std::move(kept[i]) : std::move(loader.take(i).view);
+      std::optional<vox::FuseView> view;
+      if (!keepViews) view = std::move(loader.take(i).view);
       const auto t0 = std::chrono::steady_clock::now();
-      const vox::FuseViewStats s = fuser.addFree(view);
-      view = {};
+      const vox::FuseViewStats s = keepViews ? fuser.addFree(kept[i]) : fuser.addFree(*view);
+      if (keepViews) kept[i] = {};
+      view.reset();
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fuseSeconds += secs;
       nlohmann::json& v = perView[i];
